@@ -1,0 +1,43 @@
+"""The project's one base error class and its families.
+
+Every error a user can cause (bad input, a corrupt file, an unreachable target) is raised as a
+subclass of :class:`RobinPilError`, with a message that names the problem and the valid choices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class RobinPilError(ValueError):
+    """Base class of every error raised on purpose by robin-pil (``pil`` and ``robin_sim``)."""
+
+
+class InvalidChoiceError(RobinPilError):
+    """A name or value that is not one of the valid choices."""
+
+    def __init__(self, what: str, value: object, choices: Iterable[object]) -> None:
+        listed = ", ".join(repr(str(c)) for c in choices)
+        super().__init__(f"unknown {what} {value!r}; valid choices: {listed}")
+        self.what = what
+        self.value = value
+        self.choices = tuple(choices)
+
+
+class ScenarioError(RobinPilError):
+    """A scenario file that is malformed or breaks a rule of the task."""
+
+
+class TableFileError(RobinPilError):
+    """A saved association table that is corrupt, foreign or of an unsupported version."""
+
+
+def check_rate(rate: float, name: str = "detection rate") -> float:
+    """Return ``rate`` as a float if it lies in [0, 1], else raise a clear error."""
+    try:
+        value = float(rate)
+    except (TypeError, ValueError):
+        raise RobinPilError(f"{name} must be a number in [0, 1], got {rate!r}") from None
+    if not 0.0 <= value <= 1.0:
+        raise RobinPilError(f"{name} must lie in [0, 1] (e.g. 0.6 for 60 %), got {value}")
+    return value

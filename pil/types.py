@@ -1,0 +1,124 @@
+"""The vocabulary of the task: gestures G, feedback F, actions A, hand states H, and the state s.
+
+Enums accept the paper's names as strings (``Gesture("give me")``, ``Action.parse("object")``);
+an unknown name raises :class:`pil.errors.InvalidChoiceError` listing the valid ones.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+from typing import Self
+
+from pil.errors import InvalidChoiceError
+
+
+class _NamedEnum(str, Enum):
+    """A string enum whose values are the paper's names; parsing is forgiving about case."""
+
+    @classmethod
+    def _kind(cls) -> str:
+        return cls.__name__.lower()
+
+    @classmethod
+    def _missing_(cls, value: object) -> Self | None:
+        if isinstance(value, str):
+            wanted = value.strip().lower().replace("_", " ")
+            for member in cls:
+                if wanted in (member.value, member.name.lower().replace("_", " ")):
+                    return member
+        return None
+
+    @classmethod
+    def parse(cls, value: str | Self) -> Self:
+        """Return the member named ``value`` or raise an error naming the valid choices."""
+        try:
+            return cls(value)
+        except ValueError:
+            raise InvalidChoiceError(cls._kind(), value, [m.value for m in cls]) from None
+
+    def __str__(self) -> str:
+        return self.value
+
+
+class Gesture(_NamedEnum):
+    """Instruction gestures G (IMHG names: pointing, give me, grasp close, grasp open)."""
+
+    POINTING = "pointing"
+    GIVE_ME = "give me"
+    GRASP = "grasp"
+    RELEASE = "release"
+
+
+class Action(_NamedEnum):
+    """Robot manipulation actions A."""
+
+    OPEN = "open"
+    CLOSE = "close"
+    OBJECT = "object"
+    HUMAN = "human"
+    LOCATION = "location"
+
+
+class Hand(_NamedEnum):
+    """State of the robot's hand H: free (no object) or occupied (an object in it)."""
+
+    FREE = "free"
+    OCCUPIED = "occupied"
+
+
+class Feedback(_NamedEnum):
+    """Feedback F (thumb up / thumb down); ``NONE`` (no feedback) counts as OK."""
+
+    OK = "ok"
+    NOT_OK = "not ok"
+    NONE = "none"
+
+    @property
+    def approves(self) -> bool:
+        """True for OK and for no feedback (eq. 1 gives eta = 1)."""
+        return self is not Feedback.NOT_OK
+
+
+@dataclass(frozen=True, slots=True)
+class State:
+    """The system state s_t = <g_t, a_t, h_t>.
+
+    ``gesture`` is the detected (or corrected) gesture, ``previous_action`` the robot's last
+    action that got OK, ``hand`` the state of the robot's hand. Strings are parsed.
+    """
+
+    gesture: Gesture
+    previous_action: Action
+    hand: Hand
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "gesture", Gesture.parse(self.gesture))
+        object.__setattr__(self, "previous_action", Action.parse(self.previous_action))
+        object.__setattr__(self, "hand", Hand.parse(self.hand))
+
+    def key(self) -> str:
+        """A stable text key, e.g. ``"pointing|open|free"`` (used in saved tables and logs)."""
+        return f"{self.gesture.value}|{self.previous_action.value}|{self.hand.value}"
+
+    @classmethod
+    def from_key(cls, key: str) -> State:
+        """Inverse of :meth:`key`."""
+        parts = key.split("|")
+        if len(parts) != 3:
+            raise InvalidChoiceError("state key", key, ["gesture|previous_action|hand"])
+        return cls(*parts)
+
+    def with_gesture(self, gesture: Gesture) -> State:
+        """The same state with another gesture (used by the correction)."""
+        return State(gesture, self.previous_action, self.hand)
+
+    def __str__(self) -> str:
+        return f"<{self.gesture}, {self.previous_action}, {self.hand}>"
+
+
+GESTURES: tuple[Gesture, ...] = tuple(Gesture)
+ACTIONS: tuple[Action, ...] = tuple(Action)
+HANDS: tuple[Hand, ...] = tuple(Hand)
+START_ACTION = Action.OPEN
+START_HAND = Hand.FREE

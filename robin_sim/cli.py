@@ -1,0 +1,55 @@
+"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep`` and ``report`` subcommands.
+
+Each subcommand lives in its own module exposing ``add_arguments(parser)`` and
+``run(args) -> int``; modules are imported only when their command is chosen, so
+``robin-pil study`` never loads MuJoCo.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from pil.errors import RobinPilError
+
+# command -> (module, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "study": ("pil.study_cli", "the paper's simulation study (learner only): CSV, summary, figures"),
+    "episode": ("robin_sim.episode_cli", "one physical episode rendered headless to MP4"),
+    "sweep": ("robin_sim.sweep_cli", "a resumable grid of runs, local pool or Dask cluster"),
+    "report": ("robin_sim.report_cli", "summary, t-tests and figures for a results CSV"),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The top-level parser with one subparser per command."""
+    parser = argparse.ArgumentParser(
+        prog="robin-pil",
+        description="Robin learns which action each hand gesture means (Proactive Incremental "
+        "Learning), in a learner-only study or physically in MuJoCo.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (module_name, help_text) in COMMANDS.items():
+        sub_parser = sub.add_parser(name, help=help_text, description=help_text)
+        module = importlib.import_module(module_name)
+        module.add_arguments(sub_parser)
+        sub_parser.set_defaults(_module=module)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; bad input ends with one clear message and exit code 2."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args._module.run(args) or 0)
+    except RobinPilError as error:
+        print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
