@@ -7,13 +7,13 @@ an unknown name raises :class:`pil.errors.InvalidChoiceError` listing the valid 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
+from enum import StrEnum
 from typing import Self
 
 from pil.errors import InvalidChoiceError
 
 
-class _NamedEnum(str, Enum):
+class _NamedEnum(StrEnum):
     """A string enum whose values are the paper's names; parsing is forgiving about case."""
 
     @classmethod

@@ -13,9 +13,16 @@ from typing import Protocol
 
 from pil.types import Action, Gesture, Hand
 
-# A target the person indicates: a leg index for "object", an (x, y) spot on the table for
-# "location"; None when the gesture indicates nothing.
-Target = int | tuple[float, float] | None
+
+@dataclass(frozen=True, slots=True)
+class Target:
+    """What the person points at: leg ``index`` ("leg") or table spot ``index`` ("spot").
+
+    Indices are within the current table's layout; the physical world maps them to positions.
+    """
+
+    kind: str  # "leg" or "spot"
+    index: int
 
 
 @dataclass(frozen=True, slots=True)
@@ -24,7 +31,7 @@ class Intent:
 
     gesture: Gesture  # the gesture really performed (the detector may read another)
     action: Action  # the action the person wants (the correct association T_c)
-    target: Target  # the leg or spot pointed at, if any
+    target: Target | None  # the leg or spot pointed at; None when nothing is indicated
     handover: int  # 0-based index of the leg being handed over in the whole assembly
     table: int  # 0-based index of the table being assembled
 

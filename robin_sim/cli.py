@@ -15,7 +15,7 @@ from pil.errors import RobinPilError
 
 # command -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
-    "study": ("pil.study_cli", "the paper's simulation study (learner only): CSV, summary, figures"),
+    "study": ("pil.study_cli", "the paper's simulation study (learner only)"),
     "episode": ("robin_sim.episode_cli", "one physical episode rendered headless to MP4"),
     "sweep": ("robin_sim.sweep_cli", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.report_cli", "summary, t-tests and figures for a results CSV"),
