@@ -1,0 +1,268 @@
+"""The PIL agent: Algorithm 1 (lines 3-18) with the feedback learning and gesture correction.
+
+One *step* is one instruction: the robot acts on a state until the person approves an action
+(OK or no feedback). Within a step the learner never repeats an action it already tried in that
+state until all five were tried. :meth:`Learner.choose` ranks the actions as
+
+1. the unique best action of eq. 4 (an *exploit*),
+2. other learnt actions (count > 0), most probable first, ties at random,
+3. actions never tried in this state, at random,
+4. actions that got not-OK in this state in earlier steps, at random.
+
+:meth:`Learner.decide` runs Algorithm 1 for one detected gesture: explore on an empty table,
+choose on a valid state, otherwise correct the gesture (section III-B) or ask for a repeat.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+from dataclasses import dataclass
+from pathlib import Path
+
+from pil.table import START, AssociationTable, action_index, approves, state_id
+from pil.table_io import load_table, save_table
+from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
+from pil.validity import ALL_STATES, broken_rules, is_valid
+
+_ALL_TRIED = (1 << len(ACTIONS)) - 1
+_INDICES = range(len(ACTIONS))
+_ACTION_INDEX: dict[Action, int] = {a: i for i, a in enumerate(ACTIONS)}
+_ID_BY_OBJECT: dict[int, int] = {id(s): i for i, s in enumerate(ALL_STATES)}
+_ID_OF_PARTS: dict[tuple[Gesture, Action, Hand], int] = {
+    (s.gesture, s.previous_action, s.hand): i for i, s in enumerate(ALL_STATES)
+}
+_VALID: tuple[bool, ...] = tuple(is_valid(s) for s in ALL_STATES)
+# Valid states grouped by (previous action, hand): the candidates of a correction.
+_SAME_CONTEXT: dict[tuple[Action, Hand], frozenset[int]] = {
+    (a, h): frozenset(
+        i for i, s in enumerate(ALL_STATES) if _VALID[i] and (s.previous_action, s.hand) == (a, h)
+    )
+    for a in ACTIONS
+    for h in Hand
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Decision:
+    """What the learner decided for one detected gesture.
+
+    ``state`` is the state acted on (the corrected one after a correction), ``action`` None
+    means no action: the person has to repeat the gesture.
+    """
+
+    state: State | None
+    detected_state: State | None
+    action: Action | None
+    corrected: bool
+    exploited: bool
+    reason: str
+
+
+def _id_of_parts(gesture: Gesture | str, previous_action: Action | str, hand: Hand | str) -> int:
+    """The state id for the three parts (enum members or the paper's names)."""
+    found = _ID_OF_PARTS.get((gesture, previous_action, hand))  # type: ignore[arg-type]
+    if found is None:  # other spellings ("Give_Me") or bad names (which raise here)
+        return state_id(State(gesture, previous_action, hand))  # type: ignore[arg-type]
+    return found
+
+
+class Learner:
+    """Learns on the fly which action each state asks for (Proactive Incremental Learning).
+
+    ``seed`` seeds the learner's own ``random.Random`` (exploration and tie breaks), so the same
+    seed and the same calls give the same decisions. ``table`` is updated in place (pass
+    ``table.copy()`` to keep a pre-trained table unchanged); ``correction`` False makes an
+    invalid or discarded gesture always ask the person to repeat it.
+    """
+
+    def __init__(
+        self,
+        seed: int = 0,
+        *,
+        table: AssociationTable | None = None,
+        correction: bool = True,
+    ) -> None:
+        self.seed = seed
+        self.table = AssociationTable() if table is None else table
+        self.correction = correction
+        self._rng = random.Random(seed)
+        self._tried: dict[int, int] = {}  # state id -> mask of actions tried in this step
+        self._last_ok = START  # id of the last approved state; START at the task start
+        self.last_exploited = False
+        self.last_reason = ""
+
+    # -- state of the learner -------------------------------------------------------------
+    @property
+    def last_ok_state(self) -> State | None:
+        """The last state whose action got OK (None at the start of the task)."""
+        return None if self._last_ok == START else ALL_STATES[self._last_ok]
+
+    def tried_in_step(self, state: State) -> frozenset[Action]:
+        """The actions tried in ``state`` since the last OK."""
+        mask = self._tried.get(state_id(state), 0)
+        return frozenset(a for i, a in enumerate(ACTIONS) if mask >> i & 1)
+
+    def restart(self) -> None:
+        """The robot is back at its start pose: forget the step and the previous OK state."""
+        self._tried.clear()
+        self._last_ok = START
+
+    # -- section III-A ----------------------------------------------------------------------
+    def choose(self, state: State) -> Action:
+        """The next action to try in ``state`` within the current step (see module docstring)."""
+        sid = _ID_BY_OBJECT.get(id(state))
+        return self._choose(state_id(state) if sid is None else sid)
+
+    def _choose(self, sid: int) -> Action:
+        tried = self._tried.get(sid, 0)
+        if tried == _ALL_TRIED:  # every action was rejected in this step: start over
+            tried = self._tried[sid] = 0
+        table = self.table
+        best = table._best[sid]
+        if best >= 0 and not tried >> best & 1:
+            self.last_exploited, self.last_reason = True, "unique best"
+            return ACTIONS[best]
+        self.last_exploited = False
+        row = table._counts[sid]
+        learnt = 0
+        if row is not None:
+            top = 0
+            tops: list[int] = []
+            for i, c in enumerate(row):
+                if c:
+                    learnt |= 1 << i
+                    if c >= top and not tried >> i & 1:
+                        if c > top:
+                            top, tops = c, [i]
+                        else:
+                            tops.append(i)
+            if tops:
+                self.last_reason = "next best" if len(tops) == 1 else "tie among learnt"
+                return ACTIONS[tops[0] if len(tops) == 1 else self._rng.choice(tops)]
+        rejected = table._rejected[sid]
+        fresh = [i for i in _INDICES if not (tried | rejected | learnt) >> i & 1]
+        if fresh:
+            self.last_reason = "explore untried"
+            return ACTIONS[self._rng.choice(fresh)]
+        self.last_reason = "re-explore rejected"
+        return ACTIONS[self._rng.choice([i for i in _INDICES if not (tried | learnt) >> i & 1])]
+
+    def feedback(self, state: State, action: Action | str, ok: bool | Feedback | str) -> None:
+        """Apply the person's feedback on ``action`` in ``state`` (eq. 1 and 2).
+
+        Not-OK: the action counts as tried in this step and as rejected in ``state``. OK or no
+        feedback: the step ends, the transition from the previous OK state is counted and
+        ``state`` becomes the previous OK state.
+        """
+        sid = _ID_BY_OBJECT.get(id(state))
+        if sid is None:
+            sid = state_id(state)
+        index = _ACTION_INDEX.get(action)  # type: ignore[call-overload]  # "object" hits too
+        if index is None:
+            index = action_index(action)
+        if ok is True or (ok is not False and approves(ok)):
+            self.table._approve(sid, index)
+            self.table._follow(self._last_ok, sid)
+            self._tried.clear()
+            self._last_ok = sid
+        else:
+            self.table._reject(sid, index)
+            self._tried[sid] = self._tried.get(sid, 0) | 1 << index
+
+    # -- section III-B ----------------------------------------------------------------------
+    def correct(self, state: State, previous_state: State | None) -> State | None:
+        """The most frequent valid state that followed ``previous_state`` with OK and shares
+        ``state``'s previous action and hand (ties at random), or None if there is none.
+
+        ``previous_state`` None means the start of the task.
+        """
+        state = ALL_STATES[state_id(state)]
+        source = START if previous_state is None else state_id(previous_state)
+        return self._correct(state.previous_action, state.hand, source)
+
+    def _correct(self, previous_action: Action, hand: Hand, source: int) -> State | None:
+        followers = self.table._transitions[source]
+        candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
+        top = 0
+        tops: list[int] = []
+        for sid in sorted(followers):  # a fixed order, whatever order the counts came in
+            if sid in candidates:
+                count = followers[sid]
+                if count > top:
+                    top, tops = count, [sid]
+                elif count == top:
+                    tops.append(sid)
+        if not tops:
+            return None
+        return ALL_STATES[tops[0] if len(tops) == 1 else self._rng.choice(tops)]
+
+    # -- Algorithm 1, lines 3-18 ------------------------------------------------------------
+    def decide(
+        self, detected: Gesture | str | None, previous_action: Action | str, hand: Hand | str
+    ) -> Decision:
+        """Decide what to do for one detected gesture (None: the detector discarded it)."""
+        if detected is None:
+            detected_state = None
+        else:
+            sid = _id_of_parts(detected, previous_action, hand)
+            detected_state = ALL_STATES[sid]
+            if self.table._total == 0:  # T is empty: explore without a validity check
+                action = self._choose(sid)
+                reason = f"explore (nothing learnt yet); {self.last_reason}"
+                return Decision(detected_state, detected_state, action, False, False, reason)
+            if _VALID[sid]:
+                action = self._choose(sid)
+                return Decision(
+                    detected_state,
+                    detected_state,
+                    action,
+                    False,
+                    self.last_exploited,
+                    self.last_reason,
+                )
+        if previous_action.__class__ is not Action:
+            previous_action = Action.parse(previous_action)
+        if hand.__class__ is not Hand:
+            hand = Hand.parse(hand)
+        return self._repair(detected_state, previous_action, hand)  # type: ignore[arg-type]
+
+    def _repair(
+        self, detected_state: State | None, previous_action: Action, hand: Hand
+    ) -> Decision:
+        """An invalid or discarded gesture: correct it (section III-B) or ask for a repeat."""
+        if detected_state is None:
+            why, was = "discarded", "none"
+        else:
+            why = f"invalid: {broken_rules(detected_state)[0].name}"
+            was = detected_state.gesture.value
+        if self.table._total == 0:
+            return Decision(None, detected_state, None, False, False, f"{why}; nothing learnt yet")
+        if not self.correction:
+            reason = f"{why}; no correction (manual repetition)"
+            return Decision(None, detected_state, None, False, False, reason)
+        corrected = self._correct(previous_action, hand, self._last_ok)
+        if corrected is None:
+            reason = f"{why}; nothing to correct from (repeat)"
+            return Decision(None, detected_state, None, False, False, reason)
+        action = self.choose(corrected)
+        return Decision(
+            corrected,
+            detected_state,
+            action,
+            True,
+            self.last_exploited,
+            f"corrected {was}->{corrected.gesture.value}; {self.last_reason}",
+        )
+
+    # -- files ------------------------------------------------------------------------------
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Save the table (counts, rejections, transitions) with :func:`pil.save_table`."""
+        return save_table(self.table, path)
+
+    @classmethod
+    def load(
+        cls, path: str | os.PathLike[str], seed: int = 0, *, correction: bool = True
+    ) -> Learner:
+        """A learner at the task start whose table is read from ``path``."""
+        return cls(seed, table=load_table(path), correction=correction)
