@@ -1,0 +1,128 @@
+"""A simulated gesture detector with detection rate d (section IV-A of the paper).
+
+Each gesture the person performs is either read correctly or *missed*. A miss is either
+discarded as low-confidence (the detector returns ``None``) or misclassified as another
+gesture (uniformly among the other three, or as a given confusion matrix says).
+
+Two models decide which gestures are read correctly:
+
+* ``exact`` (the paper's): of every ``n`` consecutive gestures exactly ``round(d * n)`` are read
+  correctly, the positions chosen at random. Implemented as a shuffled deck of ``n`` cards,
+  refilled and reshuffled when used up; ``n`` is the run's scripted number of gestures.
+* ``independent``: each gesture is read correctly with probability ``d``.
+
+The detector owns its seeded RNG, so its draws do not depend on anything else in the run.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Sequence
+
+from pil.errors import InvalidChoiceError, RobinPilError, check_rate
+from pil.types import GESTURES, Gesture
+
+MODELS: tuple[str, ...] = ("exact", "independent")
+DEFAULT_DISCARD = 0.5  # share of misses discarded as low-confidence; calibrated, see README
+_INDEX = {g: i for i, g in enumerate(GESTURES)}
+
+
+class DetectorError(RobinPilError):
+    """Invalid detector settings (rate, model, discard probability, confusion matrix)."""
+
+
+def check_confusion(matrix: Sequence[Sequence[float]]) -> tuple[tuple[float, ...], ...]:
+    """Validate a 4x4 confusion matrix (rows: true gesture, columns: read gesture, G order).
+
+    Rows must sum to 1 and entries lie in [0, 1]. Only the off-diagonal entries matter: on a
+    miss the read gesture is drawn from the row without its diagonal, renormalised, so every
+    row needs some off-diagonal mass.
+    """
+    names = ", ".join(g.value for g in GESTURES)
+    size = len(GESTURES)
+    try:
+        rows = tuple(tuple(float(x) for x in row) for row in matrix)
+    except (TypeError, ValueError):
+        raise DetectorError(f"confusion matrix must be {size}x{size} numbers ({names})") from None
+    if len(rows) != size or any(len(row) != size for row in rows):
+        raise DetectorError(f"confusion matrix must be {size}x{size} (rows/columns: {names})")
+    for gesture, row in zip(GESTURES, rows, strict=True):
+        if any(not 0.0 <= x <= 1.0 for x in row):
+            raise DetectorError(f"confusion row {gesture.value!r}: entries must lie in [0, 1]")
+        if abs(sum(row) - 1.0) > 1e-6:
+            raise DetectorError(
+                f"confusion row {gesture.value!r} sums to {sum(row):.6g}; each row must sum to 1"
+            )
+        if sum(row) - row[_INDEX[gesture]] <= 0.0:
+            raise DetectorError(
+                f"confusion row {gesture.value!r} has no off-diagonal mass: a miss of it "
+                "could not be misread as another gesture"
+            )
+    return rows
+
+
+class Detector:
+    """Reads the person's gestures at detection rate ``rate``."""
+
+    def __init__(
+        self,
+        rate: float,
+        seed: int,
+        *,
+        model: str = "exact",
+        deck_size: int = 100,
+        discard: float = DEFAULT_DISCARD,
+        confusion: Sequence[Sequence[float]] | None = None,
+    ) -> None:
+        self.rate = check_rate(rate)
+        if model not in MODELS:
+            raise InvalidChoiceError("detector model", model, MODELS)
+        self.model = model
+        if isinstance(deck_size, bool) or not isinstance(deck_size, int) or deck_size < 1:
+            raise DetectorError(f"deck size must be a whole number >= 1, got {deck_size!r}")
+        self.deck_size = deck_size
+        self.discard = check_rate(discard, "discard probability")
+        self._rng = random.Random(seed)
+        self._deck: list[bool] = []
+        self._misread: dict[Gesture, tuple[tuple[Gesture, ...], tuple[float, ...]]] = {}
+        rows = check_confusion(confusion) if confusion is not None else None
+        for i, gesture in enumerate(GESTURES):
+            others = tuple(g for g in GESTURES if g is not gesture)
+            if rows is None:
+                weights = (1.0,) * len(others)
+            else:
+                weights = tuple(rows[i][_INDEX[g]] for g in others)
+            self._misread[gesture] = (others, tuple(_cumulative(weights)))
+        self.detected = 0  # gestures read correctly so far
+        self.discarded = 0
+        self.misread = 0
+
+    def correct_next(self) -> bool:
+        """Whether the next gesture is read correctly (consumes one card or one draw)."""
+        if self.model == "independent":
+            return self._rng.random() < self.rate
+        if not self._deck:
+            hits = round(self.rate * self.deck_size)
+            self._deck = [True] * hits + [False] * (self.deck_size - hits)
+            self._rng.shuffle(self._deck)
+        return self._deck.pop()
+
+    def detect(self, gesture: Gesture) -> Gesture | None:
+        """What the detector reads when the person performs ``gesture`` (None: discarded)."""
+        if self.correct_next():
+            self.detected += 1
+            return gesture
+        if self.discard and self._rng.random() < self.discard:
+            self.discarded += 1
+            return None
+        self.misread += 1
+        others, cumulative = self._misread[gesture]
+        return self._rng.choices(others, cum_weights=cumulative)[0]
+
+
+def _cumulative(weights: Sequence[float]) -> list[float]:
+    total, out = 0.0, []
+    for w in weights:
+        total += w
+        out.append(total)
+    return out

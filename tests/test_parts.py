@@ -1,0 +1,72 @@
+"""build_parts: one run's learner, person and detector from a seed, shared with episodes."""
+
+from __future__ import annotations
+
+import pytest
+
+from pil.errors import InvalidChoiceError
+from pil.parts import PARAMS, SEED_NAMES, build_parts, derive_seeds, phase_script
+from pil.runner import run, steps
+from pil.scenario import load_scenario
+from pil.systems import run_one
+from pil.types import Action
+from pil.world import Intent, Outcome, SymbolicWorld
+
+
+class MeasuringWorld(SymbolicWorld):
+    """Like a physical world whose actions all succeed: same effects, its own details."""
+
+    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
+        result = super().execute(action, intent, wanted)
+        return Outcome(result.succeeded, f"moved for {intent.target}", result.undone)
+
+
+def test_parts_reproduce_run_one() -> None:
+    scenario = load_scenario().with_changes(tables=2)
+    parts = build_parts(scenario, 0.6, seed=4)
+    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    row = run_one("pil", 0.6, 4, tables=2)
+    assert (stats.gestures, stats.actions, stats.legs) == (row["gestures"], row["actions"], 8)
+
+
+def test_same_seed_same_decisions_in_another_world() -> None:
+    scenario = load_scenario().with_changes(tables=1)
+    first = build_parts(scenario, 0.6, seed=8)
+    second = build_parts(scenario, 0.6, seed=8)
+    symbolic = list(steps(first.learner, first.person, first.detector, SymbolicWorld(),
+                          **first.options))  # fmt: skip
+    measured = list(steps(second.learner, second.person, second.detector, MeasuringWorld(),
+                          **second.options))  # fmt: skip
+    assert [r._replace(detail="") for r in measured] == symbolic
+    assert any(r.detail.startswith("moved for Target") for r in measured)
+
+
+def test_seeds_and_scripts() -> None:
+    seeds = derive_seeds(3)
+    assert set(seeds) == set(SEED_NAMES) and len(set(seeds.values())) == len(SEED_NAMES)
+    scenario = load_scenario()
+    cache: dict = {}
+    script = phase_script(scenario, "train", seeds, cache)
+    assert len(script) == 110 and phase_script(scenario, "train", seeds, cache) is script
+    assert len(phase_script(scenario, "test", seeds)) == 220
+    with pytest.raises(InvalidChoiceError, match="'train', 'test'"):
+        phase_script(scenario, "warmup", seeds)
+    with pytest.raises(InvalidChoiceError, match="unknown parameter 'discrad'"):
+        build_parts(scenario, 0.5, 1, discrad=0.2)
+    assert PARAMS["discard"] == 0.5 and PARAMS["repeat_discarded"] is True
+
+
+def test_parameter_values_from_text_are_converted() -> None:
+    from pil.errors import RobinPilError
+    from pil.parts import check_params
+
+    values = check_params({"discard": "0.3", "repeat_discarded": "false", "patience": "2",
+                           "legs_per_table": 3.0})  # fmt: skip
+    assert values["discard"] == 0.3 and values["repeat_discarded"] is False
+    assert values["patience"] == 2 and values["legs_per_table"] == 3
+    with pytest.raises(RobinPilError, match="'patience' must be of type int"):
+        check_params({"patience": "2.5"})
+    with pytest.raises(RobinPilError, match="'repeat_discarded' must be of type bool"):
+        check_params({"repeat_discarded": "maybe"})
+    with pytest.raises(RobinPilError, match="'tables' must be of type int"):
+        check_params({"tables": True})

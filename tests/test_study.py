@@ -1,0 +1,71 @@
+"""The study: reproducible runs.csv, summary with t-tests and training figures, figures."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib.image
+import pytest
+
+from pil.errors import RobinPilError
+from pil.report import load_rows
+from pil.study import (
+    PAPER_TRAINING,
+    STUDY_COLUMNS,
+    StudyConfig,
+    rep_seeds,
+    run_study,
+    training_figures,
+    write_outputs,
+)
+
+SMALL = StudyConfig(rates=(0.6, 1.0), reps=2, params={"tables": 2})
+
+
+def test_same_seed_gives_a_byte_identical_runs_csv(tmp_path: Path) -> None:
+    first = write_outputs(run_study(SMALL), SMALL, tmp_path / "a")
+    second = write_outputs(run_study(SMALL), SMALL, tmp_path / "b")
+    assert first[0].name == "runs.csv"
+    assert first[0].read_bytes() == second[0].read_bytes()
+    other = StudyConfig(rates=(0.6, 1.0), reps=2, seed=1, params={"tables": 2})
+    write_outputs(run_study(other), other, tmp_path / "c")
+    assert (tmp_path / "c" / "runs.csv").read_bytes() != first[0].read_bytes()
+
+
+def test_outputs_are_written_and_readable(tmp_path: Path) -> None:
+    rows = run_study(SMALL)
+    assert len(rows) == SMALL.runs() == 2 * 2 * 5
+    written = write_outputs(rows, SMALL, tmp_path)
+    assert {p.name for p in written} == {
+        "runs.csv", "summary.md", "gestures.png", "actions.png", "training.png"
+    }  # fmt: skip
+    back = load_rows(tmp_path / "runs.csv")
+    assert list(back[0]) == list(STUDY_COLUMNS) and len(back) == 20
+    summary = (tmp_path / "summary.md").read_text()
+    assert "## Welch t-tests" in summary and "| 0.6 | total_gestures | pil | c1 |" in summary
+    assert "| 100 % | 110.0 ± 0.0 | 111 | -0.9 % |" in summary
+    for name in ("gestures.png", "actions.png", "training.png"):
+        assert matplotlib.image.imread(tmp_path / name).shape[0] > 100
+    assert not list(tmp_path.glob("*.partial"))
+
+
+def test_training_figures_count_each_training_run_once() -> None:
+    rows = run_study(SMALL)
+    figures = training_figures(rows)
+    assert set(figures) == {0.6, 1.0}
+    assert figures[1.0]["gestures"] == 110 and figures[1.0]["n"] == 2
+    assert set(PAPER_TRAINING) == {0.4, 0.6, 0.8, 1.0}
+
+
+def test_rep_seeds_are_distinct_and_reproducible() -> None:
+    seeds = rep_seeds(0, 20)
+    assert len(set(seeds)) == 20 and seeds == rep_seeds(0, 20) and seeds != rep_seeds(1, 20)
+
+
+def test_bad_config_is_rejected() -> None:
+    with pytest.raises(RobinPilError, match="detection rate"):
+        StudyConfig(rates=(1.5,))
+    with pytest.raises(RobinPilError, match="unknown system"):
+        StudyConfig(systems=("pil", "c9"))
+    with pytest.raises(RobinPilError, match="reps"):
+        StudyConfig(reps=0)

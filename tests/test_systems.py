@@ -1,0 +1,106 @@
+"""The five systems and run_one: rows, shared training, parameters, the paper's 100 % figures."""
+
+from __future__ import annotations
+
+import statistics
+
+import pytest
+
+from pil.errors import InvalidChoiceError, RobinPilError
+from pil.systems import (
+    PARAMS,
+    ROW_COLUMNS,
+    SYSTEMS,
+    check_params,
+    derive_seeds,
+    pretrain,
+    resolve_scenario,
+    run_one,
+)
+
+
+@pytest.mark.parametrize("system", list(SYSTEMS))
+def test_row_has_every_column_and_consistent_totals(system: str) -> None:
+    row = run_one(system, 0.6, seed=1, tables=2)
+    assert list(row) == list(ROW_COLUMNS)
+    assert row["legs"] == row["handovers"] == 8
+    assert row["total_gestures"] == row["gestures"] + row["train_gestures"]
+    assert row["total_actions"] == row["actions"] + row["train_actions"]
+    if system == "pil":
+        assert row["train_gestures"] == row["train_actions"] == 0
+    else:
+        assert row["train_gestures"] >= 110
+
+
+def test_conditions_share_training_runs_within_a_seed() -> None:
+    rows = {s: run_one(s, 0.4, seed=3, tables=1) for s in SYSTEMS}
+    assert rows["c1"]["train_gestures"] == rows["c3"]["train_gestures"] > 110
+    assert rows["c1"]["train_actions"] == rows["c3"]["train_actions"]
+    assert rows["c2"]["train_gestures"] == rows["c4"]["train_gestures"] == 110
+    # manual repetition never acts on a misread gesture, so it needs no correction
+    assert rows["c3"]["corrections"] == rows["c4"]["corrections"] == 0
+    assert rows["c3"]["gestures"] > rows["c3"]["scripted_gestures"]
+
+
+def test_same_arguments_same_row() -> None:
+    assert run_one("c1", 0.6, seed=5, tables=2) == run_one("c1", 0.6, seed=5, tables=2)
+    assert run_one("pil", 0.6, seed=5, tables=2) != run_one("pil", 0.6, seed=6, tables=2)
+
+
+def test_extra_parameters_are_accepted_by_name() -> None:
+    row = run_one("pil", 0.6, seed=2, tables=1, discard=0.3, silent_ok=0.1, legs_per_table=3)
+    assert (row["discard"], row["silent_ok"], row["legs_per_table"]) == (0.3, 0.1, 3)
+    assert row["handovers"] == row["legs"] == 3
+
+
+def test_confusion_matrix_parameter_is_used_and_validated() -> None:
+    to_pointing = [[0.0, 1 / 3, 1 / 3, 1 / 3]] + [[1.0, 0.0, 0.0, 0.0]] * 3
+    row = run_one("pil", 0.6, seed=2, tables=1, confusion=to_pointing, discard=0.0)
+    assert row["confusion"] == to_pointing and row["legs"] == 4
+    with pytest.raises(RobinPilError, match="sums to"):
+        run_one("pil", 0.6, seed=2, tables=1, confusion=[[0.5, 0, 0, 0]] * 4)
+
+
+def test_unknown_parameter_and_system_list_the_valid_ones() -> None:
+    with pytest.raises(InvalidChoiceError) as info:
+        run_one("pil", 0.6, seed=0, dicsard=0.3)
+    assert "'dicsard'" in str(info.value) and "'discard'" in str(info.value)
+    with pytest.raises(InvalidChoiceError, match="'pil', 'c1', 'c2', 'c3', 'c4'"):
+        run_one("c5", 0.6, seed=0)
+    with pytest.raises(RobinPilError, match="detection rate"):
+        run_one("pil", 1.5, seed=0)
+    with pytest.raises(RobinPilError, match="seed"):
+        derive_seeds(-1)
+
+
+def test_full_rate_training_matches_the_paper_within_10_percent() -> None:
+    values = check_params({})
+    scenario = resolve_scenario(None, values)
+    runs = [pretrain(scenario, 1.0, derive_seeds(seed), values).stats for seed in range(200)]
+    gestures = statistics.fmean(r.gestures for r in runs)
+    actions = statistics.fmean(r.actions for r in runs)
+    assert abs(gestures - 111) / 111 < 0.10  # ours: exactly 110
+    assert abs(actions - 144) / 144 < 0.10  # ours: about 134 (12 states x 2 rejections)
+    assert gestures == 110
+    assert abs(actions - 134) < 1.5
+
+
+def test_params_defaults_are_documented() -> None:
+    assert PARAMS["tables"] == 10 and PARAMS["detector"] == "exact"
+    assert set(PARAMS) <= set(ROW_COLUMNS)
+
+
+def test_test_parts_match_run_one_for_every_system() -> None:
+    from pil.runner import run
+    from pil.systems import test_parts
+    from pil.world import SymbolicWorld
+
+    values = check_params({"tables": 1})
+    scenario = resolve_scenario(None, values)
+    for system in SYSTEMS:
+        parts = test_parts(system, 0.6, 5, scenario, values)
+        assert parts.options["manual"] is (system in ("c3", "c4"))
+        assert parts.learner.table.is_empty() is (system == "pil")
+        stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+        row = run_one(system, 0.6, 5, tables=1)
+        assert (stats.gestures, stats.actions) == (row["gestures"], row["actions"])
