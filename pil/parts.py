@@ -29,12 +29,17 @@ from pil.runner import MAX_ACTIONS_PER_GESTURE
 from pil.scenario import Scenario, load_scenario
 from pil.table import AssociationTable
 
-PARAMS: dict[str, Any] = {
+# The assembly's own settings: None (the default) keeps the scenario file's value.
+SCENARIO_KEYS: tuple[str, ...] = ("tables", "legs_per_table", "training_tables", "draw", "spots")
+_SCENARIO_KINDS: dict[str, Any] = {
     "tables": 10,  # test tables
     "legs_per_table": 4,
     "training_tables": 5,
     "draw": "balanced",  # balanced | cycle | random
     "spots": 4,
+}
+PARAMS: dict[str, Any] = {
+    **dict.fromkeys(SCENARIO_KEYS),
     "detector": "exact",  # exact | independent
     "discard": DEFAULT_DISCARD,  # share of misses discarded as low-confidence
     "confusion": None,  # 4x4 rows: how a miss of each gesture is misread; None = uniform
@@ -43,7 +48,6 @@ PARAMS: dict[str, Any] = {
     "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
 }
-SCENARIO_KEYS: tuple[str, ...] = ("tables", "legs_per_table", "training_tables", "draw", "spots")
 PHASES: tuple[str, ...] = ("train", "test")
 SEED_NAMES: tuple[str, ...] = tuple(
     f"{phase}_{part}" for part in ("draw", "detector", "learner", "person") for phase in PHASES
@@ -70,7 +74,8 @@ def check_params(params: Mapping[str, Any]) -> dict[str, Any]:
     for name, value in params.items():
         if name not in PARAMS:
             raise InvalidChoiceError("parameter", name, PARAMS)
-        values[name] = _convert(name, value, PARAMS[name])
+        kind = _SCENARIO_KINDS.get(name, PARAMS[name])
+        values[name] = None if value is None else _convert(name, value, kind)
     return values
 
 
@@ -112,12 +117,16 @@ def derive_seeds(seed: int) -> dict[str, int]:
 
 
 def resolve_scenario(scenario: Scenario | str | Path | None, values: Mapping[str, Any]) -> Scenario:
-    """The scenario (default: ``scenarios/assembly.yaml``) with the given assembly fields."""
+    """The scenario (default: ``scenarios/assembly.yaml``) with the assembly fields given.
+
+    Assembly fields that are None or absent in ``values`` keep the scenario file's value.
+    """
     if isinstance(scenario, Scenario):
         base = scenario
     else:
         base = load_scenario() if scenario is None else load_scenario(scenario)
-    return base.with_changes(**{k: values[k] for k in SCENARIO_KEYS})
+    changes = {k: values[k] for k in SCENARIO_KEYS if values.get(k) is not None}
+    return base.with_changes(**changes) if changes else base
 
 
 def phase_script(

@@ -44,7 +44,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="repetitions per rate and system (default: %(default)s)",
     )
     parser.add_argument(
-        "--tables", type=int, default=10, help="test tables per run (default: %(default)s)"
+        "--tables",
+        type=int,
+        default=None,
+        help="test tables per run (default: the scenario's, 10 in the paper's setup)",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
     parser.add_argument(
@@ -70,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.reps < 1:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
-    if args.tables < 1:
+    if args.tables is not None and args.tables < 1:
         raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
     config = StudyConfig(
         rates=_rates(args.rates),

@@ -26,6 +26,7 @@ from pil.errors import InvalidChoiceError, check_rate
 from pil.learner import Learner
 from pil.parts import (
     PARAMS,
+    SCENARIO_KEYS,
     RunParts,
     build_parts,
     check_params,
@@ -211,6 +212,7 @@ def run_system(
         "train_rejected": train.rejected,
     }
     row.update({name: values[name] for name in PARAMS})
+    row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
     return row
 
 
@@ -219,16 +221,18 @@ def run_one(
     rate: float,
     seed: int,
     *,
-    tables: int = 10,
+    tables: int | None = None,
     scenario: Scenario | str | Path | None = None,
     detector: str = "exact",
     **params: Any,
 ) -> dict[str, Any]:
     """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
 
-    ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``, ``silent_ok=0.1``,
-    ``legs_per_table=4``); an unknown name raises an error listing the valid ones. The row's
-    columns are :data:`ROW_COLUMNS`; the same arguments always give the same row.
+    ``tables`` and the other assembly fields default to the scenario file's (10 tables in
+    ``scenarios/assembly.yaml``). ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``,
+    ``silent_ok=0.1``, ``legs_per_table=4``); an unknown name raises an error listing the
+    valid ones. The row's columns are :data:`ROW_COLUMNS`; the same arguments always give the
+    same row.
     """
     values = check_params({**params, "tables": tables, "detector": detector})
     return run_system(system, rate, seed, resolve_scenario(scenario, values), values)

@@ -7,6 +7,7 @@ import statistics
 import pytest
 
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.scenario import DEFAULT_SCENARIO
 from pil.systems import (
     PARAMS,
     ROW_COLUMNS,
@@ -86,8 +87,17 @@ def test_full_rate_training_matches_the_paper_within_10_percent() -> None:
 
 
 def test_params_defaults_are_documented() -> None:
-    assert PARAMS["tables"] == 10 and PARAMS["detector"] == "exact"
+    assert PARAMS["tables"] is None and PARAMS["detector"] == "exact"  # None: the scenario's
     assert set(PARAMS) <= set(ROW_COLUMNS)
+
+
+def test_scenario_file_settings_are_kept_unless_overridden() -> None:
+    table_one = DEFAULT_SCENARIO.parent / "table_one.yaml"
+    row = run_one("pil", 1.0, 0, scenario=table_one)
+    assert (row["tables"], row["legs_per_table"], row["legs"]) == (1, 3, 3)
+    assert row["gestures"] == 14  # Table I: 14 instruction gestures for 3 legs
+    row = run_one("pil", 1.0, 0, scenario=table_one, tables=2)
+    assert (row["tables"], row["legs"], row["gestures"]) == (2, 6, 28)
 
 
 def test_test_parts_match_run_one_for_every_system() -> None:
