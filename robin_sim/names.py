@@ -101,3 +101,38 @@ def leg_joint(index: int) -> str:
 def leg_geom(index: int) -> str:
     """Collision geom of table leg ``index``."""
     return f"leg{index}_geom"
+
+
+# --- added by the model helper (H3): test bench, gesture visuals, fingertips ------------------
+HAND_TEST_SCENE_XML = MODELS_DIR / "hand_test_scene.xml"
+HAND_TEST_SLIDES: tuple[str, ...] = ("bench_x", "bench_y", "bench_z")  # joints = actuators
+HEAD_CAMERA = "head"  # the robot's view, between the two eye cameras
+HEAD_ACTUATORS: tuple[str, ...] = HEAD_JOINTS  # position actuators named like the joints
+
+# Visual-only geoms on the human hand showing each gesture: ``human_vis_<pose>_<part>``; only
+# the ``neutral`` pose is opaque in the file, the others have alpha 0 until shown.
+HUMAN_VIS_POSES: tuple[str, ...] = (
+    "neutral",
+    "pointing",
+    "give_me",
+    "grasp",
+    "release",
+    "thumb_up",
+    "thumb_down",
+)
+HUMAN_VIS_PARTS: tuple[str, ...] = ("palm", "thumb", "index", "middle", "ring", "little")
+
+
+def human_vis_geom(pose: str, part: str) -> str:
+    """Visual geom of gesture ``pose`` (one of HUMAN_VIS_POSES) and hand ``part``."""
+    return f"human_vis_{pose}_{part}"
+
+
+def fingertip_site(side: Side, finger: str) -> str:
+    """Site at the tip of ``finger`` (one of FINGERS)."""
+    return f"{side}_{finger}_tip"
+
+
+def finger_bodies(side: Side, finger: str) -> tuple[str, ...]:
+    """Bodies of one finger, base to tip: ``{side}_{finger}_base``, ``_proximal``, ``_distal``."""
+    return tuple(f"{side}_{finger}_{link}" for link in ("base", "proximal", "distal"))
