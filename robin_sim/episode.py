@@ -1,0 +1,269 @@
+"""A physical episode: the scripted person gestures, the PIL learner decides, Robin acts in MuJoCo.
+
+The episode drives the same learner, person, detector and scenario files as the learner-only
+study (:func:`pil.parts.build_parts`, :func:`pil.runner.steps`); only the world differs
+(:class:`robin_sim.world.PhysicalWorld`). With the same seed and every action succeeding
+physically, its decisions equal the learner-only run's. It writes ``episode.jsonl`` (a line per
+step, flushed as it happens), ``summary.json`` and, unless ``video`` is off, ``episode.mp4``.
+Ctrl-C leaves a playable MP4, the log of every finished step and a summary marked interrupted.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator, Mapping
+from contextlib import ExitStack
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from pil.errors import RobinPilError, check_rate
+from pil.parts import check_params, resolve_scenario
+from pil.runner import StepRecord, steps
+from pil.systems import SYSTEMS, check_system, test_parts
+from pil.types import Action, Hand
+from robin_sim.episode_log import StepLog, write_json_atomic
+from robin_sim.episode_verify import RenderChecks
+from robin_sim.narration import EpisodeView, Narrator
+from robin_sim.scene import SceneLayout
+from robin_sim.world import PhysicalWorld
+
+LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
+
+
+class EpisodeError(RobinPilError):
+    """The episode cannot go on (e.g. the learner's hand state disagrees with physics)."""
+
+
+@dataclass(frozen=True)
+class EpisodeConfig:
+    """Everything that defines an episode; the defaults are ``robin-pil episode``'s."""
+
+    tables: int = 1
+    rate: float = 1.0
+    seed: int = 0
+    system: str = "pil"
+    scenario: str | Path | None = None  # an assembly YAML; default scenarios/assembly.yaml
+    out: Path = Path("out")
+    video: bool = True
+    camera: str = "front"
+    width: int = 640
+    height: int = 480
+    fps: int = 30
+    shadows: bool = True
+    policy_panel: bool = True
+    verify: bool = True  # off-screen render checks after grasps, handovers and placements
+    progress: bool = True
+    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.parts.PARAMS
+
+    def checked(self) -> EpisodeConfig:
+        """Validate what can be validated before anything runs."""
+        check_rate(self.rate)
+        check_system(self.system)
+        if int(self.tables) != self.tables or self.tables < 1:
+            raise RobinPilError(f"tables must be a whole number >= 1, got {self.tables!r}")
+        return self
+
+
+@dataclass
+class EpisodeTotals:
+    """Running totals for the summary."""
+
+    gestures: int = 0
+    actions: int = 0
+    rejected: int = 0
+    corrections: int = 0
+    repeats: int = 0
+    legs_delivered: int = 0  # Algorithm 1's count (handed over or placed)
+    legs_to_person: int = 0
+    legs_placed: int = 0
+    physical_failures: int = 0
+    render_checks: int = 0
+    render_disagreements: int = 0
+
+
+def _expected_hand(before: Hand, record: StepRecord) -> Hand:
+    """The hand state that the learner's approved actions imply after ``record``."""
+    if record.action is None or record.feedback is None or not record.feedback.approves:
+        return before
+    if record.action is Action.CLOSE:
+        return Hand.OCCUPIED
+    if record.action is Action.OPEN:
+        return Hand.FREE
+    return before
+
+
+def episode_records(
+    config: EpisodeConfig, world: PhysicalWorld, narrator: Narrator | None = None
+) -> Iterator[StepRecord]:
+    """The step loop of ``config`` on ``world`` (learner, person and detector as in the study)."""
+    values = check_params({**config.params, "tables": config.tables})
+    scenario = resolve_scenario(config.scenario, values)
+    parts = test_parts(config.system, config.rate, config.seed, scenario, values)
+    if narrator is not None:
+        narrator.table = parts.learner.table if config.policy_panel else None
+    hook = None if narrator is None else narrator.before_action
+    yield from steps(
+        parts.learner, parts.person, parts.detector, world, before_action=hook, **parts.options
+    )
+
+
+def layout_for(config: EpisodeConfig) -> SceneLayout:
+    """The scene layout of the config's scenario (its ``layout`` section, else the default)."""
+    values = check_params({**config.params, "tables": config.tables})
+    scenario = resolve_scenario(config.scenario, values)
+    return SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+
+
+def run_episode(config: EpisodeConfig) -> dict[str, Any]:
+    """Run one episode, write its files under ``config.out`` and return the summary."""
+    config = config.checked()
+    out = Path(config.out)
+    out.mkdir(parents=True, exist_ok=True)
+    world = PhysicalWorld(layout_for(config), seed=config.seed)
+    view = EpisodeView()
+    narrator = Narrator(world, view)
+    totals = EpisodeTotals()
+    started = time.perf_counter()
+    status, error = "running", ""
+    recorder = None
+    with ExitStack() as stack:
+        if config.video:
+            from robin_sim.episode_video import VideoRecorder  # renders: needs the GL backend
+
+            recorder = stack.enter_context(
+                VideoRecorder(
+                    world.sim, view, out / VIDEO_NAME, width=config.width, height=config.height,
+                    fps=config.fps, camera=config.camera, shadows=config.shadows,
+                )
+            )  # fmt: skip
+        checks = RenderChecks(world, enabled=config.verify)
+        stack.callback(checks.close)
+        log = stack.enter_context(StepLog(out / LOG_NAME))
+        bar = stack.enter_context(
+            tqdm(desc="episode", unit="step", disable=not config.progress, leave=False)
+        )
+        hand = Hand.FREE
+        try:
+            for record in episode_records(config, world, narrator):
+                narrator.after_step(record)
+                hand = _expected_hand(hand, record)
+                physical = world.hand()
+                entry = _log_entry(record, world, checks.take(), physical)
+                log.write(entry)
+                _count(totals, record, entry)
+                bar.update(1)
+                bar.set_postfix(legs=record.legs_delivered, t=f"{world.time:.0f}s")
+                if physical is not hand:
+                    raise EpisodeError(
+                        f"step {record.t}: the learner's hand state is {hand.value} but physics "
+                        f"reads {physical.value} ({record.detail or 'no detail'})"
+                    )
+            status = "finished"
+        except KeyboardInterrupt:
+            status = "interrupted"
+            raise
+        except RobinPilError as problem:
+            status, error = "failed", str(problem)
+            raise
+        finally:
+            summary = _summary(config, totals, world, started, status, error, recorder)
+            write_json_atomic(out / SUMMARY_NAME, summary)
+    return summary
+
+
+def _log_entry(
+    record: StepRecord, world: PhysicalWorld, check: dict[str, Any] | None, physical: Hand
+) -> dict[str, Any]:
+    entry = record.to_dict()
+    entry["hand_physics"] = physical.value
+    entry["sim_time"] = round(world.time, 4)
+    entry["leg_positions"] = [[round(float(v), 4) for v in p] for p in world.leg_positions()]
+    if check is not None:
+        entry["render_check"] = check
+    return entry
+
+
+def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) -> None:
+    totals.gestures = record.gesture_count
+    totals.actions = record.t
+    totals.legs_delivered = record.legs_delivered
+    if record.action is None:
+        totals.repeats += 1
+        return
+    totals.rejected += record.feedback is not None and not record.feedback.approves
+    totals.corrections += record.corrected_gesture is not None
+    totals.physical_failures += record.succeeded is False
+    if record.delivered:
+        to_person = record.state is not None and record.state.previous_action is Action.HUMAN
+        totals.legs_to_person += to_person
+        totals.legs_placed += not to_person
+    check = entry.get("render_check")
+    if check is not None:
+        totals.render_checks += 1
+        totals.render_disagreements += not check["agrees"]
+
+
+def _summary(
+    config: EpisodeConfig,
+    totals: EpisodeTotals,
+    world: PhysicalWorld,
+    started: float,
+    status: str,
+    error: str,
+    recorder: Any,
+) -> dict[str, Any]:
+    wall = time.perf_counter() - started
+    summary: dict[str, Any] = {
+        "status": status,
+        "error": error,
+        "system": config.system,
+        "system_name": SYSTEMS[config.system],
+        "rate": config.rate,
+        "seed": config.seed,
+        "tables": config.tables,
+        **asdict(totals),
+        "sim_time_s": round(world.time, 3),
+        "wall_time_s": round(wall, 3),
+        "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
+    }
+    if recorder is not None:
+        timing = recorder.timing
+        summary["video"] = {
+            "path": str(Path(config.out) / VIDEO_NAME),
+            "camera": config.camera,
+            "size": [config.width, config.height],
+            "fps": config.fps,
+            "frames": timing.frames_written,
+            "render_s": round(timing.render_s, 3),
+            "encode_s": round(timing.encode_s, 3),
+        }
+    return summary
+
+
+PHYSICAL_PARAMS: dict[str, Any] = {"tables": 1, "verify": False}
+
+
+def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
+    """One physical run without video, as a flat results row (the sweep's physical kind).
+
+    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.parts.PARAMS`; the step log
+    and summary go to a temporary folder that is removed afterwards.
+    """
+    import tempfile
+
+    options = {**PHYSICAL_PARAMS, **params}
+    tables, verify = int(options.pop("tables")), bool(options.pop("verify"))
+    check_params(options)
+    with tempfile.TemporaryDirectory(prefix="robin-physical-") as folder:
+        config = EpisodeConfig(
+            tables=tables, rate=rate, seed=seed, system=system, out=Path(folder), video=False,
+            verify=verify, progress=False, params=options,
+        )  # fmt: skip
+        summary = run_episode(config)
+    row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
+    row.pop("system_name", None)
+    row["legs_delivered_fraction"] = summary["legs_delivered"] / (4 * tables)
+    return row

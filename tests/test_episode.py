@@ -1,0 +1,103 @@
+"""Physical episodes: video, log, summary, agreement with the learner-only run, corrections.
+
+These run Robin in MuJoCo for real (no mocks) and render with EGL; they are marked slow.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import av
+import pytest
+
+from robin_sim.gl_backend import ensure_gl_backend
+
+ensure_gl_backend()
+
+from pil.parts import check_params, resolve_scenario  # noqa: E402
+from pil.runner import steps  # noqa: E402
+from pil.systems import test_parts as learner_parts  # noqa: E402
+from pil.world import SymbolicWorld  # noqa: E402
+from robin_sim.episode import EpisodeConfig, run_episode  # noqa: E402
+from robin_sim.episode_log import read_step_log  # noqa: E402
+from robin_sim.names import SCENARIOS_DIR  # noqa: E402
+
+ONE_HANDOVER = SCENARIOS_DIR / "one_handover.yaml"
+DECISION_KEYS = ("t", "gesture_count", "true_gesture", "detected_gesture", "corrected_gesture",
+                 "state", "action", "feedback", "delivered", "legs_delivered")  # fmt: skip
+
+
+def _learner_only(config: EpisodeConfig) -> list[dict]:
+    values = check_params({**config.params, "tables": config.tables})
+    scenario = resolve_scenario(config.scenario, values)
+    parts = learner_parts(config.system, config.rate, config.seed, scenario, values)
+    records = steps(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    return [record.to_dict() for record in records]
+
+
+@pytest.mark.slow
+def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -> None:
+    config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, width=160, height=120, fps=15,
+                           progress=False)  # fmt: skip
+    summary = run_episode(config)
+    assert summary["status"] == "finished"
+    assert summary["legs_delivered"] == 1 and summary["legs_to_person"] == 1
+    assert summary["physical_failures"] == 0
+    with av.open(str(tmp_path / "episode.mp4")) as container:
+        stream = container.streams.video[0]
+        assert stream.codec_context.name == "h264"
+        frames = [frame.to_ndarray(format="rgb24") for frame in container.decode(stream)]
+        assert stream.codec_context.pix_fmt == "yuv420p"
+    assert len(frames) == summary["video"]["frames"]
+    # frames at video rate over the simulated time (one frame per 1/fps s, give or take one)
+    assert abs(len(frames) - summary["sim_time_s"] * 15) <= 2
+    assert frames[0].shape == (120, 160, 3)
+    for frame in frames[:: max(1, len(frames) // 5)]:
+        assert frame.std() > 10.0  # not blank: a scene, not a flat colour
+    log = read_step_log(tmp_path / "episode.jsonl")
+    assert len(log) == summary["actions"] + summary["repeats"]
+    assert all(entry["hand_physics"] in ("free", "occupied") for entry in log)
+    assert all(len(entry["leg_positions"]) == 4 for entry in log)
+    times = [entry["sim_time"] for entry in log]
+    assert times == sorted(times)
+    checks = [entry["render_check"] for entry in log if "render_check" in entry]
+    assert {c["check"] for c in checks} == {"in hand", "on palm"}
+    assert all(c["agrees"] for c in checks), checks
+
+
+@pytest.mark.slow
+def test_physical_decisions_equal_the_learner_only_run(tmp_path: Path) -> None:
+    config = EpisodeConfig(tables=1, seed=3, out=tmp_path, video=False, verify=False,
+                           progress=False)  # fmt: skip
+    summary = run_episode(config)
+    assert summary["status"] == "finished" and summary["physical_failures"] == 0
+    physical = read_step_log(tmp_path / "episode.jsonl")
+    symbolic = _learner_only(config)
+    assert [{k: e[k] for k in DECISION_KEYS} for e in physical] == [
+        {k: e[k] for k in DECISION_KEYS} for e in symbolic
+    ]
+    assert summary["legs_delivered"] == 4
+
+
+@pytest.mark.slow
+def test_episode_at_60_percent_runs_to_the_end_with_corrections(tmp_path: Path) -> None:
+    config = EpisodeConfig(tables=1, rate=0.6, seed=1, out=tmp_path, video=False, verify=False,
+                           progress=False)  # fmt: skip
+    summary = run_episode(config)
+    assert summary["status"] == "finished"
+    assert summary["legs_delivered"] == 4
+    log = read_step_log(tmp_path / "episode.jsonl")
+    misread = [e for e in log if e["detected_gesture"] != e["true_gesture"]]
+    assert misread, "at 60 % some gestures must be misread or discarded"
+    assert summary["corrections"] + summary["repeats"] > 0
+    assert summary["corrections"] == sum(e["corrected_gesture"] is not None for e in log)
+
+
+def test_bad_input_is_refused_before_anything_runs(tmp_path: Path) -> None:
+    with pytest.raises(Exception, match=r"\[0, 1\]"):
+        run_episode(EpisodeConfig(rate=1.5, out=tmp_path, video=False))
+    with pytest.raises(Exception, match="system"):
+        run_episode(EpisodeConfig(system="c9", out=tmp_path, video=False))
+    with pytest.raises(Exception, match="tables"):
+        run_episode(EpisodeConfig(tables=0, out=tmp_path, video=False))
+    assert not (tmp_path / "episode.jsonl").exists()
