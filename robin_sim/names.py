@@ -136,3 +136,24 @@ def fingertip_site(side: Side, finger: str) -> str:
 def finger_bodies(side: Side, finger: str) -> tuple[str, ...]:
     """Bodies of one finger, base to tip: ``{side}_{finger}_base``, ``_proximal``, ``_distal``."""
     return tuple(f"{side}_{finger}_{link}" for link in ("base", "proximal", "distal"))
+
+
+# --- added by the model helper (H3b): the person's physical palm, the bin ---------------------
+# The collision palm ``HUMAN_PALM_GEOM`` sits on this dynamic body, welded to the mocap hand
+# ``HUMAN_MOCAP_BODY`` (same frame); ``HUMAN_PALM_SITE`` stays on the mocap hand (the commanded
+# palm centre), ``HUMAN_PALM_BODY_SITE`` is the same point on the physical palm.
+HUMAN_PALM_BODY = "human_palm_body"
+HUMAN_PALM_JOINT = "human_palm_free"
+HUMAN_PALM_WELD = "human_palm_weld"
+HUMAN_PALM_BODY_SITE = "human_palm_body_site"
+HUMAN_PALM_RIM_GEOMS: tuple[str, ...] = ("human_palm_rim_thumb", "human_palm_rim_little")
+BIN_BODY = "bin"
+# The bin for delivered legs (static body on the floor): its floor and four walls; "near" faces
+# Robin (-x), "left" is +y (Robin's left).
+BIN_GEOMS: tuple[str, ...] = (
+    "bin_floor",
+    "bin_wall_near",
+    "bin_wall_far",
+    "bin_wall_left",
+    "bin_wall_right",
+)

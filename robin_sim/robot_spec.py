@@ -46,6 +46,12 @@ LEG_MASS = 0.25
 GRASP_HEIGHT = TABLE_TOP_Z + LEG_RADIUS  # grasp site z for a top-down grasp of a lying leg
 HANDOVER_HEIGHT = 0.88  # z of the human palm surface for a handover
 
+# Bin for delivered legs, on the floor beside the person (models/scene.xml, body ``bin``):
+# inner size x, y, depth above its floor; walls and floor 1 cm thick.
+BIN_INNER_SIZE: tuple[float, float, float] = (0.36, 0.36, 0.25)
+BIN_WALL = 0.01
+BIN_FLOOR_TOP_Z = BIN_WALL  # z of the bin's inner floor
+
 # Region (x, y) where the left arm's grasp site reaches top-down at GRASP_HEIGHT with any leg
 # yaw (measured on a 5 cm grid, see the README); a convex polygon, counter-clockwise.
 LEFT_REACH_POLYGON: tuple[tuple[float, float], ...] = (

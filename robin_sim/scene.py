@@ -22,14 +22,26 @@ from robin_sim import robot_spec as spec
 LegPose = tuple[float, float, float]  # x, y (m) of the leg's centre, yaw (rad) of its axis
 Spot = tuple[float, float]  # x, y (m) on the table top
 
+# Default table: the four legs lie along x in a row near the robot (x 0.44, 0.12 m apart) and
+# the four spots for "location" in a second row further out (x 0.68), each spot's row half-way
+# between two legs' rows. A leg placed on a spot lies along x like the resting ones (the wrist
+# keeps the grasp's yaw), so placed and resting legs overlap in x only over 6 cm, 2 cm apart;
+# the open fingers (0.08 m either side of a grasped leg's axis, 0.055 m along it) clear every
+# other leg by >= 3 cm, and every spot lies >= 7 cm (y) outside the person's palm at the
+# handover point, so the hand never reaches under the held-out palm. See models/robin/README.md.
 DEFAULT_LEGS: tuple[LegPose, ...] = (
-    (0.52, 0.16, 0.0),
-    (0.52, 0.29, 0.0),
-    (0.52, 0.42, 0.0),
-    (0.52, 0.55, 0.0),
+    (0.44, 0.19, 0.0),
+    (0.44, 0.31, 0.0),
+    (0.44, 0.43, 0.0),
+    (0.44, 0.55, 0.0),
 )
-DEFAULT_SPOTS: tuple[Spot, ...] = ((0.42, 0.02), (0.55, -0.06))
+DEFAULT_SPOTS: tuple[Spot, ...] = ((0.68, 0.13), (0.68, 0.25), (0.68, 0.37), (0.68, 0.49))
 DEFAULT_HANDOVER: tuple[float, float, float] = (0.60, 0.0, spec.HANDOVER_HEIGHT)
+# Bin centre (x, y) on the floor: beyond the table's far edge, left of the person (seen from
+# Robin), below the path along x by which the person carries a delivered leg off the palm.
+DEFAULT_BIN: tuple[float, float] = (1.22, -0.20)
+BIN_X_RANGE: tuple[float, float] = (1.15, 1.30)  # bin centre: clear of the table and the person
+BIN_Y_RANGE: tuple[float, float] = (-0.45, 0.45)
 MAX_LEGS = 12
 LEG_CLEARANCE = 0.01  # m between two legs' surfaces at least
 SPOT_CLEARANCE = 0.06  # m from a spot to any leg's axis at least
@@ -43,7 +55,7 @@ LEG_COLORS: tuple[tuple[float, float, float, float], ...] = (
     (0.95, 0.5, 0.65, 1),
     (0.45, 0.3, 0.15, 1),
 )
-_LAYOUT_KEYS = ("legs", "spots", "handover")
+_LAYOUT_KEYS = ("legs", "spots", "handover", "bin")
 _REACH_TEXT = (
     "the left arm's reach: x 0.40-0.55 m for y -0.10..0.55 m, narrowing to y 0.10..0.55 m at "
     "x 0.70 m (robot_spec.LEFT_REACH_POLYGON)"
@@ -84,6 +96,11 @@ def _segments_distance(s1: tuple[np.ndarray, ...], s2: tuple[np.ndarray, ...]) -
     )
 
 
+def leg_gap(a: LegPose, b: LegPose) -> float:
+    """Gap (m) between the surfaces of two legs lying on the table; <= 0 when they touch."""
+    return _segments_distance(leg_ends(a), leg_ends(b)) - 2 * spec.LEG_RADIUS
+
+
 def _on_table(x: float, y: float) -> bool:
     (x0, x1), (y0, y1) = spec.TABLE_X_RANGE, spec.TABLE_Y_RANGE
     return x0 <= x <= x1 and y0 <= y <= y1
@@ -101,11 +118,13 @@ class SceneLayout:
     ``legs``: (x, y, yaw) per leg, metres and radians, the leg lying on the table top.
     ``spots``: (x, y) table spots that a "location" target can name.
     ``handover``: (x, y, z) of the person's palm surface centre (``human_palm_site``).
+    ``bin``: (x, y) of the centre of the bin on the floor where the person drops delivered legs.
     """
 
     legs: tuple[LegPose, ...] = DEFAULT_LEGS
     spots: tuple[Spot, ...] = DEFAULT_SPOTS
     handover: tuple[float, float, float] = DEFAULT_HANDOVER
+    bin: tuple[float, float] = DEFAULT_BIN
 
     def __post_init__(self) -> None:
         legs = tuple(tuple(float(v) for v in leg) for leg in self.legs)
@@ -113,6 +132,7 @@ class SceneLayout:
         object.__setattr__(self, "legs", legs)
         object.__setattr__(self, "spots", spots)
         object.__setattr__(self, "handover", tuple(float(v) for v in self.handover))
+        object.__setattr__(self, "bin", tuple(float(v) for v in self.bin))
         self._validate()
 
     def _validate(self) -> None:
@@ -165,13 +185,20 @@ class SceneLayout:
                 f"handover palm at (x={hx:.3f}, y={hy:.3f}, z={hz:.3f}) is out of reach; "
                 f"valid: (x, y) within {_REACH_TEXT}, z 0.80..1.00 m"
             )
+        (bx0, bx1), (by0, by1) = BIN_X_RANGE, BIN_Y_RANGE
+        if len(self.bin) != 2 or not (bx0 <= self.bin[0] <= bx1 and by0 <= self.bin[1] <= by1):
+            raise LayoutError(
+                f"bin at {self.bin!r} is not a valid (x, y) centre; valid: x {bx0:.2f}..{bx1:.2f}"
+                f" m (beyond the table, before the person), y {by0:.2f}..{by1:.2f} m"
+            )
 
     @classmethod
     def from_mapping(cls, mapping: Mapping[str, Any] | None) -> SceneLayout:
         """Build a layout from a scenario's ``layout`` section.
 
         ``legs``: list of ``[x, y]``, ``[x, y, yaw_deg]`` or ``{x, y, yaw_deg}``; ``spots``: list
-        of ``[x, y]`` or ``{x, y}``; ``handover``: ``[x, y, z]``. Missing keys keep defaults.
+        of ``[x, y]`` or ``{x, y}``; ``handover``: ``[x, y, z]``; ``bin``: ``[x, y]``. Missing
+        keys keep defaults.
         """
         if mapping is None:
             return cls()
@@ -190,6 +217,8 @@ class SceneLayout:
             )
         if "handover" in mapping:
             kwargs["handover"] = _parse_point("handover", mapping["handover"], ("x", "y", "z"))
+        if "bin" in mapping:
+            kwargs["bin"] = _parse_point("bin", mapping["bin"], ("x", "y"))
         return cls(**kwargs)
 
 
@@ -233,7 +262,8 @@ def _parse_leg(index: int, value: Any) -> LegPose:
 
 
 def build_spec(layout: SceneLayout | None = None) -> mujoco.MjSpec:
-    """The scene as an editable ``MjSpec`` with the legs of ``layout`` (default: the file's)."""
+    """The scene as an editable ``MjSpec`` with the legs and bin of ``layout`` (default: the
+    file's); the legs' bodies come last, so their free joints follow the person's palm joint."""
     layout = layout or SceneLayout()
     model_spec = mujoco.MjSpec.from_file(str(names.SCENE_XML))
     template = model_spec.geom(names.leg_geom(0))
@@ -243,6 +273,7 @@ def build_spec(layout: SceneLayout | None = None) -> mujoco.MjSpec:
     while (body := model_spec.body(names.leg_body(i))) is not None:
         model_spec.delete(body)
         i += 1
+    model_spec.body(names.BIN_BODY).pos = [*layout.bin, 0.0]
     z = spec.TABLE_TOP_Z + spec.LEG_RADIUS
     for k, (x, y, yaw) in enumerate(layout.legs):
         body = model_spec.worldbody.add_body(

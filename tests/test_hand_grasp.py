@@ -211,6 +211,16 @@ class ArmRig:
             for callback in self.on_tick:
                 callback()
 
+    def move_person_hand(self, goal: np.ndarray, duration: float) -> None:
+        """Minimum-jerk motion of the person's mocap hand to ``goal`` (the arm holds still)."""
+        mocap = int(self.model.body_mocapid[self.model.body(names.HUMAN_MOCAP_BODY).id])
+        start = self.data.mocap_pos[mocap].copy()
+        steps = round(duration / self.model.opt.timestep)
+        for i in range(1, steps + 1):
+            s = i / steps
+            self.data.mocap_pos[mocap] = start + (10 * s**3 - 15 * s**4 + 6 * s**5) * (goal - start)
+            mujoco.mj_step(self.model, self.data)
+
     def hand_command(self, ctrl: tuple[float, ...], wait: float) -> None:
         self.data.ctrl[self.hand_a] = ctrl
         for _ in range(round(wait / self.model.opt.timestep)):
@@ -246,14 +256,15 @@ def test_arm_grasps_leg_and_hands_it_to_the_palm(leg: int) -> None:
     hx, hy, hz = rig.layout.handover
     rig.goto([x, y, spec.GRASP_HEIGHT + 0.15], yaw)
     # the person holds out the palm once the leg is up: the mocap hand moves in (palm up)
-    data.mocap_pos[0] = np.array([hx, hy, hz]) - model.site(names.HUMAN_PALM_SITE).pos
-    rig.goto([hx, hy, spec.GRASP_HEIGHT + 0.15], np.pi / 2)
-    rig.goto([hx, hy, hz + 0.012 + 0.045], np.pi / 2, speed=0.15)
+    rig.move_person_hand(np.array([hx, hy, hz]) - model.site(names.HUMAN_PALM_SITE).pos, 2.0)
+    # the leg goes down along x: between the palm's two rims (along the person's fingers)
+    rig.goto([hx, hy, spec.GRASP_HEIGHT + 0.15], 0.0)
+    rig.goto([hx, hy, hz + 0.012 + 0.045], 0.0, speed=0.15)
     assert all(held == leg for held, _ in record)
     assert max(d for _, d in record) < 0.005
     rig.on_tick.clear()
     rig.hand_command(spec.HAND_OPEN_CTRL, spec.HAND_OPEN_TIME)
-    rig.goto([hx, hy, hz + 0.15], np.pi / 2)
+    rig.goto([hx, hy, hz + 0.15], 0.0)
     rig.hand_command(spec.HAND_OPEN_CTRL, 1.0)
     palm_site = data.site(names.HUMAN_PALM_SITE).xpos
     # the leg lies on the palm: its axis one radius above the palm surface, centred on it

@@ -10,7 +10,7 @@ import pytest
 
 from robin_sim import names
 from robin_sim import robot_spec as spec
-from robin_sim.scene import SceneLayout, build_model
+from robin_sim.scene import SceneLayout, build_model, build_spec
 
 EIGHT_LEGS = SceneLayout(
     legs=tuple((x, y, math.pi / 2) for x in (0.42, 0.50, 0.60, 0.68) for y in (0.14, 0.46)),
@@ -125,6 +125,14 @@ def _scene_names() -> list[tuple[mujoco.mjtObj, str]]:
         ]
     for pose in names.HUMAN_VIS_POSES:
         want += [(obj.mjOBJ_GEOM, names.human_vis_geom(pose, p)) for p in names.HUMAN_VIS_PARTS]
+    want += [
+        (obj.mjOBJ_BODY, names.HUMAN_PALM_BODY),
+        (obj.mjOBJ_JOINT, names.HUMAN_PALM_JOINT),
+        (obj.mjOBJ_EQUALITY, names.HUMAN_PALM_WELD),
+        (obj.mjOBJ_SITE, names.HUMAN_PALM_BODY_SITE),
+        (obj.mjOBJ_BODY, names.BIN_BODY),
+    ]
+    want += [(obj.mjOBJ_GEOM, g) for g in (*names.HUMAN_PALM_RIM_GEOMS, *names.BIN_GEOMS)]
     return want
 
 
@@ -235,8 +243,10 @@ def test_knuckles_are_coupled() -> None:
 
 
 def test_arm_tracks_a_step_without_oscillation() -> None:
-    """A 0.2 rad step on every left-arm joint settles within 0.3 s, overshoot below 10 %."""
-    model = _load("scene")
+    """A 0.2 rad step on every left-arm joint settles within 0.3 s, overshoot below 10 %.
+
+    The robot alone (in the scene the stepped hand would come down onto leg 0)."""
+    model = _load("robot")
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
     acts = [model.actuator(j).id for j in names.arm_actuators("l")]
@@ -283,3 +293,155 @@ def test_spec_table_matches_model() -> None:
     site = model.site(names.grasp_site("l"))
     assert site.bodyid[0] == palm
     np.testing.assert_allclose(site.pos, [0, 0, spec.GRASP_SITE_FROM_FLANGE])
+
+
+# --- the person's palm: a dynamic body welded to the mocap hand ---------------------------------
+PALM_SITE_IN_HAND = np.array([-0.03, 0.0, 0.012])  # human_palm_site in the hand frame
+MOCAP_UPDATE_STEPS = 10  # the mocap pose changes every 10 physics steps (50 Hz control loop)
+
+
+def _palm_scene(leg_on_palm: bool) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    """The default scene with the hand held out at the handover point (palm up) and, if asked,
+    leg 0 lying along x on the palm (its initial pose in the model; nothing is moved later)."""
+    model_spec = build_spec()
+    hand = np.array(SceneLayout().handover) - PALM_SITE_IN_HAND
+    model_spec.body(names.HUMAN_MOCAP_BODY).pos = hand
+    model_spec.body(names.HUMAN_PALM_BODY).pos = hand
+    if leg_on_palm:
+        model_spec.body(names.leg_body(0)).pos = np.add(SceneLayout().handover, [0, 0, 0.02])
+    model = model_spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
+    for _ in range(250):  # 0.5 s: the leg settles on the palm
+        mujoco.mj_step(model, data)
+    return model, data
+
+
+def _move_mocap(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    delta: np.ndarray,
+    mean_speed: float,
+    roll: float = 0.0,
+    each_step=None,
+) -> None:
+    """Minimum-jerk motion of the mocap hand by ``delta`` (and a roll about x) at mean speed,
+    the mocap pose set once per 20 ms control tick as the project's controllers do."""
+    mocap = int(model.body_mocapid[model.body(names.HUMAN_MOCAP_BODY).id])
+    start = data.mocap_pos[mocap].copy()
+    steps = round(max(np.linalg.norm(delta) / mean_speed, 1.5) / model.opt.timestep)
+    for i in range(1, steps + 1):
+        if (i - 1) % MOCAP_UPDATE_STEPS == 0:  # the project's control loop: new pose every 20 ms
+            s = min(1.0, (i - 1 + MOCAP_UPDATE_STEPS) / steps)
+            s = 10 * s**3 - 15 * s**4 + 6 * s**5
+            data.mocap_pos[mocap] = start + s * np.asarray(delta)
+            if roll:
+                data.mocap_quat[mocap] = [math.cos(s * roll / 2), math.sin(s * roll / 2), 0, 0]
+        mujoco.mj_step(model, data)
+        if each_step is not None:
+            each_step()
+
+
+def _no_warnings(data: mujoco.MjData) -> None:
+    counts = {mujoco.mjtWarning(i).name: data.warning[i].number for i in range(len(data.warning))}
+    assert all(n == 0 for n in counts.values()), counts
+
+
+def test_palm_is_a_dynamic_body_welded_to_the_mocap_hand() -> None:
+    model = _load("scene")
+    palm = model.body(names.HUMAN_PALM_BODY)
+    assert model.body_mocapid[palm.id] == -1 and palm.mass[0] == pytest.approx(1.0)
+    assert model.joint(names.HUMAN_PALM_JOINT).type[0] == mujoco.mjtJoint.mjJNT_FREE
+    assert model.geom(names.HUMAN_PALM_GEOM).bodyid[0] == palm.id
+    assert model.site(names.HUMAN_PALM_BODY_SITE).bodyid[0] == palm.id
+    hand = model.body(names.HUMAN_MOCAP_BODY).id
+    assert model.site(names.HUMAN_PALM_SITE).bodyid[0] == hand
+    np.testing.assert_allclose(model.site(names.HUMAN_PALM_SITE).pos, PALM_SITE_IN_HAND)
+    np.testing.assert_allclose(model.site(names.HUMAN_PALM_BODY_SITE).pos, PALM_SITE_IN_HAND)
+    weld = model.equality(names.HUMAN_PALM_WELD)
+    assert {int(weld.obj1id[0]), int(weld.obj2id[0])} == {palm.id, hand}
+
+
+def test_palm_touches_table_legs_only() -> None:
+    """The person's palm geoms collide with the legs and nothing else (not the robot)."""
+    model = _load("legs4")
+    palm_geoms = [model.geom(g).id for g in (names.HUMAN_PALM_GEOM, *names.HUMAN_PALM_RIM_GEOMS)]
+    legs = {model.geom(names.leg_geom(i)).id for i in range(4)}
+    for p in palm_geoms:
+        for g in range(model.ngeom):
+            if model.geom_bodyid[g] == model.geom_bodyid[p]:
+                continue
+            touches = bool(
+                model.geom_contype[p] & model.geom_conaffinity[g]
+                or model.geom_contype[g] & model.geom_conaffinity[p]
+            )
+            assert touches == (g in legs), model.geom(g).name
+
+
+@pytest.mark.slow
+def test_palm_follows_the_mocap_hand_smoothly() -> None:
+    """The weld (time constant 0.02 s) low-passes the 50 Hz steps of the mocap pose: moved 0.4 m
+    at 0.35 m/s peak (the person's free speed) and rolled 2 rad in 1.5 s, the physical palm lags
+    by < 2 cm / 0.15 rad (about 0.05 s of motion); at the carrying speed (0.25 m/s peak) it never
+    accelerates harder than 10 m/s^2 (friction can carry a leg); holding still, it sits within
+    0.1 mm of the hand, at rest."""
+    model, data = _palm_scene(leg_on_palm=False)
+    palm, hand = model.body(names.HUMAN_PALM_BODY).id, model.body(names.HUMAN_MOCAP_BODY).id
+    errors: list[tuple[float, float]] = []
+    accelerations: list[float] = []
+    velocity = np.zeros(3)
+
+    def record() -> None:
+        nonlocal velocity
+        turn = data.xmat[hand].reshape(3, 3).T @ data.xmat[palm].reshape(3, 3)
+        angle = math.acos(min(1.0, (np.trace(turn) - 1) / 2))
+        errors.append((float(np.linalg.norm(data.xpos[palm] - data.xpos[hand])), angle))
+        now = data.cvel[palm][3:].copy()
+        accelerations.append(float(np.linalg.norm(now - velocity)) / model.opt.timestep)
+        velocity = now
+
+    carry, free = 0.25 / 1.875, 0.35 / 1.875  # mean speeds (min-jerk peak = 1.875 x mean)
+    _move_mocap(model, data, np.array([0.4, 0.0, 0.0]), carry, each_step=record)
+    assert max(accelerations[1:]) < 10.0  # carrying a leg along x
+    _move_mocap(model, data, np.array([-0.4, 0.0, 0.0]), free, each_step=record)
+    _move_mocap(model, data, np.array([0.0, -0.3, 0.1]), free, roll=2.0, each_step=record)
+    position_error, angle_error = np.max(errors, axis=0)
+    assert position_error < 0.02 and angle_error < 0.15
+    errors.clear()
+    for _ in range(500):  # 1 s holding still: no jitter
+        mujoco.mj_step(model, data)
+        record()
+    assert np.max(errors, axis=0)[0] < 1e-4
+    assert np.linalg.norm(data.cvel[palm]) < 1e-3
+    _no_warnings(data)
+
+
+@pytest.mark.slow
+def test_palm_carries_a_leg_by_friction_and_tips_it_off() -> None:
+    """A leg lying on the palm stays on it (within 1 cm of where it lay, in the palm frame) while
+    the hand moves 0.4 m at 0.12 m/s along x and back, then along y and back; rolling the palm
+    2 rad about x tips it off."""
+    model, data = _palm_scene(leg_on_palm=True)
+    palm, leg = model.body(names.HUMAN_PALM_BODY).id, model.body(names.leg_body(0)).id
+
+    def on_palm() -> np.ndarray:
+        return data.xmat[palm].reshape(3, 3).T @ (data.xpos[leg] - data.xpos[palm])
+
+    start = on_palm()
+    np.testing.assert_allclose(start, PALM_SITE_IN_HAND + np.array([0, 0, 0.02]), atol=1e-3)
+    drift: list[float] = []
+    for delta in ([0.4, 0, 0], [-0.4, 0, 0], [0, -0.4, 0], [0, 0.4, 0]):
+        _move_mocap(
+            model,
+            data,
+            np.array(delta),
+            0.12,
+            each_step=lambda: drift.append(float(np.linalg.norm(on_palm() - start))),
+        )
+    assert max(drift) < 0.01
+    _move_mocap(model, data, np.zeros(3), 1.0, roll=2.0)
+    for _ in range(500):
+        mujoco.mj_step(model, data)
+    assert np.linalg.norm(on_palm() - start) > 0.1  # off the palm
+    assert data.xpos[leg][2] < data.xpos[palm][2] - 0.05  # fell below it
+    _no_warnings(data)

@@ -12,11 +12,15 @@ from pil.errors import RobinPilError
 from robin_sim import names
 from robin_sim import robot_spec as spec
 from robin_sim.scene import (
+    DEFAULT_BIN,
     DEFAULT_HANDOVER,
     LayoutError,
     SceneLayout,
     build_model,
+    build_spec,
     leg_count,
+    leg_ends,
+    leg_gap,
 )
 
 
@@ -136,3 +140,169 @@ def test_build_model_caches_nothing() -> None:
     four = build_model()
     assert (leg_count(one), leg_count(four)) == (1, 4)
     assert one is not build_model(SceneLayout(legs=((0.5, 0.3, 0.0),)))
+
+
+# --- the default spots: four places for "location", one per leg of a table ----------------------
+OPEN_HAND_HALF = (0.055, 0.08)  # m: open fingers along / across a grasped leg's axis (measured)
+CLOSED_HAND_HALF_WIDTH = 0.045  # m: closed fingers and the palm cylinder, across the leg axis
+PALM_FOOTPRINT_HALF = (0.09 + 0.01, 0.05 + 0.01)  # m: the person's palm box + 1 cm jitter
+
+
+def _axis_points(pose: tuple[float, float, float]) -> np.ndarray:
+    a, b = leg_ends(pose)
+    return a + np.linspace(0.0, 1.0, 61)[:, None] * (b - a)
+
+
+def _placed(yaw: float) -> list[tuple[float, float, float]]:
+    return [(x, y, yaw) for x, y in SceneLayout().spots]
+
+
+def test_default_layout_has_four_spots_in_reach() -> None:
+    spots = SceneLayout().spots
+    assert len(spots) == 4
+    assert all(spec.in_left_reach(x, y) for x, y in spots)
+    assert all(spec.in_left_reach(x, y) for x, y, _ in SceneLayout().legs)
+
+
+@pytest.mark.parametrize("yaw_deg", [-3.0, 0.0, 3.0])
+def test_legs_placed_on_all_default_spots_touch_no_other_leg(yaw_deg: float) -> None:
+    """A placed leg keeps the grasp's yaw (0 for the default legs; PhysicalWorld placed them
+    within 0.8-1.7 deg): legs on all four spots and the four resting legs, placed legs turned by
+    up to 3 deg, are pairwise >= 1 cm apart."""
+    legs = [*SceneLayout().legs, *_placed(math.radians(yaw_deg))]
+    gaps = [leg_gap(a, b) for i, a in enumerate(legs) for b in legs[i + 1 :]]
+    assert min(gaps) >= 0.01
+
+
+def test_open_hand_at_any_default_leg_or_spot_clears_every_other_leg() -> None:
+    """The open fingers around one leg (resting or placed) stay >= 1 cm from every other leg."""
+    legs = [*SceneLayout().legs, *_placed(0.0)]
+    along, across = OPEN_HAND_HALF
+    for i, (x, y, _) in enumerate(legs):
+        for j, other in enumerate(legs):
+            if i == j:
+                continue
+            points = _axis_points(other)
+            inside = (np.abs(points[:, 0] - x) < along + spec.LEG_RADIUS + 0.01) & (
+                np.abs(points[:, 1] - y) < across + spec.LEG_RADIUS + 0.01
+            )
+            assert not inside.any(), (i, j)
+
+
+def test_default_spots_lie_clear_of_the_held_out_palm() -> None:
+    """A leg going down onto any spot (and the hand around it) never passes under the palm."""
+    hx, hy, _ = SceneLayout().handover
+    half_x, half_y = PALM_FOOTPRINT_HALF
+    for pose in _placed(0.0):
+        points = _axis_points(pose)
+        margin = CLOSED_HAND_HALF_WIDTH + 0.01
+        under = (np.abs(points[:, 0] - hx) < half_x + margin) & (
+            np.abs(points[:, 1] - hy) < half_y + margin
+        )
+        assert not under.any(), pose
+
+
+@pytest.mark.slow
+def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
+    """With the project's controller (PhysicalWorld): leg k is grasped and placed on spot 3 - k
+    for k = 0..3 in one scene; each lands within the placement tolerance of its spot, lying on
+    the table, and no other leg (resting or placed) moves more than 2 mm."""
+    from pil.types import Action, Gesture
+    from pil.world import Intent, Target
+    from robin_sim.world import PLACEMENT_TOLERANCE, PhysicalWorld
+
+    def intent(gesture: str, action: str, target: Target | None = None) -> Intent:
+        return Intent(Gesture(gesture), Action(action), target, handover=0, table=0)
+
+    world = PhysicalWorld(seed=1)
+    spots = world.layout.spots
+    for leg in range(4):
+        spot = 3 - leg
+        before = world.leg_positions()
+        steps = [
+            (Action.OBJECT, intent("pointing", "object", Target("leg", leg))),
+            (Action.CLOSE, intent("grasp", "close")),
+            (Action.LOCATION, intent("pointing", "location", Target("spot", spot))),
+            (Action.OPEN, intent("release", "open")),
+        ]
+        for action, wanted in steps:
+            outcome = world.execute(action, wanted, True)
+            assert outcome.succeeded, (leg, action, outcome.detail)
+        after = world.leg_positions()
+        assert np.linalg.norm(after[leg, :2] - spots[spot]) <= PLACEMENT_TOLERANCE
+        assert after[leg, 2] == pytest.approx(spec.GRASP_HEIGHT, abs=2e-3)
+        others = [k for k in range(4) if k != leg]
+        assert np.linalg.norm(after[others] - before[others], axis=1).max() < 0.002
+    assert all(w.number == 0 for w in world.data.warning)
+
+
+# --- the bin -------------------------------------------------------------------------------------
+def test_bin_sits_where_the_layout_says_with_the_documented_inside() -> None:
+    """Floor and walls enclose spec.BIN_INNER_SIZE around the layout's bin centre, on the floor."""
+    for where in (DEFAULT_BIN, (1.18, 0.10)):
+        model = build_model(SceneLayout(bin=where))
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)
+        assert data.body(names.BIN_BODY).xpos == pytest.approx([*where, 0.0])
+        inner_x, inner_y, depth = spec.BIN_INNER_SIZE
+        low, high = np.full(3, np.inf), np.full(3, -np.inf)
+        for name in names.BIN_GEOMS:
+            geom = model.geom(name)
+            centre, half = data.geom_xpos[geom.id], model.geom_size[geom.id]
+            low, high = np.minimum(low, centre - half), np.maximum(high, centre + half)
+            assert geom.contype[0] and geom.conaffinity[0]  # legs land on it
+        wall = spec.BIN_WALL
+        np.testing.assert_allclose(
+            high - low, [inner_x + 2 * wall, inner_y + 2 * wall, depth + wall]
+        )
+        np.testing.assert_allclose(
+            low, [where[0] - inner_x / 2 - wall, where[1] - inner_y / 2 - wall, 0]
+        )
+        floor = model.geom(names.BIN_GEOMS[0])
+        assert data.geom_xpos[floor.id][2] + floor.size[2] == pytest.approx(spec.BIN_FLOOR_TOP_Z)
+
+
+def test_bin_clears_the_table_and_the_person() -> None:
+    """The bin's top stays below the table top it may reach under, and short of the person."""
+    model = build_model()
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    _, _, depth = spec.BIN_INNER_SIZE
+    assert depth + spec.BIN_WALL < spec.TABLE_TOP_Z - 0.4
+    far_wall = max(
+        data.geom_xpos[model.geom(g).id][0] + model.geom_size[model.geom(g).id][0]
+        for g in names.BIN_GEOMS
+    )
+    person = model.body("human").id
+    person_front = min(
+        data.geom_xpos[g][0]
+        - np.abs(data.geom_xmat[g].reshape(3, 3) @ model.geom_aabb[g][3:])[0]
+        - abs(model.geom_aabb[g][0])
+        for g in range(model.ngeom)
+        if model.geom_bodyid[g] == person
+    )
+    assert far_wall < person_front
+
+
+@pytest.mark.slow
+def test_a_leg_dropped_over_the_bin_lands_inside() -> None:
+    """A leg let go 0.6 m above the bin centre (its initial pose) comes to rest on its floor."""
+    model_spec = build_spec()
+    x, y = SceneLayout().bin
+    model_spec.body(names.leg_body(0)).pos = [x, y, 0.6]
+    model = model_spec.compile()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
+    for _ in range(1000):
+        mujoco.mj_step(model, data)
+    leg = data.body(names.leg_body(0)).xpos
+    assert leg[2] == pytest.approx(spec.BIN_FLOOR_TOP_Z + spec.LEG_RADIUS, abs=2e-3)
+    assert np.all(np.abs(leg[:2] - [x, y]) < np.array(spec.BIN_INNER_SIZE[:2]) / 2)
+
+
+def test_bad_bin_is_refused_and_from_mapping_reads_it() -> None:
+    with pytest.raises(LayoutError, match=r"bin at \(0\.9, 0\.0\).*valid: x 1\.15\.\.1\.30"):
+        SceneLayout(bin=(0.9, 0.0))
+    assert SceneLayout.from_mapping({"bin": [1.2, 0.1]}).bin == (1.2, 0.1)
+    with pytest.raises(LayoutError, match=r"bin must be \[x, y\]"):
+        SceneLayout.from_mapping({"bin": [1.2]})
