@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from pil.errors import RobinPilError, check_rate
+from pil.parts import SCENARIO_KEYS
 from pil.report import (
     Row,
     group_rows,
@@ -171,6 +172,8 @@ def training_markdown(figures: Mapping[float, Mapping[str, float]]) -> str:
 def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
     """The study's ``summary.md``."""
     values = check_params(dict(config.params))
+    scenario = resolve_scenario(config.scenario, values)
+    values.update({key: getattr(scenario, key) for key in SCENARIO_KEYS})
     setup = ", ".join(f"{k}={v}" for k, v in values.items())
     parts = [
         "# PIL study: gestures and actions per system and detection rate",
