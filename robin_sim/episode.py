@@ -22,6 +22,7 @@ from tqdm import tqdm
 from pil.errors import RobinPilError, check_rate
 from pil.parts import check_params, resolve_scenario
 from pil.runner import StepRecord, steps
+from pil.scenario import Scenario
 from pil.systems import SYSTEMS, check_system, test_parts
 from pil.types import Action, Hand
 from robin_sim.episode_log import StepLog, write_json_atomic
@@ -41,7 +42,7 @@ class EpisodeError(RobinPilError):
 class EpisodeConfig:
     """Everything that defines an episode; the defaults are ``robin-pil episode``'s."""
 
-    tables: int = 1
+    tables: int | None = None  # None: the scenario file's, but 1 for the default assembly
     rate: float = 1.0
     seed: int = 0
     system: str = "pil"
@@ -62,7 +63,7 @@ class EpisodeConfig:
         """Validate what can be validated before anything runs."""
         check_rate(self.rate)
         check_system(self.system)
-        if int(self.tables) != self.tables or self.tables < 1:
+        if self.tables is not None and (int(self.tables) != self.tables or self.tables < 1):
             raise RobinPilError(f"tables must be a whole number >= 1, got {self.tables!r}")
         return self
 
@@ -96,12 +97,13 @@ def _expected_hand(before: Hand, record: StepRecord) -> Hand:
 
 
 def episode_records(
-    config: EpisodeConfig, world: PhysicalWorld, narrator: Narrator | None = None
+    config: EpisodeConfig,
+    task: EpisodeTask,
+    world: PhysicalWorld,
+    narrator: Narrator | None = None,
 ) -> Iterator[StepRecord]:
     """The step loop of ``config`` on ``world`` (learner, person and detector as in the study)."""
-    values = check_params({**config.params, "tables": config.tables})
-    scenario = resolve_scenario(config.scenario, values)
-    parts = test_parts(config.system, config.rate, config.seed, scenario, values)
+    parts = test_parts(config.system, config.rate, config.seed, task.scenario, task.values)
     if narrator is not None:
         narrator.table = parts.learner.table if config.policy_panel else None
     hook = None if narrator is None else narrator.before_action
@@ -110,19 +112,47 @@ def episode_records(
     )
 
 
-def layout_for(config: EpisodeConfig) -> SceneLayout:
-    """The scene layout of the config's scenario (its ``layout`` section, else the default)."""
-    values = check_params({**config.params, "tables": config.tables})
-    scenario = resolve_scenario(config.scenario, values)
-    return SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+@dataclass(frozen=True)
+class EpisodeTask:
+    """What an episode's config resolves to: the scenario, its parameters and the scene layout."""
+
+    scenario: Scenario
+    values: Mapping[str, Any]
+    layout: SceneLayout
+
+    @property
+    def legs_total(self) -> int:
+        """Legs the person is to receive."""
+        return self.scenario.tables * self.scenario.legs_per_table
+
+    @classmethod
+    def of(cls, config: EpisodeConfig) -> EpisodeTask:
+        """Resolve ``config``: its scenario (tables default to 1 for the paper's assembly) and
+        the scene layout (the scenario's ``layout`` section, else the default), checking that
+        the layout has the legs and spots the person will point at."""
+        tables = config.tables
+        if tables is None and config.scenario is None:
+            tables = 1  # the main job assembles one table of the paper's assembly
+        values = check_params({**config.params, "tables": tables})
+        scenario = resolve_scenario(config.scenario, values)
+        layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+        if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
+            raise EpisodeError(
+                f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
+                f"{scenario.legs_per_table} legs per table, but its layout has "
+                f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
+                "layout section or lower spots / legs_per_table"
+            )
+        return cls(scenario, values, layout)
 
 
 def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     """Run one episode, write its files under ``config.out`` and return the summary."""
     config = config.checked()
+    task = EpisodeTask.of(config)
     out = Path(config.out)
     out.mkdir(parents=True, exist_ok=True)
-    world = PhysicalWorld(layout_for(config), seed=config.seed)
+    world = PhysicalWorld(task.layout, seed=config.seed)
     view = EpisodeView()
     narrator = Narrator(world, view)
     totals = EpisodeTotals()
@@ -142,20 +172,21 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
         checks = RenderChecks(world, enabled=config.verify)
         stack.callback(checks.close)
         log = stack.enter_context(StepLog(out / LOG_NAME))
+        view.update(legs_total=task.legs_total)
         bar = stack.enter_context(
-            tqdm(desc="episode", unit="step", disable=not config.progress, leave=False)
+            tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
         )
         hand = Hand.FREE
         try:
-            for record in episode_records(config, world, narrator):
+            for record in episode_records(config, task, world, narrator):
                 narrator.after_step(record)
                 hand = _expected_hand(hand, record)
                 physical = world.hand()
                 entry = _log_entry(record, world, checks.take(), physical)
                 log.write(entry)
                 _count(totals, record, entry)
-                bar.update(1)
-                bar.set_postfix(legs=record.legs_delivered, t=f"{world.time:.0f}s")
+                bar.update(record.legs_delivered - bar.n)
+                bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s", refresh=False)
                 if physical is not hand:
                     raise EpisodeError(
                         f"step {record.t}: the learner's hand state is {hand.value} but physics "
@@ -169,7 +200,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
             status, error = "failed", str(problem)
             raise
         finally:
-            summary = _summary(config, totals, world, started, status, error, recorder)
+            summary = _summary(config, task, totals, world, started, status, error, recorder)
             write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
 
@@ -209,6 +240,7 @@ def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) 
 
 def _summary(
     config: EpisodeConfig,
+    task: EpisodeTask,
     totals: EpisodeTotals,
     world: PhysicalWorld,
     started: float,
@@ -224,7 +256,9 @@ def _summary(
         "system_name": SYSTEMS[config.system],
         "rate": config.rate,
         "seed": config.seed,
-        "tables": config.tables,
+        "scenario": task.scenario.name,
+        "tables": task.scenario.tables,
+        "legs_total": task.legs_total,
         **asdict(totals),
         "sim_time_s": round(world.time, 3),
         "wall_time_s": round(wall, 3),
@@ -244,7 +278,7 @@ def _summary(
     return summary
 
 
-PHYSICAL_PARAMS: dict[str, Any] = {"tables": 1, "verify": False}
+PHYSICAL_PARAMS: dict[str, Any] = {"tables": None, "verify": False}
 
 
 def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
@@ -256,7 +290,8 @@ def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str
     import tempfile
 
     options = {**PHYSICAL_PARAMS, **params}
-    tables, verify = int(options.pop("tables")), bool(options.pop("verify"))
+    tables, verify = options.pop("tables"), bool(options.pop("verify"))
+    tables = None if tables is None else int(tables)
     check_params(options)
     with tempfile.TemporaryDirectory(prefix="robin-physical-") as folder:
         config = EpisodeConfig(
@@ -266,5 +301,5 @@ def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str
         summary = run_episode(config)
     row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
     row.pop("system_name", None)
-    row["legs_delivered_fraction"] = summary["legs_delivered"] / (4 * tables)
+    row["legs_delivered_fraction"] = summary["legs_delivered"] / summary["legs_total"]
     return row

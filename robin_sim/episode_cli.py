@@ -14,7 +14,10 @@ from pathlib import Path
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The episode's options."""
-    parser.add_argument("--tables", type=int, default=1, help="tables to assemble (4 legs each)")
+    parser.add_argument(
+        "--tables", type=int, default=None,
+        help="tables to assemble, 4 legs each (default: 1; with --scenario, the scenario's)",
+    )  # fmt: skip
     parser.add_argument("--rate", type=float, default=1.0, help="gesture detection rate in [0, 1]")
     parser.add_argument("--seed", type=int, default=0, help="seed of every random choice")
     parser.add_argument("--system", default="pil", help="pil (default) or c1..c4 (pre-trained)")
