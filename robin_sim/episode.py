@@ -53,7 +53,8 @@ class EpisodeConfig:
     width: int = 640
     height: int = 480
     fps: int = 30
-    shadows: bool = True
+    shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
+    render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
     policy_panel: bool = True
     verify: bool = True  # off-screen render checks after grasps, handovers and placements
     progress: bool = True
@@ -165,8 +166,9 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
 
             recorder = stack.enter_context(
                 VideoRecorder(
-                    world.sim, view, out / VIDEO_NAME, width=config.width, height=config.height,
-                    fps=config.fps, camera=config.camera, shadows=config.shadows,
+                    world.sim, view, out / VIDEO_NAME, layout=task.layout, width=config.width,
+                    height=config.height, fps=config.fps, camera=config.camera,
+                    shadows=config.shadows, render_workers=config.render_workers,
                 )
             )  # fmt: skip
         checks = RenderChecks(world, enabled=config.verify)

@@ -26,7 +26,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--size", default="640x480", help="video size WxH (even numbers)")
     parser.add_argument("--fps", type=int, default=30, help="video frame rate")
     parser.add_argument("--no-video", action="store_true", help="physics and log only")
-    parser.add_argument("--no-shadows", action="store_true", help="faster software rendering")
+    parser.add_argument("--shadows", action="store_true", help="render shadows (about 3x slower)")
+    parser.add_argument(
+        "--render-workers", type=int, default=None,
+        help="processes rendering video frames (default 2; 0 renders in this process)",
+    )  # fmt: skip
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
     parser.add_argument("--no-policy", action="store_true", help="no P(a|s) panel in the video")
     parser.add_argument("--out", type=Path, default=Path("out"), help="output folder")
@@ -56,7 +60,8 @@ def run(args: argparse.Namespace) -> int:
     config = EpisodeConfig(
         tables=args.tables, rate=args.rate, seed=args.seed, system=args.system,
         scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
-        height=height, fps=args.fps, shadows=not args.no_shadows, policy_panel=not args.no_policy,
+        height=height, fps=args.fps, shadows=args.shadows,
+        render_workers=args.render_workers, policy_panel=not args.no_policy,
         verify=not args.no_verify, progress=not args.quiet,
     )  # fmt: skip
     summary = run_episode(config)

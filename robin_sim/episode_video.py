@@ -2,13 +2,15 @@
 
 The recorder is an observer of :class:`robin_sim.control.Simulator`: after each control tick it
 asks the :class:`~robin_sim.render.FrameClock` whether a frame is due in simulated time, and
-only then renders, draws the overlay and encodes. Rendering and encoding times are kept apart
-so that the episode's wall time can be split (physics + control, rendering, encoding).
+only then hands the state to the render pool; finished frames get the overlay and are encoded.
+The time waited on rendering and the time spent encoding are kept apart so that the episode's
+wall time can be split (physics + control, rendering, encoding).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
 from types import TracebackType
@@ -17,13 +19,15 @@ from typing import Self
 from robin_sim.control import Simulator
 from robin_sim.narration import EpisodeView
 from robin_sim.overlay import draw_overlay
-from robin_sim.render import FrameClock, FrameRenderer
+from robin_sim.render import FrameClock
+from robin_sim.render_pool import FrameState, RenderedFrame, RenderPool
+from robin_sim.scene import SceneLayout
 from robin_sim.video import Mp4Writer
 
 
 @dataclass
 class VideoTiming:
-    """Wall-clock seconds spent rendering (with overlay) and encoding, and frame counts."""
+    """Wall-clock seconds waited on rendering, spent on overlay + encoding, and frame counts."""
 
     render_s: float = 0.0
     encode_s: float = 0.0
@@ -32,7 +36,12 @@ class VideoTiming:
 
 
 class VideoRecorder:
-    """Writes ``sim``'s view from ``camera`` to ``path`` while the simulator runs."""
+    """Writes ``sim``'s view from ``camera`` to ``path`` while the simulator runs.
+
+    Frames are rendered by a :class:`~robin_sim.render_pool.RenderPool` (worker processes
+    with their own copy of the scene built from ``layout``; ``render_workers=0`` renders in
+    this process) and come back in order; the overlay is drawn and the frame encoded here.
+    """
 
     def __init__(
         self,
@@ -40,48 +49,62 @@ class VideoRecorder:
         view: EpisodeView,
         path: Path,
         *,
+        layout: SceneLayout | None = None,
         width: int = 640,
         height: int = 480,
         fps: int = 30,
         camera: str = "front",
-        shadows: bool = True,
+        shadows: bool = False,
+        render_workers: int | None = None,
     ) -> None:
         self.view = view
         self.timing = VideoTiming()
-        self.renderer = FrameRenderer(sim.model, width, height, camera, shadows=shadows)
+        self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers)
         try:
             self.writer = Mp4Writer(path, width, height, fps)
         except BaseException:
-            self.renderer.close()
+            self.pool.close()
             raise
         self.clock = FrameClock(fps, sim.control_dt)
         self._start_time = sim.time
-        self._remove = sim.add_observer(self._on_tick)
+        self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
 
     def _on_tick(self, sim: Simulator) -> None:
         due = self.clock.frames_due(sim.time - self._start_time)
         if due == 0:
             return
         started = time.perf_counter()
-        frame = self.renderer.render(sim.data)
-        draw_overlay(frame, replace(self.view.info, sim_time=sim.time))
-        rendered = time.perf_counter()
-        for _ in range(due):
-            self.writer.write(frame)
-        self.timing.render_s += rendered - started
-        self.timing.encode_s += time.perf_counter() - rendered
-        self.timing.frames_rendered += 1
-        self.timing.frames_written += due
+        info = replace(self.view.info, sim_time=sim.time)
+        self.pool.submit(FrameState.capture(sim.model, sim.data), (info, due))
+        self.timing.render_s += time.perf_counter() - started  # waits only when the pool is full
+        self._write(self.pool.ready())
+
+    def _write(self, frames: Iterable[RenderedFrame]) -> None:
+        waited = time.perf_counter()
+        for frame in frames:
+            started = time.perf_counter()
+            self.timing.render_s += started - waited  # waiting for a frame still rendering
+            info, due = frame.payload
+            draw_overlay(frame.pixels, info)
+            for _ in range(due):
+                self.writer.write(frame.pixels)
+            self.timing.frames_rendered += 1
+            self.timing.frames_written += due
+            waited = time.perf_counter()
+            self.timing.encode_s += waited - started
 
     def close(self) -> None:
-        """Stop recording and finish the MP4 (idempotent); the file is playable afterwards."""
+        """Stop recording, write the frames still rendering and finish the MP4 (idempotent)."""
         if self._remove is not None:
             self._remove()
             self._remove = None
-        started = time.perf_counter()
-        self.writer.close()
-        self.timing.encode_s += time.perf_counter() - started
-        self.renderer.close()
+        try:
+            self._write(self.pool.drain())
+        finally:
+            self.pool.close()
+            started = time.perf_counter()
+            self.writer.close()
+            self.timing.encode_s += time.perf_counter() - started
 
     def __enter__(self) -> Self:
         return self

@@ -51,7 +51,7 @@ def overlay_lines(info: OverlayInfo) -> list[str]:
         return "-" if value is None else str(value)
 
     detected = text(info.detected_gesture)
-    if info.detected_gesture is None:
+    if info.detected_gesture is None and info.true_gesture is not None:
         detected = "(not detected)"
     if info.corrected_gesture is not None and info.corrected_gesture != info.detected_gesture:
         detected += f" -> {info.corrected_gesture} (corrected)"
