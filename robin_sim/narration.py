@@ -22,10 +22,10 @@ from robin_sim.overlay import OverlayInfo
 from robin_sim.trajectory import pose
 from robin_sim.world import PhysicalWorld
 
-POINT_OFFSET = np.array([0.12, 0.0, 0.16])  # m: the pointing hand, toward the person and above
+POINT_OFFSET = np.array([0.22, 0.0, 0.13])  # m: the pointing hand, toward the person and above
 RETREAT = np.array([0.15, 0.0, -0.06])  # m: the palm draws back and down before pointing
-GESTURE_HOLD = 0.6  # s the person holds a gesture before the robot reacts
-FEEDBACK_HOLD = 0.5  # s the thumb stays up or down
+GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
+FEEDBACK_HOLD = 0.4  # s the thumb stays up or down
 
 
 @dataclass
@@ -93,8 +93,8 @@ class Narrator:
         """Show ``gesture`` and hold it so the viewer sees it.
 
         Pointing moves the hand above the pointed leg or spot (first drawing back and down if
-        the palm is out under the robot's hand, so it never sweeps into a held leg), holds it,
-        and lowers the hand back to rest so that it is out of the robot's way. The other
+        the palm is out under the robot's hand, so it never sweeps into a held leg) and holds
+        it there; the world draws it back out of the robot's way before the arm moves. The other
         gestures are shown where the hand is; the palm for "give me" is held out by the world
         when the robot moves to the person, after lifting its hand clear of the table.
         """
@@ -109,7 +109,6 @@ class Narrator:
         if self.world.palm_is_out():
             waypoints.insert(0, pose(here + RETREAT))
         sim.run(human.follow(waypoints, sim.time) + GESTURE_HOLD)
-        sim.run(human.rest(sim.time))
 
     def _target_position(self, target: Target) -> np.ndarray:
         if target.kind == "leg" and 0 <= target.index < self.world.leg_count:
