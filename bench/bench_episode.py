@@ -4,8 +4,8 @@ Run: ``python bench/bench_episode.py [--repeats 3] [--scenario scenarios/one_han
 Runs the same episode (seed 0) without video and with video (640x480, 30 fps, front camera),
 ``--repeats`` times each, and prints medians: wall and simulated seconds, real-time factor,
 the wall time split (physics + control + narration = wall - waiting on renders - overlay and
-encoding), video frames per wall second and encoding frames/s, and the ratio of the controlled episode's
-physics rate to the raw ``mj_step`` rate of the same scene measured in the same run.
+encoding), video frames per wall second and encoding frames/s, and the ratio of the controlled
+episode's physics rate to the raw ``mj_step`` rate of the same scene measured in the same run.
 """
 
 from __future__ import annotations
