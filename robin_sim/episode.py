@@ -188,7 +188,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                 log.write(entry)
                 _count(totals, record, entry)
                 bar.update(record.legs_delivered - bar.n)
-                bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s", refresh=False)
+                bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
                 if physical is not hand:
                     raise EpisodeError(
                         f"step {record.t}: the learner's hand state is {hand.value} but physics "
