@@ -1,0 +1,177 @@
+"""Sweep throughput: runs/s at 1 and 2 local workers, the speed-up, and Dask's overhead per run.
+
+    python bench/bench_sweep.py [--repeats 5] [--learner-reps 4] [--physical-runs 4]
+
+Each figure is the median of ``--repeats`` timed sweeps through the real pipeline (the
+executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
+the workers and imports the run function there. Learner-only runs use the paper's grid
+(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode:run_physical``: PIL at
+100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds) are included when
+that function is importable, else the table says so. Dask runs on a ``LocalCluster`` on
+loopback with the same number of single-threaded worker processes; its
+overhead per run is (Dask time - local time) / runs. "Workers busy" is the share of the
+workers' time spent inside runs: near 100 % means the sweep machinery keeps them fed, and the
+speed-up is then bounded only by the free cores (the load average is printed alongside).
+The journal's cost per row (write + flush + fsync) is measured on its own as a reference.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from robin_sim.sweep_exec import Backend, DaskBackend, LocalBackend, execute
+from robin_sim.sweep_grid import RunSpec, build_grid, import_object, load_target
+from robin_sim.sweep_store import RunStore, make_record
+
+RATES = (0.4, 0.6, 0.8, 1.0)
+SYSTEMS = ("pil", "c1", "c2", "c3", "c4")
+
+
+def timed_sweep(backend: Backend, function: str, specs: list[RunSpec]) -> tuple[float, float]:
+    """(seconds for one sweep of ``specs`` on a warm ``backend``, seconds spent inside runs)."""
+    errors: list[str] = []
+    busy = 0.0
+
+    def record(spec: RunSpec, outcome: dict, attempt: int, final: bool) -> None:
+        nonlocal busy
+        store.append(make_record(spec.columns(), outcome, attempt))
+        busy += outcome.get("wall_s") or 0.0
+        if outcome["error"]:
+            errors.append(outcome["error"])
+
+    with tempfile.TemporaryDirectory() as directory, RunStore(directory, {"bench": 1}) as store:
+        started = time.perf_counter()
+        tally = execute(specs, function, backend, record)
+        store.write_results([s.run_id for s in specs], list(specs[0].columns()))
+        seconds = time.perf_counter() - started
+    if tally.failed:
+        raise RuntimeError(f"{tally.failed} runs failed, e.g. {tally.failed_ids[0]}: {errors[0]}")
+    return seconds, busy
+
+
+def warm_up(backend: Backend, function: str) -> None:
+    """Start the workers and import the run function's module in them."""
+    futures = [backend.executor().submit(import_object, function) for _ in range(backend.slots())]
+    for future in futures:
+        future.result()
+
+
+def median_sweep(
+    backend: Backend, function: str, specs: list[RunSpec], repeats: int
+) -> tuple[float, float]:
+    """Median (seconds, share of worker time spent in runs) over ``repeats`` sweeps."""
+    try:
+        warm_up(backend, function)
+        workers = backend.slots()
+        timings = [timed_sweep(backend, function, specs) for _ in range(repeats)]
+    finally:
+        backend.close()
+    seconds = statistics.median(t for t, _ in timings)
+    busy = statistics.median(b / (t * workers) for t, b in timings)
+    return seconds, busy
+
+
+def journal_seconds_per_row(rows: int = 200) -> float:
+    """Seconds to append one row to the journal (write, flush, fsync)."""
+    record = make_record({"run_id": "pil|x"}, {"status": "ok", "metrics": {"a": 1.0}}, 1)
+    with tempfile.TemporaryDirectory() as directory, RunStore(directory, {"bench": 1}) as store:
+        started = time.perf_counter()
+        for _ in range(rows):
+            store.append(record)
+        return (time.perf_counter() - started) / rows
+
+
+def specs_for(
+    kind: str,
+    reps: int,
+    tables: int,
+    params: tuple[str, ...] = (),
+    systems: tuple[str, ...] = SYSTEMS,
+    rates: tuple[float, ...] = RATES,
+) -> tuple[str, list[RunSpec]]:
+    """The run function and the runs of a grid of ``kind``."""
+    target = load_target(kind)
+    grid = build_grid(target, systems=systems, rates=rates, reps=reps, tables=tables,
+                      params=params)  # fmt: skip
+    return target.function, grid.runs()
+
+
+def bench_kind(label: str, function: str, specs: list[RunSpec], repeats: int, dask: str | None):
+    """Table rows for one run kind: 1 worker, 2 workers, Dask with 2 workers."""
+    n = len(specs)
+    one, busy_one = median_sweep(LocalBackend(1), function, specs, repeats)
+    two, busy_two = median_sweep(LocalBackend(2), function, specs, repeats)
+    rows = [
+        (label, "local, 1 worker", n, one, busy_one, "1.00 x"),
+        (label, "local, 2 workers", n, two, busy_two, f"{one / two:.2f} x"),
+    ]
+    if dask is not None:
+        on_dask, _ = median_sweep(DaskBackend(dask), function, specs, repeats)
+        overhead_ms = 1000 * (on_dask - two) / n
+        rows.append((label, f"Dask, 2 workers ({overhead_ms:+.1f} ms/run vs local)", n,
+                     on_dask, float("nan"), f"{one / on_dask:.2f} x"))  # fmt: skip
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5, help="timed sweeps per figure")
+    parser.add_argument("--learner-reps", type=int, default=4, help="reps of the 5x4 grid")
+    parser.add_argument("--physical-runs", type=int, default=4, help="physical runs per sweep")
+    parser.add_argument("--physical-repeats", type=int, default=1)
+    parser.add_argument("--physical-legs", type=int, default=1, help="legs per physical run")
+    parser.add_argument("--no-dask", action="store_true")
+    args = parser.parse_args()
+
+    load_before = os.getloadavg()
+    cluster = None
+    if not args.no_dask:
+        from distributed import LocalCluster
+
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None)  # fmt: skip
+    address = None if cluster is None else cluster.scheduler_address
+    try:
+        function, specs = specs_for("learner", args.learner_reps, 10)
+        rows = bench_kind("learner", function, specs, args.repeats, address)
+        try:
+            importlib.import_module("robin_sim.episode").run_physical  # noqa: B018
+        except (ImportError, AttributeError) as error:
+            physical_note = f"physical: not measured (robin_sim.episode.run_physical: {error})"
+        else:
+            physical_note = ""
+            legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length
+            function, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
+            try:
+                rows += bench_kind("physical", function, specs, args.physical_repeats, address)
+            except RuntimeError as error:
+                physical_note = f"physical: not measured ({error})"
+    finally:
+        if cluster is not None:
+            cluster.close()
+
+    print("| kind | executor | runs | s (median) | s/run | runs/s | speed-up | workers busy |")
+    print("|---|---|---|---|---|---|---|---|")
+    for kind, executor, n, seconds, busy, speedup in rows:
+        busy_text = "n/a" if busy != busy else f"{100 * busy:.0f} %"
+        print(f"| {kind} | {executor} | {n} | {seconds:.2f} | {seconds / n:.3f} | "
+              f"{n / seconds:.1f} | {speedup} | {busy_text} |")  # fmt: skip
+    print(
+        f"\nmedians of {args.repeats} (learner) / {args.physical_repeats} (physical) sweeps; "
+        "workers busy = time inside runs / (sweep time x workers)"
+    )
+    print(f"load average before / after: {load_before} / {os.getloadavg()}")
+    print(f"\njournal row (write + flush + fsync): {1000 * journal_seconds_per_row():.2f} ms")
+    if physical_note:
+        print(physical_note)
+    print(f"machine: {Path('/proc/cpuinfo').read_text().count('processor')} CPUs")
+
+
+if __name__ == "__main__":
+    main()

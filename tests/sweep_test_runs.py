@@ -1,0 +1,44 @@
+"""Run functions for the sweep tests, named by import path (``"sweep_test_runs:paced_run"``).
+
+They wrap the real learner-only :func:`pil.systems.run_one` and add what a test needs to
+control: a pause (so a sweep can be interrupted midway), a worker process that dies, and a
+run that fails on its first attempt only. Not collected by pytest (no ``test_`` prefix).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Any
+
+from pil.systems import PARAMS as RUN_ONE_PARAMS
+from pil.systems import SYSTEMS, run_one
+
+PARAMS: dict[str, Any] = {**RUN_ONE_PARAMS, "delay": 0.0, "die": "", "marks": ""}
+__all__ = ["PARAMS", "SYSTEMS", "flaky_run", "paced_run", "self_failing_run"]
+
+
+def paced_run(
+    system: str, rate: float, seed: int, *, delay: float = 0.0, die: str = "", **params: Any
+) -> dict[str, Any]:
+    """``run_one`` after ``delay`` seconds; the worker process exits (code 3) when
+    ``die`` names ``system``, as a crash in native code would end it."""
+    if die == system:
+        os._exit(3)
+    time.sleep(delay)
+    return run_one(system, rate, seed, **params)
+
+
+def flaky_run(system: str, rate: float, seed: int, *, marks: str, **params: Any) -> dict[str, Any]:
+    """``run_one``, but the first attempt of each run raises (a mark file records it)."""
+    mark = Path(marks) / f"{system}-{rate}-{seed}"
+    if not mark.exists():
+        mark.touch()
+        raise RuntimeError(f"first attempt of {mark.name} fails on purpose")
+    return run_one(system, rate, seed, **params)
+
+
+def self_failing_run(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
+    """``run_one``'s row marked ``status: failed`` by the run itself (as an episode may)."""
+    return {**run_one(system, rate, seed, **params), "status": "failed", "error": "gave up"}
