@@ -5,7 +5,7 @@
 Each figure is the median of ``--repeats`` timed sweeps through the real pipeline (the
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
-(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode:run_physical``: PIL at
+(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.physical_run:run_physical``: PIL at
 100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds) are included when
 that function is importable, else the table says so. Dask runs on a ``LocalCluster`` on
 loopback with the same number of single-threaded worker processes; its
@@ -143,7 +143,7 @@ def main() -> None:
         try:
             importlib.import_module("robin_sim.episode").run_physical  # noqa: B018
         except (ImportError, AttributeError) as error:
-            physical_note = f"physical: not measured (robin_sim.episode.run_physical: {error})"
+            physical_note = f"physical: not measured (robin_sim.physical_run.run_physical: {error})"
         else:
             physical_note = ""
             legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length

@@ -158,53 +158,66 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     narrator = Narrator(world, view)
     totals = EpisodeTotals()
     started = time.perf_counter()
-    status, error = "running", ""
-    recorder = None
-    with ExitStack() as stack:
-        if config.video:
-            from robin_sim.episode_video import VideoRecorder  # renders: needs the GL backend
+    status, error, recorder = "running", "", None
+    try:
+        with ExitStack() as stack:
+            if config.video:
+                from robin_sim.episode_video import VideoRecorder  # renders: needs the GL backend
 
-            recorder = stack.enter_context(
-                VideoRecorder(
-                    world.sim, view, out / VIDEO_NAME, layout=task.layout, width=config.width,
-                    height=config.height, fps=config.fps, camera=config.camera,
-                    shadows=config.shadows, render_workers=config.render_workers,
-                )
-            )  # fmt: skip
-        checks = RenderChecks(world, enabled=config.verify)
-        stack.callback(checks.close)
-        log = stack.enter_context(StepLog(out / LOG_NAME))
-        view.update(legs_total=task.legs_total)
-        bar = stack.enter_context(
-            tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
-        )
-        hand = Hand.FREE
-        try:
-            for record in episode_records(config, task, world, narrator):
-                narrator.after_step(record)
-                hand = _expected_hand(hand, record)
-                physical = world.hand()
-                entry = _log_entry(record, world, checks.take(), physical)
-                log.write(entry)
-                _count(totals, record, entry)
-                bar.update(record.legs_delivered - bar.n)
-                bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
-                if physical is not hand:
-                    raise EpisodeError(
-                        f"step {record.t}: the learner's hand state is {hand.value} but physics "
-                        f"reads {physical.value} ({record.detail or 'no detail'})"
+                recorder = stack.enter_context(
+                    VideoRecorder(
+                        world.sim, view, out / VIDEO_NAME, layout=task.layout,
+                        width=config.width, height=config.height, fps=config.fps,
+                        camera=config.camera, shadows=config.shadows,
+                        render_workers=config.render_workers,
                     )
-            status = "finished"
-        except KeyboardInterrupt:
-            status = "interrupted"
-            raise
-        except RobinPilError as problem:
-            status, error = "failed", str(problem)
-            raise
-        finally:
-            summary = _summary(config, task, totals, world, started, status, error, recorder)
-            write_json_atomic(out / SUMMARY_NAME, summary)
+                )  # fmt: skip
+            checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
+            log = stack.enter_context(StepLog(out / LOG_NAME))
+            view.update(legs_total=task.legs_total)
+            bar = stack.enter_context(
+                tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
+            )
+            _play(episode_records(config, task, world, narrator), world, narrator, checks, log,
+                  bar, totals)  # fmt: skip
+        status = "finished"  # the video and the log are closed by now
+    except KeyboardInterrupt:
+        status = "interrupted"
+        raise
+    except RobinPilError as problem:
+        status, error = "failed", str(problem)
+        raise
+    finally:
+        summary = _summary(config, task, totals, world, started, status, error, recorder)
+        write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
+
+
+def _play(
+    records: Iterator[StepRecord],
+    world: PhysicalWorld,
+    narrator: Narrator,
+    checks: RenderChecks,
+    log: StepLog,
+    bar: tqdm,
+    totals: EpisodeTotals,
+) -> None:
+    """Narrate, check, log and count every step; stop at a hand-state mismatch."""
+    hand = Hand.FREE
+    for record in records:
+        narrator.after_step(record)
+        hand = _expected_hand(hand, record)
+        physical = world.hand()
+        entry = _log_entry(record, world, checks.take(), physical)
+        log.write(entry)
+        _count(totals, record, entry)
+        bar.update(record.legs_delivered - bar.n)
+        bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
+        if physical is not hand:
+            raise EpisodeError(
+                f"step {record.t}: the learner's hand state is {hand.value} but physics "
+                f"reads {physical.value} ({record.detail or 'no detail'})"
+            )
 
 
 def _log_entry(
@@ -278,30 +291,3 @@ def _summary(
             "encode_s": round(timing.encode_s, 3),
         }
     return summary
-
-
-PHYSICAL_PARAMS: dict[str, Any] = {"tables": None, "verify": False}
-
-
-def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
-    """One physical run without video, as a flat results row (the sweep's physical kind).
-
-    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.parts.PARAMS`; the step log
-    and summary go to a temporary folder that is removed afterwards.
-    """
-    import tempfile
-
-    options = {**PHYSICAL_PARAMS, **params}
-    tables, verify = options.pop("tables"), bool(options.pop("verify"))
-    tables = None if tables is None else int(tables)
-    check_params(options)
-    with tempfile.TemporaryDirectory(prefix="robin-physical-") as folder:
-        config = EpisodeConfig(
-            tables=tables, rate=rate, seed=seed, system=system, out=Path(folder), video=False,
-            verify=verify, progress=False, params=options,
-        )  # fmt: skip
-        summary = run_episode(config)
-    row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
-    row.pop("system_name", None)
-    row["legs_delivered_fraction"] = summary["legs_delivered"] / summary["legs_total"]
-    return row

@@ -8,7 +8,7 @@ for the step's log line: what the render says, what physics says, and whether th
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Self
 
 from pil.types import Action
 from robin_sim import names
@@ -82,3 +82,9 @@ class RenderChecks:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+    def __enter__(self) -> Self:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()

@@ -25,12 +25,12 @@ from pil.errors import InvalidChoiceError, RobinPilError, check_rate
 
 KINDS: dict[str, str] = {
     "learner": "pil.systems:run_one",
-    "physical": "robin_sim.episode:run_physical",
+    "physical": "robin_sim.physical_run:run_physical",
 }
 # where each kind's parameter names and defaults live (later sources override earlier ones)
 PARAM_SOURCES: dict[str, tuple[str, ...]] = {
     "learner": ("pil.systems:PARAMS",),
-    "physical": ("pil.systems:PARAMS", "robin_sim.episode:PHYSICAL_PARAMS"),
+    "physical": ("pil.systems:PARAMS", "robin_sim.physical_run:PHYSICAL_PARAMS"),
 }
 DEFAULT_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
 DEFAULT_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
