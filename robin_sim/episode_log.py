@@ -11,8 +11,9 @@ import os
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
-from types import TracebackType
-from typing import Any, Self
+from typing import Any
+
+from robin_sim.closing import ClosesOnExit
 
 
 def _plain(value: Any) -> Any:
@@ -29,7 +30,7 @@ def _plain(value: Any) -> Any:
     return str(value)
 
 
-class StepLog:
+class StepLog(ClosesOnExit):
     """Appends one JSON object per line to ``path`` (truncated when opened)."""
 
     def __init__(self, path: Path) -> None:
@@ -48,17 +49,6 @@ class StepLog:
         """Close the file (idempotent)."""
         if not self._file.closed:
             self._file.close()
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 def write_json_atomic(path: Path, data: Mapping[str, Any]) -> None:

@@ -8,15 +8,16 @@ for the step's log line: what the render says, what physics says, and whether th
 
 from __future__ import annotations
 
-from typing import Any, Self
+from typing import Any
 
 from pil.types import Action
 from robin_sim import names
 from robin_sim.actions import ActionResult
+from robin_sim.closing import ClosesOnExit
 from robin_sim.world import PhysicalWorld
 
 
-class RenderChecks:
+class RenderChecks(ClosesOnExit):
     """Verifies the world's physical successes from off-screen renders (when ``enabled``)."""
 
     def __init__(self, world: PhysicalWorld, *, enabled: bool = True) -> None:
@@ -82,9 +83,3 @@ class RenderChecks:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(self, *exc_info: object) -> None:
-        self.close()

@@ -13,9 +13,8 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from types import TracebackType
-from typing import Self
 
+from robin_sim.closing import ClosesOnExit
 from robin_sim.control import Simulator
 from robin_sim.narration import EpisodeView
 from robin_sim.overlay import draw_overlay
@@ -35,7 +34,7 @@ class VideoTiming:
     frames_written: int = 0
 
 
-class VideoRecorder:
+class VideoRecorder(ClosesOnExit):
     """Writes ``sim``'s view from ``camera`` to ``path`` while the simulator runs.
 
     Frames are rendered by a :class:`~robin_sim.render_pool.RenderPool` (worker processes
@@ -105,14 +104,3 @@ class VideoRecorder:
             started = time.perf_counter()
             self.writer.close()
             self.timing.encode_s += time.perf_counter() - started
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -17,12 +17,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from types import TracebackType
 
 import mujoco
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
+from robin_sim.closing import ClosesOnExit
 
 
 class RenderError(RobinPilError):
@@ -63,7 +63,7 @@ def check_frame_size(model: mujoco.MjModel, width: int, height: int) -> None:
         )
 
 
-class FrameRenderer:
+class FrameRenderer(ClosesOnExit):
     """RGB frames (H, W, 3) uint8 of one camera of ``model``.
 
     ``shadows=False`` roughly doubles the frame rate of software (llvmpipe) rendering. Use as a
@@ -99,17 +99,6 @@ class FrameRenderer:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
-
-    def __enter__(self) -> FrameRenderer:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 class FrameClock:
@@ -171,7 +160,7 @@ class Observation:
         return np.stack([x, y, z], axis=1) @ self.rotation + self.position
 
 
-class CloseUpRenderer:
+class CloseUpRenderer(ClosesOnExit):
     """Segmentation and depth views of a free camera aimed at a point (for :mod:`robin_sim.verify`).
 
     Every geom group is drawn (visual and collision geoms each map to their body), sites are
@@ -241,14 +230,3 @@ class CloseUpRenderer:
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
-
-    def __enter__(self) -> CloseUpRenderer:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -27,12 +27,12 @@ from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
-from types import TracebackType
-from typing import Any, NoReturn, Self
+from typing import Any, NoReturn
 
 import mujoco
 import numpy as np
 
+from robin_sim.closing import ClosesOnExit
 from robin_sim.gl_backend import ensure_gl_backend
 from robin_sim.render import FrameRenderer, RenderError, camera_id, check_frame_size
 from robin_sim.scene import SceneLayout, build_model
@@ -176,7 +176,7 @@ class _Pending:
     worker: int
 
 
-class RenderPool:
+class RenderPool(ClosesOnExit):
     """Renders :class:`FrameState` s of ``layout``'s scene in ``workers`` processes, in order.
 
     Submit with :meth:`submit`; take finished frames with :meth:`ready` (never waits) after
@@ -361,14 +361,3 @@ class RenderPool:
         if self._local is not None:
             self._local.close()
             self._local = None
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> None:
-        self.close()

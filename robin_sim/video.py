@@ -13,12 +13,12 @@ from __future__ import annotations
 import os
 from fractions import Fraction
 from pathlib import Path
-from types import TracebackType
 
 import av
 import numpy as np
 
 from pil.errors import RobinPilError
+from robin_sim.closing import ClosesOnExit
 
 CODEC = "libx264"
 PIX_FMT = "yuv420p"
@@ -31,7 +31,7 @@ class VideoError(RobinPilError):
     """A video that cannot be written as asked (size, frame shape, closed writer)."""
 
 
-class Mp4Writer:
+class Mp4Writer(ClosesOnExit):
     """Write RGB frames (H, W, 3) uint8 to an H.264 MP4 at ``path`` as they come.
 
     ``width`` and ``height`` must be even (yuv420p halves the colour resolution). ``crf`` is
@@ -105,17 +105,6 @@ class Mp4Writer:
             container.mux(self._stream.encode(None))
         finally:
             container.close()
-
-    def __enter__(self) -> Mp4Writer:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 def probe_video(path: str | os.PathLike[str]) -> dict[str, object]:
