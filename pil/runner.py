@@ -207,27 +207,14 @@ def run(
     person: ScriptedPerson,
     detector: Detector,
     world: World,
-    *,
-    manual: bool = False,
-    repeat_discarded: bool = False,
-    max_actions_per_gesture: int = MAX_ACTIONS_PER_GESTURE,
-    before_action: Callable[[StepRecord], None] | None = None,
+    **options: Any,
 ) -> RunStats:
-    """Run the loop to the end and count (see :class:`RunStats`)."""
+    """Run the loop to the end and count (:class:`RunStats`); ``options`` go to :func:`steps`."""
     stats = RunStats(scripted_gestures=len(person.script))
     stats.handovers = len({item.intent.handover for item in person.script})
     last: StepRecord | None = None
     last_gesture = 0
-    for record in steps(
-        learner,
-        person,
-        detector,
-        world,
-        manual=manual,
-        repeat_discarded=repeat_discarded,
-        max_actions_per_gesture=max_actions_per_gesture,
-        before_action=before_action,
-    ):
+    for record in steps(learner, person, detector, world, **options):
         if record.gesture_count != last_gesture:
             last_gesture = record.gesture_count
             if record.detected_gesture is not record.true_gesture:

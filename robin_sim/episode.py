@@ -76,7 +76,7 @@ class EpisodeTotals:
     gestures: int = 0
     actions: int = 0
     rejected: int = 0
-    corrections: int = 0
+    corrections: int = 0  # instruction gestures whose state the learner corrected
     repeats: int = 0
     legs_delivered: int = 0  # Algorithm 1's count (handed over or placed)
     legs_to_person: int = 0
@@ -234,6 +234,7 @@ def _log_entry(
 
 
 def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) -> None:
+    new_gesture = record.gesture_count != totals.gestures
     totals.gestures = record.gesture_count
     totals.actions = record.t
     totals.legs_delivered = record.legs_delivered
@@ -241,7 +242,7 @@ def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) 
         totals.repeats += 1
         return
     totals.rejected += record.feedback is not None and not record.feedback.approves
-    totals.corrections += record.corrected_gesture is not None
+    totals.corrections += new_gesture and record.corrected_gesture is not None
     totals.physical_failures += record.succeeded is False
     if record.delivered:
         to_person = record.state is not None and record.state.previous_action is Action.HUMAN
