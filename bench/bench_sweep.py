@@ -141,7 +141,7 @@ def main() -> None:
         function, specs = specs_for("learner", args.learner_reps, 10)
         rows = bench_kind("learner", function, specs, args.repeats, address)
         try:
-            importlib.import_module("robin_sim.episode").run_physical  # noqa: B018
+            importlib.import_module("robin_sim.physical_run").run_physical  # noqa: B018
         except (ImportError, AttributeError) as error:
             physical_note = f"physical: not measured (robin_sim.physical_run.run_physical: {error})"
         else:
