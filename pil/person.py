@@ -38,8 +38,10 @@ def plan_script(
 
     Handover ``i`` is leg ``i % legs_per_table`` of table ``i // legs_per_table``. An ``object``
     step points at that leg and a ``location`` step at spot ``leg % spots``; when the same
-    intent is pointed at twice in a row, the first point goes elsewhere (the next leg, or the
-    same one if it is the last; the next spot), as the person changes their mind.
+    intent is pointed at twice in a row, the first point goes elsewhere, as the person changes
+    their mind: to the next leg or spot, which belongs to a later handover of the table and is
+    therefore still there or still free; for the table's last one, to the same leg or spot
+    (a spot of an earlier handover may hold a placed leg).
     """
     script: list[ScriptStep] = []
     for handover, handover_type in enumerate(types):
@@ -52,7 +54,8 @@ def plan_script(
                 index = min(leg + 1, legs_per_table - 1) if repeated else leg
                 target = Target("leg", index)
             elif step.action is Action.LOCATION:
-                index = (leg + 1) % spots if repeated else leg % spots
+                later = leg + 1 < min(spots, legs_per_table)
+                index = leg + 1 if repeated and later else leg % spots
                 target = Target("spot", index)
             intent = Intent(step.gesture, step.action, target, handover, table)
             script.append(ScriptStep(intent, handover_type.name, i, leg == 0 and i == 0))

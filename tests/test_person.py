@@ -30,6 +30,9 @@ def test_script_follows_the_types_with_legs_tables_and_targets(scenario) -> None
     ]  # fmt: skip
     g_steps = script[15:21]  # leg 3, the last of the table: a double point stays on leg 3
     assert g_steps[0].intent.target == Target("leg", 3) == g_steps[1].intent.target
+    # ... and a double location stays on spot 3: spots 0-2 may hold legs placed earlier
+    g_spots = [s.intent.target for s in g_steps if s.intent.action is Action.LOCATION]
+    assert g_spots == [Target("spot", 3), Target("spot", 3)]
     last = script[21]  # the fifth handover starts table 1
     assert last.first_of_table and last.intent.table == 1 and last.intent.handover == 4
     assert [s.first_of_table for s in script].count(True) == 2
