@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -18,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, check_rate
 from pil.parts import SCENARIO_KEYS
 from pil.report import (
@@ -108,16 +108,6 @@ def csv_text(rows: Sequence[Row], columns: Sequence[str] = STUDY_COLUMNS) -> str
     writer.writeheader()
     writer.writerows(rows)
     return buffer.getvalue()
-
-
-def write_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file and a rename (no half files)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_name(path.name + ".partial")
-    partial.write_text(text, encoding="utf-8")
-    os.replace(partial, path)
-    return path
 
 
 def training_figures(rows: Sequence[Row]) -> dict[float, dict[str, float]]:
@@ -215,8 +205,8 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
     from pil.figures import plot_comparison, plot_metric
 
     out = Path(out)
-    written = [write_atomic(out / "runs.csv", csv_text(rows))]
-    written.append(write_atomic(out / "summary.md", summary_text(rows, config)))
+    written = [write_text_atomic(out / "runs.csv", csv_text(rows))]
+    written.append(write_text_atomic(out / "summary.md", summary_text(rows, config)))
     for metric, name in (("total_gestures", "gestures"), ("total_actions", "actions")):
         written.append(
             plot_metric(rows, metric, out / f"{name}.png", ("rate", "system"),

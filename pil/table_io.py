@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from pathlib import Path
 
+from pil.atomic import write_text_atomic
 from pil.errors import InvalidChoiceError, TableFileError
 from pil.table import AssociationTable, merge_all, state_sort_key
 from pil.types import ACTIONS, Action, State
@@ -185,22 +185,10 @@ def save_table(table: AssociationTable, path: str | os.PathLike[str]) -> Path:
         raise TypeError(f"expected an AssociationTable, got {type(table).__name__}")
     path = Path(path)
     text = table_to_json(table)
-    tmp_name = None
     try:
-        with tempfile.NamedTemporaryFile(
-            "w", encoding="utf-8", dir=path.parent, prefix=f".{path.name}.", delete=False
-        ) as handle:
-            tmp_name = handle.name
-            handle.write(text)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp_name, path)
-        tmp_name = None
+        write_text_atomic(path, text, make_folder=False)
     except OSError as error:
         raise _fail(str(path), f"could not be saved ({error}); nothing was overwritten") from None
-    finally:
-        if tmp_name is not None:
-            Path(tmp_name).unlink(missing_ok=True)
     return path
 
 

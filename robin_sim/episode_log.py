@@ -7,12 +7,11 @@ episode leaves a log of every finished step. The summary is written atomically.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from pil.atomic import write_text_atomic
 from robin_sim.closing import ClosesOnExit
 
 
@@ -52,18 +51,8 @@ class StepLog(ClosesOnExit):
 
 
 def write_json_atomic(path: Path, data: Mapping[str, Any]) -> None:
-    """Write ``data`` as indented JSON to ``path`` through a temporary file and a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as tmp:
-            json.dump(_plain(data), tmp, indent=2)
-            tmp.write("\n")
-        os.replace(tmp_name, path)
-    except BaseException:
-        Path(tmp_name).unlink(missing_ok=True)
-        raise
+    """Write ``data`` as indented JSON to ``path``, whole or not at all."""
+    write_text_atomic(path, json.dumps(_plain(data), indent=2) + "\n")
 
 
 def read_step_log(path: Path) -> list[dict[str, Any]]:

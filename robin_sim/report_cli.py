@@ -107,6 +107,7 @@ def write_report(
     baseline: str = BASELINE,
 ) -> list[Path]:
     """Write ``summary.md``, ``ttests.csv`` and one PNG per metric (and swept cell) to ``out``."""
+    from pil.atomic import write_text_atomic
     from pil.figures import plot_metric
     from pil.report import (
         ReportError,
@@ -116,7 +117,7 @@ def write_report(
         ttests_markdown,
         welch_ttests,
     )
-    from robin_sim.sweep_store import rows_to_csv, write_atomic
+    from robin_sim.sweep_store import rows_to_csv
 
     results, out = Path(results), Path(out)
     rows = load_rows(results)
@@ -163,11 +164,11 @@ def write_report(
             "",
         ]
         columns = [*axes, "metric", "baseline", "other", "baseline_mean", "other_mean", "t", "p"]
-        write_atomic(out / "ttests.csv", rows_to_csv(tests, columns))
+        write_text_atomic(out / "ttests.csv", rows_to_csv(tests, columns))
         written.append(out / "ttests.csv")
     else:
         lines += [f"No t-tests: the results hold no {baseline!r} rows next to other systems.", ""]
-    write_atomic(out / "summary.md", "\n".join(lines))
+    write_text_atomic(out / "summary.md", "\n".join(lines))
 
     if has_system and axes and axes[0] == "rate":
         cells = _cells(rows, axes[1:])

@@ -30,6 +30,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
 
 try:  # POSIX only; elsewhere the directory is not locked
@@ -162,7 +163,7 @@ class RunStore:
                     "use another --out or the same settings"
                 )
         else:
-            write_atomic(path, json.dumps(self.manifest, indent=2, sort_keys=True) + "\n")
+            write_text_atomic(path, json.dumps(self.manifest, indent=2, sort_keys=True) + "\n")
 
     # --- reading ------------------------------------------------------------------------------
     @property
@@ -220,12 +221,12 @@ class RunStore:
         columns = [*id_columns, "status", "error"]
         for row in rows:
             columns += [key for key in row if key not in columns]
-        write_atomic(
+        write_text_atomic(
             self.directory / TIMINGS,
             rows_to_csv(timings, ["run_id", "host", "wall_s", *TIMING_COLUMNS]),
         )
         path = self.directory / RESULTS
-        write_atomic(path, rows_to_csv(rows, columns))
+        write_text_atomic(path, rows_to_csv(rows, columns))
         return path
 
 
@@ -253,16 +254,6 @@ def rows_to_csv(rows: Iterable[Mapping[str, Any]], columns: Sequence[str]) -> st
     for row in rows:
         writer.writerow({key: "" if value is None else value for key, value in row.items()})
     return buffer.getvalue()
-
-
-def write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file, fsync and ``os.replace``."""
-    temporary = path.with_name(f".{path.name}.tmp")
-    with open(temporary, "w", encoding="utf-8", newline="") as handle:
-        handle.write(text)
-        handle.flush()
-        os.fsync(handle.fileno())
-    os.replace(temporary, path)
 
 
 def _plain(value: Any) -> Any:
