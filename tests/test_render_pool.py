@@ -83,6 +83,12 @@ def scene() -> tuple[mujoco.MjModel, list[FrameState], list[np.ndarray]]:
     return model, states, direct_renders(model, states)
 
 
+def _ctrl_c_as_in_a_terminal() -> None:
+    """In the child: let SIGINT raise KeyboardInterrupt even if this test was started from a
+    shell that ignores it for background jobs (the ignore would be inherited)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(120)
 @pytest.mark.parametrize(("workers", "threads"), [(0, None), (2, None), (2, 1)])
@@ -201,6 +207,7 @@ def test_ctrl_c_ends_the_program_and_its_workers(tmp_path) -> None:
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,  # its own process group, like a program in a terminal
+        preexec_fn=_ctrl_c_as_in_a_terminal,
     )
     line = child.stdout.readline()
     assert line.startswith("workers"), child.stderr.read()

@@ -51,6 +51,12 @@ def free_port() -> int:
         return probe.getsockname()[1]
 
 
+def _ctrl_c_as_in_a_terminal() -> None:
+    """In the child: let SIGINT raise KeyboardInterrupt even if this test was started from a
+    shell that ignores it for background jobs (the ignore would be inherited)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
@@ -149,6 +155,7 @@ def test_a_killed_sweep_resumes_without_repeating_or_losing_runs(robin, tmp_path
         env=env,
         stderr=subprocess.PIPE,
         start_new_session=True,
+        preexec_fn=_ctrl_c_as_in_a_terminal,
     )
     try:
         deadline = time.monotonic() + 60
