@@ -9,6 +9,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from hand_bench import HandBench
 
 from pil.types import Hand
 from robin_sim import names
@@ -23,57 +24,8 @@ HOLD_TOL = 0.005  # m: leg centre in the palm frame while lifting and holding
 SHAKE_TOL = 0.010  # m: leg centre in the palm frame while shaken
 
 
-class Bench:
-    """Drives the hand test bench: min-jerk slide moves and hand commands."""
-
-    def __init__(self) -> None:
-        self.model = mujoco.MjModel.from_xml_path(str(names.HAND_TEST_SCENE_XML))
-        self.data = mujoco.MjData(self.model)
-        mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key(names.HOME_KEY).id)
-        self.slides = [self.model.actuator(a).id for a in names.HAND_TEST_SLIDES]
-        self.hand = [self.model.actuator(a).id for a in names.hand_actuators("l")]
-        self.palm = self.model.body(names.hand_body("l")).id
-        self.leg = self.model.body(names.leg_body(0)).id
-        self.leg_geom = self.model.geom(names.leg_geom(0)).id
-        self.on_step: list = []
-        self.run(0.3)
-
-    def run(self, seconds: float) -> None:
-        for _ in range(round(seconds / self.model.opt.timestep)):
-            mujoco.mj_step(self.model, self.data)
-            for callback in self.on_step:
-                callback()
-
-    def move(self, axis: int, delta: float, speed: float) -> None:
-        """Min-jerk move of slide ``axis`` by ``delta`` metres with peak speed ``speed``."""
-        act = self.slides[axis]
-        start = self.data.ctrl[act]
-        steps = max(round(1.875 * abs(delta) / speed / self.model.opt.timestep), 1)
-        for k in range(1, steps + 1):
-            s = k / steps
-            self.data.ctrl[act] = start + delta * (10 * s**3 - 15 * s**4 + 6 * s**5)
-            mujoco.mj_step(self.model, self.data)
-            for callback in self.on_step:
-                callback()
-
-    def command_hand(self, ctrl: tuple[float, ...]) -> None:
-        self.data.ctrl[self.hand] = ctrl
-
-    def descend_to_leg(self) -> None:
-        """Lower the open hand until the grasp site is at the height of the leg's axis."""
-        site = self.data.site(names.grasp_site("l")).xpos
-        self.move(2, float(self.data.xpos[self.leg][2] - site[2]), 0.1)
-        self.run(0.2)
-
-    def grasp(self) -> None:
-        self.descend_to_leg()
-        self.command_hand(spec.HAND_CLOSED_CTRL)
-        self.run(spec.HAND_CLOSE_TIME)
-
-    def leg_in_palm(self) -> np.ndarray:
-        """The leg's centre in the palm frame."""
-        rot = self.data.xmat[self.palm].reshape(3, 3)
-        return rot.T @ (self.data.xpos[self.leg] - self.data.xpos[self.palm])
+class Bench(HandBench):
+    """The hand test bench, plus which fingers touch the leg."""
 
     def fingers_touching_leg(self) -> set[str]:
         """Fingers (names.FINGERS) with a contact on the leg, read from data.contact."""

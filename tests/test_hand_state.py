@@ -6,6 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from hand_bench import HandBench
 
 from pil.types import Hand
 from robin_sim import names
@@ -14,39 +15,21 @@ from robin_sim.hand_state import HandSensor, grasped_leg, is_opposed, read_hand_
 from robin_sim.scene import build_model
 
 
-class Bench:
-    """The hand test bench with min-jerk slide moves."""
-
-    def __init__(self) -> None:
-        self.model = mujoco.MjModel.from_xml_path(str(names.HAND_TEST_SCENE_XML))
-        self.data = mujoco.MjData(self.model)
-        mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key(names.HOME_KEY).id)
-        self.slides = [self.model.actuator(a).id for a in names.HAND_TEST_SLIDES]
-        self.hand = [self.model.actuator(a).id for a in names.hand_actuators("l")]
-        self.sensor = HandSensor(self.model, "l")
-        self.run(0.3)
-
-    def run(self, seconds: float) -> None:
-        for _ in range(round(seconds / self.model.opt.timestep)):
-            mujoco.mj_step(self.model, self.data)
+class Bench(HandBench):
+    """The hand test bench, reading the grasped leg while the hand moves up or down."""
 
     def move_z(self, delta: float, speed: float = 0.2) -> list[int | None]:
         """Move the hand vertically; returns the grasped leg read at every step."""
-        act = self.slides[2]
-        start = self.data.ctrl[act]
-        steps = max(round(1.875 * abs(delta) / speed / self.model.opt.timestep), 1)
-        seen = []
-        for k in range(1, steps + 1):
-            s = k / steps
-            self.data.ctrl[act] = start + delta * (10 * s**3 - 15 * s**4 + 6 * s**5)
-            mujoco.mj_step(self.model, self.data)
-            seen.append(self.sensor.grasped_leg(self.data))
+        seen: list[int | None] = []
+        self.on_step.append(lambda: seen.append(self.sensor.grasped_leg(self.data)))
+        try:
+            self.move(2, delta, speed)
+        finally:
+            self.on_step.pop()
         return seen
 
     def lower_to_leg(self) -> None:
-        site_z = self.data.site(names.grasp_site("l")).xpos[2]
-        self.move_z(float(self.data.body(names.leg_body(0)).xpos[2] - site_z), 0.1)
-        self.run(0.2)
+        self.descend_to_leg()
 
 
 def test_free_before_occupied_after_grasp_free_after_opening() -> None:
