@@ -201,15 +201,9 @@ class CloseAction(RobotAction):
         return self.report(False, True, "closed on nothing; opened again", start, ctx)
 
     def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        sim, start = ctx.sim, ctx.sim.time
         if ctx.held_leg() is not None:  # already gripping: squeeze a little, then relax
             return _twitch(ctx, self, FINGER_NUDGE, "squeezed the held leg briefly")
-        before = sim.hand.command
-        sim.hand.move_to(sim.hand.blend(fraction), sim.time, 0.4)
-        sim.run(0.4 + SHOW_PAUSE)
-        sim.hand.move_to(before, sim.time, 0.4)
-        sim.step_until(fingers_settled, self.time_limit)
-        return self.report(True, True, "fingers closed partly and opened again", start, ctx)
+        return _show_fingers(ctx, self, fraction, "fingers closed partly and opened again")
 
 
 class OpenAction(RobotAction):
@@ -266,15 +260,20 @@ class OpenAction(RobotAction):
         return self.report(ok, False, detail, start, ctx, **m)
 
     def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        sim, start = ctx.sim, ctx.sim.time
         if ctx.held_leg() is not None:  # a small opening of two fingertips; the thumb holds
             return _twitch(ctx, self, -FINGER_NUDGE, "eased two fingertips and closed them again")
-        before = sim.hand.command
-        sim.hand.move_to(sim.hand.blend(fraction), sim.time, 0.4)
-        sim.run(0.4 + SHOW_PAUSE)
-        sim.hand.move_to(before, sim.time, 0.4)
-        sim.step_until(fingers_settled, self.time_limit)
-        return self.report(True, True, "fingers moved and opened again", start, ctx)
+        return _show_fingers(ctx, self, fraction, "fingers moved and opened again")
+
+
+def _show_fingers(ctx: Context, action: RobotAction, fraction: float, detail: str) -> ActionResult:
+    """An empty hand's unwanted open or close: ``fraction`` of the way, a pause, and back."""
+    sim, start = ctx.sim, ctx.sim.time
+    before = sim.hand.command
+    sim.hand.move_to(sim.hand.blend(fraction), sim.time, 0.4)
+    sim.run(0.4 + SHOW_PAUSE)
+    sim.hand.move_to(before, sim.time, 0.4)
+    sim.step_until(fingers_settled, action.time_limit)
+    return action.report(True, True, detail, start, ctx)
 
 
 def _twitch(ctx: Context, action: RobotAction, amount: float, detail: str) -> ActionResult:

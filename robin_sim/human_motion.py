@@ -22,7 +22,12 @@ from robin_sim.trajectory import Path, pose, through
 HAND_SPEED = 0.35  # m/s peak, free hand
 CARRY_SPEED = 0.25  # m/s peak while a leg lies on the palm
 TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
-POINT_HEIGHT = 0.16  # m above the pointed position
+# The pointing hand: toward the person and above the pointed place, low enough that its
+# fingertips stay a few centimetres below the robot's open fingers at home.
+POINT_OFFSET = np.array([0.14, 0.0, 0.13])  # m
+# A palm held out under the robot's hand first draws back and down, so it never sweeps into a
+# held leg on its way to point somewhere.
+POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m
 
 
 class HumanHand:
@@ -81,10 +86,15 @@ class HumanHand:
         """Back to the rest pose at the person's side."""
         return self.follow([self.rest_pose], now)
 
-    def point_at(self, position: np.ndarray, now: float) -> float:
-        """Hold the hand above ``position`` (the pointing gesture's place)."""
-        above = np.asarray(position, float) + np.array([0.12, 0.0, POINT_HEIGHT])
-        return self.follow([pose(above)], now)
+    def point_at(self, position: np.ndarray, now: float, draw_back_first: bool = False) -> float:
+        """Hold the hand above ``position`` (the pointing gesture's place); returns the time.
+
+        ``draw_back_first``: start by drawing back and down (:data:`POINT_RETREAT`).
+        """
+        waypoints = [pose(np.asarray(position, float) + POINT_OFFSET)]
+        if draw_back_first:
+            waypoints.insert(0, pose(self.pose().translation() + POINT_RETREAT))
+        return self.follow(waypoints, now)
 
     def hold_out_palm(self, palm_centre: np.ndarray, now: float) -> float:
         """Hold the palm out, palm up, with its centre at ``palm_centre`` ("give me")."""

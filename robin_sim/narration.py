@@ -11,19 +11,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 
-import numpy as np
-
 from pil.runner import StepRecord
 from pil.types import Feedback, Gesture
 from pil.world import Target
-from robin_sim import robot_spec as spec
 from robin_sim.gesture_display import GestureDisplay
 from robin_sim.overlay import OverlayInfo
-from robin_sim.trajectory import pose
 from robin_sim.world import PhysicalWorld
 
-POINT_OFFSET = np.array([0.22, 0.0, 0.13])  # m: the pointing hand, toward the person and above
-RETREAT = np.array([0.15, 0.0, -0.06])  # m: the palm draws back and down before pointing
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
 FEEDBACK_HOLD = 0.4  # s the thumb stays up or down
 
@@ -92,29 +86,16 @@ class Narrator:
     def perform(self, gesture: Gesture, target: Target | None) -> None:
         """Show ``gesture`` and hold it so the viewer sees it.
 
-        Pointing moves the hand above the pointed leg or spot (first drawing back and down if
-        the palm is out under the robot's hand, so it never sweeps into a held leg) and holds
-        it there; the world draws it back out of the robot's way before the arm moves. The other
-        gestures are shown where the hand is; the palm for "give me" is held out by the world
-        when the robot moves to the person, after lifting its hand clear of the table.
+        Pointing moves the hand above the pointed leg or spot
+        (:meth:`PhysicalWorld.person_points_at`); the world draws it back out of the robot's
+        way before the arm moves. The other gestures are shown where the hand is; the palm for
+        "give me" is held out by the world when the robot moves to the person, after lifting
+        its hand clear of the table.
         """
-        human, sim = self.world.human, self.world.sim
         self.display.show(gesture)
-        if gesture is not Gesture.POINTING or target is None:
-            sim.run(GESTURE_HOLD)
-            return
-        here = human.pose().translation()
-        goal = self._target_position(target) + POINT_OFFSET
-        waypoints = [pose(goal)]
-        if self.world.palm_is_out():
-            waypoints.insert(0, pose(here + RETREAT))
-        sim.run(human.follow(waypoints, sim.time) + GESTURE_HOLD)
-
-    def _target_position(self, target: Target) -> np.ndarray:
-        if target.kind == "leg" and 0 <= target.index < self.world.leg_count:
-            return self.world.leg_position(target.index)
-        x, y = self.world.layout.spots[target.index % len(self.world.layout.spots)]
-        return np.array([x, y, spec.TABLE_TOP_Z])
+        if gesture is Gesture.POINTING and target is not None:
+            self.world.person_points_at(target)
+        self.world.sim.run(GESTURE_HOLD)
 
     def _policy(self, record: StepRecord) -> dict[str, float] | None:
         if self.table is None or record.state is None:

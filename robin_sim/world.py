@@ -146,9 +146,11 @@ class PhysicalWorld:
         self.sim.run(seconds)
 
     def person_points_at(self, target: Target) -> float:
-        """The person's hand moves to point at ``target`` and waits there; returns the time."""
+        """The person's hand moves to point at ``target`` and waits there; returns the time.
+
+        A palm held out for a handover draws back and down first, clear of a held leg."""
         where = target_point(target, self.layout, self.leg_position, self._nearest_leg)
-        duration = self.human.point_at(where, self.sim.time) + 0.1
+        duration = self.human.point_at(where, self.sim.time, self.palm_is_out()) + 0.1
         self.sim.run(duration)
         return duration
 

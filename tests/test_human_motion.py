@@ -8,7 +8,7 @@ import pytest
 
 from robin_sim import robot_spec as spec
 from robin_sim.control import HandTargets, Simulator
-from robin_sim.human_motion import HAND_SPEED, TIP_ANGLE, HumanHand
+from robin_sim.human_motion import HAND_SPEED, POINT_OFFSET, TIP_ANGLE, HumanHand
 from robin_sim.scene import SceneLayout, build_model
 from robin_sim.trajectory import rotation_angle
 
@@ -54,7 +54,8 @@ def test_rest_and_pointing_poses(rig) -> None:
     rest = hand.rest_pose.translation()
     leg = np.array([0.52, 0.22, 0.77])
     sim.run(hand.point_at(leg, sim.time) + 0.04)
-    assert hand.pose().translation() == pytest.approx(leg + np.array([0.12, 0.0, 0.16]), abs=1e-9)
+    assert hand.pose().translation() == pytest.approx(leg + POINT_OFFSET, abs=1e-9)
+    assert POINT_OFFSET[0] > 0 and POINT_OFFSET[2] > 0  # toward the person, and above
     sim.run(hand.rest(sim.time) + 0.04)
     assert hand.pose().translation() == pytest.approx(rest, abs=1e-9)
 
