@@ -16,15 +16,15 @@ import tempfile
 import time
 from pathlib import Path
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
 import mujoco  # noqa: E402
 
-from robin_sim.episode import EpisodeConfig, run_episode  # noqa: E402
-from robin_sim.names import SCENARIOS_DIR  # noqa: E402
-from robin_sim.scene import build_model  # noqa: E402
+from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
+from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
 
 
 def raw_step_rate(seconds: float = 2.0) -> float:

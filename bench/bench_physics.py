@@ -21,13 +21,13 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
+from pil.task.world import Intent, Target
 from pil.types import Action, Gesture
-from pil.world import Intent, Target
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.control_ik import ArmIK, arm_kinematic_model, home_arm_q
-from robin_sim.trajectory import pose, through
-from robin_sim.world import PhysicalWorld
+from robin_sim.control.ik import ArmIK, arm_kinematic_model, home_arm_q
+from robin_sim.control.trajectory import pose, through
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.robot.world import PhysicalWorld
 
 HANDOVER = (Action.OBJECT, Action.CLOSE, Action.HUMAN, Action.OPEN)
 

@@ -3,7 +3,8 @@
     python bench/bench_render.py [--model models/scene.xml] [--frames 20] [--repeats 5]
 
 Prints a table: frames per second for 640x480 renders of each camera with and without shadows,
-the 320x240 segmentation + depth views of :mod:`robin_sim.verify` (a check takes 1-5 of them),
+the 320x240 segmentation + depth views of :mod:`robin_sim.render.checks` (a check takes 1-5 of
+them),
 PyAV libx264 encoding at 640x480 / 30 fps, and raw ``mj_step`` steps per second of the same
 model; each figure is the median of ``--repeats`` runs. The ratio columns say what one second
 of 30 fps video costs next to one second of simulated physics (``1 / timestep`` steps).
@@ -12,7 +13,7 @@ Without ``--model`` the project scene is used when it exists, else a small built
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
 
@@ -26,9 +27,9 @@ from pathlib import Path  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
-from robin_sim.names import SCENE_XML  # noqa: E402
-from robin_sim.render import CloseUpRenderer, FrameRenderer, camera_names  # noqa: E402
-from robin_sim.video import Mp4Writer  # noqa: E402
+from robin_sim.model.names import SCENE_XML  # noqa: E402
+from robin_sim.render.renderer import CloseUpRenderer, FrameRenderer, camera_names  # noqa: E402
+from robin_sim.render.video import Mp4Writer  # noqa: E402
 
 WIDTH, HEIGHT, FPS = 640, 480, 30
 FALLBACK_SCENE = """

@@ -5,7 +5,7 @@
 Each timed run is the episode's recording loop for ``--frames`` video frames at 30 fps: step
 the project scene's physics for 1/30 s (the left arm swings), capture a FrameState, submit it,
 take the finished frames; once without and once with libx264 encoding of every frame (as
-:class:`robin_sim.episode_video.VideoRecorder` does). Figures are medians of ``--repeats``
+:class:`robin_sim.episode.recorder.VideoRecorder` does). Figures are medians of ``--repeats``
 runs, printed as a table with raw ``mj_step`` steps/s measured in the same run as the
 baseline, and the cost of moving one 640x480 frame through a pipe (what a worker does).
 ``--threads 0`` keeps Mesa's llvmpipe thread count in the workers (one per CPU).
@@ -13,7 +13,7 @@ baseline, and the cost of moving one 640x480 frame through a pipe (what a worker
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
 
@@ -29,10 +29,10 @@ from pathlib import Path  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
-from robin_sim import names  # noqa: E402
-from robin_sim.render_pool import FrameState, RenderPool  # noqa: E402
-from robin_sim.scene import build_model  # noqa: E402
-from robin_sim.video import Mp4Writer  # noqa: E402
+from robin_sim.model import names  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.render.pool import FrameState, RenderPool  # noqa: E402
+from robin_sim.render.video import Mp4Writer  # noqa: E402
 
 WIDTH, HEIGHT, FPS = 640, 480, 30
 

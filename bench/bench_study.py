@@ -1,6 +1,7 @@
 """Speed of the default study's computation (4 rates x 20 reps x 5 systems, 10 tables).
 
-Runs :func:`pil.study.run_study` with the paper's setup several times (no files, no figures)
+Runs :func:`pil.experiments.study.run_study` with the paper's setup several times (no files, no
+figures)
 and prints median / min / max seconds, robot decisions per second, and the ratio against a
 baseline measured in the same process: a bare loop making as many ``random.Random`` draws and
 dict look-ups as there were decisions. Usage: ``python bench/bench_study.py [--repeats 5]``.
@@ -13,7 +14,7 @@ import random
 import statistics
 import time
 
-from pil.study import StudyConfig, run_study
+from pil.experiments.study import StudyConfig, run_study
 
 
 def count_decisions(rows: list[dict]) -> int:

@@ -5,7 +5,8 @@
 Each figure is the median of ``--repeats`` timed sweeps through the real pipeline (the
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
-(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.physical_run:run_physical``: PIL at
+(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:run_physical``:
+PIL at
 100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds) are included when
 that function is importable, else the table says so. Dask runs on a ``LocalCluster`` on
 loopback with the same number of single-threaded worker processes; its
@@ -25,9 +26,9 @@ import tempfile
 import time
 from pathlib import Path
 
-from robin_sim.sweep_exec import Backend, DaskBackend, LocalBackend, execute
-from robin_sim.sweep_grid import RunSpec, build_grid, import_object, load_target
-from robin_sim.sweep_store import RunStore, make_record
+from pil.experiments.sweep_exec import Backend, DaskBackend, LocalBackend, execute
+from pil.experiments.sweep_grid import RunSpec, build_grid, import_object, load_target
+from pil.experiments.sweep_store import RunStore, make_record
 
 RATES = (0.4, 0.6, 0.8, 1.0)
 SYSTEMS = ("pil", "c1", "c2", "c3", "c4")
@@ -141,9 +142,11 @@ def main() -> None:
         function, specs = specs_for("learner", args.learner_reps, 10)
         rows = bench_kind("learner", function, specs, args.repeats, address)
         try:
-            importlib.import_module("robin_sim.physical_run").run_physical  # noqa: B018
+            importlib.import_module("robin_sim.episode.physical_run").run_physical  # noqa: B018
         except (ImportError, AttributeError) as error:
-            physical_note = f"physical: not measured (robin_sim.physical_run.run_physical: {error})"
+            physical_note = (
+                f"physical: not measured (robin_sim.episode.physical_run.run_physical: {error})"
+            )
         else:
             physical_note = ""
             legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length

@@ -11,10 +11,10 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.hand_state import HandSensor
-from robin_sim.trajectory import min_jerk
+from robin_sim.control.hand_state import HandSensor
+from robin_sim.control.trajectory import min_jerk
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
 
 
 class HandBench:

@@ -1,6 +1,6 @@
 """Run functions for the sweep tests, named by import path (``"sweep_test_runs:paced_run"``).
 
-They wrap the real learner-only :func:`pil.systems.run_one` and add what a test needs to
+They wrap the real learner-only :func:`pil.experiments.systems.run_one` and add what a test needs to
 control: a pause (so a sweep can be interrupted midway), a worker process that dies, and a
 run that fails on its first attempt only. Not collected by pytest (no ``test_`` prefix).
 """
@@ -12,8 +12,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-from pil.systems import PARAMS as RUN_ONE_PARAMS
-from pil.systems import SYSTEMS, run_one
+from pil.experiments.systems import PARAMS as RUN_ONE_PARAMS
+from pil.experiments.systems import SYSTEMS, run_one
 
 PARAMS: dict[str, Any] = {**RUN_ONE_PARAMS, "delay": 0.0, "die": "", "marks": ""}
 __all__ = ["PARAMS", "SYSTEMS", "flaky_run", "paced_run", "self_failing_run"]

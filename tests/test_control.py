@@ -6,12 +6,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.control import HandTargets, Simulator
-from robin_sim.control_ik import POSITION_TOLERANCE, ArmIK, arm_kinematic_model, home_arm_q
-from robin_sim.scene import build_spec
-from robin_sim.trajectory import lift_traverse_descend, pose, through
+from robin_sim.control.ik import POSITION_TOLERANCE, ArmIK, arm_kinematic_model, home_arm_q
+from robin_sim.control.simulator import HandTargets, Simulator
+from robin_sim.control.trajectory import lift_traverse_descend, pose, through
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import build_spec
 
 SIDE = names.ACTIVE_SIDE
 LIMITS = dict(zip(names.arm_joints(SIDE), spec.ARM_VELOCITY_LIMITS, strict=True))

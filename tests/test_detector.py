@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from pil.detector import Detector, DetectorError, check_confusion
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.task.detector import Detector, DetectorError, check_confusion
 from pil.types import GESTURES, Gesture
 
 

@@ -10,17 +10,17 @@ from pathlib import Path
 import av
 import pytest
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from pil.parts import check_params, resolve_scenario  # noqa: E402
-from pil.runner import steps  # noqa: E402
-from pil.systems import test_parts as learner_parts  # noqa: E402
-from pil.world import SymbolicWorld  # noqa: E402
-from robin_sim.episode import EpisodeConfig, run_episode  # noqa: E402
-from robin_sim.episode_log import read_step_log  # noqa: E402
-from robin_sim.names import SCENARIOS_DIR  # noqa: E402
+from pil.experiments.systems import test_parts as learner_parts  # noqa: E402
+from pil.task.parts import check_params, resolve_scenario  # noqa: E402
+from pil.task.runner import steps  # noqa: E402
+from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
+from pil.task.world import SymbolicWorld  # noqa: E402
+from robin_sim.episode.log import read_step_log  # noqa: E402
+from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 
 ONE_HANDOVER = SCENARIOS_DIR / "one_handover.yaml"
 DECISION_KEYS = ("t", "gesture_count", "true_gesture", "detected_gesture", "corrected_gesture",

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pil.types import Action, Gesture
-from robin_sim.episode_log import StepLog, read_step_log, write_json_atomic
+from robin_sim.episode.log import StepLog, read_step_log, write_json_atomic
 
 
 def test_each_step_is_one_complete_line_on_disk_as_soon_as_it_is_written(tmp_path: Path) -> None:

@@ -1,10 +1,10 @@
-"""Tests of robin_sim.gesture_display: pose switching by alpha, with physics untouched."""
+"""Tests of robin_sim.person.gestures: pose switching by alpha, with physics untouched."""
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
-ensure_gl_backend()  # before mujoco is imported (see robin_sim.gl_backend)
+ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
@@ -12,10 +12,10 @@ import pytest  # noqa: E402
 
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.types import Feedback, Gesture  # noqa: E402
-from robin_sim.gesture_display import POSES, GestureDisplay, pose_for  # noqa: E402
-from robin_sim.names import HOME_KEY, HUMAN_VIS_PARTS  # noqa: E402
-from robin_sim.render import FrameRenderer  # noqa: E402
-from robin_sim.scene import build_model  # noqa: E402
+from robin_sim.model.names import HOME_KEY, HUMAN_VIS_PARTS  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.person.gestures import POSES, GestureDisplay, pose_for  # noqa: E402
+from robin_sim.render.renderer import FrameRenderer  # noqa: E402
 
 SHOWN = [p for p in POSES if p != "neutral"]
 # Each pose: one or two visual geoms at the person's hand; a ball falls right through them.

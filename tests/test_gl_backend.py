@@ -1,4 +1,4 @@
-"""Tests of robin_sim.gl_backend: backend choice, probing in a subprocess, late binding."""
+"""Tests of robin_sim.render.gl_backend: backend choice, probing in a subprocess, late binding."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import sys
 import pytest
 
 from pil.errors import RobinPilError
-from robin_sim.gl_backend import GLBackendError, ensure_gl_backend
+from robin_sim.render.gl_backend import GLBackendError, ensure_gl_backend
 
 RENDER_ONE_FRAME = """
 import mujoco
@@ -47,7 +47,7 @@ def test_invalid_backend_names_valid_choices(monkeypatch: pytest.MonkeyPatch) ->
 @pytest.mark.slow
 def test_unset_backend_is_probed_and_set_before_mujoco_import() -> None:
     code = (
-        "from robin_sim.gl_backend import ensure_gl_backend\n"
+        "from robin_sim.render.gl_backend import ensure_gl_backend\n"
         "import os, sys\n"
         "assert 'mujoco' not in sys.modules\n"
         "print(ensure_gl_backend(), os.environ['MUJOCO_GL'])\n" + RENDER_ONE_FRAME
@@ -63,7 +63,7 @@ def test_mujoco_imported_first_is_bound_late_to_egl() -> None:
     code = (
         "import mujoco\n"
         "assert mujoco.rendering.classic.gl_context.GLContext.__module__ != 'mujoco.egl'\n"
-        "from robin_sim.gl_backend import ensure_gl_backend\n"
+        "from robin_sim.render.gl_backend import ensure_gl_backend\n"
         "print(ensure_gl_backend())\n" + RENDER_ONE_FRAME
     )
     result = _run(code)
@@ -75,7 +75,7 @@ def test_mujoco_imported_first_is_bound_late_to_egl() -> None:
 def test_broken_egl_falls_back_to_osmesa_or_explains_both_failures() -> None:
     # An EGL vendor file that does not exist makes libglvnd find no EGL driver.
     code = (
-        "from robin_sim.gl_backend import ensure_gl_backend, GLBackendError\n"
+        "from robin_sim.render.gl_backend import ensure_gl_backend, GLBackendError\n"
         "try:\n"
         "    print(ensure_gl_backend())\n"
         "except GLBackendError as error:\n"

@@ -12,10 +12,10 @@ import pytest
 from hand_bench import HandBench
 
 from pil.types import Hand
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.hand_state import HandSensor
-from robin_sim.scene import SceneLayout, build_model
+from robin_sim.control.hand_state import HandSensor
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import SceneLayout, build_model
 
 LIFT = 0.20  # m
 LIFT_SPEED = 0.25  # m/s, peak of the min-jerk profile

@@ -9,10 +9,10 @@ import pytest
 from hand_bench import HandBench
 
 from pil.types import Hand
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.hand_state import HandSensor, grasped_leg, is_opposed, read_hand_state
-from robin_sim.scene import build_model
+from robin_sim.control.hand_state import HandSensor, grasped_leg, is_opposed, read_hand_state
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import build_model
 
 
 class Bench(HandBench):

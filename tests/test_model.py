@@ -8,9 +8,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.scene import SceneLayout, build_model, build_spec
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import SceneLayout, build_model, build_spec
 
 EIGHT_LEGS = SceneLayout(
     legs=tuple((x, y, math.pi / 2) for x in (0.42, 0.50, 0.60, 0.68) for y in (0.14, 0.46)),

@@ -1,4 +1,4 @@
-"""Tests of robin_sim.overlay: the text panel and the P(a|s) bar chart."""
+"""Tests of robin_sim.render.overlay: the text panel and the P(a|s) bar chart."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
-from robin_sim.overlay import (
+from robin_sim.render.overlay import (
     BAR_COLOUR,
     CHOSEN_BAR_COLOUR,
     OverlayInfo,

@@ -5,12 +5,12 @@ from __future__ import annotations
 import pytest
 
 from pil.errors import InvalidChoiceError
-from pil.parts import PARAMS, SEED_NAMES, build_parts, derive_seeds, phase_script
-from pil.runner import run, steps
-from pil.scenario import load_scenario
-from pil.systems import run_one
+from pil.experiments.systems import run_one
+from pil.task.parts import PARAMS, SEED_NAMES, build_parts, derive_seeds, phase_script
+from pil.task.runner import run, steps
+from pil.task.scenario import load_scenario
+from pil.task.world import Intent, Outcome, SymbolicWorld
 from pil.types import Action
-from pil.world import Intent, Outcome, SymbolicWorld
 
 
 class MeasuringWorld(SymbolicWorld):
@@ -58,7 +58,7 @@ def test_seeds_and_scripts() -> None:
 
 def test_parameter_values_from_text_are_converted() -> None:
     from pil.errors import RobinPilError
-    from pil.parts import check_params
+    from pil.task.parts import check_params
 
     values = check_params({"discard": "0.3", "repeat_discarded": "false", "patience": "2",
                            "legs_per_table": 3.0})  # fmt: skip

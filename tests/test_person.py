@@ -5,10 +5,10 @@ from __future__ import annotations
 import pytest
 
 from pil.errors import RobinPilError
-from pil.person import ScriptedPerson, plan_script
-from pil.scenario import load_scenario
+from pil.task.person import ScriptedPerson, plan_script
+from pil.task.scenario import load_scenario
+from pil.task.world import Outcome, Target
 from pil.types import Action, Feedback
-from pil.world import Outcome, Target
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pil.errors import InvalidChoiceError
-from robin_sim.physical_run import run_physical
+from robin_sim.episode.physical_run import run_physical
 
 
 @pytest.mark.slow

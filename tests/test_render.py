@@ -1,18 +1,18 @@
-"""Tests of robin_sim.render: frames from each camera, clear errors, the video frame clock."""
+"""Tests of robin_sim.render.renderer: frames from each camera, clear errors, the frame clock."""
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
-ensure_gl_backend()  # before mujoco is imported (see robin_sim.gl_backend)
+ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
 
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from pil.errors import RobinPilError  # noqa: E402
-from robin_sim.names import CAMERAS  # noqa: E402
-from robin_sim.render import (  # noqa: E402
+from robin_sim.model.names import CAMERAS  # noqa: E402
+from robin_sim.render.renderer import (  # noqa: E402
     CloseUpRenderer,
     FrameClock,
     FrameRenderer,

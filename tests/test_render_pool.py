@@ -1,10 +1,10 @@
-"""Tests of robin_sim.render_pool: ordered frames from worker processes equal direct renders."""
+"""Tests of robin_sim.render.pool: ordered frames from worker processes equal direct renders."""
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
-ensure_gl_backend()  # before mujoco is imported (see robin_sim.gl_backend)
+ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
 
 import os  # noqa: E402
 import signal  # noqa: E402
@@ -17,16 +17,16 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from robin_sim import names  # noqa: E402
-from robin_sim.gesture_display import GestureDisplay  # noqa: E402
-from robin_sim.overlay import OverlayInfo, draw_overlay  # noqa: E402
-from robin_sim.render import FrameRenderer, UnknownCameraError  # noqa: E402
-from robin_sim.render_pool import (  # noqa: E402
+from robin_sim.model import names  # noqa: E402
+from robin_sim.model.scene import SceneLayout, build_model  # noqa: E402
+from robin_sim.person.gestures import GestureDisplay  # noqa: E402
+from robin_sim.render.overlay import OverlayInfo, draw_overlay  # noqa: E402
+from robin_sim.render.pool import (  # noqa: E402
     FrameState,
     RenderPool,
     RenderPoolError,
 )
-from robin_sim.scene import SceneLayout, build_model  # noqa: E402
+from robin_sim.render.renderer import FrameRenderer, UnknownCameraError  # noqa: E402
 
 WIDTH, HEIGHT = 320, 240  # small frames keep the tests quick; the bench uses 640x480
 POSES = ("neutral", "pointing", "give_me", "grasp", "thumb_up", "release")
@@ -178,11 +178,11 @@ def test_killed_worker_is_reported_with_the_frame(scene) -> None:
 CTRL_C_CHILD = textwrap.dedent(
     """
     import sys
-    from robin_sim.gl_backend import ensure_gl_backend
+    from robin_sim.render.gl_backend import ensure_gl_backend
     ensure_gl_backend()
     sys.path.insert(0, {tests!r})
     from test_render_pool import LAYOUT, rollout
-    from robin_sim.render_pool import RenderPool
+    from robin_sim.render.pool import RenderPool
 
     if __name__ == "__main__":
         _, states = rollout(LAYOUT, 2)

@@ -6,8 +6,8 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim.render_worker import FrameState, RenderPoolError, apply_state, check_state
-from robin_sim.scene import SceneLayout, build_model
+from robin_sim.model.scene import SceneLayout, build_model
+from robin_sim.render.worker import FrameState, RenderPoolError, apply_state, check_state
 
 
 def test_a_captured_state_puts_another_copy_of_the_scene_in_the_same_place() -> None:

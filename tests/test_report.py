@@ -10,8 +10,8 @@ import matplotlib.image
 import pytest
 from scipy.stats import ttest_ind
 
-from pil.figures import plot_comparison, plot_metric
-from pil.report import (
+from pil.experiments.figures import plot_comparison, plot_metric
+from pil.experiments.report import (
     ReportError,
     load_rows,
     summarize,

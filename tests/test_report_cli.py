@@ -8,11 +8,11 @@ from pathlib import Path
 
 import pytest
 
-from robin_sim import cli
-from robin_sim.report_cli import grid_axes, with_physical, write_report
-from robin_sim.sweep_exec import execute_run
-from robin_sim.sweep_grid import build_grid, load_target
-from robin_sim.sweep_store import RunStore, make_record, rows_to_csv
+from pil.experiments.sweep_exec import execute_run
+from pil.experiments.sweep_grid import build_grid, load_target
+from pil.experiments.sweep_store import RunStore, make_record, rows_to_csv
+from robin_sim.cli import main as cli
+from robin_sim.cli.report import grid_axes, with_physical, write_report
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

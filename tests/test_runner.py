@@ -6,13 +6,13 @@ import json
 
 import pytest
 
-from pil.detector import Detector
 from pil.learner import Learner
-from pil.person import ScriptedPerson
-from pil.runner import RunnerError, StepRecord, run, steps
-from pil.scenario import SCENARIOS_DIR, Scenario, load_scenario
+from pil.task.detector import Detector
+from pil.task.person import ScriptedPerson
+from pil.task.runner import RunnerError, StepRecord, run, steps
+from pil.task.scenario import SCENARIOS_DIR, Scenario, load_scenario
+from pil.task.world import Intent, Outcome, SymbolicWorld, Target
 from pil.types import Action, Feedback, Hand
-from pil.world import Intent, Outcome, SymbolicWorld, Target
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from pil.errors import ScenarioError
-from pil.scenario import DEFAULT_TYPES, SCENARIOS_DIR, load_scenario, states_along
+from pil.task.scenario import DEFAULT_TYPES, SCENARIOS_DIR, load_scenario, states_along
 from pil.types import Action, Gesture, State
 from pil.validity import VALID_STATES
 

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
-from robin_sim import names
-from robin_sim import robot_spec as spec
-from robin_sim.scene import (
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import (
     DEFAULT_BIN,
     DEFAULT_HANDOVER,
     LayoutError,
@@ -207,9 +207,9 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
     """With the project's controller (PhysicalWorld): leg k is grasped and placed on spot 3 - k
     for k = 0..3 in one scene; each lands within the placement tolerance of its spot, lying on
     the table, and no other leg (resting or placed) moves more than 2 mm."""
+    from pil.task.world import Intent, Target
     from pil.types import Action, Gesture
-    from pil.world import Intent, Target
-    from robin_sim.world import PLACEMENT_TOLERANCE, PhysicalWorld
+    from robin_sim.robot.world import PLACEMENT_TOLERANCE, PhysicalWorld
 
     def intent(gesture: str, action: str, target: Target | None = None) -> Intent:
         return Intent(Gesture(gesture), Action(action), target, handover=0, table=0)

@@ -8,8 +8,8 @@ import matplotlib.image
 import pytest
 
 from pil.errors import RobinPilError
-from pil.report import load_rows
-from pil.study import (
+from pil.experiments.report import load_rows
+from pil.experiments.study import (
     PAPER_TRAINING,
     STUDY_COLUMNS,
     StudyConfig,

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from robin_sim.cli import main
+from robin_sim.cli.main import main
 
 
 def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
@@ -41,7 +41,7 @@ def test_bad_input_exits_2_with_one_clear_message(
 
 
 def test_study_cli_imports_fast_without_mujoco() -> None:
-    code = "import sys, pil.study_cli, pil.study; print('mujoco' in sys.modules)"
+    code = "import sys, robin_sim.cli.study, pil.experiments.study; print('mujoco' in sys.modules)"
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True)  # fmt: skip
     assert result.stdout.strip() == "False"
@@ -50,7 +50,7 @@ def test_study_cli_imports_fast_without_mujoco() -> None:
 def test_study_command_never_loads_mujoco(tmp_path: Path) -> None:
     code = (
         "import sys\n"
-        "from robin_sim.cli import main\n"
+        "from robin_sim.cli.main import main\n"
         f"code = main(['study', '--reps', '1', '--tables', '1', '--rates', '1.0', '--out', "
         f"{str(tmp_path)!r}, '--no-progress'])\n"
         "print(code, 'mujoco' in sys.modules)\n"

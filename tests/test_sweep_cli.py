@@ -1,6 +1,6 @@
 """Tests of ``robin-pil sweep``: bad input, results and report, resume, kills, Dask parity.
 
-The commands go through the real dispatcher (:func:`robin_sim.cli.main`, exit codes and
+The commands go through the real dispatcher (:func:`robin_sim.cli.main.main`, exit codes and
 messages included), given only the ``sweep`` and ``report`` commands so these tests do not
 depend on the other commands' modules.
 """
@@ -20,14 +20,14 @@ from pathlib import Path
 
 import pytest
 
-from robin_sim import cli
-from robin_sim.sweep_store import JOURNAL, RESULTS, read_journal
+from pil.experiments.sweep_store import JOURNAL, RESULTS, read_journal
+from robin_sim.cli import main as cli
 
 TESTS_DIR = Path(__file__).resolve().parent
 COMMANDS = {name: cli.COMMANDS[name] for name in ("sweep", "report")}
 SMALL = ["--systems", "pil,c1", "--rates", "0.6,1.0", "--reps", "2", "--tables", "1"]
 ENTRY = (
-    "import sys; from robin_sim import cli; "
+    "import sys; from robin_sim.cli import main as cli; "
     "cli.COMMANDS = {k: v for k, v in cli.COMMANDS.items() if k in ('sweep', 'report')}; "
     "sys.exit(cli.main(sys.argv[1:]))"
 )

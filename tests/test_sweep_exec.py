@@ -1,6 +1,7 @@
 """Tests of the sweep executors: a real process pool and a real Dask LocalCluster (loopback).
 
-Failures are real: ``max_actions_per_gesture=1`` makes :func:`pil.systems.run_one` raise, and
+Failures are real: ``max_actions_per_gesture=1`` makes :func:`pil.experiments.systems.run_one`
+raise, and
 the run functions of ``tests/sweep_test_runs.py`` end their worker process or fail once.
 """
 
@@ -11,25 +12,25 @@ from pathlib import Path
 
 import pytest
 
-from pil.systems import run_one
-from robin_sim.sweep_exec import (
+from pil.experiments.sweep_exec import (
     LocalBackend,
     SchedulerError,
     execute,
     execute_run,
     make_backend,
 )
-from robin_sim.sweep_grid import build_grid, load_target
+from pil.experiments.sweep_grid import build_grid, load_target
+from pil.experiments.systems import run_one
 
 TESTS_DIR = str(Path(__file__).resolve().parent)
 
 
-def specs(function: str = "pil.systems:run_one", **grid):
+def specs(function: str = "pil.experiments.systems:run_one", **grid):
     arguments = {"systems": ["pil", "c1"], "rates": [1.0], "reps": 2, "tables": 1, **grid}
     return build_grid(load_target("custom", function), **arguments).runs()
 
 
-def run_all(backend, runs, function: str = "pil.systems:run_one"):
+def run_all(backend, runs, function: str = "pil.experiments.systems:run_one"):
     """Execute ``runs``; return the tally and every (run_id, status, error, metrics, attempt)."""
     seen = []
 
@@ -52,11 +53,13 @@ def by_id(seen):
 
 
 def test_execute_run_returns_metrics_or_the_error() -> None:
-    outcome = execute_run("pil.systems:run_one", ("pil", 1.0, 3), {"tables": 1})
+    outcome = execute_run("pil.experiments.systems:run_one", ("pil", 1.0, 3), {"tables": 1})
     assert outcome["status"] == "ok" and outcome["error"] == ""
     assert outcome["metrics"] == run_one("pil", 1.0, 3, tables=1)
     assert outcome["wall_s"] > 0 and ":" in outcome["host"]
-    failed = execute_run("pil.systems:run_one", ("pil", 1.0, 3), {"max_actions_per_gesture": 1})
+    failed = execute_run(
+        "pil.experiments.systems:run_one", ("pil", 1.0, 3), {"max_actions_per_gesture": 1}
+    )
     assert failed["status"] == "failed" and failed["metrics"] == {}
     assert "RunnerError: no approved action after 1 actions" in failed["error"]
     reported = execute_run("sweep_test_runs:self_failing_run", ("pil", 1.0, 3), {"tables": 1})

@@ -5,8 +5,7 @@ from __future__ import annotations
 import pytest
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.systems import PARAMS, SYSTEMS
-from robin_sim.sweep_grid import (
+from pil.experiments.sweep_grid import (
     SweepGridError,
     build_grid,
     derive_seed,
@@ -14,6 +13,7 @@ from robin_sim.sweep_grid import (
     parse_param,
     split_list,
 )
+from pil.experiments.systems import PARAMS, SYSTEMS
 
 
 @pytest.fixture(scope="module")
@@ -22,7 +22,7 @@ def learner():
 
 
 def test_learner_target_lists_run_one_params_and_systems(learner) -> None:
-    assert learner.function == "pil.systems:run_one"
+    assert learner.function == "pil.experiments.systems:run_one"
     assert learner.systems == tuple(SYSTEMS)
     assert set(PARAMS) <= set(learner.params)
     assert "scenario" in learner.params  # keyword-only argument of run_one
@@ -127,9 +127,9 @@ def test_unknown_kind_and_missing_function_are_clear() -> None:
     ):
         load_target("fast")
     with pytest.raises(SweepGridError, match="has no 'nope'"):
-        load_target("custom", "pil.systems:nope")
+        load_target("custom", "pil.experiments.systems:nope")
     with pytest.raises(SweepGridError, match=r"must be written 'package\.module:function'"):
-        load_target("custom", "pil.systems.run_one")
+        load_target("custom", "pil.experiments.systems.run_one")
 
 
 def test_custom_function_declares_its_own_params() -> None:

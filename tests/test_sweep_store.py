@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from robin_sim.sweep_store import (
+from pil.experiments.sweep_store import (
     JOURNAL,
     MANIFEST,
     RESULTS,
@@ -19,7 +19,7 @@ from robin_sim.sweep_store import (
     read_journal,
 )
 
-MANIFEST_DATA = {"kind": "learner", "function": "pil.systems:run_one", "seed": 0}
+MANIFEST_DATA = {"kind": "learner", "function": "pil.experiments.systems:run_one", "seed": 0}
 ID_COLUMNS = ["run_id", "system", "rate", "rep", "seed"]
 
 

@@ -7,8 +7,7 @@ import statistics
 import pytest
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.scenario import DEFAULT_SCENARIO
-from pil.systems import (
+from pil.experiments.systems import (
     PARAMS,
     ROW_COLUMNS,
     SYSTEMS,
@@ -18,6 +17,7 @@ from pil.systems import (
     resolve_scenario,
     run_one,
 )
+from pil.task.scenario import DEFAULT_SCENARIO
 
 
 @pytest.mark.parametrize("system", list(SYSTEMS))
@@ -101,9 +101,9 @@ def test_scenario_file_settings_are_kept_unless_overridden() -> None:
 
 
 def test_test_parts_match_run_one_for_every_system() -> None:
-    from pil.runner import run
-    from pil.systems import test_parts
-    from pil.world import SymbolicWorld
+    from pil.experiments.systems import test_parts
+    from pil.task.runner import run
+    from pil.task.world import SymbolicWorld
 
     values = check_params({"tables": 1})
     scenario = resolve_scenario(None, values)

@@ -6,7 +6,7 @@ import mink
 import numpy as np
 import pytest
 
-from robin_sim.trajectory import (
+from robin_sim.control.trajectory import (
     PEAK_TO_MEAN,
     Path,
     Segment,

@@ -1,4 +1,4 @@
-"""Tests of robin_sim.verify: render checks agree with what physics did.
+"""Tests of robin_sim.render.checks: render checks agree with what physics did.
 
 Every leg position here comes from physics: legs start on the table or above the palm (the
 initial layout) and the gripper, a pusher and the person's mocap hand move them by contact.
@@ -7,9 +7,9 @@ No object's qpos is written during a run.
 
 from __future__ import annotations
 
-from robin_sim.gl_backend import ensure_gl_backend
+from robin_sim.render.gl_backend import ensure_gl_backend
 
-ensure_gl_backend()  # before mujoco is imported (see robin_sim.gl_backend)
+ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
 
 import copy  # noqa: E402
 from collections.abc import Iterator  # noqa: E402
@@ -19,15 +19,15 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
+from pil.task.world import Intent, Outcome, Target  # noqa: E402
 from pil.types import Action, Gesture  # noqa: E402
-from pil.world import Intent, Outcome, Target  # noqa: E402
-from robin_sim.render import CloseUpRenderer  # noqa: E402
-from robin_sim.verify import (  # noqa: E402
+from robin_sim.render.checks import (  # noqa: E402
     verify_at_spot,
     verify_in_hand,
     verify_on_palm,
 )
-from robin_sim.world import PhysicalWorld  # noqa: E402
+from robin_sim.render.renderer import CloseUpRenderer  # noqa: E402
+from robin_sim.robot.world import PhysicalWorld  # noqa: E402
 
 TABLE_TOP_Z = 0.75
 SPOT = (0.6, -0.25)
@@ -259,7 +259,7 @@ def test_bad_names_are_explained() -> None:
         verify_on_palm(no_palm, mujoco.MjData(no_palm), 0)
 
 
-# --- with Robin in the project scene (robin_sim.world.PhysicalWorld) -----------------------------
+# --- with Robin in the project scene (robin_sim.robot.world.PhysicalWorld) ---
 
 
 def _execute(world: PhysicalWorld, action: Action, target: Target | None = None) -> Outcome:

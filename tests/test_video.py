@@ -1,4 +1,4 @@
-"""Tests of robin_sim.video: H.264 MP4s that decode back, even after an interrupted program."""
+"""Tests of robin_sim.render.video: H.264 MP4s that decode back, even after an interruption."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
-from robin_sim.video import Mp4Writer, VideoError, probe_video
+from robin_sim.render.video import Mp4Writer, VideoError, probe_video
 
 WIDTH, HEIGHT, FPS = 320, 240, 30
 
@@ -68,7 +68,7 @@ def test_killed_process_leaves_every_finished_second_playable(tmp_path: Path) ->
     path = tmp_path / "killed.mp4"
     code = (
         "import os, signal, numpy as np\n"
-        "from robin_sim.video import Mp4Writer\n"
+        "from robin_sim.render.video import Mp4Writer\n"
         f"writer = Mp4Writer({str(path)!r}, {WIDTH}, {HEIGHT}, fps={FPS})\n"
         "for i in range(100):\n"
         f"    writer.write(np.full(({HEIGHT}, {WIDTH}, 3), 60 + i, np.uint8))\n"
@@ -111,12 +111,12 @@ def test_wrong_frame_is_refused_and_loses_nothing_written(tmp_path: Path) -> Non
 
 @pytest.mark.slow
 def test_rendered_frames_make_a_video(tmp_path: Path) -> None:
-    from robin_sim.gl_backend import ensure_gl_backend
+    from robin_sim.render.gl_backend import ensure_gl_backend
 
     ensure_gl_backend()
     import mujoco
 
-    from robin_sim.render import FrameClock, FrameRenderer
+    from robin_sim.render.renderer import FrameClock, FrameRenderer
 
     model = mujoco.MjModel.from_xml_string(
         '<mujoco><worldbody><light pos="0 0 3"/><geom type="plane" size="2 2 .1"/>'

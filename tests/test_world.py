@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
+from pil.task.world import Intent, Target, World
 from pil.types import Action, Gesture, Hand
-from pil.world import Intent, Target, World
-from robin_sim import robot_spec as spec
-from robin_sim.trajectory import pose
-from robin_sim.world import (
+from robin_sim.control.trajectory import pose
+from robin_sim.model import robot_spec as spec
+from robin_sim.robot.world import (
     HANDOVER_TOLERANCE,
     PERSON_CLEAR_X,
     PLACEMENT_TOLERANCE,

@@ -1,0 +1,1 @@
+"""Experiments over learner runs: the study, its systems, reports, figures, sweeps (no MuJoCo)."""

@@ -1,0 +1,238 @@
+"""The five systems of the paper's study (section IV-B) and :func:`run_one`, one learner-only run.
+
+* ``pil``: Proactive Incremental Learning from scratch, with correction, on the test tables.
+* ``c1``: pre-trained at the test rate d, with correction.
+* ``c2``: pre-trained at 100 %, with correction.
+* ``c3``: pre-trained at d, manual repetition (the person repeats a misread gesture).
+* ``c4``: pre-trained at 100 %, manual repetition.
+
+Pre-training is a PIL run (with correction) on ``training_tables`` tables (5 x 4 = 20
+handovers, each handover type exactly twice). Its gestures and actions are reported apart
+(``train_gestures``, ``train_actions``) and added to the totals, as the paper does. The learner
+keeps learning during the test. A run's sub-seeds (handover order, detector, learner, person)
+derive from ``seed`` alone, not from the system or the rate, so all systems of one repetition
+face the same handover order and detector deck (common random numbers); c1 and c3 therefore
+share one training run, and c2 and c4 another.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, MutableMapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pil.errors import InvalidChoiceError, check_rate
+from pil.learner import Learner
+from pil.table import AssociationTable
+from pil.task.parts import (
+    PARAMS,
+    SCENARIO_KEYS,
+    RunParts,
+    build_parts,
+    check_params,
+    derive_seeds,
+    resolve_scenario,
+)
+from pil.task.runner import RunStats, run
+from pil.task.scenario import Scenario
+from pil.task.world import SymbolicWorld
+
+__all__ = [
+    "PARAMS",
+    "ROW_COLUMNS",
+    "SYSTEMS",
+    "check_params",
+    "check_system",
+    "derive_seeds",
+    "resolve_scenario",
+    "run_one",
+    "test_parts",
+    "training_for",
+]
+
+SYSTEMS: dict[str, str] = {
+    "pil": "PIL from scratch, with correction",
+    "c1": "pre-trained at d, with correction",
+    "c2": "pre-trained at 100 %, with correction",
+    "c3": "pre-trained at d, manual repetition",
+    "c4": "pre-trained at 100 %, manual repetition",
+}
+# system -> (pre-trained at: None / "d" / "full", manual repetition in the test)
+_DESIGN: dict[str, tuple[str | None, bool]] = {
+    "pil": (None, False),
+    "c1": ("d", False),
+    "c2": ("full", False),
+    "c3": ("d", True),
+    "c4": ("full", True),
+}
+ROW_COLUMNS: tuple[str, ...] = (
+    "system", "rate", "seed", "scenario", "legs", "handovers", "gestures", "actions",
+    "train_gestures", "train_actions", "total_gestures", "total_actions", "corrections",
+    "repeats", "misdetections", "discarded", "rejected", "exploited", "scripted_gestures",
+    "train_corrections", "train_repeats", "train_rejected", *PARAMS,
+)  # fmt: skip
+
+
+@dataclass(frozen=True, slots=True)
+class Training:
+    """The outcome of a pre-training run: the learnt table and what it cost."""
+
+    table: AssociationTable
+    stats: RunStats
+
+
+def check_system(system: str) -> str:
+    """``system`` if it is one of :data:`SYSTEMS`, else an error naming them."""
+    if system not in SYSTEMS:
+        raise InvalidChoiceError("system", system, SYSTEMS)
+    return system
+
+
+def simulate(
+    scenario: Scenario,
+    rate: float,
+    seeds: Mapping[str, int],
+    phase: str,
+    values: Mapping[str, Any],
+    *,
+    table: AssociationTable | None = None,
+    manual: bool = False,
+    cache: MutableMapping[Any, Any] | None = None,
+) -> tuple[Learner, RunStats]:
+    """One learner-only run of ``phase`` ("train" or "test") at ``rate``."""
+    parts = build_parts(scenario, rate, seeds, phase=phase, table=table, manual=manual,
+                        cache=cache, **values)  # fmt: skip
+    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    learner = parts.learner
+    return learner, stats
+
+
+def pretrain(
+    scenario: Scenario,
+    rate: float,
+    seeds: Mapping[str, int],
+    values: Mapping[str, Any],
+    cache: MutableMapping[Any, Any] | None = None,
+) -> Training:
+    """A PIL run with correction on the training tables at ``rate``."""
+    learner, stats = simulate(scenario, rate, seeds, "train", values, cache=cache)
+    return Training(learner.table, stats)
+
+
+def training_for(
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario,
+    values: Mapping[str, Any],
+    cache: MutableMapping[Any, Any] | None = None,
+) -> Training | None:
+    """The pre-training ``system`` starts from (None for ``pil``), from ``cache`` if there."""
+    trained_at, _ = _DESIGN[check_system(system)]
+    if trained_at is None:
+        return None
+    train_rate = check_rate(rate) if trained_at == "d" else 1.0
+    key = ("training", train_rate, int(seed))
+    training = None if cache is None else cache.get(key)
+    if training is None:
+        training = pretrain(scenario, train_rate, derive_seeds(seed), values, cache)
+        if cache is not None:
+            cache[key] = training
+    return training
+
+
+def test_parts(
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario,
+    values: Mapping[str, Any],
+    cache: MutableMapping[Any, Any] | None = None,
+    training: Training | None = None,
+) -> RunParts:
+    """Learner (pre-trained for c1-c4), person and detector for ``system``'s test tables.
+
+    ``values`` are checked parameters (:func:`check_params`); the physical episode drives these
+    parts through :func:`pil.task.runner.steps` with its own world. ``training`` defaults to
+    :func:`training_for`.
+    """
+    _, manual = _DESIGN[check_system(system)]
+    if training is None:
+        training = training_for(system, rate, seed, scenario, values, cache)
+    table = None if training is None else training.table.copy()
+    return build_parts(scenario, rate, derive_seeds(seed), phase="test", table=table,
+                       manual=manual, cache=cache, **values)  # fmt: skip
+
+
+test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
+
+
+def run_system(
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario,
+    values: Mapping[str, Any],
+    cache: MutableMapping[Any, Any] | None = None,
+) -> dict[str, Any]:
+    """:func:`run_one` on a resolved scenario and checked parameters.
+
+    ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
+    runs, the person's scripts); share it only between calls with the same scenario, the same
+    parameters and the same ``seed``'s sub-seeds. Results are the same with or without it.
+    """
+    rate = check_rate(rate)
+    training = training_for(system, rate, seed, scenario, values, cache)
+    parts = test_parts(system, rate, seed, scenario, values, cache, training)
+    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    train = RunStats() if training is None else training.stats
+    row: dict[str, Any] = {
+        "system": system,
+        "rate": rate,
+        "seed": int(seed),
+        "scenario": scenario.name,
+        "legs": stats.legs,
+        "handovers": stats.handovers,
+        "gestures": stats.gestures,
+        "actions": stats.actions,
+        "train_gestures": train.gestures,
+        "train_actions": train.actions,
+        "total_gestures": train.gestures + stats.gestures,
+        "total_actions": train.actions + stats.actions,
+        "corrections": stats.corrections,
+        "repeats": stats.repeats,
+        "misdetections": stats.misdetections,
+        "discarded": stats.discarded,
+        "rejected": stats.rejected,
+        "exploited": stats.exploited,
+        "scripted_gestures": stats.scripted_gestures,
+        "train_corrections": train.corrections,
+        "train_repeats": train.repeats,
+        "train_rejected": train.rejected,
+    }
+    row.update({name: values[name] for name in PARAMS})
+    row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
+    return row
+
+
+def run_one(
+    system: str,
+    rate: float,
+    seed: int,
+    *,
+    tables: int | None = None,
+    scenario: Scenario | str | Path | None = None,
+    detector: str = "exact",
+    **params: Any,
+) -> dict[str, Any]:
+    """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
+
+    ``tables`` and the other assembly fields default to the scenario file's (10 tables in
+    ``scenarios/assembly.yaml``). ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``,
+    ``silent_ok=0.1``, ``legs_per_table=4``); an unknown name raises an error listing the
+    valid ones. The row's columns are :data:`ROW_COLUMNS`; the same arguments always give the
+    same row.
+    """
+    values = check_params({**params, "tables": tables, "detector": detector})
+    return run_system(system, rate, seed, resolve_scenario(scenario, values), values)

@@ -1,0 +1,1 @@
+"""The symbolic task: scenarios, the person, the detector, the world protocol, the step loop."""

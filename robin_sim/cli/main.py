@@ -1,0 +1,58 @@
+"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep`` and ``report`` subcommands.
+
+Each subcommand lives in its own module exposing ``add_arguments(parser)`` and
+``run(args) -> int``; modules are imported only when their command is chosen, so
+``robin-pil study`` never loads MuJoCo.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from pil.errors import RobinPilError
+
+# command -> (module, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "study": ("robin_sim.cli.study", "the paper's simulation study (learner only)"),
+    "episode": ("robin_sim.cli.episode", "one physical episode rendered headless to MP4"),
+    "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
+    "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
+}
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The top-level parser; ``command``'s own options are added (its module imported)."""
+    parser = argparse.ArgumentParser(
+        prog="robin-pil",
+        description="Robin learns which action each hand gesture means (Proactive Incremental "
+        "Learning), in a learner-only study or physically in MuJoCo.",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (module_name, help_text) in COMMANDS.items():
+        sub_parser = sub.add_parser(name, help=help_text, description=help_text)
+        if name == command:
+            module = importlib.import_module(module_name)
+            module.add_arguments(sub_parser)
+            sub_parser.set_defaults(_module=module)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; bad input ends with one clear message and exit code 2."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = next((arg for arg in argv if not arg.startswith("-")), None)
+    args = build_parser(command if command in COMMANDS else None).parse_args(argv)
+    try:
+        return int(args._module.run(args) or 0)
+    except RobinPilError as error:
+        print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

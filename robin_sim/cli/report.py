@@ -1,0 +1,188 @@
+"""``robin-pil report``: summary table, Welch t-tests and figures for a results CSV.
+
+Works on a sweep's ``results.csv`` and on a study CSV. The grouping follows the grid that was
+run: detection rate plus every parameter the sweep varied (the columns a sweep writes between
+``rate`` and ``rep``). Failed runs are counted and left out of the statistics. For physical
+runs (a ``legs_delivered`` column) the report adds the share of legs delivered (in %) and the
+physical failures per rate.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+METRICS: tuple[str, ...] = ("total_gestures", "total_actions", "gestures", "actions")
+PHYSICAL_METRICS: tuple[str, ...] = ("legs_delivered_percent", "physical_failures")
+BASELINE = "pil"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The report's options."""
+    parser.add_argument(
+        "results",
+        type=Path,
+        metavar="RESULTS_CSV",
+        help="a results CSV (a sweep's results.csv or a study CSV)",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="output directory (default: 'report' next to the CSV)",
+    )
+    parser.add_argument(
+        "--metrics",
+        default=None,
+        metavar="A,B",
+        help=f"metrics to summarise (default: those of {', '.join(METRICS)} "
+        "present, plus the physical ones)",
+    )
+    parser.add_argument(
+        "--baseline",
+        default=BASELINE,
+        help="system every other system is t-tested against (default: pil)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write the report and list its files."""
+    metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
+    out = args.out if args.out is not None else args.results.parent / "report"
+    for path in write_report(args.results, out, metrics=metrics, baseline=args.baseline):
+        print(path)
+    return 0
+
+
+def grid_axes(rows: Sequence[Mapping[str, Any]]) -> list[str]:
+    """``rate`` plus the swept parameters (sweep columns between rate and rep, > 1 value)."""
+    columns = list(rows[0])
+    axes = ["rate"] if "rate" in columns else []
+    if {"run_id", "rate", "rep"} <= set(columns):
+        between = columns[columns.index("rate") + 1 : columns.index("rep")]
+        axes += [c for c in between if len({str(r[c]) for r in rows}) > 1]
+    return axes
+
+
+def with_physical(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Physical rows plus ``legs_delivered_percent`` (100 x legs delivered / legs of the task).
+
+    The task's legs are ``legs_total`` where the run wrote it, else ``tables`` x
+    ``legs_per_table`` (a column where the sweep set it, else 4); without either the run's own
+    ``legs_delivered_fraction`` is used. Rows without ``legs_delivered`` (learner runs) are
+    returned unchanged.
+    """
+    from pil.experiments.report import number
+
+    out = []
+    for row in rows:
+        row = dict(row)
+        if "legs_delivered" in row:
+            if row.get("legs_total") not in (None, ""):
+                legs = number(row["legs_total"], "legs_total")
+                delivered = number(row["legs_delivered"], "legs_delivered")
+                fraction = delivered / legs if legs > 0 else float("nan")
+            elif row.get("tables") not in (None, ""):
+                per_table = row.get("legs_per_table")
+                legs = number(row["tables"], "tables") * (
+                    number(per_table, "legs_per_table") if per_table not in (None, "") else 4.0
+                )
+                delivered = number(row["legs_delivered"], "legs_delivered")
+                fraction = delivered / legs if legs > 0 else float("nan")
+            else:
+                fraction = number(row.get("legs_delivered_fraction"), "legs_delivered_fraction")
+            row["legs_delivered_percent"] = 100.0 * fraction
+        out.append(row)
+    return out
+
+
+def write_report(
+    results: str | Path,
+    out: str | Path,
+    *,
+    metrics: Sequence[str] | None = None,
+    baseline: str = BASELINE,
+) -> list[Path]:
+    """Write ``summary.md``, ``ttests.csv`` and one PNG per metric (and swept cell) to ``out``."""
+    from pil.atomic import write_text_atomic
+    from pil.experiments.figures import plot_metric
+    from pil.experiments.report import (
+        ReportError,
+        check_columns,
+        load_rows,
+        summary_markdown,
+        ttests_markdown,
+        welch_ttests,
+    )
+    from pil.experiments.sweep_store import rows_to_csv
+
+    results, out = Path(results), Path(out)
+    rows = load_rows(results)
+    failed = [r for r in rows if r.get("status", "ok") != "ok"]
+    rows = with_physical([r for r in rows if r.get("status", "ok") == "ok"])
+    if not rows:
+        raise ReportError(f"{results}: all {len(failed)} runs failed; nothing to summarise")
+    physical = "legs_delivered" in rows[0]
+    if metrics is None:
+        metrics = [m for m in METRICS if m in rows[0]]
+        metrics += [m for m in PHYSICAL_METRICS if physical and m in rows[0]]
+    check_columns(rows, metrics)
+    if not metrics:
+        raise ReportError(f"{results}: none of the metrics {', '.join(METRICS)} is a column")
+    axes = grid_axes(rows)
+    has_system = "system" in rows[0]
+    group_by = [*axes, "system"] if has_system else axes
+    out.mkdir(parents=True, exist_ok=True)
+
+    lines = [
+        f"# Report: {results.name}",
+        "",
+        f"{len(rows)} runs summarised; {len(failed)} failed runs left out.",
+        "",
+    ]
+    if failed:
+        lines += (
+            ["Failed runs:", ""]
+            + [f"- `{r.get('run_id', '?')}`: {r.get('error', '')}" for r in failed[:20]]
+            + [""]
+        )
+    lines += ["## Summary (mean ± sd)", "", summary_markdown(rows, group_by, metrics), ""]
+    if physical:
+        counts = [m for m in PHYSICAL_METRICS if m in rows[0]]
+        lines += ["## Physical outcome per rate", "", summary_markdown(rows, group_by, counts), ""]
+    written = [out / "summary.md"]
+    systems = {str(r["system"]) for r in rows} if has_system else set()
+    if baseline in systems and len(systems) > 1:
+        tests = welch_ttests(rows, baseline, compare_by="system", within=axes, metrics=metrics)
+        lines += [
+            f"## Welch t-tests: {baseline} against each other system",
+            "",
+            ttests_markdown(tests, within=axes),
+            "",
+        ]
+        columns = [*axes, "metric", "baseline", "other", "baseline_mean", "other_mean", "t", "p"]
+        write_text_atomic(out / "ttests.csv", rows_to_csv(tests, columns))
+        written.append(out / "ttests.csv")
+    else:
+        lines += [f"No t-tests: the results hold no {baseline!r} rows next to other systems.", ""]
+    write_text_atomic(out / "summary.md", "\n".join(lines))
+
+    if has_system and axes and axes[0] == "rate":
+        cells = _cells(rows, axes[1:])
+        for metric in metrics:
+            for label, members in cells.items():
+                name = f"{metric}{label}.png"
+                written.append(plot_metric(members, metric, out / name, ("rate", "system")))
+    return written
+
+
+def _cells(rows: Sequence[Mapping[str, Any]], names: Sequence[str]) -> dict[str, list[Any]]:
+    """Rows split by the values of ``names`` -> file-name suffix (``""`` when no names)."""
+    cells: dict[str, list[Any]] = {}
+    for row in rows:
+        label = "".join(f"_{n}={row[n]}" for n in names)
+        cells.setdefault(re.sub(r"[^\w=.+-]", "_", label), []).append(row)
+    return dict(sorted(cells.items()))

@@ -1,0 +1,192 @@
+"""``robin-pil sweep``: a resumable grid of runs on a local process pool or a Dask cluster.
+
+Example: ``robin-pil sweep --rates 0.4,0.6,0.8,1.0 --reps 20 --systems pil,c1,c2,c3,c4
+--param discard=0,0.3 --out results/`` runs 800 learner-only runs on every core, writes each
+run's row the moment it ends, and finishes with ``results.csv`` and a report. The same command
+again resumes: finished runs are skipped, failed ones are tried again.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from pil.errors import RobinPilError
+
+_EPILOG = (
+    "Results: DIR/runs.jsonl (every attempt, written as it ends), DIR/results.csv (one row per "
+    "run, sorted by run id), DIR/report/ (summary, t-tests, figures). Rerun the same command to "
+    "resume. Cluster: start 'dask scheduler' and 'dask worker tcp://HOST:8786' (robin-pil "
+    "installed on every worker), then pass --scheduler tcp://HOST:8786."
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The sweep's options (the grid, where results go, where runs execute)."""
+    parser.epilog = _EPILOG
+    grid = parser.add_argument_group("grid")
+    grid.add_argument(
+        "--kind",
+        default="learner",
+        choices=("learner", "physical"),
+        help="learner-only runs or physical MuJoCo episodes (default: learner)",
+    )
+    grid.add_argument(
+        "--systems",
+        default="pil,c1,c2,c3,c4",
+        help="comma-separated systems (default: pil,c1,c2,c3,c4)",
+    )
+    grid.add_argument(
+        "--rates",
+        default="0.4,0.6,0.8,1.0",
+        help="comma-separated detection rates in [0, 1] (default: 0.4,0.6,0.8,1.0)",
+    )
+    grid.add_argument("--reps", type=int, default=20, help="repetitions per cell (default: 20)")
+    grid.add_argument(
+        "--tables",
+        type=int,
+        default=None,
+        help="tables per run (default: the kind's: 10 learner, the scenario's physical)",
+    )
+    grid.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=V1,V2",
+        help="sweep a parameter over values (repeatable), e.g. discard=0,0.3",
+    )
+    grid.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="base seed; each run's seed derives from it and the run's parameters",
+    )
+    grid.add_argument(
+        "--run-function",
+        default=None,
+        metavar="MODULE:FUNCTION",
+        help="run a custom function instead of the kind's (advanced)",
+    )
+    where = parser.add_argument_group("execution")
+    where.add_argument(
+        "--out", type=Path, default=Path("sweep"), help="results directory (default: ./sweep)"
+    )
+    where.add_argument(
+        "--workers", type=int, default=None, help="local worker processes (default: all cores)"
+    )
+    where.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="Dask scheduler, e.g. tcp://host:8786 (default: local pool)",
+    )
+    where.add_argument(
+        "--connect-timeout",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="seconds to wait for the scheduler (default: 10)",
+    )
+    where.add_argument("--no-report", action="store_true", help="skip the report at the end")
+    where.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Validate, connect, run what is left of the grid, merge, report. 0 when all runs pass."""
+    from pil.experiments.sweep_exec import execute, make_backend
+    from pil.experiments.sweep_grid import build_grid, load_target, split_list
+    from pil.experiments.sweep_store import RunStore, make_record
+
+    if args.scheduler and args.workers is not None:
+        raise RobinPilError("give --workers (local pool) or --scheduler (Dask), not both")
+    target = load_target(args.kind, args.run_function)
+    rates = [_number(text) for text in split_list(args.rates, "--rates")]
+    tables = args.tables
+    if tables is None and not any(p.strip().startswith("tables=") for p in args.param):
+        tables = target.params.get("tables", 10)  # the kind's default; None: the function's
+    grid = build_grid(
+        target,
+        systems=split_list(args.systems, "--systems"),
+        rates=rates,
+        reps=args.reps,
+        params=args.param,
+        tables=tables,
+        base_seed=args.seed,
+    )
+    specs = grid.runs()
+    id_columns = list(specs[0].columns())
+    manifest = {"kind": target.kind, "function": target.function, "seed": grid.base_seed}
+    backend = make_backend(args.workers, args.scheduler, args.connect_timeout)
+    try:
+        with RunStore(args.out, manifest) as store:
+            done = store.finished_ids()
+            todo = [spec for spec in specs if spec.run_id not in done]
+            _say(
+                f"{len(specs)} runs in the grid, {len(specs) - len(todo)} already done, "
+                f"{len(todo)} to run on {backend.name} ({backend.slots()} slots) -> {args.out}"
+            )
+            bar = _progress(len(specs), len(specs) - len(todo), args.quiet)
+            failed = retried = 0
+
+            def record(spec: Any, outcome: dict[str, Any], attempt: int, final: bool) -> None:
+                nonlocal failed, retried
+                store.append(make_record(spec.columns(), outcome, attempt))
+                if outcome["status"] != "ok":
+                    failed, retried = failed + final, retried + (not final)
+                    bar.set_postfix(failed=failed, retrying=retried, refresh=False)
+                if final:
+                    bar.update(1)
+
+            try:
+                tally = execute(
+                    specs=todo,
+                    function=target.function,
+                    backend=backend,
+                    on_outcome=record,
+                    first_attempt=lambda run_id: store.attempts(run_id) + 1,
+                )
+            finally:
+                bar.close()
+                results = store.write_results([s.run_id for s in specs], id_columns)
+    finally:
+        backend.close()
+    _say(f"{tally.ok} runs done, {tally.failed} failed after a retry; results: {results}")
+    for run_id in tally.failed_ids[:10]:
+        _say(f"  failed: {run_id}")
+    if not args.no_report and tally.ok + len(specs) - len(todo) > 0:
+        from robin_sim.cli.report import write_report
+
+        try:
+            for path in write_report(results, args.out / "report"):
+                _say(f"report: {path}")
+        except RobinPilError as error:  # the runs are done and kept; only the report is not
+            _say(f"no report: {error}; see 'robin-pil report --help'")
+    return 1 if tally.failed else 0
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise RobinPilError(f"--rates: {text!r} is not a number in [0, 1]") from None
+
+
+def _progress(total: int, initial: int, quiet: bool) -> Any:
+    from tqdm import tqdm
+
+    return tqdm(
+        total=total,
+        initial=initial,
+        unit="run",
+        desc="sweep",
+        file=sys.stderr,
+        disable=quiet,
+        dynamic_ncols=True,
+        smoothing=0.1,
+    )
+
+
+def _say(message: str) -> None:
+    print(f"robin-pil sweep: {message}", file=sys.stderr)

@@ -1,0 +1,108 @@
+"""Records an episode to MP4: frames at video rate from the simulator's tick hook, with overlay.
+
+The recorder is an observer of :class:`robin_sim.control.simulator.Simulator`: after each control
+tick it
+asks the :class:`~robin_sim.render.renderer.FrameClock` whether a frame is due in simulated time,
+and
+only then hands the state to the render pool; finished frames get the overlay and are encoded.
+The time waited on rendering and the time spent encoding are kept apart so that the episode's
+wall time can be split (physics + control, rendering, encoding).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from robin_sim.closing import ClosesOnExit
+from robin_sim.control.simulator import Simulator
+from robin_sim.model.scene import SceneLayout
+from robin_sim.person.narration import EpisodeView
+from robin_sim.render.overlay import draw_overlay
+from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
+from robin_sim.render.renderer import FrameClock
+from robin_sim.render.video import Mp4Writer
+
+
+@dataclass
+class VideoTiming:
+    """Wall-clock seconds waited on rendering, spent on overlay + encoding, and frame counts."""
+
+    render_s: float = 0.0
+    encode_s: float = 0.0
+    frames_rendered: int = 0
+    frames_written: int = 0
+
+
+class VideoRecorder(ClosesOnExit):
+    """Writes ``sim``'s view from ``camera`` to ``path`` while the simulator runs.
+
+    Frames are rendered by a :class:`~robin_sim.render.pool.RenderPool` (worker processes
+    with their own copy of the scene built from ``layout``; ``render_workers=0`` renders in
+    this process) and come back in order; the overlay is drawn and the frame encoded here.
+    """
+
+    def __init__(
+        self,
+        sim: Simulator,
+        view: EpisodeView,
+        path: Path,
+        *,
+        layout: SceneLayout | None = None,
+        width: int = 640,
+        height: int = 480,
+        fps: int = 30,
+        camera: str = "front",
+        shadows: bool = False,
+        render_workers: int | None = None,
+    ) -> None:
+        self.view = view
+        self.timing = VideoTiming()
+        self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers)
+        try:
+            self.writer = Mp4Writer(path, width, height, fps)
+        except BaseException:
+            self.pool.close()
+            raise
+        self.clock = FrameClock(fps, sim.control_dt)
+        self._start_time = sim.time
+        self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
+
+    def _on_tick(self, sim: Simulator) -> None:
+        due = self.clock.frames_due(sim.time - self._start_time)
+        if due == 0:
+            return
+        started = time.perf_counter()
+        info = replace(self.view.info, sim_time=sim.time)
+        self.pool.submit(FrameState.capture(sim.model, sim.data), (info, due))
+        self.timing.render_s += time.perf_counter() - started  # waits only when the pool is full
+        self._write(self.pool.ready())
+
+    def _write(self, frames: Iterable[RenderedFrame]) -> None:
+        waited = time.perf_counter()
+        for frame in frames:
+            started = time.perf_counter()
+            self.timing.render_s += started - waited  # waiting for a frame still rendering
+            info, due = frame.payload
+            draw_overlay(frame.pixels, info)
+            for _ in range(due):
+                self.writer.write(frame.pixels)
+            self.timing.frames_rendered += 1
+            self.timing.frames_written += due
+            waited = time.perf_counter()
+            self.timing.encode_s += waited - started
+
+    def close(self) -> None:
+        """Stop recording, write the frames still rendering and finish the MP4 (idempotent)."""
+        if self._remove is not None:
+            self._remove()
+            self._remove = None
+        try:
+            self._write(self.pool.drain())
+        finally:
+            self.pool.close()
+            started = time.perf_counter()
+            self.writer.close()
+            self.timing.encode_s += time.perf_counter() - started

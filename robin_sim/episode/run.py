@@ -1,0 +1,296 @@
+"""A physical episode: the scripted person gestures, the PIL learner decides, Robin acts in MuJoCo.
+
+The episode drives the same learner, person, detector and scenario files as the learner-only
+study (:func:`pil.task.parts.build_parts`, :func:`pil.task.runner.steps`); only the world differs
+(:class:`robin_sim.robot.world.PhysicalWorld`). With the same seed and every action succeeding
+physically, its decisions equal the learner-only run's. It writes ``episode.jsonl`` (a line per
+step, flushed as it happens), ``summary.json`` and, unless ``video`` is off, ``episode.mp4``.
+Ctrl-C leaves a playable MP4, the log of every finished step and a summary marked interrupted.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator, Mapping
+from contextlib import ExitStack
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from tqdm import tqdm
+
+from pil.errors import RobinPilError, check_rate
+from pil.experiments.systems import SYSTEMS, check_system, test_parts
+from pil.task.parts import check_params, resolve_scenario
+from pil.task.runner import StepRecord, steps
+from pil.task.scenario import Scenario
+from pil.types import Action, Hand
+from robin_sim.episode.log import StepLog, write_json_atomic
+from robin_sim.episode.render_checks import RenderChecks
+from robin_sim.model.scene import SceneLayout
+from robin_sim.person.narration import EpisodeView, Narrator
+from robin_sim.robot.world import PhysicalWorld
+
+LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
+
+
+class EpisodeError(RobinPilError):
+    """The episode cannot go on (e.g. the learner's hand state disagrees with physics)."""
+
+
+@dataclass(frozen=True)
+class EpisodeConfig:
+    """Everything that defines an episode; the defaults are ``robin-pil episode``'s."""
+
+    tables: int | None = None  # None: the scenario file's, but 1 for the default assembly
+    rate: float = 1.0
+    seed: int = 0
+    system: str = "pil"
+    scenario: str | Path | None = None  # an assembly YAML; default scenarios/assembly.yaml
+    out: Path = Path("out")
+    video: bool = True
+    camera: str = "front"
+    width: int = 640
+    height: int = 480
+    fps: int = 30
+    shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
+    render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
+    policy_panel: bool = True
+    verify: bool = True  # off-screen render checks after grasps, handovers and placements
+    progress: bool = True
+    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
+
+    def checked(self) -> EpisodeConfig:
+        """Validate what can be validated before anything runs."""
+        check_rate(self.rate)
+        check_system(self.system)
+        if self.tables is not None and (int(self.tables) != self.tables or self.tables < 1):
+            raise RobinPilError(f"tables must be a whole number >= 1, got {self.tables!r}")
+        return self
+
+
+@dataclass
+class EpisodeTotals:
+    """Running totals for the summary."""
+
+    gestures: int = 0
+    actions: int = 0
+    rejected: int = 0
+    corrections: int = 0  # instruction gestures whose state the learner corrected
+    repeats: int = 0
+    legs_delivered: int = 0  # Algorithm 1's count (handed over or placed)
+    legs_to_person: int = 0
+    legs_placed: int = 0
+    physical_failures: int = 0
+    render_checks: int = 0
+    render_disagreements: int = 0
+
+
+def _expected_hand(before: Hand, record: StepRecord) -> Hand:
+    """The hand state that the learner's approved actions imply after ``record``."""
+    if record.action is None or record.feedback is None or not record.feedback.approves:
+        return before
+    if record.action is Action.CLOSE:
+        return Hand.OCCUPIED
+    if record.action is Action.OPEN:
+        return Hand.FREE
+    return before
+
+
+def episode_records(
+    config: EpisodeConfig,
+    task: EpisodeTask,
+    world: PhysicalWorld,
+    narrator: Narrator | None = None,
+) -> Iterator[StepRecord]:
+    """The step loop of ``config`` on ``world`` (learner, person and detector as in the study)."""
+    parts = test_parts(config.system, config.rate, config.seed, task.scenario, task.values)
+    if narrator is not None:
+        narrator.table = parts.learner.table if config.policy_panel else None
+    hook = None if narrator is None else narrator.before_action
+    yield from steps(
+        parts.learner, parts.person, parts.detector, world, before_action=hook, **parts.options
+    )
+
+
+@dataclass(frozen=True)
+class EpisodeTask:
+    """What an episode's config resolves to: the scenario, its parameters and the scene layout."""
+
+    scenario: Scenario
+    values: Mapping[str, Any]
+    layout: SceneLayout
+
+    @property
+    def legs_total(self) -> int:
+        """Legs the person is to receive."""
+        return self.scenario.tables * self.scenario.legs_per_table
+
+    @classmethod
+    def of(cls, config: EpisodeConfig) -> EpisodeTask:
+        """Resolve ``config``: its scenario (tables default to 1 for the paper's assembly) and
+        the scene layout (the scenario's ``layout`` section, else the default), checking that
+        the layout has the legs and spots the person will point at."""
+        tables = config.tables
+        if tables is None and config.scenario is None:
+            tables = 1  # the main job assembles one table of the paper's assembly
+        values = check_params({**config.params, "tables": tables})
+        scenario = resolve_scenario(config.scenario, values)
+        layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+        if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
+            raise EpisodeError(
+                f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
+                f"{scenario.legs_per_table} legs per table, but its layout has "
+                f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
+                "layout section or lower spots / legs_per_table"
+            )
+        return cls(scenario, values, layout)
+
+
+def run_episode(config: EpisodeConfig) -> dict[str, Any]:
+    """Run one episode, write its files under ``config.out`` and return the summary."""
+    config = config.checked()
+    task = EpisodeTask.of(config)
+    out = Path(config.out)
+    out.mkdir(parents=True, exist_ok=True)
+    world = PhysicalWorld(task.layout, seed=config.seed)
+    view = EpisodeView()
+    narrator = Narrator(world, view)
+    totals = EpisodeTotals()
+    started = time.perf_counter()
+    status, error, recorder = "running", "", None
+    try:
+        with ExitStack() as stack:
+            if config.video:
+                from robin_sim.episode.recorder import (
+                    VideoRecorder,  # renders: needs the GL backend
+                )
+
+                recorder = stack.enter_context(
+                    VideoRecorder(
+                        world.sim, view, out / VIDEO_NAME, layout=task.layout,
+                        width=config.width, height=config.height, fps=config.fps,
+                        camera=config.camera, shadows=config.shadows,
+                        render_workers=config.render_workers,
+                    )
+                )  # fmt: skip
+            checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
+            log = stack.enter_context(StepLog(out / LOG_NAME))
+            view.update(legs_total=task.legs_total)
+            bar = stack.enter_context(
+                tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
+            )
+            _play(episode_records(config, task, world, narrator), world, narrator, checks, log,
+                  bar, totals)  # fmt: skip
+        status = "finished"  # the video and the log are closed by now
+    except KeyboardInterrupt:
+        status = "interrupted"
+        raise
+    except RobinPilError as problem:
+        status, error = "failed", str(problem)
+        raise
+    finally:
+        summary = _summary(config, task, totals, world, started, status, error, recorder)
+        write_json_atomic(out / SUMMARY_NAME, summary)
+    return summary
+
+
+def _play(
+    records: Iterator[StepRecord],
+    world: PhysicalWorld,
+    narrator: Narrator,
+    checks: RenderChecks,
+    log: StepLog,
+    bar: tqdm,
+    totals: EpisodeTotals,
+) -> None:
+    """Narrate, check, log and count every step; stop at a hand-state mismatch."""
+    hand = Hand.FREE
+    for record in records:
+        narrator.after_step(record)
+        hand = _expected_hand(hand, record)
+        physical = world.hand()
+        entry = _log_entry(record, world, checks.take(), physical)
+        log.write(entry)
+        _count(totals, record, entry)
+        bar.update(record.legs_delivered - bar.n)
+        bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
+        if physical is not hand:
+            raise EpisodeError(
+                f"step {record.t}: the learner's hand state is {hand.value} but physics "
+                f"reads {physical.value} ({record.detail or 'no detail'})"
+            )
+
+
+def _log_entry(
+    record: StepRecord, world: PhysicalWorld, check: dict[str, Any] | None, physical: Hand
+) -> dict[str, Any]:
+    entry = record.to_dict()
+    entry["hand_physics"] = physical.value
+    entry["sim_time"] = round(world.time, 4)
+    entry["leg_positions"] = [[round(float(v), 4) for v in p] for p in world.leg_positions()]
+    entry["palm_position"] = [round(float(v), 4) for v in world.human.palm_centre()]
+    if check is not None:
+        entry["render_check"] = check
+    return entry
+
+
+def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) -> None:
+    new_gesture = record.gesture_count != totals.gestures
+    totals.gestures = record.gesture_count
+    totals.actions = record.t
+    totals.legs_delivered = record.legs_delivered
+    if record.action is None:
+        totals.repeats += 1
+        return
+    totals.rejected += record.feedback is not None and not record.feedback.approves
+    totals.corrections += new_gesture and record.corrected_gesture is not None
+    totals.physical_failures += record.succeeded is False
+    if record.delivered:
+        to_person = record.state is not None and record.state.previous_action is Action.HUMAN
+        totals.legs_to_person += to_person
+        totals.legs_placed += not to_person
+    check = entry.get("render_check")
+    if check is not None:
+        totals.render_checks += 1
+        totals.render_disagreements += not check["agrees"]
+
+
+def _summary(
+    config: EpisodeConfig,
+    task: EpisodeTask,
+    totals: EpisodeTotals,
+    world: PhysicalWorld,
+    started: float,
+    status: str,
+    error: str,
+    recorder: Any,
+) -> dict[str, Any]:
+    wall = time.perf_counter() - started
+    summary: dict[str, Any] = {
+        "status": status,
+        "error": error,
+        "system": config.system,
+        "system_name": SYSTEMS[config.system],
+        "rate": config.rate,
+        "seed": config.seed,
+        "scenario": task.scenario.name,
+        "tables": task.scenario.tables,
+        "legs_total": task.legs_total,
+        **asdict(totals),
+        "sim_time_s": round(world.time, 3),
+        "wall_time_s": round(wall, 3),
+        "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
+    }
+    if recorder is not None:
+        timing = recorder.timing
+        summary["video"] = {
+            "path": str(Path(config.out) / VIDEO_NAME),
+            "camera": config.camera,
+            "size": [config.width, config.height],
+            "fps": config.fps,
+            "frames": timing.frames_written,
+            "render_s": round(timing.render_s, 3),
+            "encode_s": round(timing.encode_s, 3),
+        }
+    return summary

@@ -1,0 +1,160 @@
+"""Every name the code uses to address the MJCF model: files, joints, actuators, sites, bodies.
+
+The model files (``models/``) and the code agree through this module only; no joint, site or
+file name is written as a string literal anywhere else in ``robin_sim``.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+from typing import Literal
+
+Side = Literal["l", "r"]
+SIDES: tuple[Side, ...] = ("l", "r")
+ACTIVE_SIDE: Side = "l"  # the paper's Robin hands over with its left arm
+
+# --- files -------------------------------------------------------------------------------------
+# The MJCF files are package data: ``robin_sim/model/mjcf`` (in a source checkout a link to the
+# repository's ``models/``), so an installed wheel finds them without the repository.
+MODELS_DIR = Path(str(resources.files("robin_sim.model") / "mjcf"))
+ROBOT_XML = MODELS_DIR / "robin" / "robin.xml"
+SCENE_XML = MODELS_DIR / "scene.xml"
+
+# --- robot -------------------------------------------------------------------------------------
+TORSO_BODY = "torso"
+HOME_KEY = "home"
+HEAD_JOINTS: tuple[str, ...] = ("head_pan", "head_tilt")
+HEAD_CAMERAS: tuple[str, ...] = ("head_left_eye", "head_right_eye")
+ARM_DOF = 7
+
+
+def arm_joints(side: Side) -> tuple[str, ...]:
+    """The seven arm joints of one side, shoulder to wrist: ``l_joint1`` .. ``l_joint7``."""
+    return tuple(f"{side}_joint{i}" for i in range(1, ARM_DOF + 1))
+
+
+def arm_actuators(side: Side) -> tuple[str, ...]:
+    """Position actuators of the arm joints (same names as the joints)."""
+    return arm_joints(side)
+
+
+# Schunk SDH style hand: finger 1 and finger 2 rotate about the palm normal (``knuckle``, the two
+# coupled by a joint equality), each finger has a proximal and a distal joint; finger 3 is the
+# thumb, fixed in rotation.
+FINGERS: tuple[str, ...] = ("f1", "f2", "thumb")
+
+
+def hand_joints(side: Side) -> tuple[str, ...]:
+    """Every hand joint: the two knuckles, then proximal and distal joints of each finger."""
+    joints = [f"{side}_knuckle1", f"{side}_knuckle2"]
+    for finger in FINGERS:
+        joints += [f"{side}_{finger}_prox", f"{side}_{finger}_dist"]
+    return tuple(joints)
+
+
+def hand_actuators(side: Side) -> tuple[str, ...]:
+    """Hand position actuators: one knuckle (the other follows by equality) and six finger ones."""
+    acts = [f"{side}_knuckle1"]
+    for finger in FINGERS:
+        acts += [f"{side}_{finger}_prox", f"{side}_{finger}_dist"]
+    return tuple(acts)
+
+
+def grasp_site(side: Side) -> str:
+    """Site between the fingertips where a grasped leg's axis lies; the IK frame target."""
+    return f"{side}_grasp_site"
+
+
+def palm_site(side: Side) -> str:
+    """Site at the palm centre."""
+    return f"{side}_palm_site"
+
+
+def hand_body(side: Side) -> str:
+    """The hand's root body (palm); every finger body descends from it."""
+    return f"{side}_palm"
+
+
+# --- scene -------------------------------------------------------------------------------------
+TABLE_BODY = "table"
+TABLE_TOP_GEOM = "table_top"
+FLOOR_GEOM = "floor"
+CAMERAS: tuple[str, ...] = ("front", "side", "head")
+DEFAULT_CAMERA = "front"
+
+HUMAN_MOCAP_BODY = "human_hand"  # mocap: the person's right hand (palm up for "give me")
+HUMAN_FOREARM_BODY = "human_forearm"
+HUMAN_PALM_GEOM = "human_palm"
+HUMAN_PALM_SITE = "human_palm_site"
+
+
+def leg_body(index: int) -> str:
+    """Body of table leg ``index`` (0-based); each has a free joint ``leg{i}_free``."""
+    return f"leg{index}"
+
+
+def leg_joint(index: int) -> str:
+    """Free joint of table leg ``index``."""
+    return f"leg{index}_free"
+
+
+def leg_geom(index: int) -> str:
+    """Collision geom of table leg ``index``."""
+    return f"leg{index}_geom"
+
+
+# --- added by the model helper (H3): test bench, gesture visuals, fingertips ------------------
+HAND_TEST_SCENE_XML = MODELS_DIR / "hand_test_scene.xml"
+HAND_TEST_SLIDES: tuple[str, ...] = ("bench_x", "bench_y", "bench_z")  # joints = actuators
+HEAD_CAMERA = "head"  # the robot's view, between the two eye cameras
+HEAD_ACTUATORS: tuple[str, ...] = HEAD_JOINTS  # position actuators named like the joints
+
+# Visual-only geoms on the human hand showing each gesture: ``human_vis_<pose>_<part>``; only
+# the ``neutral`` pose is opaque in the file, the others have alpha 0 until shown.
+HUMAN_VIS_POSES: tuple[str, ...] = (
+    "neutral",
+    "pointing",
+    "give_me",
+    "grasp",
+    "release",
+    "thumb_up",
+    "thumb_down",
+)
+HUMAN_VIS_PARTS: tuple[str, ...] = ("palm", "thumb", "index", "middle", "ring", "little")
+
+
+def human_vis_geom(pose: str, part: str) -> str:
+    """Visual geom of gesture ``pose`` (one of HUMAN_VIS_POSES) and hand ``part``."""
+    return f"human_vis_{pose}_{part}"
+
+
+def fingertip_site(side: Side, finger: str) -> str:
+    """Site at the tip of ``finger`` (one of FINGERS)."""
+    return f"{side}_{finger}_tip"
+
+
+def finger_bodies(side: Side, finger: str) -> tuple[str, ...]:
+    """Bodies of one finger, base to tip: ``{side}_{finger}_base``, ``_proximal``, ``_distal``."""
+    return tuple(f"{side}_{finger}_{link}" for link in ("base", "proximal", "distal"))
+
+
+# --- added by the model helper (H3b): the person's physical palm, the bin ---------------------
+# The collision palm ``HUMAN_PALM_GEOM`` sits on this dynamic body, welded to the mocap hand
+# ``HUMAN_MOCAP_BODY`` (same frame); ``HUMAN_PALM_SITE`` stays on the mocap hand (the commanded
+# palm centre), ``HUMAN_PALM_BODY_SITE`` is the same point on the physical palm.
+HUMAN_PALM_BODY = "human_palm_body"
+HUMAN_PALM_JOINT = "human_palm_free"
+HUMAN_PALM_WELD = "human_palm_weld"
+HUMAN_PALM_BODY_SITE = "human_palm_body_site"
+HUMAN_PALM_RIM_GEOMS: tuple[str, ...] = ("human_palm_rim_thumb", "human_palm_rim_little")
+BIN_BODY = "bin"
+# The bin for delivered legs (static body on the floor): its floor and four walls; "near" faces
+# Robin (-x), "left" is +y (Robin's left).
+BIN_GEOMS: tuple[str, ...] = (
+    "bin_floor",
+    "bin_wall_near",
+    "bin_wall_far",
+    "bin_wall_left",
+    "bin_wall_right",
+)

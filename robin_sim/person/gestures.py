@@ -1,0 +1,114 @@
+"""Show the person's hand pose (the gesture or feedback being made) in renders.
+
+The scene's person hand carries one set of visual-only geoms (contype = conaffinity = 0) per
+pose, named ``human_vis_<pose>_<part>`` (:func:`robin_sim.model.names.human_vis_geom`, poses
+:data:`robin_sim.model.names.HUMAN_VIS_POSES`). :class:`GestureDisplay` shows one pose by giving its
+geoms their visible alpha in ``model.geom_rgba`` and every other pose's geoms alpha 0, which
+MuJoCo does not draw. Only colours change, so physics is unaffected.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from pil.errors import InvalidChoiceError, RobinPilError
+from pil.types import Feedback, Gesture
+from robin_sim.model import names
+
+NEUTRAL_POSE = "neutral"
+POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral, pointing, give_me, ... thumb_down
+# "human_vis_": what every pose geom's name starts with (see names.human_vis_geom)
+HUMAN_VIS_PREFIX = names.human_vis_geom("{pose}", "{part}").split("{pose}")[0]
+GESTURE_POSES: dict[Gesture, str] = {
+    Gesture.POINTING: "pointing",
+    Gesture.GIVE_ME: "give_me",
+    Gesture.GRASP: "grasp",
+    Gesture.RELEASE: "release",
+}
+FEEDBACK_POSES: dict[Feedback, str] = {
+    Feedback.OK: "thumb_up",
+    Feedback.NOT_OK: "thumb_down",
+    Feedback.NONE: NEUTRAL_POSE,
+}
+
+
+def pose_for(sign: Gesture | Feedback | str | None) -> str:
+    """Hand pose showing a gesture or feedback (enum or its name), a pose name, or ``None``.
+
+    ``None`` and no feedback show the neutral pose.
+    """
+    if sign is None:
+        return NEUTRAL_POSE
+    if isinstance(sign, Gesture):
+        return GESTURE_POSES[sign]
+    if isinstance(sign, Feedback):
+        return FEEDBACK_POSES[sign]
+    if sign in POSES:
+        return sign
+    for kind in (Gesture, Feedback):
+        try:
+            return pose_for(kind(sign))
+        except ValueError:
+            pass
+    choices = [*POSES, *(g.value for g in Gesture), *(f.value for f in Feedback)]
+    raise InvalidChoiceError("hand pose", sign, choices)
+
+
+class GestureDisplay:
+    """Switches which of the person's hand poses is visible in ``model``.
+
+    The model must have ``human_vis_<pose>_*`` geoms for every pose but ``neutral`` (which may
+    have its own geoms or show none). Each geom's visible alpha is its alpha in the model as
+    loaded, or 1 where the model hides it (alpha 0). The pose starts as ``neutral``.
+    """
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        self._model = model
+        self._geoms: dict[str, np.ndarray] = {pose: np.zeros(0, int) for pose in POSES}
+        groups: dict[str, list[int]] = {pose: [] for pose in POSES}
+        for geom_id in range(model.ngeom):
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom_id) or ""
+            if not name.startswith(HUMAN_VIS_PREFIX):
+                continue
+            pose = next((p for p in POSES if name.startswith(names.human_vis_geom(p, ""))), None)
+            if pose is None:
+                raise RobinPilError(
+                    f"geom {name!r} names no hand pose; expected {HUMAN_VIS_PREFIX}<pose>_<part> "
+                    f"with pose one of {', '.join(POSES)}"
+                )
+            if model.geom_contype[geom_id] or model.geom_conaffinity[geom_id]:
+                raise RobinPilError(
+                    f"hand pose geom {name!r} collides; make it visual-only "
+                    "(contype=0 conaffinity=0)"
+                )
+            groups[pose].append(geom_id)
+        missing = [p for p in POSES if p != NEUTRAL_POSE and not groups[p]]
+        if missing:
+            raise RobinPilError(
+                f"the model has no {HUMAN_VIS_PREFIX}<pose>_* geoms for poses {missing}; "
+                f"every pose but {NEUTRAL_POSE} ({', '.join(POSES)}) needs at least one"
+            )
+        self._geoms = {pose: np.array(ids, dtype=int) for pose, ids in groups.items()}
+        every = np.concatenate(list(self._geoms.values()))
+        loaded = model.geom_rgba[every, 3].copy()
+        self._visible_alpha = dict(
+            zip(every.tolist(), np.where(loaded > 0, loaded, 1.0), strict=True)
+        )
+        self.pose = NEUTRAL_POSE
+        self.show(NEUTRAL_POSE)
+
+    def geoms(self, pose: str) -> tuple[int, ...]:
+        """Geom ids of ``pose``."""
+        return tuple(self._geoms[pose_for(pose)].tolist())
+
+    def show(self, sign: Gesture | Feedback | str | None) -> str:
+        """Show the pose for ``sign`` (see :func:`pose_for`), hide the others; return the pose."""
+        pose = pose_for(sign)
+        for other, ids in self._geoms.items():
+            if other != pose:
+                self._model.geom_rgba[ids, 3] = 0.0
+        for geom_id in self._geoms[pose]:
+            self._model.geom_rgba[geom_id, 3] = self._visible_alpha[int(geom_id)]
+        self.pose = pose
+        return pose

@@ -1,0 +1,141 @@
+"""The person's hand: a mocap body moved along minimum-jerk paths at every control tick.
+
+:class:`HumanHand` plugs into :class:`robin_sim.control.simulator.Simulator` as a controller. It
+moves the
+mocap body ``human_hand`` between poses: resting at the person's side, pointing at a leg or a
+table spot, holding the palm out (palm up) for "give me", and taking a delivered leg away: the
+palm carries the leg off, tips it into the bin beside the table and comes back. The leg is moved
+by contact only (the palm supports it; nothing is attached or written into the leg's state).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mink
+import mujoco
+import numpy as np
+
+from robin_sim.control.simulator import Simulator
+from robin_sim.control.trajectory import Path, pose, through
+from robin_sim.model import names
+
+HAND_SPEED = 0.35  # m/s peak, free hand
+CARRY_SPEED = 0.25  # m/s peak while a leg lies on the palm
+TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
+# The pointing hand: toward the person and above the pointed place, low enough that its
+# fingertips stay a few centimetres below the robot's open fingers at home.
+POINT_OFFSET = np.array([0.14, 0.0, 0.13])  # m
+# A palm held out under the robot's hand first draws back and down, so it never sweeps into a
+# held leg on its way to point somewhere.
+POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m
+
+
+class HumanHand:
+    """Moves the person's mocap hand; call :meth:`attach` to drive it from a simulator."""
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        self.model, self.data = model, data
+        body_id = model.body(names.HUMAN_MOCAP_BODY).id
+        self.mocap_id = int(model.body_mocapid[body_id])
+        if self.mocap_id < 0:
+            raise ValueError(f"body {names.HUMAN_MOCAP_BODY!r} is not a mocap body")
+        self.rest_pose = self.pose()
+        site = model.site(names.HUMAN_PALM_SITE)
+        self.palm_offset = model.site_pos[site.id].copy()  # palm centre in the hand frame
+        self._path: Path | None = None
+        self._start = 0.0
+
+    def attach(self, sim: Simulator) -> None:
+        """Drive the hand at every control tick of ``sim``."""
+        sim.add_controller(lambda s: self.update(s.time + s.control_dt))
+
+    def pose(self) -> mink.SE3:
+        """The hand's current (mocap) pose."""
+        return pose(self.data.mocap_pos[self.mocap_id], self.data.mocap_quat[self.mocap_id])
+
+    def palm_centre(self) -> np.ndarray:
+        """World position of the palm centre (``human_palm_site``)."""
+        return self.data.site(names.HUMAN_PALM_SITE).xpos.copy()
+
+    def busy(self, now: float) -> bool:
+        """True while a motion is under way."""
+        return self._path is not None and now < self._start + self._path.duration
+
+    def follow(self, waypoints: Sequence[mink.SE3], now: float, speed: float = HAND_SPEED) -> float:
+        """Move through ``waypoints`` starting at the current pose; returns the duration."""
+        self._path = through([self.pose(), *waypoints], speed)
+        self._start = now
+        return self._path.duration
+
+    def update(self, now: float) -> None:
+        """Place the mocap body where the current motion is at ``now``."""
+        if self._path is None:
+            return
+        target = self._path.sample(now - self._start)
+        self.data.mocap_pos[self.mocap_id] = target.translation()
+        self.data.mocap_quat[self.mocap_id] = target.rotation().wxyz
+        if now >= self._start + self._path.duration:  # arrived: idle until the next motion
+            self._path = None
+
+    # --- gestures and moves ------------------------------------------------------------------
+    def hand_pose_for_palm(self, palm_centre: np.ndarray) -> mink.SE3:
+        """The palm-up hand pose whose palm centre lies at ``palm_centre``."""
+        return pose(np.asarray(palm_centre, float) - self.palm_offset)
+
+    def rest(self, now: float) -> float:
+        """Back to the rest pose at the person's side."""
+        return self.follow([self.rest_pose], now)
+
+    def point_at(self, position: np.ndarray, now: float, draw_back_first: bool = False) -> float:
+        """Hold the hand above ``position`` (the pointing gesture's place); returns the time.
+
+        ``draw_back_first``: start by drawing back and down (:data:`POINT_RETREAT`).
+        """
+        waypoints = [pose(np.asarray(position, float) + POINT_OFFSET)]
+        if draw_back_first:
+            waypoints.insert(0, pose(self.pose().translation() + POINT_RETREAT))
+        return self.follow(waypoints, now)
+
+    def hold_out_palm(self, palm_centre: np.ndarray, now: float) -> float:
+        """Hold the palm out, palm up, with its centre at ``palm_centre`` ("give me")."""
+        goal = self.hand_pose_for_palm(palm_centre)
+        high = goal.translation() + np.array([0.0, 0.0, 0.05])
+        return self.follow([pose(high), goal], now)
+
+    def slide_under(self, palm_centre: np.ndarray, now: float) -> float:
+        """Bring the palm back under something held above ``palm_centre``: in from the
+        person's side 4 cm below, then up into place (never from above)."""
+        goal = self.hand_pose_for_palm(palm_centre)
+        low = goal.translation() + np.array([0.0, 0.0, -0.04])
+        return self.follow([pose(low + np.array([0.2, 0.0, 0.0])), pose(low), goal], now)
+
+    def withdraw(self, clear_x: float, now: float) -> float:
+        """Draw the hand straight back (+x, towards the person) to ``clear_x``, out of the
+        robot's way; returns the duration (0 if it is there already)."""
+        here = self.pose()
+        if here.translation()[0] >= clear_x - 1e-6:
+            return 0.0
+        back = here.translation().copy()
+        back[0] = clear_x
+        return self.follow([mink.SE3.from_rotation_and_translation(here.rotation(), back)], now)
+
+    def take_away(self, bin_position: np.ndarray, now: float) -> float:
+        """Carry what lies on the palm to the bin, tip it in, and go back to rest.
+
+        The palm lowers 3 cm (clear of the robot's fingers), moves straight along +x (along a
+        leg lying in the handover direction, so the leg slides nowhere and does not roll) to
+        the bin's x, then rolls about x so the leg rolls off towards -y into the bin.
+        """
+        start = self.pose().translation()
+        lowered = start + np.array([0.0, 0.0, -0.03])
+        over_bin = np.array([bin_position[0], lowered[1], lowered[2]])
+        tipped = mink.SE3.from_rotation_and_translation(
+            mink.SO3.from_x_radians(TIP_ANGLE), over_bin
+        )
+        carry = through([self.pose(), pose(lowered), pose(over_bin)], CARRY_SPEED)
+        tip = through([carry.end, tipped], HAND_SPEED, 1.5)
+        back = through([tip.end, self.rest_pose], HAND_SPEED)
+        self._path = Path(carry.segments + tip.segments + back.segments)
+        self._start = now
+        return self._path.duration

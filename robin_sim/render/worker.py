@@ -1,0 +1,144 @@
+"""The render worker's side of :class:`robin_sim.render.pool.RenderPool`: frame states and the loop.
+
+A :class:`FrameState` is what a frame needs of the simulation; :func:`apply_state` writes it
+into a worker's own model and data; :func:`worker_main` is the loop each worker process runs
+(build the scene, warm a renderer up, then render each state it receives).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from robin_sim.model.scene import SceneLayout, build_model
+from robin_sim.render.gl_backend import ensure_gl_backend
+from robin_sim.render.renderer import FrameRenderer, RenderError
+
+FinishHook = Callable[[np.ndarray, Any], object]  # finish(frame, payload), edits frame in place
+START_TIMEOUT_S = 120.0  # a worker must have its scene and renderer ready by then
+FRAME_TIMEOUT_S = 300.0  # the oldest outstanding frame must arrive by then
+STOP_TIMEOUT_S = 10.0  # an idle worker must exit by then after being told to stop
+
+
+class RenderPoolError(RenderError):
+    """A frame that a render worker (or the in-process renderer) could not produce."""
+
+    def __init__(self, message: str, worker_traceback: str = "") -> None:
+        super().__init__(message)
+        self.worker_traceback = worker_traceback
+
+
+@dataclass(frozen=True, slots=True)
+class FrameState:
+    """What a frame needs of the simulation: time, joint positions, mocap poses, geom colours."""
+
+    time: float
+    qpos: np.ndarray
+    mocap_pos: np.ndarray
+    mocap_quat: np.ndarray
+    geom_rgba: np.ndarray  # (ngeom, 4); the gesture display changes alphas at run time
+
+    @classmethod
+    def capture(cls, model: mujoco.MjModel, data: mujoco.MjData) -> FrameState:
+        """Copy the state of ``model``/``data`` now (later changes do not reach the frame)."""
+        copies = (data.qpos, data.mocap_pos, data.mocap_quat, model.geom_rgba)
+        return cls(float(data.time), *(array.copy() for array in copies))
+
+
+@dataclass(frozen=True, slots=True)
+class RenderedFrame:
+    """Frame ``index`` (0-based submission order) of time ``time``, with its payload."""
+
+    index: int
+    time: float
+    pixels: np.ndarray  # (H, W, 3) uint8, writable
+    payload: Any
+
+
+def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -> None:
+    """Write ``state`` into ``model``/``data`` and compute the positions a render shows."""
+    data.time = state.time
+    data.qpos[:] = state.qpos
+    data.mocap_pos[:] = state.mocap_pos
+    data.mocap_quat[:] = state.mocap_quat
+    model.geom_rgba[:] = state.geom_rgba
+    mujoco.mj_fwdPosition(model, data)
+
+
+def warmed_renderer(
+    model: mujoco.MjModel, size: tuple[int, int], camera: str, shadows: bool
+) -> FrameRenderer:
+    """A :class:`FrameRenderer` that has rendered one frame already.
+
+    The first frame of a new renderer differs from later renders of the same state by up to 2
+    levels in some pixels (llvmpipe); after one warm-up render, frames depend only on the state,
+    so a video is the same whichever worker renders which frame.
+    """
+    renderer = FrameRenderer(model, size[0], size[1], camera, shadows=shadows)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    renderer.render(data)
+    return renderer
+
+
+def check_state(model: mujoco.MjModel, state: FrameState) -> None:
+    """Raise :class:`RenderPoolError` when ``state`` does not fit the pool's scene."""
+    nmocap = model.nmocap
+    shapes = [("qpos", (model.nq,)), ("mocap_pos", (nmocap, 3)), ("mocap_quat", (nmocap, 4))]
+    for field, shape in [*shapes, ("geom_rgba", (model.ngeom, 4))]:
+        got = np.shape(getattr(state, field))
+        if got != shape:
+            raise RenderPoolError(
+                f"frame state {field} has shape {got} but the pool's scene needs {shape}; "
+                "build the pool with the simulation's SceneLayout"
+            )
+
+
+def worker_main(
+    conn: Connection,
+    layout: SceneLayout | None,
+    size: tuple[int, int],
+    camera: str,
+    shadows: bool,
+    finish: FinishHook | None,
+    render_threads: int | None,
+) -> None:
+    """Worker loop: receive (index, state, payload), reply ("frame", index, pixels) or error."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process handles Ctrl-C
+    if render_threads is not None:  # read by Mesa's llvmpipe when the GL context is made
+        os.environ["LP_NUM_THREADS"] = str(render_threads)
+    try:
+        ensure_gl_backend()
+        model = build_model(layout)
+        data = mujoco.MjData(model)
+        renderer = warmed_renderer(model, size, camera, shadows)
+    except Exception as exc:
+        conn.send(("error", -1, f"{type(exc).__name__}: {exc}", traceback.format_exc()))
+        return
+    conn.send(("ready", -1, None, ""))
+    with renderer:
+        while True:
+            try:
+                message = conn.recv()
+            except EOFError:
+                return
+            if message is None:
+                return
+            index, state, payload = message
+            try:
+                apply_state(model, data, state)
+                pixels = renderer.render(data)
+                if finish is not None:
+                    finish(pixels, payload)
+            except Exception as exc:
+                conn.send(("error", index, f"{type(exc).__name__}: {exc}", traceback.format_exc()))
+                continue
+            conn.send(("frame", index, pixels, ""))
