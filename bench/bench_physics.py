@@ -21,12 +21,13 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
-from pil.task.world import Intent, Target
-from pil.types import Action, Gesture
+from pil.task.world import Target
+from pil.types import Action, Feedback, Gesture
 from robin_sim.control.ik import ArmIK, arm_kinematic_model, home_arm_q
 from robin_sim.control.trajectory import pose, through
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
+from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 HANDOVER = (Action.OBJECT, Action.CLOSE, Action.HUMAN, Action.OPEN)
@@ -47,18 +48,29 @@ def raw_steps_per_second(model: mujoco.MjModel, data: mujoco.MjData, steps: int)
     return steps / (time.perf_counter() - start)
 
 
-def handover(world: PhysicalWorld) -> dict[Action, float]:
-    """One type-A handover of leg 0; simulated seconds per ``execute`` call.
+GESTURE_OF = {
+    Action.OBJECT: Gesture.POINTING,
+    Action.CLOSE: Gesture.GRASP,
+    Action.HUMAN: Gesture.GIVE_ME,
+    Action.OPEN: Gesture.RELEASE,
+}
 
-    "human" includes lifting the leg before the person holds out the palm; "open" includes
-    the person carrying the leg to the bin.
+
+def handover(world: PhysicalWorld) -> dict[Action, float]:
+    """One type-A handover of leg 0; simulated seconds per step (gesture, action, thumb).
+
+    The person's body performs each gesture (holding out the palm for "give me") and gives the
+    thumb; after "open" it carries the leg to the bin.
     """
-    intent = Intent(Gesture.POINTING, Action.OBJECT, Target("leg", 0), handover=0, table=0)
+    body = PhysicalBody(world, seed=0)
+    target = Target("leg", 0)
     spent = {}
     for action in HANDOVER:
         before = world.time
-        world.execute(action, intent, True)
+        body.perform(GESTURE_OF[action], target if action is Action.OBJECT else None)
+        world.execute(action, target if action is Action.OBJECT else None, True)
         assert world.last_result is not None and world.last_result.succeeded, action
+        body.show_feedback(Feedback.OK)
         spent[action] = world.time - before
     return spent
 
@@ -66,7 +78,7 @@ def handover(world: PhysicalWorld) -> dict[Action, float]:
 def controlled_run() -> tuple[float, float, float, int, float, dict[Action, float]]:
     """Steps/s, real-time factor, wall s, IK solves, share of wall time in ``mj_step`` and the
     action times of one handover."""
-    world = PhysicalWorld(seed=0)
+    world = PhysicalWorld()
     ticks, sim_start, solves = world.sim.ticks, world.time, world.sim.ik.solves
     physics = world.sim.physics_seconds
     start = time.perf_counter()
@@ -80,10 +92,9 @@ def controlled_run() -> tuple[float, float, float, int, float, dict[Action, floa
 
 def held_leg_state() -> tuple[mujoco.MjModel, mujoco.MjData]:
     """The scene with leg 0 grasped and lifted (a contact-rich state for the raw ceiling)."""
-    world = PhysicalWorld(seed=0)
-    intent = Intent(Gesture.POINTING, Action.OBJECT, Target("leg", 0), handover=0, table=0)
-    world.execute(Action.OBJECT, intent, True)
-    world.execute(Action.CLOSE, intent, True)
+    world = PhysicalWorld()
+    world.execute(Action.OBJECT, Target("leg", 0), True)
+    world.execute(Action.CLOSE, None, True)
     here = world.sim.commanded_site_pose()
     up = pose(here.translation() + np.array([0.0, 0.0, 0.15]), here.rotation().wxyz)
     world.sim.execute(world.sim.plan(through([here, up])))
@@ -111,7 +122,7 @@ def main(argv: list[str] | None = None) -> int:
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 
-    world = PhysicalWorld(seed=0)
+    world = PhysicalWorld()
     home_model, home_data = world.model, world.data
     held_model, held_data = held_leg_state()
     rows: list[tuple[float, float, float, float, float, float, float, dict[Action, float]]] = []

@@ -122,3 +122,10 @@ ACTIONS: tuple[Action, ...] = tuple(Action)
 HANDS: tuple[Hand, ...] = tuple(Hand)
 START_ACTION = Action.OPEN
 START_HAND = Hand.FREE
+# The one source of "an approved close fills the hand, an approved open empties it".
+HAND_AFTER: dict[Action, Hand] = {Action.CLOSE: Hand.OCCUPIED, Action.OPEN: Hand.FREE}
+
+
+def hand_after(action: Action, hand: Hand) -> Hand:
+    """The hand state an approved ``action`` leaves (:data:`HAND_AFTER`; others keep ``hand``)."""
+    return HAND_AFTER.get(action, hand)

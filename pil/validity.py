@@ -42,7 +42,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pil.types import ACTIONS, GESTURES, HANDS, Action, Gesture, Hand, State
+from pil.types import ACTIONS, GESTURES, HAND_AFTER, HANDS, Action, Gesture, Hand, State
 
 
 @dataclass(frozen=True, slots=True)
@@ -62,6 +62,10 @@ class Rule:
             and (self.previous_actions is None or state.previous_action in self.previous_actions)
             and (self.hands is None or state.hand in self.hands)
         )
+
+
+def _other_hand(hand: Hand) -> Hand:
+    return Hand.FREE if hand is Hand.OCCUPIED else Hand.OCCUPIED
 
 
 _OCCUPIED = frozenset({Hand.OCCUPIED})
@@ -89,19 +93,20 @@ RULES: tuple[Rule, ...] = (
         _FREE,
         "the hand holds nothing to hand over",
     ),
-    Rule(
-        "occupied after open",
-        None,
-        frozenset({Action.OPEN}),
-        _OCCUPIED,
-        "an approved open always empties the hand",
-    ),
-    Rule(
-        "free after close",
-        None,
-        frozenset({Action.CLOSE}),
-        _FREE,
-        "an approved close always grasped a leg in this task",
+    # An approved close fills the hand and an approved open empties it (pil.types.HAND_AFTER),
+    # so the other hand state cannot follow either.
+    *(
+        Rule(
+            f"{_other_hand(left)} after {action}",
+            None,
+            frozenset({action}),
+            frozenset({_other_hand(left)}),
+            f"an approved {action} always leaves the hand {left} in this task",
+        )
+        for action, left in (
+            (Action.OPEN, HAND_AFTER[Action.OPEN]),
+            (Action.CLOSE, HAND_AFTER[Action.CLOSE]),
+        )
     ),
     Rule(
         "free at human or location",

@@ -9,16 +9,16 @@ from pil.experiments.systems import run_one
 from pil.task.parts import PARAMS, SEED_NAMES, build_parts, derive_seeds, phase_script
 from pil.task.runner import run, steps
 from pil.task.scenario import load_scenario
-from pil.task.world import Intent, Outcome, SymbolicWorld
+from pil.task.world import Outcome, SymbolicWorld, Target
 from pil.types import Action
 
 
 class MeasuringWorld(SymbolicWorld):
     """Like a physical world whose actions all succeed: same effects, its own details."""
 
-    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
-        result = super().execute(action, intent, wanted)
-        return Outcome(result.succeeded, f"moved for {intent.target}", result.undone)
+    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+        result = super().execute(action, target, wanted)
+        return Outcome(result.succeeded, f"moved for {target}", result.undone)
 
 
 def test_parts_reproduce_run_one() -> None:

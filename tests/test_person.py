@@ -42,15 +42,15 @@ def test_feedback_ok_only_for_the_wanted_action_that_worked(scenario) -> None:  
     script = plan_script([scenario.type_named("A")], 4, 4)
     person = ScriptedPerson(script, seed=0)
     intent = script[0].intent  # pointing -> object
-    assert person.feedback(intent, Action.OBJECT, Outcome(True)) is Feedback.OK
-    assert person.feedback(intent, Action.CLOSE, Outcome(True)) is Feedback.NOT_OK
-    assert person.feedback(intent, Action.OBJECT, Outcome(False, "missed")) is Feedback.NOT_OK
+    assert person.judge(intent, Action.OBJECT, Outcome(True)) is Feedback.OK
+    assert person.judge(intent, Action.CLOSE, Outcome(True)) is Feedback.NOT_OK
+    assert person.judge(intent, Action.OBJECT, Outcome(False, "missed")) is Feedback.NOT_OK
 
 
 def test_silent_ok_replaces_some_approvals_with_silence(scenario) -> None:  # type: ignore[no-untyped-def]
     script = plan_script([scenario.type_named("A")], 4, 4)
     person = ScriptedPerson(script, seed=1, silent_ok=0.3)
-    replies = [person.feedback(script[0].intent, Action.OBJECT, Outcome(True)) for _ in range(4000)]
+    replies = [person.judge(script[0].intent, Action.OBJECT, Outcome(True)) for _ in range(4000)]
     assert Feedback.NOT_OK not in replies
     assert abs(replies.count(Feedback.NONE) / 4000 - 0.3) < 0.03
 

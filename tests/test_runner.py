@@ -11,8 +11,8 @@ from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.runner import RunnerError, StepRecord, run, steps
 from pil.task.scenario import SCENARIOS_DIR, Scenario, load_scenario
-from pil.task.world import Intent, Outcome, SymbolicWorld, Target
-from pil.types import Action, Feedback, Hand
+from pil.task.world import Outcome, SymbolicWorld, Target
+from pil.types import Action, Feedback, Gesture, Hand
 
 
 @pytest.fixture(scope="module")
@@ -35,9 +35,9 @@ class WatchedWorld(SymbolicWorld):
         self.hands: list[Hand] = []
         self.tables: list[int] = []
 
-    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
+    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
         self.hands.append(self.hand())
-        return super().execute(action, intent, wanted)
+        return super().execute(action, target, wanted)
 
     def start_table(self, table: int) -> None:
         self.tables.append(table)
@@ -125,10 +125,10 @@ def test_manual_repetition_acts_only_on_correct_readings(scenario: Scenario) -> 
 class FailingWorld(SymbolicWorld):
     """Every wanted close fails physically (the grasp slips)."""
 
-    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
+    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
         if wanted and action is Action.CLOSE:
             return Outcome(False, "the leg slipped", undone=True)
-        return super().execute(action, intent, wanted)
+        return super().execute(action, target, wanted)
 
 
 def test_failed_action_gets_not_ok_and_the_guard_stops_the_loop(scenario: Scenario) -> None:
@@ -148,17 +148,23 @@ def test_a_gesture_never_read_right_stops_with_a_clear_error(scenario: Scenario)
         run(learner, person, detector, SymbolicWorld(), manual=True)
 
 
-def test_before_action_sees_each_decision_before_the_world_acts(scenario: Scenario) -> None:
+def test_the_observer_sees_each_decision_before_the_world_acts(scenario: Scenario) -> None:
     seen: list[StepRecord] = []
+    answers: list[StepRecord] = []
     world = WatchedWorld()
 
-    def hook(record: StepRecord) -> None:
-        assert len(world.hands) == len(seen)  # the world has not executed it yet
-        seen.append(record)
+    class Observer:
+        def decided(self, record: StepRecord) -> None:
+            assert len(world.hands) == len(seen)  # the world has not executed it yet
+            seen.append(record)
 
-    records = list(steps(*parts(scenario, 0.6, 11), world, before_action=hook))
+        def answered(self, record: StepRecord) -> None:
+            assert len(world.hands) == len(seen)  # right after the world acted
+            answers.append(record)
+
+    records = list(steps(*parts(scenario, 0.6, 11), world, observer=Observer()))
     acted = [r for r in records if not r.is_repeat]
-    assert len(seen) == len(acted)
+    assert len(seen) == len(acted) and answers == acted
     assert all(s.feedback is None and s.succeeded is None for s in seen)
     assert [s._replace(feedback=None, succeeded=None, delivered=False, legs_delivered=0)
             for s in seen] == [
@@ -167,3 +173,52 @@ def test_before_action_sees_each_decision_before_the_world_acts(scenario: Scenar
     ]  # fmt: skip
     assert acted[0].target == Target("leg", 0) or acted[0].target == Target("leg", 1)
     assert json.loads(json.dumps(acted[0].to_dict()))["target"]["kind"] == "leg"
+
+
+class RecordingBody:
+    """A person's body that logs what it is asked to do, in order."""
+
+    def __init__(self, events: list[str]) -> None:
+        self.events = events
+
+    def start_table(self, table: int) -> None:
+        self.events.append(f"table {table}")
+
+    def perform(self, gesture: Gesture, target: Target | None) -> None:
+        self.events.append(f"perform {gesture.value}")
+
+    def show_feedback(self, feedback: Feedback) -> None:
+        self.events.append(f"thumb {feedback.value}")
+
+
+def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> None:
+    """The person performs, the robot acts, the person shows the thumb, and only then does the
+    learner receive the feedback (and the record is yielded)."""
+    events: list[str] = []
+    learner, person, detector = parts(scenario, 0.8, 3, handovers=4)
+    person.body = RecordingBody(events)
+
+    class LoggedWorld(SymbolicWorld):
+        def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+            events.append(f"robot {action.value}")
+            return super().execute(action, target, wanted)
+
+    class LoggedLearner(Learner):
+        def feedback(self, state, action, ok):  # type: ignore[no-untyped-def]
+            events.append("learner")
+            super().feedback(state, action, ok)
+
+    logged = LoggedLearner(learner.seed)
+    records = []
+    for record in steps(logged, person, detector, LoggedWorld()):
+        events.append("record")
+        records.append(record)
+    assert events[0] == "table 0" and events[1].startswith("perform ")
+    robot_at = [i for i, e in enumerate(events) if e.startswith("robot ")]
+    assert len(robot_at) == sum(not r.is_repeat for r in records) > 0
+    for i in robot_at:
+        assert events[i + 1].startswith("thumb ") and events[i + 2 : i + 4] == ["learner", "record"]
+    thumbs = [e.removeprefix("thumb ") for e in events if e.startswith("thumb ")]
+    assert thumbs == [r.feedback.value for r in records if not r.is_repeat]  # type: ignore[union-attr]
+    performed = [e for e in events if e.startswith("perform ")]
+    assert len(performed) == records[-1].gesture_count  # every performance, repeats included

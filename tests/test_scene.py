@@ -207,14 +207,14 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
     """With the project's controller (PhysicalWorld): leg k is grasped and placed on spot 3 - k
     for k = 0..3 in one scene; each lands within the placement tolerance of its spot, lying on
     the table, and no other leg (resting or placed) moves more than 2 mm."""
-    from pil.task.world import Intent, Target
-    from pil.types import Action, Gesture
-    from robin_sim.robot.world import PLACEMENT_TOLERANCE, PhysicalWorld
+    from person_steps import Acted, intent
 
-    def intent(gesture: str, action: str, target: Target | None = None) -> Intent:
-        return Intent(Gesture(gesture), Action(action), target, handover=0, table=0)
+    from pil.task.world import Target
+    from pil.types import Action
+    from robin_sim.robot.world import PLACEMENT_TOLERANCE
 
-    world = PhysicalWorld(seed=1)
+    acted = Acted(seed=1)
+    world = acted.world
     spots = world.layout.spots
     for leg in range(4):
         spot = 3 - leg
@@ -226,7 +226,7 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
             (Action.OPEN, intent("release", "open")),
         ]
         for action, wanted in steps:
-            outcome = world.execute(action, wanted, True)
+            outcome = acted.act(action, wanted)
             assert outcome.succeeded, (leg, action, outcome.detail)
         after = world.leg_positions()
         assert np.linalg.norm(after[leg, :2] - spots[spot]) <= PLACEMENT_TOLERANCE

@@ -17,6 +17,7 @@ from collections.abc import Iterator  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+from person_steps import Acted  # noqa: E402
 
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.task.world import Intent, Outcome, Target  # noqa: E402
@@ -27,7 +28,6 @@ from robin_sim.render.checks import (  # noqa: E402
     verify_on_palm,
 )
 from robin_sim.render.renderer import CloseUpRenderer  # noqa: E402
-from robin_sim.robot.world import PhysicalWorld  # noqa: E402
 
 TABLE_TOP_Z = 0.75
 SPOT = (0.6, -0.25)
@@ -262,7 +262,7 @@ def test_bad_names_are_explained() -> None:
 # --- with Robin in the project scene (robin_sim.robot.world.PhysicalWorld) ---
 
 
-def _execute(world: PhysicalWorld, action: Action, target: Target | None = None) -> Outcome:
+def _execute(acted: Acted, action: Action, target: Target | None = None) -> Outcome:
     gesture = {
         Action.OBJECT: Gesture.POINTING,
         Action.CLOSE: Gesture.GRASP,
@@ -270,21 +270,22 @@ def _execute(world: PhysicalWorld, action: Action, target: Target | None = None)
         Action.LOCATION: Gesture.POINTING,
         Action.OPEN: Gesture.RELEASE,
     }[action]
-    return world.execute(action, Intent(gesture, action, target, handover=0, table=0), True)
+    return acted.act(action, Intent(gesture, action, target, handover=0, table=0))
 
 
 @pytest.mark.slow
 def test_robin_grasp_is_in_hand_and_handover_ends_on_the_palm() -> None:
-    world = PhysicalWorld(seed=0)
+    acted = Acted()
+    world = acted.world
     model = world.model
-    assert _execute(world, Action.OBJECT, Target("leg", 0)).succeeded
-    assert _execute(world, Action.CLOSE).succeeded
+    assert _execute(acted, Action.OBJECT, Target("leg", 0)).succeeded
+    assert _execute(acted, Action.CLOSE).succeeded
     assert world.held_leg() == 0  # physics: contacts of an opposed grasp
     with CloseUpRenderer(model) as renderer:
         check = verify_in_hand(model, world.data, 0, "l", renderer)
         assert check.ok, check.detail
         assert not verify_in_hand(model, world.data, 1, "l", renderer).ok
-        assert _execute(world, Action.HUMAN).succeeded
+        assert _execute(acted, Action.HUMAN).succeeded
         held_over_palm = copy.copy(world.data)
         # Keep the last state before the person starts carrying the leg away (the open's end).
         palm_out = world.data.mocap_pos.copy()
@@ -295,7 +296,7 @@ def test_robin_grasp_is_in_hand_and_handover_ends_on_the_palm() -> None:
                 resting[:] = [copy.copy(world.data)]
 
         remove = world.sim.add_observer(keep_while_palm_out)
-        assert _execute(world, Action.OPEN).succeeded
+        assert _execute(acted, Action.OPEN).succeeded
         remove()
         assert world.delivered == [0]
         on_palm = resting[0]
@@ -312,8 +313,9 @@ def test_robin_grasp_is_in_hand_and_handover_ends_on_the_palm() -> None:
 
 @pytest.mark.slow
 def test_robin_grasp_misses_a_leg_pushed_away_before_close() -> None:
-    world = PhysicalWorld(seed=0)
-    assert _execute(world, Action.OBJECT, Target("leg", 0)).succeeded
+    acted = Acted()
+    world = acted.world
+    assert _execute(acted, Action.OBJECT, Target("leg", 0)).succeeded
     leg = world.model.body("leg0").id
     start = world.leg_position(0)
     axis = world.data.xmat[leg].reshape(3, 3)[:, 0]
@@ -324,7 +326,7 @@ def test_robin_grasp_misses_a_leg_pushed_away_before_close() -> None:
     world.data.xfrc_applied[leg, :3] = 0.0
     world.sim.run(1.0)
     assert abs((world.leg_position(0) - start) @ axis) > 0.17  # beyond the fingers
-    outcome = _execute(world, Action.CLOSE)
+    outcome = _execute(acted, Action.CLOSE)
     assert not outcome.succeeded
     assert world.held_leg() is None
     with CloseUpRenderer(world.model) as renderer:
@@ -334,14 +336,15 @@ def test_robin_grasp_misses_a_leg_pushed_away_before_close() -> None:
 
 @pytest.mark.slow
 def test_robin_placement_is_at_the_spot() -> None:
-    world = PhysicalWorld(seed=0)
+    acted = Acted()
+    world = acted.world
     for action, target in (
         (Action.OBJECT, Target("leg", 0)),
         (Action.CLOSE, None),
         (Action.LOCATION, Target("spot", 0)),
         (Action.OPEN, None),
     ):
-        assert _execute(world, action, target).succeeded
+        assert _execute(acted, action, target).succeeded
     spot, other = world.layout.spots[0], world.layout.spots[1]
     assert np.linalg.norm(world.leg_position(0)[:2] - spot) < 0.02  # physics
     with CloseUpRenderer(world.model) as renderer:

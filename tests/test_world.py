@@ -1,25 +1,23 @@
-"""``PhysicalWorld`` as the learner sees it: handovers, placements, rejections, new tables."""
+"""``PhysicalWorld`` with the person's body: handovers, placements, rejections, new tables.
+
+The person's part (gestures, palm, thumbs, the bin) is played by :class:`PhysicalBody` through
+``tests/person_steps.py``, in the runner's order; the world itself never moves the person.
+"""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from person_steps import Acted
+from person_steps import intent as _intent
 
 from pil.errors import RobinPilError
-from pil.task.world import Intent, Target, World
-from pil.types import Action, Gesture, Hand
+from pil.task.world import Target, World
+from pil.types import Action, Hand
 from robin_sim.control.trajectory import pose
 from robin_sim.model import robot_spec as spec
-from robin_sim.robot.world import (
-    HANDOVER_TOLERANCE,
-    PERSON_CLEAR_X,
-    PLACEMENT_TOLERANCE,
-    PhysicalWorld,
-)
-
-
-def _intent(gesture: str, action: str, target: Target | None = None) -> Intent:
-    return Intent(Gesture(gesture), Action(action), target, handover=0, table=0)
+from robin_sim.person.body import PERSON_CLEAR_X
+from robin_sim.robot.world import HANDOVER_TOLERANCE, PLACEMENT_TOLERANCE, PhysicalWorld
 
 
 def _in_bin(world: PhysicalWorld, position: np.ndarray) -> bool:
@@ -36,7 +34,8 @@ RELEASE = _intent("release", "open")
 
 @pytest.mark.slow
 def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
-    world: World = PhysicalWorld(seed=3)
+    acted = Acted(seed=3)
+    world: World = acted.world
     assert isinstance(world, PhysicalWorld)
     world.start_table(0)
     seen: list[tuple[Action, np.ndarray]] = []
@@ -49,7 +48,7 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
         (Action.OPEN, RELEASE, True, Hand.FREE),
     ]
     for action, intent, wanted, hand in steps:
-        outcome = world.execute(action, intent, wanted)
+        outcome = acted.act(action, intent, wanted)
         assert outcome.succeeded, (action, outcome.detail)
         assert outcome.undone is not wanted
         assert world.hand() is hand, action  # read from contacts
@@ -60,8 +59,8 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
     assert world.delivered == [0]
     assert [a for a, _ in seen] == [Action.OBJECT, Action.CLOSE, Action.HUMAN, Action.OPEN]
     on_palm = seen[-1][1]  # the hook ran before the person took the leg away
-    assert world.last_release is not None and world.last_release[2] == "palm"
-    assert np.linalg.norm(on_palm[:2] - world.last_release[0][:2]) <= HANDOVER_TOLERANCE
+    assert world.last_release is not None and world.last_release.kind == "palm"
+    assert np.linalg.norm(on_palm[:2] - world.last_release.point[:2]) <= HANDOVER_TOLERANCE
     assert _in_bin(world, world.leg_position(0))  # the person carried it off and tipped it in
     assert world.human.pose().translation() == pytest.approx(world.human.rest_pose.translation())
     assert [r.action for r in world.history] == [s[0] for s in steps]
@@ -72,13 +71,14 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
 
 @pytest.mark.slow
 def test_placement_on_a_pointed_spot() -> None:
-    world = PhysicalWorld()
-    world.execute(Action.OBJECT, _intent("pointing", "object", Target("leg", 2)), True)
-    world.execute(Action.CLOSE, GRASP, True)
+    acted = Acted()
+    world = acted.world
+    acted.act(Action.OBJECT, _intent("pointing", "object", Target("leg", 2)))
+    acted.act(Action.CLOSE, GRASP)
     spot = Target("spot", 1)
-    outcome = world.execute(Action.LOCATION, _intent("pointing", "location", spot), True)
+    outcome = acted.act(Action.LOCATION, _intent("pointing", "location", spot))
     assert outcome.succeeded
-    assert world.execute(Action.OPEN, RELEASE, True).succeeded
+    assert acted.act(Action.OPEN, RELEASE).succeeded
     lying = world.leg_position(2)
     assert np.linalg.norm(lying[:2] - np.array(world.layout.spots[1])) <= PLACEMENT_TOLERANCE
     assert lying[2] == pytest.approx(0.77, abs=0.003)  # on the table top
@@ -87,13 +87,14 @@ def test_placement_on_a_pointed_spot() -> None:
 
 @pytest.mark.slow
 def test_start_table_lays_the_legs_out_again_only_with_an_empty_hand() -> None:
-    world = PhysicalWorld()
-    world.execute(Action.OBJECT, _intent("pointing", "object", Target("leg", 1)), True)
-    world.execute(Action.CLOSE, GRASP, True)
+    acted = Acted()
+    world = acted.world
+    acted.act(Action.OBJECT, _intent("pointing", "object", Target("leg", 1)))
+    acted.act(Action.CLOSE, GRASP)
     with pytest.raises(RobinPilError, match="still holds leg 1"):
         world.start_table(1)
-    world.execute(Action.LOCATION, _intent("pointing", "location", Target("spot", 0)), True)
-    world.execute(Action.OPEN, RELEASE, True)
+    acted.act(Action.LOCATION, _intent("pointing", "location", Target("spot", 0)))
+    acted.act(Action.OPEN, RELEASE)
     assert np.linalg.norm(world.leg_position(1)[:2] - world.layout.legs[1][:2]) > 0.1
     world.start_table(1)
     laid = world.leg_positions()
@@ -108,23 +109,23 @@ def test_bad_targets_name_the_valid_choices() -> None:
     with pytest.raises(
         RobinPilError, match=rf"leg 9 does not exist; valid: 0\.\.{world.leg_count - 1}"
     ):
-        world.execute(Action.OBJECT, _intent("pointing", "object", Target("leg", 9)), True)
+        world.execute(Action.OBJECT, Target("leg", 9), True)
     last = len(world.layout.spots) - 1
     with pytest.raises(RobinPilError, match=rf"spot 9 does not exist; valid: 0\.\.{last}"):
-        world.execute(Action.LOCATION, _intent("pointing", "location", Target("spot", 9)), True)
+        world.execute(Action.LOCATION, Target("spot", 9), True)
     with pytest.raises(RobinPilError, match="valid: 'leg', 'spot'"):
-        world.execute(Action.OBJECT, _intent("pointing", "object", Target("box", 0)), False)
+        world.execute(Action.OBJECT, Target("box", 0), False)
     assert world.data.qpos.tobytes() == before
 
 
 @pytest.mark.slow
 def test_same_seed_same_physics_other_seed_other_palm() -> None:
     def run(seed: int) -> tuple[bytes, np.ndarray]:
-        world = PhysicalWorld(seed=seed)
-        world.execute(Action.OBJECT, POINT_LEG0, True)
-        world.execute(Action.CLOSE, GRASP, True)
-        world.execute(Action.HUMAN, GIVE, True)
-        return world.data.qpos.tobytes(), world.human.palm_centre()
+        acted = Acted(seed=seed)
+        for action, meant in ((Action.OBJECT, POINT_LEG0), (Action.CLOSE, GRASP)):
+            acted.act(action, meant)
+        acted.act(Action.HUMAN, GIVE)
+        return acted.world.data.qpos.tobytes(), acted.world.human.palm_centre()
 
     first, again, other = run(5), run(5), run(6)
     assert first[0] == again[0]
@@ -132,20 +133,22 @@ def test_same_seed_same_physics_other_seed_other_palm() -> None:
 
 
 def test_person_points_at_a_leg_and_rests_again() -> None:
-    world = PhysicalWorld()
+    acted = Acted()
+    world = acted.world
     rest = world.human.pose().translation()
-    took = world.person_points_at(Target("leg", 2))
+    took = acted.body.point_at(Target("leg", 2))
     assert took > 0.5 and world.time == pytest.approx(took, abs=0.02)
     hand = world.human.pose().translation()
     assert np.linalg.norm(hand[:2] - world.leg_position(2)[:2]) < 0.15  # m, right above it
     assert hand[2] > world.leg_position(2)[2] + 0.1
-    world.person_rests()
+    acted.body.rest()
     assert world.human.pose().translation() == pytest.approx(rest, abs=1e-9)
 
 
 @pytest.mark.slow
 def test_a_whole_table_four_handovers_in_a_row() -> None:
-    world = PhysicalWorld(seed=11)
+    acted = Acted(seed=11)
+    world = acted.world
     world.start_table(0)
     for leg in range(4):
         point = _intent("pointing", "object", Target("leg", leg))
@@ -155,7 +158,7 @@ def test_a_whole_table_four_handovers_in_a_row() -> None:
             (Action.HUMAN, GIVE),
             (Action.OPEN, RELEASE),
         ):
-            outcome = world.execute(action, intent, True)
+            outcome = acted.act(action, intent)
             assert outcome.succeeded, (leg, action, outcome.detail)
         assert world.last_result.measurements["release_error_m"] <= HANDOVER_TOLERANCE
         assert world.hand() is Hand.FREE
@@ -170,33 +173,36 @@ def test_object_without_a_pointed_target_goes_to_the_nearest_leg() -> None:
     world = PhysicalWorld()
     site = world.sim.site_pose().translation()
     nearest = int(np.argmin(np.linalg.norm(world.leg_positions() - site, axis=1)))
-    outcome = world.execute(Action.OBJECT, _intent("give me", "human"), False)
+    outcome = world.execute(Action.OBJECT, None, False)
     assert outcome.undone and f"towards leg {nearest}" in outcome.detail
 
 
 @pytest.mark.slow
 def test_the_pointing_hand_draws_back_before_the_arm_moves() -> None:
-    world = PhysicalWorld()
-    world.person_points_at(Target("leg", 0))  # the palm hovers right above the leg
+    acted = Acted()
+    world = acted.world
+    acted.body.point_at(Target("leg", 0))  # the palm hovers right above the leg
     assert world.human.pose().translation()[0] < PERSON_CLEAR_X
-    outcome = world.execute(Action.OBJECT, POINT_LEG0, True)
-    assert outcome.succeeded, outcome.detail
+    acted.body.perform(POINT_LEG0.gesture, POINT_LEG0.target)  # point, hold, draw back
     assert world.human.pose().translation()[0] == pytest.approx(PERSON_CLEAR_X)
+    outcome = world.execute(Action.OBJECT, POINT_LEG0.target, True)
+    assert outcome.succeeded, outcome.detail
     assert world.last_result.measurements["site_error_m"] < 0.005  # m
 
 
 @pytest.mark.slow
 def test_open_over_the_palm_needs_the_palm_under_the_leg() -> None:
-    world = PhysicalWorld(seed=2)
+    acted = Acted(seed=2)
+    world = acted.world
     for action, intent in (
         (Action.OBJECT, POINT_LEG0),
         (Action.CLOSE, GRASP),
         (Action.HUMAN, GIVE),
     ):
-        assert world.execute(action, intent, True).succeeded
+        assert acted.act(action, intent).succeeded
     palm = world.human.palm_centre()
     for action in (Action.LOCATION, Action.OBJECT):  # rejected moves leave the palm out
-        assert world.execute(action, _intent("release", "open", Target("spot", 0)), False).undone
+        assert world.execute(action, Target("spot", 0), False).undone
         assert world.palm_is_out()
     here = world.human.pose().translation()  # the person points away: back, down, then over
     away = [
@@ -206,7 +212,7 @@ def test_open_over_the_palm_needs_the_palm_under_the_leg() -> None:
     world.run(world.human.follow(away, world.time))
     assert world.held_leg() == 0
     assert not world.palm_is_out()
-    outcome = world.execute(Action.OPEN, RELEASE, True)  # the palm comes back under the leg
+    outcome = acted.act(Action.OPEN, RELEASE)  # performing release, the palm comes back under
     assert outcome.succeeded, outcome.detail
     assert world.last_result.measurements["height_above_surface_m"] == pytest.approx(0.02, abs=0.01)
     assert np.linalg.norm(world.last_result.measurements["leg_x"] - palm[0]) <= HANDOVER_TOLERANCE

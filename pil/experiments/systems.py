@@ -34,6 +34,7 @@ from pil.task.parts import (
     derive_seeds,
     resolve_scenario,
 )
+from pil.task.person import PersonBody
 from pil.task.runner import RunStats, run
 from pil.task.scenario import Scenario
 from pil.task.world import SymbolicWorld
@@ -150,19 +151,20 @@ def test_parts(
     values: Mapping[str, Any],
     cache: MutableMapping[Any, Any] | None = None,
     training: Training | None = None,
+    body: PersonBody | None = None,
 ) -> RunParts:
     """Learner (pre-trained for c1-c4), person and detector for ``system``'s test tables.
 
     ``values`` are checked parameters (:func:`check_params`); the physical episode drives these
     parts through :func:`pil.task.runner.steps` with its own world. ``training`` defaults to
-    :func:`training_for`.
+    :func:`training_for`; ``body`` is the person's body in a physical world.
     """
     _, manual = _DESIGN[check_system(system)]
     if training is None:
         training = training_for(system, rate, seed, scenario, values, cache)
     table = None if training is None else training.table.copy()
     return build_parts(scenario, rate, derive_seeds(seed), phase="test", table=table,
-                       manual=manual, cache=cache, **values)  # fmt: skip
+                       manual=manual, cache=cache, body=body, **values)  # fmt: skip
 
 
 test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test

@@ -26,7 +26,7 @@ from pil.errors import InvalidChoiceError, RobinPilError
 from pil.learner import Learner
 from pil.table import AssociationTable
 from pil.task.detector import DEFAULT_DISCARD, Detector
-from pil.task.person import ScriptedPerson, ScriptStep, plan_script
+from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import MAX_ACTIONS_PER_GESTURE
 from pil.task.scenario import Scenario, load_scenario
 
@@ -159,6 +159,7 @@ def build_parts(
     table: AssociationTable | None = None,
     manual: bool = False,
     cache: MutableMapping[Any, Any] | None = None,
+    body: PersonBody | None = None,
     **params: Any,
 ) -> RunParts:
     """Learner, person and detector for one run of ``phase`` at detection rate ``rate``.
@@ -166,7 +167,7 @@ def build_parts(
     ``seed`` is a run seed or the sub-seeds of :func:`derive_seeds`; ``table`` a pre-trained
     association table (used as is, not copied); ``manual`` selects manual repetition (no
     correction); ``params`` are any of :data:`PARAMS` (the assembly ones are taken from
-    ``scenario``, not from ``params``).
+    ``scenario``, not from ``params``); ``body`` makes the person visible in a physical world.
     """
     values = check_params(params)
     seeds = derive_seeds(seed) if isinstance(seed, (int, np.integer)) else seed
@@ -176,6 +177,7 @@ def build_parts(
         seeds[f"{phase}_person"],
         silent_ok=values["silent_ok"],
         patience=values["patience"],
+        body=body,
     )
     detector = Detector(
         rate,

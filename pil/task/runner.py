@@ -16,9 +16,9 @@ approves. The decisions depend only on the seeds of the learner, detector and pe
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Protocol
 
 from pil.errors import RobinPilError
 from pil.learner import Learner
@@ -38,7 +38,10 @@ class RunnerError(RobinPilError):
 
 
 class StepRecord(NamedTuple):
-    """One event of the loop (immutable). ``action`` None: the robot asks for a repeat."""
+    """One event of the loop (immutable). ``action`` None: the robot asks for a repeat.
+
+    Built with keywords: one base record per performed gesture, updated per action.
+    """
 
     t: int  # robot actions so far, this one included (Table I's step t)
     gesture_count: int  # instruction gestures performed so far, this one included
@@ -48,17 +51,17 @@ class StepRecord(NamedTuple):
     step: int  # 0-based gesture index within the handover
     true_gesture: Gesture
     detected_gesture: Gesture | None  # None: discarded as low-confidence
-    corrected_gesture: Gesture | None  # set when the learner corrected the state
-    state: State | None  # the state acted on (None for a repeat request)
-    action: Action | None
     intended_action: Action
-    feedback: Feedback | None
-    succeeded: bool | None  # what the world reported (None: no action)
-    detail: str
-    delivered: bool  # Algorithm 1, line 19: this approved open delivered a leg
     legs_delivered: int
-    exploited: bool
-    reason: str
+    corrected_gesture: Gesture | None = None  # set when the learner corrected the state
+    state: State | None = None  # the state acted on (None for a repeat request)
+    action: Action | None = None
+    feedback: Feedback | None = None
+    succeeded: bool | None = None  # what the world reported (None: no action)
+    detail: str = ""
+    delivered: bool = False  # Algorithm 1, line 19: this approved open delivered a leg
+    exploited: bool = False
+    reason: str = ""
     target: Target | None = None  # the leg or spot the person indicates (None: nothing)
 
     @property
@@ -104,6 +107,18 @@ class RunStats:
         return {name: getattr(self, name) for name in self.__slots__}
 
 
+class StepObserver(Protocol):
+    """Presentation of the loop (e.g. a video overlay); it must not act in the world."""
+
+    def decided(self, record: StepRecord) -> None:
+        """The robot is about to act on ``record`` (no feedback or outcome yet)."""
+        ...
+
+    def answered(self, record: StepRecord) -> None:
+        """The person is about to show ``record.feedback``."""
+        ...
+
+
 def steps(
     learner: Learner,
     person: ScriptedPerson,
@@ -113,20 +128,22 @@ def steps(
     manual: bool = False,
     repeat_discarded: bool = False,
     max_actions_per_gesture: int = MAX_ACTIONS_PER_GESTURE,
-    before_action: Callable[[StepRecord], None] | None = None,
+    observer: StepObserver | None = None,
 ) -> Iterator[StepRecord]:
     """Run ``person``'s script to the end, yielding a record per action or repeat request.
 
-    ``before_action``, if given, is called with a preliminary record (no feedback or outcome
-    yet) just before the world executes each action, e.g. to show the decision on a video.
+    Per performance of a gesture, in the order things happen: the person performs it, the
+    detector reads it, the learner decides; per action the robot acts, the person judges it and
+    shows the thumb, and only then the learner receives the feedback. ``observer`` is told of
+    each decision and answer for presentation only.
     """
     previous = START_ACTION
     gestures = actions = legs = 0
     for item in person.script:
         intent = item.intent
         true = intent.gesture
-        wanted_action = intent.action
         if item.first_of_table:
+            person.start_table(intent.table)
             world.start_table(intent.table)
         spent = performed = 0  # actions and performances for this instruction
         done = False
@@ -138,25 +155,26 @@ def steps(
                     f"gesture {true.value!r} was performed {MAX_PERFORMANCES} times without "
                     f"the robot acting on it (detection rate {detector.rate}); use a higher rate"
                 )
+            person.perform(intent)
             detected = detector.detect(true)
+            base = StepRecord(
+                t=actions, gesture_count=gestures, table=intent.table, handover=intent.handover,
+                handover_type=item.handover_type, step=item.step, true_gesture=true,
+                detected_gesture=detected, intended_action=intent.action,
+                legs_delivered=legs, target=intent.target,
+            )  # fmt: skip
             if (manual and detected is not true) or (repeat_discarded and detected is None):
                 what = "discarded" if detected is None else f"read as {detected.value}"
-                yield StepRecord(
-                    actions, gestures, intent.table, intent.handover, item.handover_type,
-                    item.step, true, detected, None, None, None, wanted_action, None, None,
-                    "", False, legs, False, f"{what}; the person repeats it", intent.target,
-                )  # fmt: skip
+                yield base._replace(reason=f"{what}; the person repeats it")
                 continue
             decision = learner.decide(detected, previous, world.hand())
             state = decision.state
             if state is None or decision.action is None:
-                yield StepRecord(
-                    actions, gestures, intent.table, intent.handover, item.handover_type,
-                    item.step, true, detected, None, None, None, wanted_action, None, None,
-                    "", False, legs, False, decision.reason, intent.target,
-                )  # fmt: skip
+                yield base._replace(reason=decision.reason)
                 continue
-            corrected = state.gesture if decision.corrected else None
+            base = base._replace(
+                corrected_gesture=state.gesture if decision.corrected else None, state=state
+            )
             action, exploited, reason = decision.action, decision.exploited, decision.reason
             rejections = 0
             while True:
@@ -169,28 +187,28 @@ def steps(
                         "failing the wanted action"
                     )
                 hand = world.hand()
-                if before_action is not None:
-                    before_action(StepRecord(
-                        actions + 1, gestures, intent.table, intent.handover,
-                        item.handover_type, item.step, true, detected, corrected, state, action,
-                        wanted_action, None, None, "", False, legs, exploited, reason,
-                        intent.target,
-                    ))  # fmt: skip
-                outcome = world.execute(action, intent, action is wanted_action)
                 actions += 1
-                feedback = person.feedback(intent, action, outcome)
+                if observer is not None:
+                    observer.decided(
+                        base._replace(t=actions, action=action, exploited=exploited, reason=reason)
+                    )
+                outcome = world.execute(action, intent.target, action is intent.action)
+                feedback = person.judge(intent, action, outcome)
                 ok = feedback is not _NOT_OK  # no feedback counts as OK (eq. 1)
-                learner.feedback(state, action, ok)
                 delivered = (
                     ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
                 )
                 legs += delivered
-                yield StepRecord(
-                    actions, gestures, intent.table, intent.handover, item.handover_type,
-                    item.step, true, detected, corrected, state, action, wanted_action,
-                    feedback, outcome.succeeded, outcome.detail, delivered, legs, exploited,
-                    reason, intent.target,
+                record = base._replace(
+                    t=actions, action=action, exploited=exploited, reason=reason,
+                    feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
+                    delivered=delivered, legs_delivered=legs,
                 )  # fmt: skip
+                if observer is not None:
+                    observer.answered(record)
+                person.show_feedback(feedback)
+                learner.feedback(state, action, ok)
+                yield record
                 if ok:
                     previous = action
                     done = True

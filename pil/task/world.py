@@ -1,9 +1,9 @@
 """What the learner loop needs from whatever executes the robot's actions.
 
-The same loop (:mod:`pil.task.runner`) drives a :class:`SymbolicWorld` (learner-only study) and the
-physical robot (``robin_sim.robot.world.PhysicalWorld``). A world executes one action for one of the
-person's intents and reports what physically happened; the learner's hand state is always read
-from the world, never kept as a flag by the loop.
+The same loop (:mod:`pil.task.runner`) drives a :class:`SymbolicWorld` (learner-only study)
+and the physical robot (``robin_sim.robot.world.PhysicalWorld``). A world executes one action
+on the leg or spot the person indicated and reports what physically happened; the learner's
+hand state is always read from the world, never kept as a flag by the loop.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol
 
-from pil.types import Action, Gesture, Hand
+from pil.types import Action, Gesture, Hand, hand_after
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,19 +46,23 @@ class Outcome:
 
 
 class World(Protocol):
-    """Executes the robot's actions; symbolic in the study, MuJoCo in an episode."""
+    """Executes the robot's actions; symbolic in the study, MuJoCo in an episode.
+
+    The world acts for the robot only: it is told the action and the leg or spot it concerns,
+    never what the person wants it to be. The person (:mod:`pil.task.person`) acts in it too.
+    """
 
     def hand(self) -> Hand:
         """The hand state as the world sees it (from physics, for the physical robot)."""
         ...
 
-    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
-        """Perform ``action``.
+    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+        """Perform ``action`` on ``target`` (the leg or spot the person indicated, if any).
 
-        ``wanted`` says whether it is the action the person means. An unwanted action is shown
-        to the person (far enough for them to reject it) and then undone, so that the world is
-        back in its state before the call (``Outcome.undone`` is True). A wanted action is
-        completed; if it fails physically the world undoes it too and says why.
+        ``wanted`` says whether the person means this action. An unwanted action is shown far
+        enough for the person to reject it and then undone, so that the world is back in its
+        state before the call (``Outcome.undone`` is True). A wanted action is completed; if it
+        fails physically the world undoes it too and says why.
         """
         ...
 
@@ -74,17 +78,14 @@ class SymbolicWorld:
         self._hand = Hand.FREE
 
     def hand(self) -> Hand:
-        """Occupied after a wanted close, free after a wanted open."""
+        """Occupied after a wanted close, free after a wanted open (:func:`hand_after`)."""
         return self._hand
 
-    def execute(self, action: Action, intent: Intent, wanted: bool) -> Outcome:
+    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
         """Apply a wanted action's effect on the hand; an unwanted one changes nothing."""
         if not wanted:
             return Outcome(succeeded=True, undone=True)
-        if action is Action.CLOSE:
-            self._hand = Hand.OCCUPIED
-        elif action is Action.OPEN:
-            self._hand = Hand.FREE
+        self._hand = hand_after(action, self._hand)
         return Outcome(succeeded=True)
 
     def start_table(self, table: int) -> None:

@@ -18,8 +18,8 @@ from pathlib import Path
 
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
+from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
-from robin_sim.person.narration import EpisodeView
 from robin_sim.render.overlay import draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.renderer import FrameClock

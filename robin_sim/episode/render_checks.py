@@ -52,9 +52,9 @@ class RenderChecks(ClosesOnExit):
             place = world.last_release
             if place is None:
                 return
-            point, _, where = place
+            point = place.point
             leg = int(leg)
-            if where == "palm":
+            if place.kind == "palm":
                 check = verify.verify_on_palm(model, data, leg, self._close_up())
                 what = "on palm"
             else:

@@ -24,11 +24,12 @@ from pil.experiments.systems import SYSTEMS, check_system, test_parts
 from pil.task.parts import check_params, resolve_scenario
 from pil.task.runner import StepRecord, steps
 from pil.task.scenario import Scenario
-from pil.types import Action, Hand
+from pil.types import Action, Hand, hand_after
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.render_checks import RenderChecks
+from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
-from robin_sim.person.narration import EpisodeView, Narrator
+from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
@@ -90,26 +91,25 @@ def _expected_hand(before: Hand, record: StepRecord) -> Hand:
     """The hand state that the learner's approved actions imply after ``record``."""
     if record.action is None or record.feedback is None or not record.feedback.approves:
         return before
-    if record.action is Action.CLOSE:
-        return Hand.OCCUPIED
-    if record.action is Action.OPEN:
-        return Hand.FREE
-    return before
+    return hand_after(record.action, before)
 
 
 def episode_records(
     config: EpisodeConfig,
     task: EpisodeTask,
     world: PhysicalWorld,
-    narrator: Narrator | None = None,
+    view: EpisodeView | None = None,
 ) -> Iterator[StepRecord]:
-    """The step loop of ``config`` on ``world`` (learner, person and detector as in the study)."""
-    parts = test_parts(config.system, config.rate, config.seed, task.scenario, task.values)
-    if narrator is not None:
-        narrator.table = parts.learner.table if config.policy_panel else None
-    hook = None if narrator is None else narrator.before_action
+    """The step loop of ``config`` on ``world`` (learner, person and detector as in the study);
+    the person acts with a :class:`PhysicalBody`, ``view`` (if given) follows each step."""
+    body = PhysicalBody(world, seed=config.seed)
+    parts = test_parts(
+        config.system, config.rate, config.seed, task.scenario, task.values, body=body
+    )
+    if view is not None and config.policy_panel:
+        view.table = parts.learner.table
     yield from steps(
-        parts.learner, parts.person, parts.detector, world, before_action=hook, **parts.options
+        parts.learner, parts.person, parts.detector, world, observer=view, **parts.options
     )
 
 
@@ -153,9 +153,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     task = EpisodeTask.of(config)
     out = Path(config.out)
     out.mkdir(parents=True, exist_ok=True)
-    world = PhysicalWorld(task.layout, seed=config.seed)
+    world = PhysicalWorld(task.layout)
     view = EpisodeView()
-    narrator = Narrator(world, view)
     totals = EpisodeTotals()
     started = time.perf_counter()
     status, error, recorder = "running", "", None
@@ -180,8 +179,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
             bar = stack.enter_context(
                 tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
             )
-            _play(episode_records(config, task, world, narrator), world, narrator, checks, log,
-                  bar, totals)  # fmt: skip
+            _play(episode_records(config, task, world, view), world, view, checks, log, bar,
+                  totals)  # fmt: skip
         status = "finished"  # the video and the log are closed by now
     except KeyboardInterrupt:
         status = "interrupted"
@@ -198,16 +197,17 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
 def _play(
     records: Iterator[StepRecord],
     world: PhysicalWorld,
-    narrator: Narrator,
+    view: EpisodeView,
     checks: RenderChecks,
     log: StepLog,
     bar: tqdm,
     totals: EpisodeTotals,
 ) -> None:
-    """Narrate, check, log and count every step; stop at a hand-state mismatch."""
+    """Check, log and count every step; stop at a hand-state mismatch."""
     hand = Hand.FREE
     for record in records:
-        narrator.after_step(record)
+        if record.action is None:
+            view.asked_to_repeat(record)
         hand = _expected_hand(hand, record)
         physical = world.hand()
         entry = _log_entry(record, world, checks.take(), physical)

@@ -1,0 +1,61 @@
+"""What the episode's video overlay shows, kept current from the step loop.
+
+:class:`EpisodeView` is the loop's :class:`pil.task.runner.StepObserver`: it is told of each
+decision before the robot acts and of each answer before the person shows the thumb, and only
+updates the :class:`~robin_sim.render.overlay.OverlayInfo` that the video recorder draws. It
+never acts in the world.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from pil.task.runner import StepRecord
+from robin_sim.render.overlay import OverlayInfo
+
+
+@dataclass
+class EpisodeView:
+    """The overlay's current info; ``table`` (the learner's) feeds the P(a|s) panel if set."""
+
+    info: OverlayInfo = field(default_factory=lambda: OverlayInfo(step=0, sim_time=0.0))
+    table: Any = None  # an AssociationTable, or None for no policy panel
+
+    def update(self, **changes: object) -> None:
+        """Replace some fields of the overlay info."""
+        self.info = replace(self.info, **changes)
+
+    # --- the StepObserver protocol -------------------------------------------------------------
+    def decided(self, record: StepRecord) -> None:
+        """The robot is about to act: the record's gestures, state and action; no feedback."""
+        self._show(record, None if record.action is None else record.action.value)
+        self.update(policy=self._policy(record))
+
+    def answered(self, record: StepRecord) -> None:
+        """The person is about to show the thumb."""
+        feedback = None if record.feedback is None else record.feedback.value
+        self.update(feedback=feedback, legs_delivered=record.legs_delivered)
+
+    def asked_to_repeat(self, record: StepRecord) -> None:
+        """The robot asks for the gesture again (a record without an action)."""
+        self._show(record, "(asks to repeat)")
+
+    # --- helpers -------------------------------------------------------------------------------
+    def _show(self, record: StepRecord, action: str | None) -> None:
+        fields = record.to_dict()
+        self.update(
+            step=record.t,
+            true_gesture=fields["true_gesture"],
+            detected_gesture=fields["detected_gesture"],
+            corrected_gesture=fields["corrected_gesture"],
+            action=action,
+            feedback=None,
+            state=None if record.state is None else str(record.state),
+        )
+
+    def _policy(self, record: StepRecord) -> dict[str, float] | None:
+        if self.table is None or record.state is None:
+            return None
+        probabilities = self.table.probabilities(record.state)
+        return {action.value: p for action, p in probabilities.items()}

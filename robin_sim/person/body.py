@@ -1,0 +1,118 @@
+"""The simulated person's body in a :class:`~robin_sim.robot.world.PhysicalWorld`.
+
+:class:`PhysicalBody` is the :class:`pil.task.person.PersonBody` of a physical episode: the
+scripted person (:class:`pil.task.person.ScriptedPerson`) decides, the body makes it happen in
+the scene, in the order a person does it:
+
+* :meth:`~PhysicalBody.perform` a gesture: show its hand shape; pointing moves the hand above
+  the meant leg or spot, holds it there, then draws the hand back out of the robot's way;
+  "give me" holds the palm out at the handover point (a little off it each time: a person never
+  holds the hand at exactly the same place); "release" brings the palm back under a leg that
+  the robot holds where the palm was.
+* :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; then a leg
+  that lies on the palm is carried to the bin beside the table.
+
+The body sees the world as a person would (where the legs and the robot's hand are); it is never
+told what the robot will do next. Only the mocap hand and visual-only geoms move.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pil.task.world import Target
+from pil.types import Feedback, Gesture
+from robin_sim.model import robot_spec as spec
+from robin_sim.person.gestures import GestureDisplay
+from robin_sim.robot.targets import target_point
+from robin_sim.robot.world import HANDOVER_TOLERANCE, PALM_OUT_RADIUS, PhysicalWorld
+
+GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
+FEEDBACK_HOLD = 0.4  # s the thumb stays up or down
+PERSON_CLEAR_X = 0.95  # m: the pointing hand draws back this far, out of the robot's way
+# m, largest offset (per axis) of the held-out palm from the handover point: within what the
+# robot counts as a palm held out there.
+PALM_JITTER = PALM_OUT_RADIUS / 2
+SETTLE = 0.1  # s after a hand motion before the next
+
+
+class PhysicalBody:
+    """The person's hand in ``world``: gestures, thumbs, the palm, the bin (see module doc).
+
+    ``seed`` seeds where the palm is held out, so the same seed gives the same trajectory.
+    """
+
+    def __init__(self, world: PhysicalWorld, seed: int = 0) -> None:
+        self.world = world
+        self.hand = world.human
+        self.display = GestureDisplay(world.model)
+        self._rng = np.random.default_rng(seed)
+        self.palm_goal = np.array(world.layout.handover, float)  # where the palm was held out
+
+    # --- the PersonBody protocol ---------------------------------------------------------------
+    def start_table(self, table: int) -> None:
+        """The hand goes back to rest before a new table's legs are laid out."""
+        self._move(self.hand.rest(self.world.time))
+
+    def perform(self, gesture: Gesture, target: Target | None) -> None:
+        """Show ``gesture`` (see the module doc) and hold it so that it can be seen."""
+        self.display.show(gesture)
+        if gesture is Gesture.POINTING and target is not None:
+            self.point_at(target)
+            self.world.run(GESTURE_HOLD)
+            self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time))
+            return
+        if gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
+            jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)
+            self.palm_goal = np.array(self.world.layout.handover) + np.array([*jitter, 0.0])
+            self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
+        elif gesture is Gesture.RELEASE and self._leg_held_over_palm_place():
+            self._move(self.hand.slide_under(self.palm_goal, self.world.time))
+        self.world.run(GESTURE_HOLD)
+
+    def show_feedback(self, feedback: Feedback) -> None:
+        """Show the thumb and hold it; then carry a leg lying on the palm to the bin."""
+        self.display.show(feedback)
+        self.world.run(FEEDBACK_HOLD)
+        if self.leg_on_palm() is not None:
+            bin_centre = np.array([*self.world.layout.bin, 0.0])
+            self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
+
+    # --- what the person does and sees ---------------------------------------------------------
+    def point_at(self, target: Target) -> float:
+        """Move the hand to point at ``target``; returns the time it took.
+
+        A palm held out for a handover draws back and down first, clear of a held leg."""
+        world = self.world
+        where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+        return self._move(self.hand.point_at(where, world.time, world.palm_is_out()))
+
+    def rest(self) -> float:
+        """The hand goes back to rest; returns the time it took."""
+        return self._move(self.hand.rest(self.world.time))
+
+    def leg_on_palm(self) -> int | None:
+        """A leg that lies on the palm, free of the robot's hand (seen from positions)."""
+        palm = self.hand.palm_centre()
+        held = self.world.held_leg()
+        for leg in range(self.world.leg_count):
+            centre = self.world.leg_position(leg)
+            near = np.linalg.norm(centre[:2] - palm[:2]) <= HANDOVER_TOLERANCE
+            if leg != held and near and 0.0 < centre[2] - palm[2] <= 2 * spec.LEG_RADIUS:
+                return leg
+        return None
+
+    def _leg_held_over_palm_place(self) -> bool:
+        """The robot holds a leg above where the palm was held out, and the palm is away."""
+        held = self.world.held_leg()
+        if held is None or self.world.palm_is_out():
+            return False
+        centre = self.world.leg_position(held)
+        return bool(np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
+
+    def _move(self, duration: float, settle: float = SETTLE) -> float:
+        """Let a started hand motion play out (physics runs); returns the time it took."""
+        if duration <= 0.0:
+            return 0.0
+        self.world.run(duration + settle)
+        return duration + settle
