@@ -17,11 +17,11 @@ approves. The decisions depend only on the seeds of the learner, detector and pe
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import Any, NamedTuple, Protocol
 
 from pil.errors import RobinPilError
 from pil.learner import Learner
+from pil.task.counting import RunStats
 from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.world import Target, World
@@ -84,27 +84,6 @@ class StepRecord(NamedTuple):
             if isinstance(value, (Gesture, Action, Feedback)):
                 out[key] = value.value
         return out
-
-
-@dataclass(slots=True)
-class RunStats:
-    """What a run cost and achieved (the study's counts)."""
-
-    gestures: int = 0  # instruction gestures performed, repeats included
-    actions: int = 0  # robot actions executed, rejected ones included
-    rejected: int = 0  # actions that got not-OK
-    corrections: int = 0  # states corrected by the learner (section III-B)
-    repeats: int = 0  # gestures performed again (robot asked, manual repetition, patience)
-    misdetections: int = 0  # gestures read wrong or discarded
-    discarded: int = 0
-    exploited: int = 0  # actions chosen as the unique best (eq. 4)
-    legs: int = 0  # legs delivered
-    handovers: int = 0  # handovers in the script
-    scripted_gestures: int = 0  # gestures the script needs when every one is read right
-
-    def as_dict(self) -> dict[str, int]:
-        """The counts by name."""
-        return {name: getattr(self, name) for name in self.__slots__}
 
 
 class StepObserver(Protocol):
@@ -228,25 +207,7 @@ def run(
     **options: Any,
 ) -> RunStats:
     """Run the loop to the end and count (:class:`RunStats`); ``options`` go to :func:`steps`."""
-    stats = RunStats(scripted_gestures=len(person.script))
-    stats.handovers = len({item.intent.handover for item in person.script})
-    last: StepRecord | None = None
-    last_gesture = 0
+    stats = RunStats.for_script(person.script)
     for record in steps(learner, person, detector, world, **options):
-        if record.gesture_count != last_gesture:
-            last_gesture = record.gesture_count
-            if record.detected_gesture is not record.true_gesture:
-                stats.misdetections += 1
-                stats.discarded += record.detected_gesture is None
-            if record.corrected_gesture is not None:
-                stats.corrections += 1
-        last = record
-        if record.action is None:
-            continue
-        if record.feedback is Feedback.NOT_OK:
-            stats.rejected += 1
-        stats.exploited += record.exploited
-    if last is not None:
-        stats.gestures, stats.actions, stats.legs = last.gesture_count, last.t, last.legs_delivered
-    stats.repeats = stats.gestures - stats.scripted_gestures
+        stats.add(record)
     return stats

@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator, Mapping
 from contextlib import ExitStack
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +21,7 @@ from tqdm import tqdm
 
 from pil.errors import RobinPilError, check_rate
 from pil.experiments.systems import SYSTEMS, check_system, test_parts
+from pil.task.counting import RunStats
 from pil.task.parts import check_params, resolve_scenario
 from pil.task.runner import StepRecord, steps
 from pil.task.scenario import Scenario
@@ -72,19 +73,33 @@ class EpisodeConfig:
 
 @dataclass
 class EpisodeTotals:
-    """Running totals for the summary."""
+    """Running totals for the summary: the study's counts plus what only physics tells."""
 
-    gestures: int = 0
-    actions: int = 0
-    rejected: int = 0
-    corrections: int = 0  # instruction gestures whose state the learner corrected
-    repeats: int = 0
-    legs_delivered: int = 0  # Algorithm 1's count (handed over or placed)
+    counts: RunStats = field(default_factory=RunStats)
     legs_to_person: int = 0
     legs_placed: int = 0
     physical_failures: int = 0
     render_checks: int = 0
     render_disagreements: int = 0
+
+    def as_summary(self) -> dict[str, int]:
+        """The summary's count fields (the study's names, legs as ``legs_delivered``)."""
+        c = self.counts
+        return {
+            "gestures": c.gestures,
+            "actions": c.actions,
+            "rejected": c.rejected,
+            "corrections": c.corrections,
+            "repeats": c.repeats,
+            "misdetections": c.misdetections,
+            "discarded": c.discarded,
+            "legs_delivered": c.legs,  # Algorithm 1's count (handed over or placed)
+            "legs_to_person": self.legs_to_person,
+            "legs_placed": self.legs_placed,
+            "physical_failures": self.physical_failures,
+            "render_checks": self.render_checks,
+            "render_disagreements": self.render_disagreements,
+        }
 
 
 def _expected_hand(before: Hand, record: StepRecord) -> Hand:
@@ -236,15 +251,9 @@ def _log_entry(
 
 
 def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) -> None:
-    new_gesture = record.gesture_count != totals.gestures
-    totals.gestures = record.gesture_count
-    totals.actions = record.t
-    totals.legs_delivered = record.legs_delivered
+    totals.counts.add(record)
     if record.action is None:
-        totals.repeats += 1
         return
-    totals.rejected += record.feedback is not None and not record.feedback.approves
-    totals.corrections += new_gesture and record.corrected_gesture is not None
     totals.physical_failures += record.succeeded is False
     if record.delivered:
         to_person = record.state is not None and record.state.previous_action is Action.HUMAN
@@ -277,7 +286,7 @@ def _summary(
         "scenario": task.scenario.name,
         "tables": task.scenario.tables,
         "legs_total": task.legs_total,
-        **asdict(totals),
+        **totals.as_summary(),
         "sim_time_s": round(world.time, 3),
         "wall_time_s": round(wall, 3),
         "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
