@@ -21,20 +21,21 @@ def intent(gesture: str, action: str, target: Target | None = None) -> Intent:
 class Acted:
     """A world and the person's body in it; :meth:`act` is one runner step."""
 
-    def __init__(self, world: PhysicalWorld | None = None, seed: int = 0) -> None:
+    def __init__(
+        self, world: PhysicalWorld | None = None, seed: int = 0, reaction: float = 0.5
+    ) -> None:
         self.world = world or PhysicalWorld()
         self.body = PhysicalBody(self.world, seed=seed)
+        self.reaction = reaction
         self._performed: Intent | None = None
 
-    def act(self, action: Action, meant: Intent, wanted: bool | None = None) -> Outcome:
-        """The person performs ``meant`` (if new), the robot does ``action``, the thumb follows.
-
-        ``wanted`` defaults to ``action is meant.action``."""
+    def act(self, action: Action, meant: Intent) -> Outcome:
+        """The person performs ``meant`` (if new), the robot runs ``action`` while the person
+        watches, then the thumb follows."""
         if meant is not self._performed:
             self.body.perform(meant.gesture, meant.target)
             self._performed = meant
-        wanted = action is meant.action if wanted is None else wanted
-        outcome = self.world.execute(action, meant.target, wanted)
-        ok = wanted and outcome.succeeded
+        outcome = self.world.execute(action, meant.target, self.body.watch(meant, self.reaction))
+        ok = action is meant.action and outcome.succeeded and not outcome.interrupted
         self.body.show_feedback(Feedback.OK if ok else Feedback.NOT_OK)
         return outcome

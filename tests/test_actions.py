@@ -36,8 +36,8 @@ def _object(world: PhysicalWorld, leg: int) -> MoveAction:
 def _grasp(world: PhysicalWorld, leg: int) -> None:
     move = _object(world, leg)
     move.prepare(world.ctx)
-    assert move.perform(world.ctx).succeeded
-    assert CloseAction().perform(world.ctx).succeeded
+    assert move.run(world.ctx).succeeded
+    assert CloseAction().run(world.ctx).succeeded
     assert world.held_leg() == leg and world.hand() is Hand.OCCUPIED
 
 
@@ -45,6 +45,12 @@ def _lift(world: PhysicalWorld, height: float) -> None:
     here = world.sim.commanded_site_pose()
     up = pose(here.translation() + np.array([0.0, 0.0, height]), here.rotation().wxyz)
     world.sim.execute(world.sim.plan(through([here, up])))
+
+
+def _stop_after(world: PhysicalWorld, seconds: float):  # type: ignore[no-untyped-def]
+    """A ``stop`` that says stop from ``seconds`` of simulated time on (a thumb down)."""
+    at = world.time + seconds
+    return lambda: world.time >= at - 1e-9
 
 
 def _track_excursion(world: PhysicalWorld, value) -> list[float]:
@@ -71,7 +77,7 @@ def test_grasp_lifts_and_carries_each_leg(leg: int) -> None:
     goal = release_goal(far, carried, world.sim.commanded_site_pose().rotation())
     move = MoveAction(Action.HUMAN, "a point across the table", goal, CLEARANCE_Z)
     move.prepare(world.ctx)
-    result = move.perform(world.ctx)
+    result = move.run(world.ctx)
     assert result.succeeded and world.held_leg() == leg
     assert slip[0] <= SLIP_LIMIT
     assert result.measurements["slip_m"] <= SLIP_LIMIT
@@ -91,8 +97,8 @@ def test_open_over_spot_leaves_leg_lying_there() -> None:
         CLEARANCE_Z,
     )
     move.prepare(world.ctx)
-    assert move.perform(world.ctx).succeeded
-    result = OpenAction(spot, tolerance=0.02, place="spot 0").perform(world.ctx)
+    assert move.run(world.ctx).succeeded
+    result = OpenAction(spot, tolerance=0.02, place="spot 0").run(world.ctx)
     assert result.succeeded, result.detail
     assert world.hand() is Hand.FREE
     lying = world.leg_position(1)
@@ -110,11 +116,11 @@ def test_unreachable_target_is_refused_before_anything_moves() -> None:
         move.prepare(world.ctx)
     assert (world.data.qpos.tobytes(), world.data.ctrl.tobytes(), world.time) == before
     with pytest.raises(UnreachableTargetError, match="reachable: top-down"):
-        move.perform(world.ctx)
+        move.run(world.ctx)
 
 
 @pytest.mark.slow
-def test_unwanted_object_is_shown_then_undone() -> None:
+def test_a_stopped_move_goes_back_from_where_it_stopped() -> None:
     world = PhysicalWorld()
     world.sim.run(0.2)
     arm, site, legs = world.sim.arm_q, world.sim.site_pose().translation(), world.leg_positions()
@@ -123,8 +129,9 @@ def test_unwanted_object_is_shown_then_undone() -> None:
     )
     move = _object(world, 2)
     move.prepare(world.ctx)
-    result = move.show_and_undo(world.ctx)
-    assert result.undone and result.succeeded
+    result = move.run(world.ctx, _stop_after(world, 1.0))
+    assert result.interrupted and result.undone and not result.succeeded
+    assert result.measurements["stopped_after_s"] == pytest.approx(1.0, abs=0.021)  # one tick
     assert away[0] > 0.03  # m: it visibly moved towards the leg
     assert np.linalg.norm(world.sim.site_pose().translation() - site) <= RETURN_LIMIT
     assert np.abs(world.sim.arm_q - arm).max() <= ARM_RETURN_LIMIT
@@ -133,7 +140,7 @@ def test_unwanted_object_is_shown_then_undone() -> None:
 
 
 @pytest.mark.slow
-def test_unwanted_moves_while_holding_keep_the_leg() -> None:
+def test_stopped_moves_and_close_while_holding_keep_the_leg() -> None:
     world = PhysicalWorld()
     _grasp(world, 0)
     _lift(world, 0.1)
@@ -147,37 +154,30 @@ def test_unwanted_moves_while_holding_keep_the_leg() -> None:
     ):
         move = MoveAction(action, str(action), where, CLEARANCE_Z)
         move.prepare(world.ctx)
-        assert move.show_and_undo(world.ctx).undone
+        result = move.run(world.ctx, _stop_after(world, 1.2))
+        assert result.interrupted and result.undone and result.dropped is None
         assert world.held_leg() == 0
         assert np.linalg.norm(world.sim.site_pose().translation() - site) <= RETURN_LIMIT
         assert np.linalg.norm(leg_offset_in_site(world.ctx, 0) - offset) <= SLIP_LIMIT
-    for action in (OpenAction(), CloseAction()):  # fingertips nudge; the thumb keeps the grip
-        fingers = world.sim.data.qpos[world.sim.hand.joint_qadr]
-        moved = _track_excursion(
-            world,
-            lambda w, f=fingers: float(np.abs(w.sim.data.qpos[w.sim.hand.joint_qadr] - f).max()),
-        )
-        result = action.show_and_undo(world.ctx)
-        assert result.undone and world.held_leg() == 0
-        assert moved[0] > 0.1  # rad: visible to the person
-        assert result.measurements["leg_moved_m"] <= SLIP_LIMIT
-        assert np.linalg.norm(leg_offset_in_site(world.ctx, 0) - offset) <= SLIP_LIMIT
+    result = CloseAction().run(world.ctx, _stop_after(world, 0.3))  # squeezes, then relaxes
+    assert result.interrupted and world.held_leg() == 0
+    assert np.linalg.norm(leg_offset_in_site(world.ctx, 0) - offset) <= SLIP_LIMIT
 
 
 @pytest.mark.slow
-def test_unwanted_close_at_a_leg_reopens_without_taking_it() -> None:
+def test_a_close_stopped_at_a_leg_reopens_without_taking_it() -> None:
     world = PhysicalWorld()
     move = _object(world, 3)
     move.prepare(world.ctx)
-    move.perform(world.ctx)
+    move.run(world.ctx)
     world.sim.run(0.2)
     fingers, legs = world.sim.data.qpos[world.sim.hand.joint_qadr], world.leg_positions()
     moved = _track_excursion(
         world,
         lambda w: float(np.abs(w.sim.data.qpos[w.sim.hand.joint_qadr] - fingers).max()),
     )
-    result = CloseAction().show_and_undo(world.ctx)
-    assert result.undone and world.hand() is Hand.FREE
+    result = CloseAction().run(world.ctx, _stop_after(world, 0.3))
+    assert result.interrupted and result.undone and world.hand() is Hand.FREE
     assert moved[0] > 0.15  # rad: the fingers visibly closed part of the way
     assert np.abs(world.sim.data.qpos[world.sim.hand.joint_qadr] - fingers).max() < 0.05  # rad
     assert np.abs(world.leg_positions() - legs).max() <= 0.005  # m
@@ -186,7 +186,7 @@ def test_unwanted_close_at_a_leg_reopens_without_taking_it() -> None:
 @pytest.mark.slow
 def test_wanted_close_on_nothing_fails_and_reopens() -> None:
     world = PhysicalWorld()
-    result = CloseAction().perform(world.ctx)
+    result = CloseAction().run(world.ctx)
     assert not result.succeeded and result.undone
     assert "nothing" in result.detail
     assert world.hand() is Hand.FREE
@@ -209,7 +209,7 @@ def test_a_leg_dropped_on_the_way_is_reported_and_the_arm_moves_back() -> None:
     world.sim.add_controller(
         lambda s: s.hand.open(s.time) if abs(s.time - let_go_at) < s.control_dt / 2 else None
     )
-    result = move.perform(world.ctx)
+    result = move.run(world.ctx)
     assert not result.succeeded and not result.undone
     assert "leg 1 dropped" in result.detail and "arm moved back" in result.detail
     assert world.held_leg() is None and world.hand() is Hand.FREE

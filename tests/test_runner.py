@@ -11,7 +11,8 @@ from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.runner import RunnerError, StepRecord, run, steps
 from pil.task.scenario import SCENARIOS_DIR, Scenario, load_scenario
-from pil.task.world import Outcome, SymbolicWorld, Target
+from pil.task.watching import InstantWatcher
+from pil.task.world import Intent, Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, Gesture, Hand
 
 
@@ -35,9 +36,11 @@ class WatchedWorld(SymbolicWorld):
         self.hands: list[Hand] = []
         self.tables: list[int] = []
 
-    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+    def execute(
+        self, action: Action, target: Target | None, watcher: Watcher | None = None
+    ) -> Outcome:
         self.hands.append(self.hand())
-        return super().execute(action, target, wanted)
+        return super().execute(action, target, watcher)
 
     def start_table(self, table: int) -> None:
         self.tables.append(table)
@@ -123,12 +126,15 @@ def test_manual_repetition_acts_only_on_correct_readings(scenario: Scenario) -> 
 
 
 class FailingWorld(SymbolicWorld):
-    """Every wanted close fails physically (the grasp slips)."""
+    """Every close that the person lets run fails physically (the grasp slips)."""
 
-    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
-        if wanted and action is Action.CLOSE:
+    def execute(
+        self, action: Action, target: Target | None, watcher: Watcher | None = None
+    ) -> Outcome:
+        stopped = watcher is not None and watcher.stop_now(action)
+        if action is Action.CLOSE and not stopped:
             return Outcome(False, "the leg slipped", undone=True)
-        return super().execute(action, target, wanted)
+        return super().execute(action, target, watcher)
 
 
 def test_failed_action_gets_not_ok_and_the_guard_stops_the_loop(scenario: Scenario) -> None:
@@ -166,11 +172,9 @@ def test_the_observer_sees_each_decision_before_the_world_acts(scenario: Scenari
     acted = [r for r in records if not r.is_repeat]
     assert len(seen) == len(acted) and answers == acted
     assert all(s.feedback is None and s.succeeded is None for s in seen)
-    assert [s._replace(feedback=None, succeeded=None, delivered=False, legs_delivered=0)
-            for s in seen] == [
-        r._replace(feedback=None, succeeded=None, delivered=False, legs_delivered=0)
-        for r in acted
-    ]  # fmt: skip
+    answer = {"feedback": None, "succeeded": None, "delivered": False, "legs_delivered": 0,
+              "interrupted": False, "detail": ""}  # fmt: skip
+    assert [s._replace(**answer) for s in seen] == [r._replace(**answer) for r in acted]
     assert acted[0].target == Target("leg", 0) or acted[0].target == Target("leg", 1)
     assert json.loads(json.dumps(acted[0].to_dict()))["target"]["kind"] == "leg"
 
@@ -187,21 +191,30 @@ class RecordingBody:
     def perform(self, gesture: Gesture, target: Target | None) -> None:
         self.events.append(f"perform {gesture.value}")
 
+    def watch(self, intent: Intent, reaction: float) -> Watcher:
+        self.events.append("watch")
+        return InstantWatcher(intent)
+
     def show_feedback(self, feedback: Feedback) -> None:
         self.events.append(f"thumb {feedback.value}")
 
+    def recover(self, leg: int) -> bool:
+        raise AssertionError("nothing is dropped in a symbolic world")
+
 
 def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> None:
-    """The person performs, the robot acts, the person shows the thumb, and only then does the
+    """The person performs, watches the robot act, shows the thumb, and only then does the
     learner receive the feedback (and the record is yielded)."""
     events: list[str] = []
     learner, person, detector = parts(scenario, 0.8, 3, handovers=4)
     person.body = RecordingBody(events)
 
     class LoggedWorld(SymbolicWorld):
-        def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+        def execute(
+            self, action: Action, target: Target | None, watcher: Watcher | None = None
+        ) -> Outcome:
             events.append(f"robot {action.value}")
-            return super().execute(action, target, wanted)
+            return super().execute(action, target, watcher)
 
     class LoggedLearner(Learner):
         def feedback(self, state, action, ok):  # type: ignore[no-untyped-def]
@@ -217,7 +230,11 @@ def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> Non
     robot_at = [i for i, e in enumerate(events) if e.startswith("robot ")]
     assert len(robot_at) == sum(not r.is_repeat for r in records) > 0
     for i in robot_at:
-        assert events[i + 1].startswith("thumb ") and events[i + 2 : i + 4] == ["learner", "record"]
+        assert (
+            events[i - 1] == "watch"
+            and events[i + 1].startswith("thumb ")
+            and events[i + 2 : i + 4] == ["learner", "record"]
+        )
     thumbs = [e.removeprefix("thumb ") for e in events if e.startswith("thumb ")]
     assert thumbs == [r.feedback.value for r in records if not r.is_repeat]  # type: ignore[union-attr]
     performed = [e for e in events if e.startswith("perform ")]

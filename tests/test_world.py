@@ -41,16 +41,17 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
     seen: list[tuple[Action, np.ndarray]] = []
     world.add_result_hook(lambda r: seen.append((r.action, world.leg_position(0))))
     steps = [
-        (Action.OBJECT, POINT_LEG0, True, Hand.FREE),
-        (Action.CLOSE, GRASP, True, Hand.OCCUPIED),
-        (Action.LOCATION, GIVE, False, Hand.OCCUPIED),  # rejected: shown, then undone
-        (Action.HUMAN, GIVE, True, Hand.OCCUPIED),
-        (Action.OPEN, RELEASE, True, Hand.FREE),
+        (Action.OBJECT, POINT_LEG0, Hand.FREE),
+        (Action.CLOSE, GRASP, Hand.OCCUPIED),
+        (Action.LOCATION, GIVE, Hand.OCCUPIED),  # unwanted: the person stops it, it is undone
+        (Action.HUMAN, GIVE, Hand.OCCUPIED),
+        (Action.OPEN, RELEASE, Hand.FREE),
     ]
-    for action, intent, wanted, hand in steps:
-        outcome = acted.act(action, intent, wanted)
-        assert outcome.succeeded, (action, outcome.detail)
-        assert outcome.undone is not wanted
+    for action, intent, hand in steps:
+        outcome = acted.act(action, intent)
+        wanted = action is intent.action
+        assert outcome.succeeded is wanted, (action, outcome.detail)
+        assert outcome.undone is not wanted and outcome.interrupted is not wanted
         assert world.hand() is hand, action  # read from contacts
     released = world.last_result
     assert released is not None and released.action is Action.OPEN
@@ -109,12 +110,12 @@ def test_bad_targets_name_the_valid_choices() -> None:
     with pytest.raises(
         RobinPilError, match=rf"leg 9 does not exist; valid: 0\.\.{world.leg_count - 1}"
     ):
-        world.execute(Action.OBJECT, Target("leg", 9), True)
+        world.execute(Action.OBJECT, Target("leg", 9))
     last = len(world.layout.spots) - 1
     with pytest.raises(RobinPilError, match=rf"spot 9 does not exist; valid: 0\.\.{last}"):
-        world.execute(Action.LOCATION, Target("spot", 9), True)
+        world.execute(Action.LOCATION, Target("spot", 9))
     with pytest.raises(RobinPilError, match="valid: 'leg', 'spot'"):
-        world.execute(Action.OBJECT, Target("box", 0), False)
+        world.execute(Action.OBJECT, Target("box", 0))
     assert world.data.qpos.tobytes() == before
 
 
@@ -173,8 +174,8 @@ def test_object_without_a_pointed_target_goes_to_the_nearest_leg() -> None:
     world = PhysicalWorld()
     site = world.sim.site_pose().translation()
     nearest = int(np.argmin(np.linalg.norm(world.leg_positions() - site, axis=1)))
-    outcome = world.execute(Action.OBJECT, None, False)
-    assert outcome.undone and f"towards leg {nearest}" in outcome.detail
+    outcome = world.execute(Action.OBJECT, None)  # nobody watching: it runs to its end
+    assert outcome.succeeded and outcome.detail == f"reached leg {nearest}"
 
 
 @pytest.mark.slow
@@ -185,7 +186,7 @@ def test_the_pointing_hand_draws_back_before_the_arm_moves() -> None:
     assert world.human.pose().translation()[0] < PERSON_CLEAR_X
     acted.body.perform(POINT_LEG0.gesture, POINT_LEG0.target)  # point, hold, draw back
     assert world.human.pose().translation()[0] == pytest.approx(PERSON_CLEAR_X)
-    outcome = world.execute(Action.OBJECT, POINT_LEG0.target, True)
+    outcome = world.execute(Action.OBJECT, POINT_LEG0.target)
     assert outcome.succeeded, outcome.detail
     assert world.last_result.measurements["site_error_m"] < 0.005  # m
 
@@ -201,8 +202,11 @@ def test_open_over_the_palm_needs_the_palm_under_the_leg() -> None:
     ):
         assert acted.act(action, intent).succeeded
     palm = world.human.palm_centre()
-    for action in (Action.LOCATION, Action.OBJECT):  # rejected moves leave the palm out
-        assert world.execute(action, Target("spot", 0), False).undone
+    wants_spot = _intent("pointing", "location", Target("spot", 0))  # meant, not yet shown
+    for action in (Action.OBJECT, Action.LOCATION):  # stopped moves leave the palm out
+        watcher = acted.body.watch(_intent("release", "open"), 0.5)
+        outcome = world.execute(action, wants_spot.target, watcher)
+        assert outcome.interrupted and outcome.undone, (action, outcome.detail)
         assert world.palm_is_out()
     here = world.human.pose().translation()  # the person points away: back, down, then over
     away = [

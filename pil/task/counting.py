@@ -34,7 +34,10 @@ class RunStats:
     legs: int = 0  # legs delivered
     handovers: int = 0  # handovers in the script
     scripted_gestures: int = 0  # gestures the script needs when every one is read right
-    _last_step: tuple[int, int] | None = field(default=None, repr=False)
+    interrupted: int = 0  # actions the person stopped with a thumb down (physical worlds)
+    drops: int = 0  # actions during which a held leg left the robot's hand
+    recoveries: int = 0  # instructions the person added to have a dropped leg picked up
+    _last_step: tuple[int, int, bool] | None = field(default=None, repr=False)
 
     @classmethod
     def for_script(cls, script: Sequence[ScriptStep]) -> RunStats:
@@ -46,8 +49,9 @@ class RunStats:
         """Count one record (a gesture's first record counts the gesture)."""
         if record.gesture_count != self.gestures:
             self.gestures = record.gesture_count
-            step = (record.handover, record.step)
+            step = (record.handover, record.step, record.recovery)
             self.repeats += step == self._last_step
+            self.recoveries += record.recovery and step != self._last_step
             self._last_step = step
             if record.detected_gesture is not record.true_gesture:
                 self.misdetections += 1
@@ -60,6 +64,8 @@ class RunStats:
         self.actions = record.t
         self.rejected += record.feedback is Feedback.NOT_OK
         self.exploited += record.exploited
+        self.interrupted += record.interrupted
+        self.drops += record.dropped is not None
 
     def as_dict(self) -> dict[str, int]:
         """The counts by name."""

@@ -29,6 +29,7 @@ from pil.task.detector import DEFAULT_DISCARD, Detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import MAX_ACTIONS_PER_GESTURE
 from pil.task.scenario import Scenario, load_scenario
+from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD, ReactionTime
 
 # The assembly's own settings: None (the default) keeps the scenario file's value.
 SCENARIO_KEYS: tuple[str, ...] = ("tables", "legs_per_table", "training_tables", "draw", "spots")
@@ -47,8 +48,13 @@ PARAMS: dict[str, Any] = {
     "repeat_discarded": True,  # the robot asks for a repeat of a discarded gesture
     "silent_ok": 0.0,  # chance that the person approves by saying nothing
     "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
+    "reaction_time": DEFAULT_REACTION_MEAN,  # s, mean delay from recognising to thumb down
+    "reaction_spread": DEFAULT_REACTION_SPREAD,  # s, its standard deviation
+    "handover_timeout": 180.0,  # s from a handover's first gesture (physical episodes)
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
 }
+# The person's parameters (recorded in an episode's summary).
+PERSON_PARAMS: tuple[str, ...] = ("silent_ok", "patience", "reaction_time", "reaction_spread")
 PHASES: tuple[str, ...] = ("train", "test")
 SEED_NAMES: tuple[str, ...] = tuple(
     f"{phase}_{part}" for part in ("draw", "detector", "learner", "person") for phase in PHASES
@@ -177,6 +183,7 @@ def build_parts(
         seeds[f"{phase}_person"],
         silent_ok=values["silent_ok"],
         patience=values["patience"],
+        reaction_time=ReactionTime(values["reaction_time"], values["reaction_spread"]),
         body=body,
     )
     detector = Detector(

@@ -1,11 +1,18 @@
 """The scripted person: performs each handover type's gestures and judges the robot's actions.
 
 One :class:`ScriptedPerson` owns everything the person does, in the order a person does it:
-:meth:`~ScriptedPerson.perform` the gesture, watch the robot act, :meth:`~ScriptedPerson.judge`
-it and :meth:`~ScriptedPerson.show_feedback` with a thumb; only then does the learner receive
-the feedback. The same person serves the symbolic study (no body: nothing to show) and the
-physical episode, whose :class:`PersonBody` makes the gestures and thumbs visible, holds out
+:meth:`~ScriptedPerson.perform` the gesture, :meth:`~ScriptedPerson.watch` the robot act (and
+stop it with a thumb down when it does something else), :meth:`~ScriptedPerson.judge` the
+result and :meth:`~ScriptedPerson.show_feedback` with a thumb; only then does the learner
+receive the feedback. The same person serves the symbolic study (no body: the action is seen at
+once, nothing is shown) and the physical episode, whose :class:`PersonBody` perceives the
+robot's motion, reacts after a reaction time, makes the gestures and thumbs visible, holds out
 the palm and carries delivered legs away.
+
+The person's next instruction follows the world (:meth:`~ScriptedPerson.next_step`): when a leg
+the robot held has left its hand (a drop), the person first has it picked up again, pointing at
+the leg where it lies (or, when it left the robot's reach, putting it back on the table: a
+person intervention), then goes on with the script.
 
 The person knows the correct association T_c: for every gesture of the script they want one
 action (the step's action). They approve an action exactly when it is the wanted one *and* the
@@ -19,14 +26,16 @@ one gesture, performs the gesture again instead of waiting for the robot to find
 from __future__ import annotations
 
 import random
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
 from pil.errors import RobinPilError, check_rate
 from pil.task.scenario import HandoverType, Scenario
-from pil.task.world import Intent, Outcome, Target
-from pil.types import Action, Feedback, Gesture
+from pil.task.watching import InstantWatcher, ReactionTime
+from pil.task.world import Intent, Outcome, Target, Watcher
+from pil.types import Action, Feedback, Gesture, Hand
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,6 +46,7 @@ class ScriptStep:
     handover_type: str
     step: int  # 0-based index of the gesture within its handover
     first_of_table: bool  # the first gesture of a table (the world lays out its legs)
+    recovery: bool = False  # inserted by the person to have a dropped leg picked up again
 
 
 def plan_script(
@@ -81,16 +91,28 @@ class PersonBody(Protocol):
         """Make ``gesture`` visibly (pointing at ``target``), hold it, and make room."""
         ...
 
+    def watch(self, intent: Intent, reaction: float) -> Watcher:
+        """Watch the robot's next action, meaning ``intent``: recognise from the motion when it
+        is another action, then show thumb down ``reaction`` s later."""
+        ...
+
     def show_feedback(self, feedback: Feedback) -> None:
         """Show the thumb (or nothing for silence) and hold it; then do what follows from it,
         e.g. carry a leg that now lies on the palm to the bin."""
         ...
 
+    def recover(self, leg: int) -> bool:
+        """Make leg ``leg`` (dropped by the robot) graspable again: True when the person had to
+        put it back on the table themselves (a person intervention)."""
+        ...
+
 
 class ScriptedPerson:
-    """Performs a script and gives feedback (own seeded RNG for ``silent_ok``).
+    """Performs a script, watches the robot and gives feedback (own seeded RNGs).
 
-    ``body``, when given, makes what the person does visible in a physical world.
+    ``body``, when given, makes what the person does visible in a physical world;
+    ``reaction_time`` is the mean and spread (s) of the delay between recognising an unwanted
+    action and the thumb down.
     """
 
     def __init__(
@@ -100,6 +122,7 @@ class ScriptedPerson:
         *,
         silent_ok: float = 0.0,
         patience: int = 0,
+        reaction_time: ReactionTime | None = None,
         body: PersonBody | None = None,
     ) -> None:
         self.script = tuple(script)
@@ -108,7 +131,13 @@ class ScriptedPerson:
         if isinstance(patience, bool) or not isinstance(patience, int) or patience < 0:
             raise RobinPilError(f"patience must be a whole number >= 0 (0 = off), got {patience!r}")
         self.patience = patience
+        self.reaction_time = reaction_time or ReactionTime()
         self._rng = random.Random(seed)
+        self._reaction_rng = random.Random(f"reaction:{seed}")  # apart: the study draws none
+        self._todo: deque[ScriptStep] = deque(self.script)
+        self._holding: int | None = None  # the leg the person saw the robot grasp (approved)
+        self._pointed: int | None = None  # the leg of the last approved "object"
+        self.interventions = 0  # legs the person put back on the table themselves
 
     @classmethod
     def for_types(
@@ -118,6 +147,45 @@ class ScriptedPerson:
         script = plan_script(types, scenario.legs_per_table, scenario.spots)
         return cls(script, seed, **options)  # type: ignore[arg-type]
 
+    # --- what to do next -----------------------------------------------------------------------
+    def next_step(self, hand: Hand) -> ScriptStep | None:
+        """The next instruction given the robot's ``hand`` as the person sees it (None: done).
+
+        A leg the robot held but no longer holds is first picked up again; a leg the robot
+        caught although its close was rejected counts as grasped (see module doc)."""
+        if not self._todo:
+            return None
+        head = self._todo[0]
+        if self._holding is not None and hand is Hand.FREE:
+            leg, self._holding = self._holding, None
+            if self.body is not None and self.body.recover(leg):
+                self.interventions += 1
+            where = head.intent
+            point = Intent(Gesture.POINTING, Action.OBJECT, Target("leg", leg),
+                           where.handover, where.table)  # fmt: skip
+            grasp = Intent(Gesture.GRASP, Action.CLOSE, None, where.handover, where.table)
+            for intent in (grasp, point):
+                recovery = ScriptStep(intent, head.handover_type, head.step, False, recovery=True)
+                self._todo.appendleft(recovery)
+            head = self._todo[0]
+        elif self._holding is None and hand is Hand.OCCUPIED and head.intent.action is Action.CLOSE:
+            self.completed(head, Action.CLOSE)  # the leg is in the hand already
+            return self.next_step(hand)
+        return head
+
+    def completed(self, item: ScriptStep, action: Action) -> None:
+        """``item``'s instruction got an approved ``action``: on to the next one."""
+        if self._todo and self._todo[0] is item:
+            self._todo.popleft()
+        target = item.intent.target
+        if action is Action.OBJECT:
+            self._pointed = None if target is None or target.kind != "leg" else target.index
+        elif action is Action.CLOSE:
+            self._holding = self._pointed
+        elif action is Action.OPEN:
+            self._holding = None
+
+    # --- one action ----------------------------------------------------------------------------
     def start_table(self, table: int) -> None:
         """A new table begins: the body (if any) rests its hand."""
         if self.body is not None:
@@ -128,9 +196,16 @@ class ScriptedPerson:
         if self.body is not None:
             self.body.perform(intent.gesture, intent.target)
 
+    def watch(self, intent: Intent) -> Watcher:
+        """How the person watches the robot's next action (instantly, without a body)."""
+        if self.body is None:
+            return InstantWatcher(intent)
+        return self.body.watch(intent, self.reaction_time.draw(self._reaction_rng))
+
     def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
-        """OK (or silence) for the wanted action when it worked, else not-OK."""
-        if action is not intent.action or not outcome.succeeded:
+        """OK (or silence) for the wanted action when it worked, else not-OK (a stopped action
+        got its thumb down already)."""
+        if outcome.interrupted or action is not intent.action or not outcome.succeeded:
             return Feedback.NOT_OK
         if self.silent_ok and self._rng.random() < self.silent_ok:
             return Feedback.NONE

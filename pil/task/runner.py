@@ -25,12 +25,15 @@ from pil.task.counting import RunStats
 from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.world import Target, World
-from pil.types import START_ACTION, Action, Feedback, Gesture, Hand, State
+from pil.types import START_ACTION, START_HAND, Action, Feedback, Gesture, Hand, State, hand_after
 
 MAX_ACTIONS_PER_GESTURE = 25
 MAX_PERFORMANCES = 1000  # times one instruction gesture may be performed before giving up
 _DELIVERY_FROM = (Action.HUMAN, Action.LOCATION)
 _NOT_OK, _OPEN, _OCCUPIED = Feedback.NOT_OK, Action.OPEN, Hand.OCCUPIED
+# The last action the state takes when physics changed the hand without an approved action: a
+# hand that lost its leg is open and empty, as at the start; one that caught a leg has closed.
+_AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
 
 
 class RunnerError(RobinPilError):
@@ -63,6 +66,9 @@ class StepRecord(NamedTuple):
     exploited: bool = False
     reason: str = ""
     target: Target | None = None  # the leg or spot the person indicates (None: nothing)
+    recovery: bool = False  # an instruction the person added to have a dropped leg picked up
+    interrupted: bool = False  # the person stopped the action while it ran (or at its end)
+    dropped: int | None = None  # a leg that left the robot's hand during the action
 
     @property
     def state_key(self) -> str | None:
@@ -116,17 +122,19 @@ def steps(
     shows the thumb, and only then the learner receives the feedback. ``observer`` is told of
     each decision and answer for presentation only.
     """
-    previous = START_ACTION
+    previous, expected = START_ACTION, START_HAND
     gestures = actions = legs = 0
-    for item in person.script:
+    laid: set[int] = set()
+    while (item := person.next_step(world.hand())) is not None:
         intent = item.intent
         true = intent.gesture
-        if item.first_of_table:
+        if item.first_of_table and intent.table not in laid:
+            laid.add(intent.table)
             person.start_table(intent.table)
             world.start_table(intent.table)
         spent = performed = 0  # actions and performances for this instruction
-        done = False
-        while not done:
+        done = changed = False
+        while not (done or changed):
             gestures += 1
             performed += 1
             if performed > MAX_PERFORMANCES:
@@ -140,13 +148,16 @@ def steps(
                 t=actions, gesture_count=gestures, table=intent.table, handover=intent.handover,
                 handover_type=item.handover_type, step=item.step, true_gesture=true,
                 detected_gesture=detected, intended_action=intent.action,
-                legs_delivered=legs, target=intent.target,
+                legs_delivered=legs, target=intent.target, recovery=item.recovery,
             )  # fmt: skip
             if (manual and detected is not true) or (repeat_discarded and detected is None):
                 what = "discarded" if detected is None else f"read as {detected.value}"
                 yield base._replace(reason=f"{what}; the person repeats it")
                 continue
-            decision = learner.decide(detected, previous, world.hand())
+            hand = world.hand()
+            if hand is not expected:  # physics changed the hand (a drop): the robot's hand is
+                previous, expected = _AFTER_DROP[hand], hand  # open and empty, as at the start
+            decision = learner.decide(detected, previous, hand)
             state = decision.state
             if state is None or decision.action is None:
                 yield base._replace(reason=decision.reason)
@@ -165,13 +176,12 @@ def steps(
                         f"{intent.handover}, type {item.handover_type}); the world may keep "
                         "failing the wanted action"
                     )
-                hand = world.hand()
                 actions += 1
                 if observer is not None:
                     observer.decided(
                         base._replace(t=actions, action=action, exploited=exploited, reason=reason)
                     )
-                outcome = world.execute(action, intent.target, action is intent.action)
+                outcome = world.execute(action, intent.target, person.watch(intent))
                 feedback = person.judge(intent, action, outcome)
                 ok = feedback is not _NOT_OK  # no feedback counts as OK (eq. 1)
                 delivered = (
@@ -181,7 +191,8 @@ def steps(
                 record = base._replace(
                     t=actions, action=action, exploited=exploited, reason=reason,
                     feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
-                    delivered=delivered, legs_delivered=legs,
+                    delivered=delivered, legs_delivered=legs, interrupted=outcome.interrupted,
+                    dropped=outcome.dropped,
                 )  # fmt: skip
                 if observer is not None:
                     observer.answered(record)
@@ -189,8 +200,12 @@ def steps(
                 learner.feedback(state, action, ok)
                 yield record
                 if ok:
-                    previous = action
+                    person.completed(item, action)
+                    previous, expected = action, hand_after(action, hand)
                     done = True
+                    break
+                if world.hand() is not hand:
+                    changed = True  # the world changed under the step: the person re-plans
                     break
                 rejections += 1
                 if person.loses_patience(rejections):

@@ -42,27 +42,50 @@ class Outcome:
 
     succeeded: bool  # the action achieved its purpose (e.g. the grasp holds the leg)
     detail: str = ""  # why not, or a measurement worth logging
-    undone: bool = False  # the world was returned to its state before the action
+    undone: bool = False  # the robot took the action back (after a stop, or when it failed)
+    interrupted: bool = False  # the person stopped it (thumb down) before or after its end
+    dropped: int | None = None  # a leg that left the robot's hand on the way (physics)
+
+
+class Watcher(Protocol):
+    """The person watching the robot act: the world asks it, tick by tick, whether to stop.
+
+    A thumb down is the only thing that flows from the person to the robot during an action;
+    the world never learns what the person wanted.
+    """
+
+    def stop_now(self, shown: Action | None) -> bool:
+        """Called when the action starts and at every control tick while it runs: True when
+        the person shows thumb down now. ``shown`` is the action as a symbolic world shows it
+        outright; a physical world passes None (a person's body perceives the motion)."""
+        ...
+
+    def result_window(self, shown: Action | None) -> float:
+        """Called once when the action has run to its end: how long (s) the world should keep
+        asking :meth:`stop_now` before the result stands (0: the person lets it stand)."""
+        ...
 
 
 class World(Protocol):
     """Executes the robot's actions; symbolic in the study, MuJoCo in an episode.
 
     The world acts for the robot only: it is told the action and the leg or spot it concerns,
-    never what the person wants it to be. The person (:mod:`pil.task.person`) acts in it too.
+    never what the person wants; the person can only stop it, through ``watcher``.
     """
 
     def hand(self) -> Hand:
         """The hand state as the world sees it (from physics, for the physical robot)."""
         ...
 
-    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
+    def execute(
+        self, action: Action, target: Target | None, watcher: Watcher | None = None
+    ) -> Outcome:
         """Perform ``action`` on ``target`` (the leg or spot the person indicated, if any).
 
-        ``wanted`` says whether the person means this action. An unwanted action is shown far
-        enough for the person to reject it and then undone, so that the world is back in its
-        state before the call (``Outcome.undone`` is True). A wanted action is completed; if it
-        fails physically the world undoes it too and says why.
+        The robot runs the action as it would, asking ``watcher`` at every tick; when the
+        person stops it (during the action, or on seeing its result) the robot stops and takes
+        the action back from where it is (``Outcome.interrupted`` and ``undone``). An action
+        that fails physically is taken back too, where it can be, and says why.
         """
         ...
 
@@ -72,19 +95,23 @@ class World(Protocol):
 
 
 class SymbolicWorld:
-    """A world in which every wanted action succeeds; the hand follows close and open."""
+    """An instant world: the person sees the action at once; the hand follows close and open."""
 
     def __init__(self) -> None:
         self._hand = Hand.FREE
 
     def hand(self) -> Hand:
-        """Occupied after a wanted close, free after a wanted open (:func:`hand_after`)."""
+        """Occupied after a close that was let stand, free after such an open."""
         return self._hand
 
-    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
-        """Apply a wanted action's effect on the hand; an unwanted one changes nothing."""
-        if not wanted:
-            return Outcome(succeeded=True, undone=True)
+    def execute(
+        self, action: Action, target: Target | None, watcher: Watcher | None = None
+    ) -> Outcome:
+        """The person sees ``action`` outright; a stopped action changes nothing."""
+        if watcher is not None and (
+            watcher.stop_now(action) or watcher.result_window(action) > 0.0
+        ):
+            return Outcome(False, "stopped by the person", undone=True, interrupted=True)
         self._hand = hand_after(action, self._hand)
         return Outcome(succeeded=True)
 

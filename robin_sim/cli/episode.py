@@ -33,6 +33,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
     parser.add_argument("--no-policy", action="store_true", help="no P(a|s) panel in the video")
+    parser.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a run parameter, repeatable: e.g. reaction_time=0.8 (s, the person's mean "
+        "reaction), reaction_spread=0.1, silent_ok=0.1, patience=3, handover_timeout=120",
+    )
     parser.add_argument("--out", type=Path, default=Path("out"), help="output folder")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -47,9 +55,22 @@ def _size(text: str) -> tuple[int, int]:
     return width, height
 
 
+def _params(texts: list[str]) -> dict[str, str]:
+    from pil.errors import RobinPilError
+
+    params: dict[str, str] = {}
+    for text in texts:
+        name, equals, value = text.partition("=")
+        if not equals or not name.strip():
+            raise RobinPilError(f"--param must look like NAME=VALUE, got {text!r}")
+        params[name.strip()] = value.strip()
+    return params
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the episode and print its summary."""
     width, height = _size(args.size)
+    params = _params(args.param)
     video = not args.no_video
     if video or not args.no_verify:
         from robin_sim.render.gl_backend import ensure_gl_backend
@@ -62,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
         scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
         height=height, fps=args.fps, shadows=args.shadows,
         render_workers=args.render_workers, policy_panel=not args.no_policy,
-        verify=not args.no_verify, progress=not args.quiet,
+        verify=not args.no_verify, progress=not args.quiet, params=params,
     )  # fmt: skip
     summary = run_episode(config)
     print(json.dumps(summary, indent=2))

@@ -37,7 +37,7 @@ class HandController:
     The closed targets lie past the point where the fingers meet a leg (``robot_spec``), so a
     closing hand stops at the leg and squeezes it with the position error times the actuator
     gain, capped by each actuator's force range (the grip force limit). Closing is done when
-    the fingers have stopped moving (:func:`robin_sim.robot.actions.fingers_settled`).
+    the fingers have stopped moving (:func:`robin_sim.robot.motion.fingers_settled`).
     """
 
     def __init__(
@@ -207,6 +207,12 @@ class Simulator:
     def play(self, plan: JointPlan) -> None:
         """Start sending ``plan``'s joint targets, one row per tick."""
         self._plan, self._plan_tick = plan, 0
+
+    def halt(self) -> None:
+        """Stop playing the current plan; the arm holds its last targets."""
+        if self._plan is not None:
+            self.ik.reset(self.arm_command)
+            self._plan = None
 
     @property
     def moving(self) -> bool:

@@ -21,13 +21,13 @@ from tqdm import tqdm
 
 from pil.errors import RobinPilError, check_rate
 from pil.experiments.systems import SYSTEMS, check_system, test_parts
-from pil.task.counting import RunStats
-from pil.task.parts import check_params, resolve_scenario
+from pil.task.parts import PERSON_PARAMS, RunParts, check_params, resolve_scenario
 from pil.task.runner import StepRecord, steps
 from pil.task.scenario import Scenario
-from pil.types import Action, Hand, hand_after
+from pil.types import Hand, hand_after
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.render_checks import RenderChecks
+from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
 from robin_sim.person.body import PhysicalBody
@@ -71,58 +71,28 @@ class EpisodeConfig:
         return self
 
 
-@dataclass
-class EpisodeTotals:
-    """Running totals for the summary: the study's counts plus what only physics tells."""
-
-    counts: RunStats = field(default_factory=RunStats)
-    legs_to_person: int = 0
-    legs_placed: int = 0
-    physical_failures: int = 0
-    render_checks: int = 0
-    render_disagreements: int = 0
-
-    def as_summary(self) -> dict[str, int]:
-        """The summary's count fields (the study's names, legs as ``legs_delivered``)."""
-        c = self.counts
-        return {
-            "gestures": c.gestures,
-            "actions": c.actions,
-            "rejected": c.rejected,
-            "corrections": c.corrections,
-            "repeats": c.repeats,
-            "misdetections": c.misdetections,
-            "discarded": c.discarded,
-            "legs_delivered": c.legs,  # Algorithm 1's count (handed over or placed)
-            "legs_to_person": self.legs_to_person,
-            "legs_placed": self.legs_placed,
-            "physical_failures": self.physical_failures,
-            "render_checks": self.render_checks,
-            "render_disagreements": self.render_disagreements,
-        }
-
-
-def _expected_hand(before: Hand, record: StepRecord) -> Hand:
-    """The hand state that the learner's approved actions imply after ``record``."""
-    if record.action is None or record.feedback is None or not record.feedback.approves:
+def _expected_hand(before: Hand, record: StepRecord, physical: Hand) -> Hand:
+    """The hand state the learner's approved actions imply after ``record``; after an action
+    that was not approved, what physics shows (a drop, a leg caught by a rejected close)."""
+    if record.action is None:
         return before
+    if record.feedback is None or not record.feedback.approves:
+        return physical
     return hand_after(record.action, before)
 
 
-def episode_records(
-    config: EpisodeConfig,
-    task: EpisodeTask,
-    world: PhysicalWorld,
-    view: EpisodeView | None = None,
-) -> Iterator[StepRecord]:
-    """The step loop of ``config`` on ``world`` (learner, person and detector as in the study);
-    the person acts with a :class:`PhysicalBody`, ``view`` (if given) follows each step."""
+def episode_parts(config: EpisodeConfig, task: EpisodeTask, world: PhysicalWorld) -> RunParts:
+    """Learner, person (with a :class:`PhysicalBody` in ``world``) and detector of ``config``:
+    the study's parts, so that the same seed gives the same decisions."""
     body = PhysicalBody(world, seed=config.seed)
-    parts = test_parts(
-        config.system, config.rate, config.seed, task.scenario, task.values, body=body
-    )
-    if view is not None and config.policy_panel:
-        view.table = parts.learner.table
+    return test_parts(config.system, config.rate, config.seed, task.scenario, task.values,
+                      body=body)  # fmt: skip
+
+
+def episode_records(
+    parts: RunParts, world: PhysicalWorld, view: EpisodeView | None = None
+) -> Iterator[StepRecord]:
+    """The step loop of ``parts`` on ``world``; ``view`` (if given) follows each step."""
     yield from steps(
         parts.learner, parts.person, parts.detector, world, observer=view, **parts.options
     )
@@ -170,7 +140,10 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     out.mkdir(parents=True, exist_ok=True)
     world = PhysicalWorld(task.layout)
     view = EpisodeView()
-    totals = EpisodeTotals()
+    parts = episode_parts(config, task, world)
+    if config.policy_panel:
+        view.table = parts.learner.table
+    totals = EpisodeTotals(timeout_s=float(task.values["handover_timeout"]))
     started = time.perf_counter()
     status, error, recorder = "running", "", None
     try:
@@ -194,7 +167,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
             bar = stack.enter_context(
                 tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
             )
-            _play(episode_records(config, task, world, view), world, view, checks, log, bar,
+            _play(episode_records(parts, world, view), parts, world, view, checks, log, bar,
                   totals)  # fmt: skip
         status = "finished"  # the video and the log are closed by now
     except KeyboardInterrupt:
@@ -204,13 +177,14 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
         status, error = "failed", str(problem)
         raise
     finally:
-        summary = _summary(config, task, totals, world, started, status, error, recorder)
+        summary = _summary(config, task, totals, parts, world, started, status, error, recorder)
         write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
 
 
 def _play(
     records: Iterator[StepRecord],
+    parts: RunParts,
     world: PhysicalWorld,
     view: EpisodeView,
     checks: RenderChecks,
@@ -223,11 +197,14 @@ def _play(
     for record in records:
         if record.action is None:
             view.asked_to_repeat(record)
-        hand = _expected_hand(hand, record)
         physical = world.hand()
+        hand = _expected_hand(hand, record, physical)
         entry = _log_entry(record, world, checks.take(), physical)
         log.write(entry)
-        _count(totals, record, entry)
+        body = parts.person.body
+        assert isinstance(body, PhysicalBody)
+        ended = world.time if world.last_result is None else world.last_result.ended
+        totals.add(record, entry, body.performed_at[record.gesture_count - 1], ended)
         bar.update(record.legs_delivered - bar.n)
         bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
         if physical is not hand:
@@ -250,25 +227,11 @@ def _log_entry(
     return entry
 
 
-def _count(totals: EpisodeTotals, record: StepRecord, entry: Mapping[str, Any]) -> None:
-    totals.counts.add(record)
-    if record.action is None:
-        return
-    totals.physical_failures += record.succeeded is False
-    if record.delivered:
-        to_person = record.state is not None and record.state.previous_action is Action.HUMAN
-        totals.legs_to_person += to_person
-        totals.legs_placed += not to_person
-    check = entry.get("render_check")
-    if check is not None:
-        totals.render_checks += 1
-        totals.render_disagreements += not check["agrees"]
-
-
 def _summary(
     config: EpisodeConfig,
     task: EpisodeTask,
     totals: EpisodeTotals,
+    parts: RunParts,
     world: PhysicalWorld,
     started: float,
     status: str,
@@ -286,7 +249,8 @@ def _summary(
         "scenario": task.scenario.name,
         "tables": task.scenario.tables,
         "legs_total": task.legs_total,
-        **totals.as_summary(),
+        **totals.as_summary(world.person_contacts.events, parts.person.interventions, world.time),
+        "person": {name: task.values[name] for name in PERSON_PARAMS},
         "sim_time_s": round(world.time, 3),
         "wall_time_s": round(wall, 3),
         "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,

@@ -83,6 +83,7 @@ FLOOR_GEOM = "floor"
 CAMERAS: tuple[str, ...] = ("front", "side", "head")
 DEFAULT_CAMERA = "front"
 
+PERSON_BODY = "human"  # the person standing across the table
 HUMAN_MOCAP_BODY = "human_hand"  # mocap: the person's right hand (palm up for "give me")
 HUMAN_FOREARM_BODY = "human_forearm"
 HUMAN_PALM_GEOM = "human_palm"
@@ -147,6 +148,7 @@ HUMAN_PALM_BODY = "human_palm_body"
 HUMAN_PALM_JOINT = "human_palm_free"
 HUMAN_PALM_WELD = "human_palm_weld"
 HUMAN_PALM_BODY_SITE = "human_palm_body_site"
+PERSON_BODIES: tuple[str, ...] = (PERSON_BODY, HUMAN_MOCAP_BODY, HUMAN_PALM_BODY)  # with children
 HUMAN_PALM_RIM_GEOMS: tuple[str, ...] = ("human_palm_rim_thumb", "human_palm_rim_little")
 BIN_BODY = "bin"
 # The bin for delivered legs (static body on the floor): its floor and four walls; "near" faces

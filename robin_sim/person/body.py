@@ -9,8 +9,14 @@ the scene, in the order a person does it:
   "give me" holds the palm out at the handover point (a little off it each time: a person never
   holds the hand at exactly the same place); "release" brings the palm back under a leg that
   the robot holds where the palm was.
-* :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; then a leg
-  that lies on the palm is carried to the bin beside the table.
+* :meth:`~PhysicalBody.watch` the robot act (:mod:`robin_sim.person.watcher`): recognise an
+  unwanted action from the motion and stop it with a thumb down one reaction time later.
+* :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; after an
+  approval a leg that lies on the palm is carried to the bin beside the table.
+* :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
+  robot's reach the robot can pick it up again; anywhere else (the floor, the palm, another leg)
+  the person puts it back on the table at its place: a person intervention, the one scene
+  change besides laying out a new table.
 
 The body sees the world as a person would (where the legs and the robot's hand are); it is never
 told what the robot will do next. Only the mocap hand and visual-only geoms move.
@@ -20,10 +26,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from pil.task.world import Target
+from pil.task.world import Intent, Target
 from pil.types import Feedback, Gesture
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
+from robin_sim.person.watcher import PhysicalWatcher
 from robin_sim.robot.targets import target_point
 from robin_sim.robot.world import HANDOVER_TOLERANCE, PALM_OUT_RADIUS, PhysicalWorld
 
@@ -48,6 +55,8 @@ class PhysicalBody:
         self.display = GestureDisplay(world.model)
         self._rng = np.random.default_rng(seed)
         self.palm_goal = np.array(world.layout.handover, float)  # where the palm was held out
+        self.last_watcher: PhysicalWatcher | None = None
+        self.performed_at: list[float] = []  # sim time each performance of a gesture began
 
     # --- the PersonBody protocol ---------------------------------------------------------------
     def start_table(self, table: int) -> None:
@@ -56,6 +65,7 @@ class PhysicalBody:
 
     def perform(self, gesture: Gesture, target: Target | None) -> None:
         """Show ``gesture`` (see the module doc) and hold it so that it can be seen."""
+        self.performed_at.append(self.world.time)
         self.display.show(gesture)
         if gesture is Gesture.POINTING and target is not None:
             self.point_at(target)
@@ -70,13 +80,27 @@ class PhysicalBody:
             self._move(self.hand.slide_under(self.palm_goal, self.world.time))
         self.world.run(GESTURE_HOLD)
 
+    def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
+        """Eyes on the robot's next action, meaning ``intent``, reacting in ``reaction`` s."""
+        self.last_watcher = PhysicalWatcher(self, intent, reaction)
+        return self.last_watcher
+
     def show_feedback(self, feedback: Feedback) -> None:
-        """Show the thumb and hold it; then carry a leg lying on the palm to the bin."""
+        """Show the thumb and hold it; after an approval carry a leg on the palm to the bin."""
         self.display.show(feedback)
         self.world.run(FEEDBACK_HOLD)
-        if self.leg_on_palm() is not None:
+        if feedback.approves and self.leg_on_palm() is not None:
             bin_centre = np.array([*self.world.layout.bin, 0.0])
             self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
+
+    def recover(self, leg: int) -> bool:
+        """Leave a dropped leg for the robot if it can grasp it where it lies; else put it back
+        on the table at its place (True: a person intervention)."""
+        if self.world.graspable_where_it_lies(leg):
+            return False
+        self._move(self.hand.rest(self.world.time))
+        self.world.put_leg_back(leg)
+        return True
 
     # --- what the person does and sees ---------------------------------------------------------
     def point_at(self, target: Target) -> float:

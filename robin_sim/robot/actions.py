@@ -2,24 +2,24 @@
 
 Every action is prepared first (:meth:`RobotAction.prepare`: the arm motion is planned with IK
 and a target out of reach raises :class:`~robin_sim.robot.errors.UnreachableTargetError` before
-anything moves), then either performed (:meth:`RobotAction.perform`, the person wants it) or shown
-and taken back (:meth:`RobotAction.show_and_undo`, the person does not want it).
+anything moves), then run as the robot would run it, tick by tick (:meth:`RobotAction.run`). At
+every control tick the action asks ``stop`` (the person's thumb down); when it says stop the
+robot halts where it is and takes the action back from there. An action that ran to its end
+can still be taken back (:meth:`RobotAction.undo`) when the person rejects its result.
 
 Undo design: arm motions are played as recorded joint-target sequences (:class:`JointPlan`), so
-taking one back replays the executed part backwards to the exact start targets; a shown motion
-stops after ``SHOW_FRACTION`` of its path, long enough for the person to see where it goes.
-Finger actions are shown by a partial closing that opens again; while a leg is held, an
-unwanted open or close only nudges the two fingertips (the thumb and the proximal joints keep
-squeezing), so the person sees the fingers move and nothing drops.
+taking one back replays the executed part backwards to the exact start targets; finger motions
+ramp back to the targets they had. What physics did meanwhile stays done: a leg that slipped
+out of opening fingers has dropped where physics took it (``ActionResult.dropped``).
 A wanted action that fails physically (a grasp that closes on nothing, a blocked motion) is
-undone the same way and reported; a drop cannot be undone and is reported as such.
+undone the same way and reported.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import mink
 import numpy as np
@@ -30,15 +30,20 @@ from robin_sim.control.ik import POSITION_TOLERANCE, JointPlan
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, pose, through
 from robin_sim.robot.errors import UnreachableTargetError
+from robin_sim.robot.motion import (
+    FINGER_UNDO_TIME,
+    HALT_SETTLE,
+    Stop,
+    fingers_settled,
+    never,
+    play,
+    ramp_fingers,
+)
 
-SHOW_FRACTION = 0.3  # share of an unwanted motion shown before it is taken back
-SHOW_PAUSE = 0.3  # s the robot waits at the shown point
 ARRIVAL_TOLERANCE = 0.015  # m between the measured grasp site and the motion's goal
 RETURN_TOLERANCE = 0.005  # m between the grasp site before an action and after its undo
-FINGER_REST_SPEED = 0.05  # rad/s: fingers count as settled below this joint speed
 RETREAT_HEIGHT = 0.10  # m the hand rises after letting go of a leg
 HEIGHT_TOLERANCE = 0.01  # m: a released leg's centre vs radius above its supporting surface
-FINGER_NUDGE = 0.3  # rad the two fingers' distal joints move to show open/close while holding
 
 
 @dataclass
@@ -64,10 +69,12 @@ class ActionResult:
     started: float  # simulated time, s
     ended: float
     measurements: dict[str, float] = field(default_factory=dict)
+    interrupted: bool = False  # the person stopped it
+    dropped: int | None = None  # a held leg that left the hand meanwhile
 
     def outcome(self) -> Outcome:
         """The learner-facing summary."""
-        return Outcome(succeeded=self.succeeded, detail=self.detail, undone=self.undone)
+        return Outcome(self.succeeded, self.detail, self.undone, self.interrupted, self.dropped)
 
 
 def leg_offset_in_site(ctx: Context, leg: int) -> np.ndarray:
@@ -76,16 +83,8 @@ def leg_offset_in_site(ctx: Context, leg: int) -> np.ndarray:
     return site.inverse().apply(ctx.leg_position(leg))
 
 
-def fingers_settled(sim: Simulator) -> bool:
-    """True when the finger ramp has ended and the finger joints have nearly stopped."""
-    if sim.hand.busy(sim.time):
-        return False
-    speeds = sim.data.qvel[sim.hand.joint_dofs]
-    return bool(np.max(np.abs(speeds)) < FINGER_REST_SPEED)
-
-
 class RobotAction(ABC):
-    """Base class: ``prepare`` then ``perform`` (wanted) or ``show_and_undo`` (unwanted)."""
+    """Base class: ``prepare``, then ``run`` (interruptible), and ``undo`` after a late stop."""
 
     action: Action
     time_limit: float = 10.0
@@ -94,18 +93,41 @@ class RobotAction(ABC):
         """Plan the motion; raise UnreachableTargetError if the target is out of reach."""
 
     @abstractmethod
-    def perform(self, ctx: Context) -> ActionResult:
-        """Carry the action out and check whether it achieved its purpose."""
+    def run(self, ctx: Context, stop: Stop = never) -> ActionResult:
+        """Carry the action out, stopping and taking it back when ``stop()`` says so."""
 
     @abstractmethod
-    def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        """Show the start of the action, then return the world to its state before it."""
+    def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
+        """Take back an action that ran to its end (``result``): the person rejected it."""
 
     def report(
-        self, ok: bool, undone: bool, detail: str, start: float, ctx: Context, **m: float
+        self,
+        ok: bool,
+        undone: bool,
+        detail: str,
+        start: float,
+        ctx: Context,
+        *,
+        interrupted: bool = False,
+        dropped: int | None = None,
+        **m: float,
     ) -> ActionResult:
         """An :class:`ActionResult` of this action from ``start`` until now."""
-        return ActionResult(self.action, ok, undone, detail, start, ctx.sim.time, dict(m))
+        return ActionResult(
+            self.action, ok, undone, detail, start, ctx.sim.time, dict(m), interrupted, dropped
+        )
+
+    def undone_after_stop(self, result: ActionResult, ctx: Context, detail: str) -> ActionResult:
+        """``result`` marked as stopped by the person after its end and taken back."""
+        return ActionResult(
+            self.action, False, True, f"rejected at its end; {detail}", result.started,
+            ctx.sim.time, result.measurements, True, result.dropped,
+        )  # fmt: skip
+
+
+def _lost(ctx: Context, held: int | None) -> int | None:
+    """``held`` if that leg is no longer in the hand (it dropped), else None."""
+    return held if held is not None and ctx.held_leg() != held else None
 
 
 class MoveAction(RobotAction):
@@ -138,47 +160,58 @@ class MoveAction(RobotAction):
         self.plan = plan
         self.time_limit = plan.duration + 1.0
 
-    def perform(self, ctx: Context) -> ActionResult:
+    def run(self, ctx: Context, stop: Stop = never) -> ActionResult:
         sim, start = ctx.sim, ctx.sim.time
         if self.plan is None:
             self.prepare(ctx)
         assert self.plan is not None
-        start_q, start_site = sim.arm_command, sim.site_pose().translation()
+        self._start_q, start_site = sim.arm_command, sim.site_pose().translation()
         held = ctx.held_leg()
         offset = None if held is None else leg_offset_in_site(ctx, held)
-        sim.execute(self.plan)
+        played = play(sim, self.plan, stop)
+        if played is not None:  # the person stopped it: halt, then back from where it is
+            halted = sim.site_pose().translation()
+            sim.run(HALT_SETTLE)
+            coast = float(np.linalg.norm(sim.site_pose().translation() - halted))
+            done = JointPlan(self.plan.q[:played], self.plan.dt, 0.0, 0.0)
+            sim.execute(done.reversed_from(self._start_q))
+            sim.run(0.3)
+            back = float(np.linalg.norm(sim.site_pose().translation() - start_site))
+            dropped = _lost(ctx, held)
+            detail = (
+                f"stopped by the person after {played * self.plan.dt:.2f} s towards "
+                f"{self.target_name}; moved back"
+            )
+            if dropped is not None:
+                detail += f"; leg {dropped} dropped on the way"
+            m = {"stopped_after_s": played * self.plan.dt, "stop_coast_m": coast}
+            return self.report(False, True, detail, start, ctx, interrupted=True,
+                               dropped=dropped, return_error_m=back, **m)  # fmt: skip
         error = float(np.linalg.norm(sim.site_pose().translation() - self.goal.translation()))
         m = {"site_error_m": error, "duration_s": sim.time - start}
-        if held is not None and ctx.held_leg() != held:  # a drop cannot be undone; the arm can
-            where = ", ".join(f"{v:.2f}" for v in ctx.leg_position(held))
-            sim.execute(self.plan.reversed_from(start_q))
+        if _lost(ctx, held) is not None:  # a drop cannot be undone; the arm can
+            where = ", ".join(f"{v:.2f}" for v in ctx.leg_position(held))  # type: ignore[arg-type]
+            sim.execute(self.plan.reversed_from(self._start_q))
             detail = f"leg {held} dropped on the way (now at {where}); arm moved back"
-            return self.report(False, False, detail, start, ctx, **m)
+            return self.report(False, False, detail, start, ctx, dropped=held, **m)
         if held is not None:
             m["slip_m"] = float(np.linalg.norm(leg_offset_in_site(ctx, held) - offset))
         if error > ARRIVAL_TOLERANCE or sim.time - start > self.time_limit:
-            sim.execute(self.plan.reversed_from(start_q))
+            sim.execute(self.plan.reversed_from(self._start_q))
             sim.run(0.3)
             m["return_error_m"] = float(np.linalg.norm(sim.site_pose().translation() - start_site))
             detail = f"stopped {error * 100:.1f} cm from {self.target_name}; moved back"
             return self.report(False, True, detail, start, ctx, **m)
         return self.report(True, False, f"reached {self.target_name}", start, ctx, **m)
 
-    def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        sim, start = ctx.sim, ctx.sim.time
-        if self.plan is None:
-            self.prepare(ctx)
+    def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
         assert self.plan is not None
-        start_q, start_site = sim.arm_command, sim.site_pose().translation()
-        shown = self.plan.prefix(fraction)
-        sim.execute(shown)
-        sim.run(SHOW_PAUSE)
-        sim.execute(shown.reversed_from(start_q))
-        sim.run(0.3)
-        back = float(np.linalg.norm(sim.site_pose().translation() - start_site))
-        ok = back <= RETURN_TOLERANCE
-        detail = f"showed {fraction:.0%} towards {self.target_name}, moved back"
-        return self.report(ok, True, detail, start, ctx, return_error_m=back)
+        held = ctx.held_leg()
+        ctx.sim.execute(self.plan.reversed_from(self._start_q))
+        ctx.sim.run(0.3)
+        undone = self.undone_after_stop(result, ctx, f"moved back from {self.target_name}")
+        lost = _lost(ctx, held)
+        return undone if lost is None else replace(undone, dropped=lost)
 
 
 class CloseAction(RobotAction):
@@ -187,23 +220,23 @@ class CloseAction(RobotAction):
     action = Action.CLOSE
     time_limit = 2.5
 
-    def perform(self, ctx: Context) -> ActionResult:
+    def run(self, ctx: Context, stop: Stop = never) -> ActionResult:
         sim, start = ctx.sim, ctx.sim.time
-        sim.hand.close(sim.time)
-        settled = sim.step_until(fingers_settled, self.time_limit)
+        self._before = sim.hand.command
+        if not ramp_fingers(sim, sim.hand.targets.closed, 0.8, stop, self.time_limit):
+            detail = "stopped by the person; fingers opened again"
+            return self.report(False, True, detail, start, ctx, interrupted=True)
         leg = ctx.held_leg()
         if leg is not None:
-            return self.report(
-                True, False, f"holding leg {leg}", start, ctx, settled=float(settled)
-            )
+            return self.report(True, False, f"holding leg {leg}", start, ctx)
         sim.hand.open(sim.time)
         sim.step_until(fingers_settled, self.time_limit)
         return self.report(False, True, "closed on nothing; opened again", start, ctx)
 
-    def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        if ctx.held_leg() is not None:  # already gripping: squeeze a little, then relax
-            return _twitch(ctx, self, FINGER_NUDGE, "squeezed the held leg briefly")
-        return _show_fingers(ctx, self, fraction, "fingers closed partly and opened again")
+    def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
+        ctx.sim.hand.move_to(self._before, ctx.sim.time, FINGER_UNDO_TIME)
+        ctx.sim.step_until(fingers_settled, self.time_limit)
+        return self.undone_after_stop(result, ctx, "fingers back as they were")
 
 
 class OpenAction(RobotAction):
@@ -228,17 +261,35 @@ class OpenAction(RobotAction):
         self.release_point, self.tolerance, self.rest_speed = release_point, tolerance, rest_speed
         self.place, self.rest_height = place, rest_height
 
-    def perform(self, ctx: Context) -> ActionResult:
+    def run(self, ctx: Context, stop: Stop = never) -> ActionResult:
         sim, start = ctx.sim, ctx.sim.time
         leg = ctx.held_leg()
-        sim.hand.open(sim.time)
-        sim.step_until(fingers_settled, self.time_limit)
+        self._before, self._retreat = sim.hand.command, None
+        if not ramp_fingers(sim, sim.hand.targets.open, 0.6, stop, self.time_limit):
+            dropped = _lost(ctx, leg)
+            detail = "stopped by the person; fingers closed again"
+            if dropped is not None:
+                detail += f", but leg {dropped} had slipped out (dropped)"
+            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
+                               dropped=dropped)  # fmt: skip
         if leg is None:
             ok = ctx.hand_state() is Hand.FREE
             return self.report(ok, False, "hand open", start, ctx)
         up = sim.commanded_site_pose()
         top = pose(up.translation() + np.array([0.0, 0.0, RETREAT_HEIGHT]), up.rotation().wxyz)
-        sim.execute(sim.plan(through([up, top], DEFAULT_SPEED)))
+        self._retreat = sim.plan(through([up, top], DEFAULT_SPEED))
+        self._up_q = sim.arm_command
+        played = play(sim, self._retreat, stop)
+        if played is not None:  # stopped while rising: back down, fingers closed again
+            sim.run(HALT_SETTLE)
+            done = JointPlan(self._retreat.q[:played], self._retreat.dt, 0.0, 0.0)
+            sim.execute(done.reversed_from(self._up_q))
+            sim.hand.move_to(self._before, sim.time, FINGER_UNDO_TIME)
+            sim.step_until(fingers_settled, self.time_limit)
+            dropped = _lost(ctx, leg)
+            detail = "stopped by the person while rising; hand back down and closed"
+            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
+                               dropped=dropped)  # fmt: skip
         sim.step_until(lambda _: ctx.leg_speed(leg) < self.rest_speed, 2.0)
         speed = ctx.leg_speed(leg)
         centre = ctx.leg_position(leg)
@@ -259,39 +310,14 @@ class OpenAction(RobotAction):
         detail = f"leg {leg} {miss * 100:.1f} cm from {self.place}, {verdict}{where}"
         return self.report(ok, False, detail, start, ctx, **m)
 
-    def show_and_undo(self, ctx: Context, fraction: float = SHOW_FRACTION) -> ActionResult:
-        if ctx.held_leg() is not None:  # a small opening of two fingertips; the thumb holds
-            return _twitch(ctx, self, -FINGER_NUDGE, "eased two fingertips and closed them again")
-        return _show_fingers(ctx, self, fraction, "fingers moved and opened again")
-
-
-def _show_fingers(ctx: Context, action: RobotAction, fraction: float, detail: str) -> ActionResult:
-    """An empty hand's unwanted open or close: ``fraction`` of the way, a pause, and back."""
-    sim, start = ctx.sim, ctx.sim.time
-    before = sim.hand.command
-    sim.hand.move_to(sim.hand.blend(fraction), sim.time, 0.4)
-    sim.run(0.4 + SHOW_PAUSE)
-    sim.hand.move_to(before, sim.time, 0.4)
-    sim.step_until(fingers_settled, action.time_limit)
-    return action.report(True, True, detail, start, ctx)
-
-
-def _twitch(ctx: Context, action: RobotAction, amount: float, detail: str) -> ActionResult:
-    """Show open/close on a held leg: nudge two fingertips by ``amount`` rad and back.
-
-    The thumb and the proximal joints keep squeezing, so the leg stays held (measured: it
-    moves < 5 mm in the hand meanwhile and returns to within 0.1 mm).
-    """
-    sim, start = ctx.sim, ctx.sim.time
-    leg = ctx.held_leg()
-    assert leg is not None
-    offset, before = leg_offset_in_site(ctx, leg), sim.hand.command
-    sim.hand.move_to(sim.hand.nudged(amount), sim.time, 0.3)
-    sim.run(0.3 + SHOW_PAUSE)
-    sim.hand.move_to(before, sim.time, 0.3)
-    sim.step_until(fingers_settled, action.time_limit)
-    moved = float(np.linalg.norm(leg_offset_in_site(ctx, leg) - offset))
-    ok = ctx.held_leg() == leg
-    return action.report(
-        ok, True, detail if ok else f"leg {leg} slipped out", start, ctx, leg_moved_m=moved
-    )
+    def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
+        sim = ctx.sim
+        if self._retreat is not None:
+            sim.execute(self._retreat.reversed_from(self._up_q))
+        sim.hand.move_to(self._before, sim.time, FINGER_UNDO_TIME)
+        sim.step_until(fingers_settled, self.time_limit)
+        undone = self.undone_after_stop(result, ctx, "hand back down and closed")
+        leg = result.measurements.get("leg")
+        if leg is not None and ctx.held_leg() != int(leg):
+            return replace(undone, undone=False, dropped=int(leg))
+        return undone

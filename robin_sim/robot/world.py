@@ -20,10 +20,11 @@ from dataclasses import dataclass
 from typing import Literal
 
 import mink
+import mujoco
 import numpy as np
 
 from pil.errors import RobinPilError
-from pil.task.world import Outcome, Target
+from pil.task.world import Outcome, Target, Watcher
 from pil.types import Action, Hand
 from robin_sim.control.hand_state import HandSensor
 from robin_sim.control.simulator import HandTargets, Simulator
@@ -41,6 +42,8 @@ from robin_sim.robot.actions import (
     RobotAction,
     leg_offset_in_site,
 )
+from robin_sim.robot.contacts import PersonContacts
+from robin_sim.robot.motion import never
 from robin_sim.robot.targets import (
     check_leg,
     grasp_goal,
@@ -100,6 +103,7 @@ class PhysicalWorld:
         self.data = self.sim.data
         self.human = HumanHand(self.model, self.data)
         self.human.attach(self.sim)
+        self.person_contacts = PersonContacts(self.sim)
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)
         self.rng = np.random.default_rng(seed)
         self.speed = speed
@@ -151,8 +155,8 @@ class PhysicalWorld:
         return float(np.linalg.norm(self.data.qvel[adr : adr + 3]))
 
     def add_result_hook(self, hook: Callable[[ActionResult], None]) -> Callable[[], None]:
-        """Call ``hook(result)`` right after each wanted action, before the person takes a
-        delivered leg away; returns a function removing it."""
+        """Call ``hook(result)`` right after each action that succeeded and was let stand,
+        before the person takes a delivered leg away; returns a function removing it."""
         self._result_hooks.append(hook)
         return lambda: self._result_hooks.remove(hook)
 
@@ -162,24 +166,33 @@ class PhysicalWorld:
         self.sim.run(seconds)
 
     # --- the World protocol --------------------------------------------------------------------
-    def execute(self, action: Action, target: Target | None, wanted: bool) -> Outcome:
-        """Perform ``action`` (wanted) or show and undo it (unwanted); see :mod:`actions`.
+    def execute(
+        self, action: Action, target: Target | None, watcher: Watcher | None = None
+    ) -> Outcome:
+        """Run ``action`` on ``target`` tick by tick, as the robot would (see :mod:`actions`).
 
-        "human" goes to the palm where the person holds it out (the handover point if not).
+        ``watcher`` (the person) is asked at every control tick whether to stop; after the
+        action's end it may still reject the result, which the robot then takes back. "human"
+        goes to the palm where the person holds it out (the handover point if not).
         """
         action = Action.parse(action)
         release = self.release if action is Action.OPEN and self.held_leg() is not None else None
         robot_action = self._make(action, target, release)
         robot_action.prepare(self.ctx)  # raises UnreachableTargetError before anything moves
-        if not wanted:
-            result = robot_action.show_and_undo(self.ctx)
-        else:
+        stop = never if watcher is None else (lambda: watcher.stop_now(None))
+        result = robot_action.run(self.ctx, stop)
+        if watcher is not None and not result.undone and not result.interrupted:
+            window = watcher.result_window(None)
+            if window > 0.0 and self.sim.step_until(lambda _: stop(), window):
+                result = robot_action.undo(self.ctx, result)
+        if result.succeeded and not result.interrupted:
             if action is Action.OPEN:
                 self.last_release = release
-            result = robot_action.perform(self.ctx)
             for hook in tuple(self._result_hooks):  # before anything else moves
                 hook(result)
             self._after(action, result, robot_action, release)
+        elif result.dropped is not None:
+            self.release = None  # the leg is gone from the hand
         self.last_result = result
         self.history.append(result)
         return result.outcome()
@@ -196,15 +209,21 @@ class PhysicalWorld:
             self.sim.commanded_site_pose(), self._home_pose, CLEARANCE_Z, self.speed
         )
         self.sim.execute(self.sim.plan(path))
-        z = spec.TABLE_TOP_Z + spec.LEG_RADIUS
-        for k, (x, y, yaw) in enumerate(self.layout.legs):  # a scene change between tables
-            q, v = self._leg_qadr[k], self._leg_dofadr[k]
-            self.data.qpos[q : q + 7] = [x, y, z, np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
-            self.data.qvel[v : v + 6] = 0.0
+        for k in range(self.leg_count):  # a scene change between tables
+            self._lay(k)
         self.release = None
         self.sim.run(0.3)
 
     # --- helpers -------------------------------------------------------------------------------
+    def _lay(self, leg: int) -> None:
+        """Put leg ``leg`` at rest at its layout pose (scene changes only, never in an action)."""
+        x, y, yaw = self.layout.legs[leg]
+        z = spec.TABLE_TOP_Z + spec.LEG_RADIUS
+        q, v = self._leg_qadr[leg], self._leg_dofadr[leg]
+        self.data.qpos[q : q + 7] = [x, y, z, np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
+        self.data.qvel[v : v + 6] = 0.0
+        mujoco.mj_forward(self.model, self.data)
+
     def palm_is_out(self) -> bool:
         """True when the person's palm is held out at the handover point."""
         handover = np.array(self.layout.handover)
@@ -212,6 +231,22 @@ class PhysicalWorld:
 
     def _on_table(self, leg: int) -> bool:
         return abs(self.leg_position(leg)[2] - spec.GRASP_HEIGHT) < 0.01
+
+    def graspable_where_it_lies(self, leg: int) -> bool:
+        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest."""
+        x, y, _ = self.leg_position(leg)
+        axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
+        flat = abs(float(axis[2])) < 0.1  # within about 6 degrees of horizontal
+        resting = self.leg_speed(leg) < 0.01
+        return self._on_table(leg) and flat and resting and spec.in_left_reach(x, y)
+
+    def put_leg_back(self, leg: int) -> None:
+        """The person puts leg ``leg`` back at its layout place on the table (a person
+        intervention: the only scene change besides laying out a table)."""
+        if self.held_leg() == leg:
+            raise RobinPilError(f"leg {leg} is in the robot's hand; it cannot be put back")
+        self._lay(leg)
+        self.sim.run(0.3)
 
     def _grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axis of ``leg`` where it lies; off the table: its layout place."""

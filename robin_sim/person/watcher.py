@@ -1,0 +1,156 @@
+"""How the simulated person watches Robin act: recognise from the motion, react, thumb down.
+
+:class:`PhysicalWatcher` is the :class:`pil.task.world.Watcher` of a physical episode. It is
+made for one action with the person's intent and one reaction time, and it only looks at what
+a person can see: where the robot's hand is and where it heads, whether the fingers close or
+open, whether a leg is in the hand. It is never told which action the robot runs. At every
+control tick it checks whether the motion so far contradicts what the person wants:
+
+* wanted close or open: the arm moves (more than :data:`ARM_SEEN`), or the fingers move the
+  other way (more than :data:`FINGERS_SEEN` of their travel);
+* wanted object, location or human: the fingers move, or the hand heads more than
+  :data:`HEADING_SEEN` away from the wanted place once it has moved :data:`ARM_SEEN`
+  sideways, or it comes down away from that place.
+
+From the tick it recognises an unwanted action, the person needs their reaction time; then
+the thumb goes down and the robot stops. An action that ran to its end is judged by its
+result (the leg in the hand, the hand at the place and height meant); a wrong result gets
+the thumb down one reaction time later, and the robot takes the action back.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from pil.task.world import Intent
+from pil.types import Action, Feedback
+from robin_sim.model import robot_spec as spec
+from robin_sim.robot.targets import target_point
+
+if TYPE_CHECKING:
+    from robin_sim.person.body import PhysicalBody
+
+ARM_SEEN = 0.03  # m the hand moves before the person takes it as a motion
+FINGERS_SEEN = 0.12  # share of the open-closed travel the fingers move before it is seen
+HEADING_SEEN = np.deg2rad(40.0)  # rad between the hand's heading and the wanted place
+DESCENT_SEEN = 0.03  # m the hand comes down from its highest point before it is seen
+PLACE_RADIUS = 0.05  # m, hand to the wanted place (horizontally) for a result to count
+LOW_ABOVE = 0.05  # m: a hand lowered to a surface holds the leg at most this high above it
+FINGER_ACTIONS = (Action.CLOSE, Action.OPEN)
+
+
+class PhysicalWatcher:
+    """The person's eyes on one action (see the module doc)."""
+
+    def __init__(self, body: PhysicalBody, intent: Intent, reaction: float) -> None:
+        self.body, self.intent, self.reaction = body, intent, reaction
+        world = body.world
+        self.world = world
+        self.start = world.sim.site_pose().translation()
+        self.start_closure = self._closure()
+        self.highest = float(self.start[2])
+        self.goal = self._goal()  # where the hand should go (xy, z of the surface), if a move
+        self.recognized_at: float | None = None  # when the person saw it was unwanted
+        self.stopped_at: float | None = None  # when the thumb went down
+        self.why = ""
+
+    # --- the Watcher protocol ------------------------------------------------------------------
+    def stop_now(self, shown: Action | None) -> bool:
+        """True from one reaction time after an unwanted motion was recognised."""
+        now = self.world.time
+        if self.recognized_at is None:
+            why = self._mismatch()
+            if why:
+                self.recognized_at, self.why = now, why
+        return self._thumb_down(now)
+
+    def result_window(self, shown: Action | None) -> float:
+        """0 when the result is what the person wants, else the time until the thumb down."""
+        now = self.world.time
+        if self.recognized_at is None:
+            why = self._wrong_result()
+            if not why:
+                return 0.0
+            self.recognized_at, self.why = now, why
+        due = self.recognized_at + self.reaction
+        return max(0.0, due - now) + 2 * self.world.sim.control_dt
+
+    # --- perception ----------------------------------------------------------------------------
+    def _thumb_down(self, now: float) -> bool:
+        if self.recognized_at is None or now < self.recognized_at + self.reaction - 1e-9:
+            return False
+        if self.stopped_at is None:
+            self.stopped_at = now
+            self.body.display.show(Feedback.NOT_OK)
+        return True
+
+    def _closure(self) -> float:
+        """How far the fingers are from open (0) towards closed (1): joint travel summed over
+        the fingers, so the large proximal joints weigh most (as they do to the eye)."""
+        hand = self.world.sim.hand
+        span = hand.targets.closed - hand.targets.open
+        q = self.world.data.qpos[hand.joint_qadr]
+        return float(np.sum(q - hand.targets.open) / np.sum(np.abs(span)))
+
+    def _goal(self) -> np.ndarray | None:
+        action, target, world = self.intent.action, self.intent.target, self.world
+        if action is Action.HUMAN:
+            palm = world.human.palm_centre() if world.palm_is_out() else world.layout.handover
+            return np.asarray(palm, float)
+        if action in (Action.OBJECT, Action.LOCATION) and target is not None:
+            return target_point(target, world.layout, world.leg_position, world.nearest_leg)
+        return None
+
+    def _mismatch(self) -> str:
+        """Why the motion so far is not the wanted action ("" while it may still be)."""
+        here = self.world.sim.site_pose().translation()
+        moved = here - self.start
+        sideways = float(np.linalg.norm(moved[:2]))
+        fingers = self._closure() - self.start_closure
+        self.highest = max(self.highest, float(here[2]))
+        wanted = self.intent.action
+        if wanted in FINGER_ACTIONS:
+            lowered = self.start[2] - here[2] > ARM_SEEN
+            rose = here[2] - self.start[2] > ARM_SEEN and wanted is Action.CLOSE
+            if sideways > ARM_SEEN or lowered or rose:
+                return "the arm moves"
+            closing = wanted is Action.CLOSE
+            if (fingers < -FINGERS_SEEN) if closing else (fingers > FINGERS_SEEN):
+                return "the fingers move the other way"
+            return ""
+        if abs(fingers) > FINGERS_SEEN:
+            return "the fingers move"
+        if self.goal is None:
+            return ""
+        to_goal = self.goal[:2] - self.start[:2]
+        if sideways > ARM_SEEN:
+            far = float(np.linalg.norm(to_goal))
+            cos = float(np.dot(moved[:2], to_goal)) / max(sideways * far, 1e-9)
+            if far < ARM_SEEN or np.arccos(np.clip(cos, -1.0, 1.0)) > HEADING_SEEN:
+                return "the hand heads elsewhere"
+        away = float(np.linalg.norm(here[:2] - self.goal[:2])) > PLACE_RADIUS
+        if self.highest - here[2] > DESCENT_SEEN and away:
+            return "the hand comes down elsewhere"
+        return ""
+
+    def _wrong_result(self) -> str:
+        """Why the finished action's result is not the wanted one ("" when it is)."""
+        world, wanted = self.world, self.intent.action
+        if wanted is Action.CLOSE:
+            return "" if world.held_leg() is not None else "no leg in the hand"
+        if wanted is Action.OPEN:
+            return "" if world.held_leg() is None else "the leg is still in the hand"
+        if self.goal is None:
+            return ""
+        here = world.sim.site_pose().translation()
+        if float(np.linalg.norm(here[:2] - self.goal[:2])) > PLACE_RADIUS:
+            return "the hand is not at the place meant"
+        if wanted is Action.OBJECT:
+            low = abs(here[2] - spec.GRASP_HEIGHT) <= LOW_ABOVE
+        elif wanted is Action.LOCATION:
+            low = here[2] - spec.GRASP_HEIGHT <= LOW_ABOVE
+        else:
+            low = here[2] - self.goal[2] <= LOW_ABOVE + 2 * spec.LEG_RADIUS
+        return "" if low else "the hand stays too high"
