@@ -1,0 +1,208 @@
+"""The architecture, checked statically: no import cycle, a MuJoCo-free `pil`, a tidy robin_sim.
+
+Every import statement of every module under pil/ and robin_sim/ counts, wherever it stands
+(module level, inside a function, under `if TYPE_CHECKING:`): the source is parsed with `ast`,
+nothing is imported. An import edge goes to the deepest module of ours that the statement names
+(`from pil.task import parts` -> pil.task.parts; `from pil.task import Scenario` -> pil.task).
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("pil", "robin_sim")
+
+# Import cycles that exist today and are being removed by someone else. The lead empties this
+# once the learner engineer's branch (which splits pil.table from pil.table_io) is merged; a
+# listed cycle that no longer exists fails `test_known_cycles_still_exist`, so it cannot linger.
+KNOWN_CYCLES: tuple[frozenset[str], ...] = (frozenset({"pil.table", "pil.table_io"}),)
+
+# `pil` is the learner and the symbolic task: it runs without any of these installed.
+PIL_FORBIDDEN = ("mujoco", "mink", "dm_control", "robin_sim")
+
+MAX_LOOSE_ROBIN_SIM_MODULES = 10
+
+
+def module_files(root: Path, packages: Iterable[str] = PACKAGES) -> dict[str, Path]:
+    """Dotted module name -> source file, for every .py file under the given packages."""
+    found: dict[str, Path] = {}
+    for package in packages:
+        for path in sorted((root / package).rglob("*.py")):
+            parts = list(path.relative_to(root).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts.pop()
+            found[".".join(parts)] = path
+    return found
+
+
+def _absolute(module: str, is_package: bool, level: int, name: str | None) -> str:
+    """The absolute dotted name of a (possibly relative) `from ... import` source."""
+    if level == 0:
+        return name or ""
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    base = base[: len(base) - (level - 1)]
+    return ".".join([*base, name] if name else base)
+
+
+def imported_names(module: str, path: Path) -> set[str]:
+    """Every dotted name the module's import statements name, absolute (`from a import b`: a.b)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    is_package = path.name == "__init__.py"
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            source = _absolute(module, is_package, node.level, node.module)
+            names.update(source if a.name == "*" else f"{source}.{a.name}" for a in node.names)
+    return names
+
+
+def import_graph(modules: Mapping[str, Path]) -> dict[str, set[str]]:
+    """Module -> the modules of ours it imports (the deepest existing module of each name)."""
+    graph: dict[str, set[str]] = {}
+    for module, path in modules.items():
+        targets: set[str] = set()
+        for name in imported_names(module, path):
+            parts = name.split(".")
+            for end in range(len(parts), 0, -1):
+                candidate = ".".join(parts[:end])
+                if candidate in modules:
+                    targets.add(candidate)
+                    break
+        targets.discard(module)
+        graph[module] = targets
+    return graph
+
+
+def cycles(graph: Mapping[str, set[str]]) -> list[list[str]]:
+    """One concrete cycle (a, b, ..., a) per strongly connected component of several modules."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    components: list[set[str]] = []
+
+    def visit(node: str) -> None:  # Tarjan's algorithm; the graph has ~100 nodes
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for nxt in sorted(graph.get(node, ())):
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in on_stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            component: set[str] = set()
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.add(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                components.append(component)
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return [_cycle_in(graph, component) for component in components]
+
+
+def _cycle_in(graph: Mapping[str, set[str]], component: set[str]) -> list[str]:
+    """A shortest cycle through the component's first module (breadth-first, inside it)."""
+    start = min(component)
+    parents: dict[str, str] = {}
+    frontier = [start]
+    while frontier:
+        nxt_frontier = []
+        for node in frontier:
+            for nxt in sorted(graph[node] & component):
+                if nxt == start:
+                    path = [node]
+                    while path[-1] != start:
+                        path.append(parents[path[-1]])
+                    return [start, *reversed(path[:-1]), start]
+                if nxt not in parents:
+                    parents[nxt] = node
+                    nxt_frontier.append(nxt)
+        frontier = nxt_frontier
+    raise AssertionError(f"no cycle in strongly connected component {sorted(component)}")
+
+
+@pytest.fixture(scope="module")
+def graph() -> dict[str, set[str]]:
+    return import_graph(module_files(ROOT))
+
+
+def test_no_import_cycle(graph: dict[str, set[str]]) -> None:
+    found = [c for c in cycles(graph) if frozenset(c) not in KNOWN_CYCLES]
+    assert not found, "import cycles: " + "; ".join(" -> ".join(c) for c in found)
+
+
+def test_known_cycles_still_exist(graph: dict[str, set[str]]) -> None:
+    present = {frozenset(c) for c in cycles(graph)}
+    gone = [sorted(known) for known in KNOWN_CYCLES if known not in present]
+    assert not gone, f"these cycles are gone: remove them from KNOWN_CYCLES: {gone}"
+
+
+def test_pil_imports_no_simulation() -> None:
+    offenders = []
+    for module, path in module_files(ROOT, ("pil",)).items():
+        for name in sorted(imported_names(module, path)):
+            if name.split(".")[0] in PIL_FORBIDDEN:
+                offenders.append(f"{module} imports {name}")
+    assert not offenders, "; ".join(offenders)
+
+
+def test_few_loose_modules_in_robin_sim() -> None:
+    loose = sorted(p.name for p in (ROOT / "robin_sim").glob("*.py") if p.name != "__init__.py")
+    assert len(loose) <= MAX_LOOSE_ROBIN_SIM_MODULES, f"{len(loose)} loose modules: {loose}"
+
+
+# The checker itself, on small packages written for the purpose: it must see what it claims to.
+
+
+def _write(root: Path, files: Mapping[str, str]) -> None:
+    for rel, text in files.items():
+        path = root / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+
+
+def test_checker_finds_function_level_and_relative_cycles(tmp_path: Path) -> None:
+    _write(
+        tmp_path,
+        {
+            "pk/__init__.py": "",
+            "pk/a.py": "def f():\n    from pk.sub import b\n",
+            "pk/sub/__init__.py": "",
+            "pk/sub/b.py": "from . import c\n",
+            "pk/sub/c.py": "from ..a import f\n",
+            "pk/d.py": "import pk.a\n",
+        },
+    )
+    found = cycles(import_graph(module_files(tmp_path, ("pk",))))
+    assert found == [["pk.a", "pk.sub.b", "pk.sub.c", "pk.a"]]
+
+
+def test_checker_accepts_a_package_reexporting_its_modules(tmp_path: Path) -> None:
+    _write(
+        tmp_path,
+        {
+            "pk/__init__.py": "from pk.a import f\nfrom .b import g\n",
+            "pk/a.py": "from pk.b import g\n",
+            "pk/b.py": "import os\ng = os.sep\n",
+        },
+    )
+    graph = import_graph(module_files(tmp_path, ("pk",)))
+    assert graph == {"pk": {"pk.a", "pk.b"}, "pk.a": {"pk.b"}, "pk.b": set()}
+    assert cycles(graph) == []
+    _write(tmp_path, {"pk/b.py": "from pk import f\n"})  # a module importing its package back
+    assert cycles(import_graph(module_files(tmp_path, ("pk",)))) == [["pk", "pk.b", "pk"]]
