@@ -26,7 +26,7 @@ import numpy as np
 
 from pil.task.world import Outcome
 from pil.types import Action, Hand
-from robin_sim.control.ik import POSITION_TOLERANCE, JointPlan
+from robin_sim.control.ik import JointPlan
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, pose, through
 from robin_sim.robot.errors import UnreachableTargetError
@@ -131,9 +131,13 @@ class MoveAction(RobotAction):
             sim.commanded_site_pose(), self.goal, self.clearance_z, self.speed
         )
         plan = sim.plan(path)
-        if plan.position_error > POSITION_TOLERANCE:
+        if not plan.reaches_goal:
             raise UnreachableTargetError(
-                self.target_name, self.goal.translation(), plan.position_error, ctx.reach_region
+                self.target_name,
+                self.goal.translation(),
+                plan.position_error,
+                plan.orientation_error,
+                ctx.reach_region,
             )
         self.plan = plan
         self.time_limit = plan.duration + 1.0
