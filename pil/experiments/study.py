@@ -22,7 +22,6 @@ from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, check_rate
 from pil.experiments.report import (
     Row,
-    group_rows,
     mean_sd,
     number,
     summary_markdown,
@@ -222,8 +221,3 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
                  for r, (g, a) in PAPER_TRAINING.items()}  # fmt: skip
         written.append(plot_comparison(ours, paper, out / "training.png"))
     return written
-
-
-def rows_by_system(rows: Sequence[Row]) -> dict[str, list[Row]]:
-    """Rows grouped by system (a convenience for callers and tests)."""
-    return {key[0]: members for key, members in group_rows(rows, ["system"]).items()}

@@ -155,10 +155,6 @@ class Grid:
     base_seed: int
 
     @property
-    def param_names(self) -> tuple[str, ...]:
-        return tuple(name for name, _ in self.params)
-
-    @property
     def swept(self) -> tuple[str, ...]:
         """The grid's axes that take more than one value (rate and system included)."""
         axes = [("system", self.systems), ("rate", self.rates), *self.params]
