@@ -22,7 +22,7 @@ import mink
 import mujoco
 import numpy as np
 
-from robin_sim.control.trajectory import Path
+from robin_sim.control.trajectory import CartesianPath
 from robin_sim.model import names
 from robin_sim.model.names import Side
 
@@ -173,7 +173,7 @@ class ArmIK:
         angle = float(np.linalg.norm((pose.rotation().inverse() @ target.rotation()).log()))
         return position, angle
 
-    def plan(self, path: Path, dt: float, settle: float = 0.4) -> JointPlan:
+    def plan(self, path: CartesianPath, dt: float, settle: float = 0.4) -> JointPlan:
         """Roll the IK along ``path`` (plus ``settle`` s at its end) from the current q.
 
         The IK configuration ends at the plan's last q; call :meth:`reset` to discard a plan.
