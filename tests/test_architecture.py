@@ -9,6 +9,7 @@ nothing is imported. An import edge goes to the deepest module of ours that the 
 from __future__ import annotations
 
 import ast
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -164,6 +165,41 @@ def test_pil_imports_no_simulation() -> None:
 def test_few_loose_modules_in_robin_sim() -> None:
     loose = sorted(p.name for p in (ROOT / "robin_sim").glob("*.py") if p.name != "__init__.py")
     assert len(loose) <= MAX_LOOSE_ROBIN_SIM_MODULES, f"{len(loose)} loose modules: {loose}"
+
+
+def _name_like_fstrings(path: Path) -> list[str]:
+    """f-strings that read like a model name (``f"{side}_{finger}_dist"``, ``f"leg{i}"``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    specs = {
+        id(v.format_spec) for v in ast.walk(tree) if isinstance(v, ast.FormattedValue)
+    }  # the `.3f` of f"{x:.3f}" is an f-string of its own
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.JoinedStr) or id(node) in specs:
+            continue
+        parts = node.values
+        if not any(isinstance(p, ast.Constant) for p in parts) or any(
+            isinstance(p, ast.FormattedValue) and (p.format_spec or p.conversion != -1)
+            for p in parts
+        ):
+            continue
+        text = "".join(p.value if isinstance(p, ast.Constant) else "x" for p in parts)
+        if re.fullmatch(r"[A-Za-z0-9_]+", text):
+            found.append(f"{path.relative_to(ROOT)}:{node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_model_names_are_built_in_names_py_only() -> None:
+    # names.py's promise: the code and the MJCF agree through robin_sim.model.names alone.
+    names_py = ROOT / "robin_sim" / "model" / "names.py"
+    built = [
+        hit
+        for path in sorted((ROOT / "robin_sim").rglob("*.py"))
+        if path != names_py
+        for hit in _name_like_fstrings(path)
+    ]
+    assert not built, "model names built outside robin_sim/model/names.py: " + "; ".join(built)
+    assert _name_like_fstrings(names_py), "the check no longer sees names.py's own f-strings"
 
 
 # The checker itself, on small packages written for the purpose: it must see what it claims to.

@@ -21,6 +21,7 @@ import pytest  # noqa: E402
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.task.world import Intent, Outcome, Target  # noqa: E402
 from pil.types import Action, Gesture  # noqa: E402
+from robin_sim.model import names  # noqa: E402
 from robin_sim.render.checks import (  # noqa: E402
     verify_at_spot,
     verify_in_hand,
@@ -113,7 +114,7 @@ class Rig:
         return self
 
     def leg(self, index: int) -> np.ndarray:
-        return self.data.body(f"leg{index}").xpos.copy()
+        return self.data.body(names.leg_body(index)).xpos.copy()
 
     def snapshot(self) -> mujoco.MjData:
         return copy.copy(self.data)

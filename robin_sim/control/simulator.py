@@ -53,7 +53,7 @@ class HandController:
         self.joint_qadr = model.jnt_qposadr[joints]
         self.joint_dofs = model.jnt_dofadr[joints]
         self._low, self._high = model.actuator_ctrlrange[self.actuators].T
-        distal = {f"{side}_{finger}_dist" for finger in names.FINGERS if finger != "thumb"}
+        distal = {names.finger_joints(side, f)[1] for f in names.FINGERS if f != names.THUMB}
         self._distal = np.array([a in distal for a in names.hand_actuators(side)])
         self._from = self.command
         self._to = self._from.copy()
