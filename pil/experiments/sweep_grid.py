@@ -25,6 +25,7 @@ from typing import Any
 from pil.errors import InvalidChoiceError, RobinPilError, check_rate
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
 from pil.experiments.systems import SYSTEMS
+from pil.task.scenario import ASSEMBLY_DEFAULTS
 
 KINDS: dict[str, str] = {
     "learner": "pil.experiments.systems:run_one",
@@ -258,7 +259,7 @@ def build_grid(
     rates: Sequence[float] = DEFAULT_RATES,
     reps: int = PAPER_REPS,
     params: Sequence[str] = (),
-    tables: int | None = 10,
+    tables: int | None = ASSEMBLY_DEFAULTS["tables"],
     base_seed: int = 0,
 ) -> Grid:
     """Validate every part of a grid; raise one clear :class:`SweepGridError` on bad input."""

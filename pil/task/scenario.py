@@ -30,6 +30,21 @@ DEFAULT_SCENARIO = SCENARIOS_DIR / "assembly.yaml"
 DEFAULT_TYPES = SCENARIOS_DIR / "handover_types.yaml"
 MIN_STEPS, MAX_STEPS = 4, 7
 DRAWS: tuple[str, ...] = ("balanced", "cycle", "random")
+# The assembly's settings and their defaults (the paper's test: 10 tables of 4 legs, training on
+# 5), and the least whole number each count takes; the one source for files, code and the CLI.
+ASSEMBLY_DEFAULTS: dict[str, Any] = {
+    "tables": 10,
+    "legs_per_table": 4,
+    "training_tables": 5,
+    "draw": "balanced",
+    "spots": 4,  # table spots the person can point at
+}
+ASSEMBLY_MINIMUMS: dict[str, int] = {
+    "tables": 1,
+    "legs_per_table": 1,
+    "training_tables": 0,
+    "spots": 1,
+}
 ASSEMBLY_KEYS: tuple[str, ...] = (
     "name",
     "description",
@@ -71,12 +86,12 @@ class Scenario:
     """The assembly task: handover types plus how many tables, legs and in which order."""
 
     types: tuple[HandoverType, ...]
-    tables: int = 10
-    legs_per_table: int = 4
-    training_tables: int = 5
-    draw: str = "balanced"
+    tables: int = ASSEMBLY_DEFAULTS["tables"]
+    legs_per_table: int = ASSEMBLY_DEFAULTS["legs_per_table"]
+    training_tables: int = ASSEMBLY_DEFAULTS["training_tables"]
+    draw: str = ASSEMBLY_DEFAULTS["draw"]
     sequence: tuple[str, ...] = ()  # handover types to draw from (default: all, file order)
-    spots: int = 4
+    spots: int = ASSEMBLY_DEFAULTS["spots"]
     layout: Mapping[str, Any] = field(default_factory=dict, hash=False)  # for the world
     name: str = "assembly"
     source: str = "<scenario>"
@@ -120,13 +135,7 @@ class Scenario:
 
     def with_changes(self, **changes: Any) -> Scenario:
         """A copy with some assembly fields replaced (validated like a file)."""
-        values = {
-            "tables": self.tables,
-            "legs_per_table": self.legs_per_table,
-            "training_tables": self.training_tables,
-            "draw": self.draw,
-            "spots": self.spots,
-        }
+        values = {key: getattr(self, key) for key in ASSEMBLY_DEFAULTS}
         for key, value in changes.items():
             if key not in values:
                 raise ScenarioError(
@@ -284,17 +293,12 @@ def find_scenario(path: str | Path) -> Path:
 def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     """The validated counts and draw of an assembly (defaults for missing keys)."""
     values: dict[str, Any] = {}
-    for key, default, low in (
-        ("tables", 10, 1),
-        ("legs_per_table", 4, 1),
-        ("training_tables", 5, 0),
-        ("spots", 4, 1),
-    ):
-        value = raw.get(key, default)
+    for key, low in ASSEMBLY_MINIMUMS.items():
+        value = raw.get(key, ASSEMBLY_DEFAULTS[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < low:
             raise ScenarioError(f"{source}: {key}: expected a whole number >= {low}, got {value!r}")
         values[key] = value
-    draw = raw.get("draw", "balanced")
+    draw = raw.get("draw", ASSEMBLY_DEFAULTS["draw"])
     if draw not in DRAWS:
         raise ScenarioError(
             f"{source}: draw: unknown draw {draw!r}; valid choices: " + ", ".join(DRAWS)
