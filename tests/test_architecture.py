@@ -202,6 +202,51 @@ def test_model_names_are_built_in_names_py_only() -> None:
     assert _name_like_fstrings(names_py), "the check no longer sees names.py's own f-strings"
 
 
+def _error_classes(modules: Mapping[str, Path]) -> dict[str, str]:
+    """Every subclass of RobinPilError defined in our code: class name -> defining module."""
+    bases: dict[str, tuple[str, set[str]]] = {}
+    for module, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef):
+                names = {b.id if isinstance(b, ast.Name) else ast.unparse(b) for b in node.bases}
+                bases[node.name] = (module, {n.rsplit(".", 1)[-1] for n in names})
+    errors = {"RobinPilError"}
+    while True:
+        more = {name for name, (_, parents) in bases.items() if parents & errors} - errors
+        if not more:
+            break
+        errors |= more
+    return {name: bases[name][0] for name in errors - {"RobinPilError"}}
+
+
+def _constructs(path: Path) -> set[str]:
+    """Names the module calls (``Name(...)``, ``module.Name(...)``) or raises bare."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        target = node.func if isinstance(node, ast.Call) else None
+        if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Name | ast.Attribute):
+            target = node.exc
+        if isinstance(target, ast.Name):
+            found.add(target.id)
+        elif isinstance(target, ast.Attribute):
+            found.add(target.attr)
+    return found
+
+
+def test_errors_live_next_to_what_raises_them() -> None:
+    # One base class (pil.errors.RobinPilError); a subclass lives in the module that raises it,
+    # or in pil.errors when it is a family that several modules raise (InvalidChoiceError).
+    modules = module_files(ROOT)
+    made = {module: _constructs(path) for module, path in modules.items()}
+    misplaced = []
+    for error, home in sorted(_error_classes(modules).items()):
+        raisers = sorted(m for m, names in made.items() if error in names)
+        shared = home == "pil.errors" and len(raisers) >= 2
+        if home not in raisers and not shared:
+            misplaced.append(f"{error} (in {home}, raised in {', '.join(raisers) or 'nothing'})")
+    assert not misplaced, "errors defined away from what raises them: " + "; ".join(misplaced)
+
+
 # The checker itself, on small packages written for the purpose: it must see what it claims to.
 
 

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from pil.errors import ScenarioError
 from pil.task.scenario import (
     ASSEMBLY_DEFAULTS,
     ASSEMBLY_MINIMUMS,
     DEFAULT_SCENARIO,
     DEFAULT_TYPES,
     SCENARIOS_DIR,
+    ScenarioError,
     load_scenario,
     states_along,
 )

@@ -6,7 +6,7 @@ many legs each has, how many tables the pre-trained conditions train on, and in 
 the handover types are drawn. See ``scenarios/*.yaml`` and the README.
 
 Every rule of the task is checked on load; a broken one raises
-:class:`pil.errors.ScenarioError` naming the file, the key and the valid choices.
+:class:`ScenarioError` naming the file, the key and the valid choices.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from typing import Any
 
 import yaml
 
-from pil.errors import ScenarioError
+from pil.errors import RobinPilError
 from pil.types import ACTIONS, GESTURES, START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -58,6 +58,10 @@ ASSEMBLY_KEYS: tuple[str, ...] = (
     "layout",
 )
 TYPE_KEYS: tuple[str, ...] = ("description", "steps")
+
+
+class ScenarioError(RobinPilError):
+    """A scenario file that is malformed or breaks a rule of the task."""
 
 
 @dataclass(frozen=True, slots=True)

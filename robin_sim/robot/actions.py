@@ -1,7 +1,7 @@
 """The robot's five actions as objects: a target, a done condition, success checks, a time limit.
 
 Every action is prepared first (:meth:`RobotAction.prepare`: the arm motion is planned with IK
-and a target out of reach raises :class:`~robin_sim.robot.errors.UnreachableTargetError` before
+and a target out of reach raises :class:`~robin_sim.robot.targets.UnreachableTargetError` before
 anything moves), then either performed (:meth:`RobotAction.perform`, the person wants it) or shown
 and taken back (:meth:`RobotAction.show_and_undo`, the person does not want it).
 
@@ -29,7 +29,7 @@ from pil.types import Action, Hand
 from robin_sim.control.ik import JointPlan
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, pose, through
-from robin_sim.robot.errors import UnreachableTargetError
+from robin_sim.robot.targets import check_reached
 
 SHOW_FRACTION = 0.3  # share of an unwanted motion shown before it is taken back
 SHOW_PAUSE = 0.3  # s the robot waits at the shown point
@@ -131,14 +131,7 @@ class MoveAction(RobotAction):
             sim.commanded_site_pose(), self.goal, self.clearance_z, self.speed
         )
         plan = sim.plan(path)
-        if not plan.reaches_goal:
-            raise UnreachableTargetError(
-                self.target_name,
-                self.goal.translation(),
-                plan.position_error,
-                plan.orientation_error,
-                ctx.reach_region,
-            )
+        check_reached(plan, self.target_name, self.goal, ctx.reach_region)
         self.plan = plan
         self.time_limit = plan.duration + 1.0
 
