@@ -16,12 +16,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import yaml
 
 from pil.errors import RobinPilError
-from pil.types import ACTIONS, GESTURES, START_ACTION, START_HAND, Action, Gesture, Hand, State
+from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
 # The shipped scenarios are package data (a link to the repository's scenarios/ in a checkout).
@@ -161,21 +161,21 @@ def parse_step(text: object, where: str) -> tuple[Gesture, Action]:
     if not isinstance(text, str) or text.count("->") != 1:
         raise ScenarioError(f"{where}: a step is written 'gesture -> action', got {text!r}")
     gesture_text, action_text = (part.strip() for part in text.split("->"))
+    return _named(Gesture, gesture_text, where), _named(Action, action_text, where)
+
+
+_Named = TypeVar("_Named", Gesture, Action)
+
+
+def _named(kind: type[_Named], text: str, where: str) -> _Named:
+    """The member of ``kind`` named ``text``; else a ScenarioError listing the valid names."""
     try:
-        gesture = Gesture(gesture_text)
+        return kind(text)
     except ValueError:
         raise ScenarioError(
-            f"{where}: unknown gesture {gesture_text!r}; valid choices: "
-            + ", ".join(g.value for g in GESTURES)
+            f"{where}: unknown {kind.__name__.lower()} {text!r}; valid choices: "
+            + ", ".join(member.value for member in kind)
         ) from None
-    try:
-        action = Action(action_text)
-    except ValueError:
-        raise ScenarioError(
-            f"{where}: unknown action {action_text!r}; valid choices: "
-            + ", ".join(a.value for a in ACTIONS)
-        ) from None
-    return gesture, action
 
 
 def states_along(pairs: Sequence[tuple[Gesture, Action]]) -> tuple[State, ...]:
