@@ -6,6 +6,7 @@ empty folder; this test checks the wheel's contents against the source tree.
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -18,15 +19,22 @@ ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = {"models": "robin_sim/model/mjcf", "scenarios": "pil/task/scenarios"}
 
 
+# what a clone does not have: a source copy without these builds like a fresh clone (setuptools
+# would otherwise pack stale modules left in build/lib)
+NOT_IN_A_CLONE = (".venv", "build", "dist", "out", "*.egg-info", "__pycache__", ".*_cache", ".git")
+
+
 @pytest.mark.slow
 def test_wheel_contains_the_models_and_scenarios(tmp_path: Path) -> None:
+    source = tmp_path / "source"
+    shutil.copytree(ROOT, source, symlinks=True, ignore=shutil.ignore_patterns(*NOT_IN_A_CLONE))
     build = subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", str(ROOT), "-w",
-         str(tmp_path)],
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--quiet", str(source), "-w",
+         str(tmp_path / "dist")],
         capture_output=True, text=True, timeout=300, check=False,
     )  # fmt: skip
     assert build.returncode == 0, build.stderr[-2000:]
-    (wheel,) = tmp_path.glob("robin_pil-*.whl")
+    (wheel,) = (tmp_path / "dist").glob("robin_pil-*.whl")
     with zipfile.ZipFile(wheel) as archive:
         contents = {name: archive.read(name) for name in archive.namelist()}
     for source, packaged in SHIPPED.items():
@@ -41,3 +49,8 @@ def test_wheel_contains_the_models_and_scenarios(tmp_path: Path) -> None:
     tops = {name.split("/")[0] for name in contents}
     packages = {top for top in tops if not top.endswith(".dist-info")}
     assert {"pil", "robin_sim"} <= packages and not packages & {"tests", "bench", "models"}
+    modules = {name for name in contents if name.endswith(".py")}
+    sources = {
+        p.relative_to(ROOT).as_posix() for pkg in packages for p in (ROOT / pkg).rglob("*.py")
+    }
+    assert modules == sources  # every module, and nothing stale
