@@ -27,11 +27,15 @@ import time
 from pathlib import Path
 
 from pil.experiments.sweep_exec import Backend, DaskBackend, LocalBackend, execute
-from pil.experiments.sweep_grid import RunSpec, build_grid, import_object, load_target
+from pil.experiments.sweep_grid import (
+    DEFAULT_RATES,
+    DEFAULT_SYSTEMS,
+    RunSpec,
+    build_grid,
+    import_object,
+    load_target,
+)
 from pil.experiments.sweep_store import RunStore, make_record
-
-RATES = (0.4, 0.6, 0.8, 1.0)
-SYSTEMS = ("pil", "c1", "c2", "c3", "c4")
 
 
 def timed_sweep(backend: Backend, function: str, specs: list[RunSpec]) -> tuple[float, float]:
@@ -93,8 +97,8 @@ def specs_for(
     reps: int,
     tables: int,
     params: tuple[str, ...] = (),
-    systems: tuple[str, ...] = SYSTEMS,
-    rates: tuple[float, ...] = RATES,
+    systems: tuple[str, ...] = DEFAULT_SYSTEMS,
+    rates: tuple[float, ...] = DEFAULT_RATES,
 ) -> tuple[str, list[RunSpec]]:
     """The run function and the runs of a grid of ``kind``."""
     target = load_target(kind)

@@ -2,6 +2,8 @@
 
 Every error a user can cause (bad input, a corrupt file, an unreachable target) is raised as a
 subclass of :class:`RobinPilError`, with a message that names the problem and the valid choices.
+A subclass lives next to what raises it (``pil.task.scenario.ScenarioError``,
+``pil.table_io.TableFileError``, ...); only families that many modules raise live here.
 """
 
 from __future__ import annotations
@@ -22,14 +24,6 @@ class InvalidChoiceError(RobinPilError):
         self.what = what
         self.value = value
         self.choices = tuple(choices)
-
-
-class ScenarioError(RobinPilError):
-    """A scenario file that is malformed or breaks a rule of the task."""
-
-
-class TableFileError(RobinPilError):
-    """A saved association table that is corrupt, foreign or of an unsupported version."""
 
 
 def check_rate(rate: float, name: str = "detection rate") -> float:

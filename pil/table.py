@@ -224,7 +224,7 @@ class AssociationTable:
 
     @classmethod
     def from_json(cls, text: str, source: str = "<json text>") -> AssociationTable:
-        """Parse :meth:`to_json` output; raises :class:`pil.errors.TableFileError` if corrupt."""
+        """Parse :meth:`to_json` output; raises :class:`pil.table_io.TableFileError` if corrupt."""
         from pil.table_io import table_from_json
 
         return table_from_json(text, source)

@@ -24,7 +24,7 @@ import os
 from pathlib import Path
 
 from pil.atomic import write_text_atomic
-from pil.errors import InvalidChoiceError, TableFileError
+from pil.errors import InvalidChoiceError, RobinPilError
 from pil.table import AssociationTable, merge_all, state_sort_key
 from pil.types import ACTIONS, Action, State
 
@@ -33,6 +33,10 @@ VERSION = 1
 SUPPORTED_VERSIONS = (1,)
 START_KEY = "start"
 _KEYS = ("format", "version", "counts", "rejected", "transitions")
+
+
+class TableFileError(RobinPilError):
+    """A saved association table that is corrupt, foreign or of an unsupported version."""
 
 
 def table_to_dict(table: AssociationTable) -> dict[str, object]:

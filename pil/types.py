@@ -109,10 +109,6 @@ class State:
             raise InvalidChoiceError("state key", key, ["gesture|previous_action|hand"])
         return cls(*parts)
 
-    def with_gesture(self, gesture: Gesture) -> State:
-        """The same state with another gesture (used by the correction)."""
-        return State(gesture, self.previous_action, self.hand)
-
     def __str__(self) -> str:
         return f"<{self.gesture}, {self.previous_action}, {self.hand}>"
 

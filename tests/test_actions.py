@@ -11,9 +11,9 @@ import pytest
 
 from pil.types import Action, Hand
 from robin_sim.control.trajectory import pose, through
+from robin_sim.model import names
 from robin_sim.robot.actions import CloseAction, MoveAction, OpenAction, leg_offset_in_site
-from robin_sim.robot.errors import UnreachableTargetError
-from robin_sim.robot.targets import grasp_goal, release_goal
+from robin_sim.robot.targets import UnreachableTargetError, grasp_goal, release_goal
 from robin_sim.robot.world import CLEARANCE_Z, PhysicalWorld
 
 SLIP_LIMIT = 0.005  # m, leg displacement in the hand frame while carried at the default speed
@@ -23,7 +23,7 @@ LEG_STILL = 0.002  # m, a leg the action should not touch
 
 
 def _leg_axis(world: PhysicalWorld, leg: int) -> np.ndarray:
-    return world.data.xmat[world.model.body(f"leg{leg}").id].reshape(3, 3)[:, 0]
+    return world.data.xmat[world.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
 
 
 def _object(world: PhysicalWorld, leg: int) -> MoveAction:

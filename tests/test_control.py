@@ -2,11 +2,18 @@
 
 from __future__ import annotations
 
+import mink
 import mujoco
 import numpy as np
 import pytest
 
-from robin_sim.control.ik import POSITION_TOLERANCE, ArmIK, arm_kinematic_model, home_arm_q
+from robin_sim.control.ik import (
+    ORIENTATION_TOLERANCE,
+    POSITION_TOLERANCE,
+    ArmIK,
+    arm_kinematic_model,
+    home_arm_q,
+)
 from robin_sim.control.simulator import HandTargets, Simulator
 from robin_sim.control.trajectory import lift_traverse_descend, pose, through
 from robin_sim.model import names
@@ -85,8 +92,21 @@ def test_plan_to_far_target_reports_the_miss(model, scene_spec) -> None:
     start = sim.commanded_site_pose()
     far = pose([1.2, -0.5, 0.77], start.rotation().wxyz)
     plan = sim.plan(lift_traverse_descend(start, far, 0.95))
-    assert plan.position_error > POSITION_TOLERANCE
+    assert plan.position_error > POSITION_TOLERANCE and not plan.reaches_goal
     assert sim.commanded_site_pose().translation() == pytest.approx(start.translation())
+
+
+def test_plan_that_reaches_the_point_but_not_the_orientation_misses(model) -> None:
+    # An IK that barely weighs orientation gets to a reachable point with the hand turned 1.5 rad
+    # the wrong way: that plan does not reach its goal, however close the position is.
+    ik = ArmIK(model, SIDE, LIMITS, orientation_cost=1e-3)
+    start = ik.site_pose()
+    turned = start.rotation() @ mink.SO3.exp(np.array([1.5, 0.0, 0.0]))
+    goal = mink.SE3.from_rotation_and_translation(turned, np.array([0.5, 0.25, 0.85]))
+    plan = ik.plan(lift_traverse_descend(start, goal, 0.95), 0.02)
+    assert plan.position_error <= POSITION_TOLERANCE
+    assert plan.orientation_error > ORIENTATION_TOLERANCE
+    assert not plan.reaches_goal
 
 
 def test_prefix_and_reverse_end_at_start_targets(model, scene_spec) -> None:

@@ -63,6 +63,7 @@ def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -
     checks = [entry["render_check"] for entry in log if "render_check" in entry]
     assert {c["check"] for c in checks} == {"in hand", "on palm"}
     assert all(c["agrees"] for c in checks), checks
+    assert all(20 <= c["pixels"] <= c["leg_pixels"] for c in checks), checks  # MIN_PIXELS = 20
 
 
 @pytest.mark.slow

@@ -180,10 +180,8 @@ def test_arm_link_lengths(side: names.Side) -> None:
     model = _load("robot")
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)  # qpos0: the arm straight
-    base = data.xpos[model.body(f"{side}_base").id]
-    shoulder = data.xpos[model.body(f"{side}_link2").id]
-    elbow = data.xpos[model.body(f"{side}_link4").id]
-    wrist = data.xpos[model.body(f"{side}_link6").id]
+    bodies = names.arm_bodies(side)  # base, link1 .. link7
+    base, shoulder, elbow, wrist = (data.xpos[model.body(bodies[i]).id] for i in (0, 2, 4, 6))
     flange = data.xpos[model.body(names.hand_body(side)).id]
     lengths = [np.linalg.norm(b - a) for a, b in ((base, shoulder), (shoulder, elbow))]
     lengths += [np.linalg.norm(b - a) for a, b in ((elbow, wrist), (wrist, flange))]
@@ -203,7 +201,7 @@ def _descends(model: mujoco.MjModel, body: int, ancestor: int) -> bool:
 def test_masses_and_inertias_plausible(side: names.Side) -> None:
     """Links 1-6 weigh 1-4 kg, the arm 12-18 kg, the hand 1.5-2.5 kg; inertias are physical."""
     model = _load("robot")
-    links = [model.body(f"{side}_link{i}") for i in range(1, 8)]
+    links = [model.body(name) for name in names.arm_bodies(side)[1:]]
     assert all(1.0 <= b.mass[0] <= 4.0 for b in links[:6])
     assert 12.0 <= sum(b.mass[0] for b in links) <= 18.0
     palm = model.body(names.hand_body(side)).id

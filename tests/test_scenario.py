@@ -6,8 +6,16 @@ from pathlib import Path
 
 import pytest
 
-from pil.errors import ScenarioError
-from pil.task.scenario import DEFAULT_TYPES, SCENARIOS_DIR, load_scenario, states_along
+from pil.task.scenario import (
+    ASSEMBLY_DEFAULTS,
+    ASSEMBLY_MINIMUMS,
+    DEFAULT_SCENARIO,
+    DEFAULT_TYPES,
+    SCENARIOS_DIR,
+    ScenarioError,
+    load_scenario,
+    states_along,
+)
 from pil.types import Action, Gesture, State
 from pil.validity import VALID_STATES
 
@@ -154,3 +162,10 @@ def test_scenario_pickles_for_worker_processes() -> None:
 
     scenario = load_scenario()
     assert pickle.loads(pickle.dumps(scenario)) == scenario
+
+
+def test_the_shipped_assembly_is_the_default_one() -> None:
+    # scenarios/assembly.yaml spells out the paper's test; a file without the keys gets the same
+    scenario = load_scenario(DEFAULT_SCENARIO)
+    assert {key: getattr(scenario, key) for key in ASSEMBLY_DEFAULTS} == ASSEMBLY_DEFAULTS
+    assert set(ASSEMBLY_MINIMUMS) <= set(ASSEMBLY_DEFAULTS)

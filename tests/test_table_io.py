@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from pil import AssociationTable, Learner, State, load_table, save_table
-from pil.errors import RobinPilError, TableFileError
-from pil.table_io import FORMAT, merge_files
+from pil.errors import RobinPilError
+from pil.table_io import FORMAT, TableFileError, merge_files
 from pil.types import Action
 
 S = State("pointing", "open", "free")
@@ -199,7 +199,7 @@ def test_failed_save_leaves_previous_file_intact(tmp_path: Path) -> None:
         f"""
         import resource, signal
         from pil import AssociationTable, State, save_table
-        from pil.errors import TableFileError
+        from pil.table_io import TableFileError
         from pil.validity import VALID_STATES
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, ({len(before) + 50}, {len(before) + 50}))

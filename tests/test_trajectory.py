@@ -8,7 +8,7 @@ import pytest
 
 from robin_sim.control.trajectory import (
     PEAK_TO_MEAN,
-    Path,
+    CartesianPath,
     Segment,
     lift_traverse_descend,
     min_jerk,
@@ -19,7 +19,7 @@ from robin_sim.control.trajectory import (
 )
 
 
-def _speeds(path: Path, dt: float = 1e-3) -> np.ndarray:
+def _speeds(path: CartesianPath, dt: float = 1e-3) -> np.ndarray:
     times = np.arange(0.0, path.duration + dt, dt)
     points = np.array([path.sample(t).translation() for t in times])
     return np.linalg.norm(np.diff(points, axis=0), axis=1) / dt
@@ -41,7 +41,7 @@ def test_segment_duration_keeps_peak_speed() -> None:
     a, b = pose([0.0, 0.0, 0.0]), pose([0.3, 0.4, 0.0])  # 0.5 m
     duration = segment_duration(a, b, speed=0.25)
     assert duration == pytest.approx(PEAK_TO_MEAN * 0.5 / 0.25)
-    peak = _speeds(Path((Segment(a, b, duration),))).max()
+    peak = _speeds(CartesianPath((Segment(a, b, duration),))).max()
     assert peak == pytest.approx(0.25, rel=2e-3)
 
 

@@ -22,6 +22,7 @@ from person_steps import Acted  # noqa: E402
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.task.world import Intent, Outcome, Target  # noqa: E402
 from pil.types import Action, Gesture  # noqa: E402
+from robin_sim.model import names  # noqa: E402
 from robin_sim.render.checks import (  # noqa: E402
     verify_at_spot,
     verify_in_hand,
@@ -31,6 +32,25 @@ from robin_sim.render.renderer import CloseUpRenderer  # noqa: E402
 
 TABLE_TOP_Z = 0.75
 SPOT = (0.6, -0.25)
+# Where each test leg starts (x y z) and its colour: 0 on the table, 1 on the spot, 2 in the air
+# over the person's palm.
+LEGS = (
+    (f"0.3 0 {TABLE_TOP_Z + 0.021}", "1 0 0 1"),
+    (f"{SPOT[0]} {SPOT[1]} {TABLE_TOP_Z + 0.021}", "0 0 1 1"),
+    ("0.7 0.35 0.99", "0 .7 0 1"),
+)
+
+
+def _leg_xml(index: int, pos: str, rgba: str) -> str:
+    """One capsule leg (radius 0.02 m) with the model's leg names."""
+    return f"""
+    <body name="{names.leg_body(index)}" pos="{pos}">
+      <freejoint name="{names.leg_joint(index)}"/>
+      <geom name="{names.leg_geom(index)}" type="capsule" size="0.02 0.1" euler="0 90 0"
+            mass="0.2" rgba="{rgba}"/>
+    </body>"""
+
+
 # A two-finger gripper (``l_palm``) on a vertical slide over a table, a pusher plate that can push
 # leg 0 along its axis out from between the open fingers, the person's mocap hand, and three
 # capsule legs (radius 0.02 m).
@@ -65,22 +85,7 @@ SCENE = f"""
     <body name="human_hand" mocap="true" pos="0.7 0.35 0.95">
       <geom name="human_palm" type="box" size="0.06 0.05 0.01" rgba=".9 .7 .6 1"/>
     </body>
-    <body name="leg0" pos="0.3 0 {TABLE_TOP_Z + 0.021}">
-      <freejoint name="leg0_free"/>
-      <geom name="leg0_geom" type="capsule" size="0.02 0.1" euler="0 90 0" mass="0.2"
-            rgba="1 0 0 1"/>
-    </body>
-    <body name="leg1" pos="{SPOT[0]} {SPOT[1]} {TABLE_TOP_Z + 0.021}">
-      <freejoint name="leg1_free"/>
-      <geom name="leg1_geom" type="capsule" size="0.02 0.1" euler="0 90 0" mass="0.2"
-            rgba="0 0 1 1"/>
-    </body>
-    <body name="leg2" pos="0.7 0.35 0.99">
-      <freejoint name="leg2_free"/>
-      <geom name="leg2_geom" type="capsule" size="0.02 0.1" euler="0 90 0" mass="0.2"
-            rgba="0 .7 0 1"/>
-    </body>
-  </worldbody>
+{"".join(_leg_xml(i, pos, rgba) for i, (pos, rgba) in enumerate(LEGS))}  </worldbody>
   <actuator>
     <position name="lift" joint="lift" kp="2000" kv="200" ctrlrange="-0.3 0.3"/>
     <position name="f1" joint="f1" kp="200" ctrlrange="0 0.05" forcerange="-20 20"/>
@@ -113,7 +118,7 @@ class Rig:
         return self
 
     def leg(self, index: int) -> np.ndarray:
-        return self.data.body(f"leg{index}").xpos.copy()
+        return self.data.body(names.leg_body(index)).xpos.copy()
 
     def snapshot(self) -> mujoco.MjData:
         return copy.copy(self.data)

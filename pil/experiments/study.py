@@ -20,9 +20,9 @@ import numpy as np
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, check_rate
+from pil.experiments.paper import PAPER_RATES, PAPER_REPS, PAPER_TRAINING
 from pil.experiments.report import (
     Row,
-    group_rows,
     mean_sd,
     number,
     summary_markdown,
@@ -40,14 +40,6 @@ from pil.experiments.systems import (
 from pil.task.parts import SCENARIO_KEYS
 from pil.task.scenario import Scenario
 
-PAPER_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
-# The paper's training figures (5 tables): rate -> (gestures, actions)
-PAPER_TRAINING: dict[float, tuple[int, int]] = {
-    0.4: (170, 222),
-    0.6: (148, 203),
-    0.8: (126, 181),
-    1.0: (111, 144),
-}
 STUDY_COLUMNS: tuple[str, ...] = ("rep", *ROW_COLUMNS)
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
 
@@ -57,7 +49,7 @@ class StudyConfig:
     """What to run; the defaults are the paper's setup."""
 
     rates: tuple[float, ...] = PAPER_RATES
-    reps: int = 20
+    reps: int = PAPER_REPS
     seed: int = 0
     systems: tuple[str, ...] = tuple(SYSTEMS)
     scenario: Scenario | str | Path | None = None
@@ -222,8 +214,3 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
                  for r, (g, a) in PAPER_TRAINING.items()}  # fmt: skip
         written.append(plot_comparison(ours, paper, out / "training.png"))
     return written
-
-
-def rows_by_system(rows: Sequence[Row]) -> dict[str, list[Row]]:
-    """Rows grouped by system (a convenience for callers and tests)."""
-    return {key[0]: members for key, members in group_rows(rows, ["system"]).items()}

@@ -23,6 +23,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError, check_rate
+from pil.experiments.paper import PAPER_RATES, PAPER_REPS
+from pil.experiments.systems import SYSTEMS
+from pil.task.scenario import ASSEMBLY_DEFAULTS
 
 KINDS: dict[str, str] = {
     "learner": "pil.experiments.systems:run_one",
@@ -36,8 +39,8 @@ PARAM_SOURCES: dict[str, tuple[str, ...]] = {
         "robin_sim.episode.physical_run:PHYSICAL_PARAMS",
     ),
 }
-DEFAULT_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
-DEFAULT_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
+DEFAULT_SYSTEMS: tuple[str, ...] = tuple(SYSTEMS)  # the paper's five
+DEFAULT_RATES: tuple[float, ...] = PAPER_RATES
 RESERVED: dict[str, str] = {
     "system": "--systems",
     "rate": "--rates",
@@ -155,10 +158,6 @@ class Grid:
     base_seed: int
 
     @property
-    def param_names(self) -> tuple[str, ...]:
-        return tuple(name for name, _ in self.params)
-
-    @property
     def swept(self) -> tuple[str, ...]:
         """The grid's axes that take more than one value (rate and system included)."""
         axes = [("system", self.systems), ("rate", self.rates), *self.params]
@@ -258,9 +257,9 @@ def build_grid(
     *,
     systems: Sequence[str] = DEFAULT_SYSTEMS,
     rates: Sequence[float] = DEFAULT_RATES,
-    reps: int = 20,
+    reps: int = PAPER_REPS,
     params: Sequence[str] = (),
-    tables: int | None = 10,
+    tables: int | None = ASSEMBLY_DEFAULTS["tables"],
     base_seed: int = 0,
 ) -> Grid:
     """Validate every part of a grid; raise one clear :class:`SweepGridError` on bad input."""

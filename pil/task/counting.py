@@ -10,13 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
+from pil.task.person import ScriptStep
+from pil.task.records import StepRecord
 from pil.types import Feedback
-
-if TYPE_CHECKING:  # the runner imports this module
-    from pil.task.person import ScriptStep
-    from pil.task.runner import StepRecord
 
 
 @dataclass(slots=True)

@@ -28,18 +28,12 @@ from pil.table import AssociationTable
 from pil.task.detector import DEFAULT_DISCARD, Detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import MAX_ACTIONS_PER_GESTURE
-from pil.task.scenario import Scenario, load_scenario
+from pil.task.scenario import ASSEMBLY_DEFAULTS, Scenario, load_scenario
 from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD, ReactionTime
 
 # The assembly's own settings: None (the default) keeps the scenario file's value.
-SCENARIO_KEYS: tuple[str, ...] = ("tables", "legs_per_table", "training_tables", "draw", "spots")
-_SCENARIO_KINDS: dict[str, Any] = {
-    "tables": 10,  # test tables
-    "legs_per_table": 4,
-    "training_tables": 5,
-    "draw": "balanced",  # balanced | cycle | random
-    "spots": 4,
-}
+SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY_DEFAULTS)
+_SCENARIO_KINDS: dict[str, Any] = ASSEMBLY_DEFAULTS  # the type each setting converts to
 PARAMS: dict[str, Any] = {
     **dict.fromkeys(SCENARIO_KEYS),
     "detector": "exact",  # exact | independent

@@ -17,15 +17,16 @@ approves. The decisions depend only on the seeds of the learner, detector and pe
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any, NamedTuple, Protocol
+from typing import Any, Protocol
 
 from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
 from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
-from pil.task.world import Target, World
-from pil.types import START_ACTION, START_HAND, Action, Feedback, Gesture, Hand, State, hand_after
+from pil.task.records import StepRecord
+from pil.task.world import World
+from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
 
 MAX_ACTIONS_PER_GESTURE = 25
 MAX_PERFORMANCES = 1000  # times one instruction gesture may be performed before giving up
@@ -38,58 +39,6 @@ _AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action
 
 class RunnerError(RobinPilError):
     """The loop cannot go on (e.g. an instruction that never gets an approved action)."""
-
-
-class StepRecord(NamedTuple):
-    """One event of the loop (immutable). ``action`` None: the robot asks for a repeat.
-
-    Built with keywords: one base record per performed gesture, updated per action.
-    """
-
-    t: int  # robot actions so far, this one included (Table I's step t)
-    gesture_count: int  # instruction gestures performed so far, this one included
-    table: int  # 0-based table
-    handover: int  # 0-based handover (leg) in the whole run
-    handover_type: str
-    step: int  # 0-based gesture index within the handover
-    true_gesture: Gesture
-    detected_gesture: Gesture | None  # None: discarded as low-confidence
-    intended_action: Action
-    legs_delivered: int
-    corrected_gesture: Gesture | None = None  # set when the learner corrected the state
-    state: State | None = None  # the state acted on (None for a repeat request)
-    action: Action | None = None
-    feedback: Feedback | None = None
-    succeeded: bool | None = None  # what the world reported (None: no action)
-    detail: str = ""
-    delivered: bool = False  # Algorithm 1, line 19: this approved open delivered a leg
-    exploited: bool = False
-    reason: str = ""
-    target: Target | None = None  # the leg or spot the person indicates (None: nothing)
-    recovery: bool = False  # an instruction the person added to have a dropped leg picked up
-    interrupted: bool = False  # the person stopped the action while it ran (or at its end)
-    dropped: int | None = None  # a leg that left the robot's hand during the action
-
-    @property
-    def state_key(self) -> str | None:
-        """The acted-on state as its text key, e.g. ``"pointing|open|free"``."""
-        return None if self.state is None else self.state.key()
-
-    @property
-    def is_repeat(self) -> bool:
-        """True for a repeat request (no action executed)."""
-        return self.action is None
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain JSON-ready values (enums as the paper's names, the state as its key)."""
-        out = self._asdict()
-        out["state"] = self.state_key
-        target = self.target
-        out["target"] = None if target is None else {"kind": target.kind, "index": target.index}
-        for key, value in out.items():
-            if isinstance(value, (Gesture, Action, Feedback)):
-                out[key] = value.value
-        return out
 
 
 class StepObserver(Protocol):

@@ -6,7 +6,7 @@ many legs each has, how many tables the pre-trained conditions train on, and in 
 the handover types are drawn. See ``scenarios/*.yaml`` and the README.
 
 Every rule of the task is checked on load; a broken one raises
-:class:`pil.errors.ScenarioError` naming the file, the key and the valid choices.
+:class:`ScenarioError` naming the file, the key and the valid choices.
 """
 
 from __future__ import annotations
@@ -16,12 +16,12 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import yaml
 
-from pil.errors import ScenarioError
-from pil.types import ACTIONS, GESTURES, START_ACTION, START_HAND, Action, Gesture, Hand, State
+from pil.errors import RobinPilError
+from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
 # The shipped scenarios are package data (a link to the repository's scenarios/ in a checkout).
@@ -30,6 +30,21 @@ DEFAULT_SCENARIO = SCENARIOS_DIR / "assembly.yaml"
 DEFAULT_TYPES = SCENARIOS_DIR / "handover_types.yaml"
 MIN_STEPS, MAX_STEPS = 4, 7
 DRAWS: tuple[str, ...] = ("balanced", "cycle", "random")
+# The assembly's settings and their defaults (the paper's test: 10 tables of 4 legs, training on
+# 5), and the least whole number each count takes; the one source for files, code and the CLI.
+ASSEMBLY_DEFAULTS: dict[str, Any] = {
+    "tables": 10,
+    "legs_per_table": 4,
+    "training_tables": 5,
+    "draw": "balanced",
+    "spots": 4,  # table spots the person can point at
+}
+ASSEMBLY_MINIMUMS: dict[str, int] = {
+    "tables": 1,
+    "legs_per_table": 1,
+    "training_tables": 0,
+    "spots": 1,
+}
 ASSEMBLY_KEYS: tuple[str, ...] = (
     "name",
     "description",
@@ -43,6 +58,10 @@ ASSEMBLY_KEYS: tuple[str, ...] = (
     "layout",
 )
 TYPE_KEYS: tuple[str, ...] = ("description", "steps")
+
+
+class ScenarioError(RobinPilError):
+    """A scenario file that is malformed or breaks a rule of the task."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,12 +90,12 @@ class Scenario:
     """The assembly task: handover types plus how many tables, legs and in which order."""
 
     types: tuple[HandoverType, ...]
-    tables: int = 10
-    legs_per_table: int = 4
-    training_tables: int = 5
-    draw: str = "balanced"
+    tables: int = ASSEMBLY_DEFAULTS["tables"]
+    legs_per_table: int = ASSEMBLY_DEFAULTS["legs_per_table"]
+    training_tables: int = ASSEMBLY_DEFAULTS["training_tables"]
+    draw: str = ASSEMBLY_DEFAULTS["draw"]
     sequence: tuple[str, ...] = ()  # handover types to draw from (default: all, file order)
-    spots: int = 4
+    spots: int = ASSEMBLY_DEFAULTS["spots"]
     layout: Mapping[str, Any] = field(default_factory=dict, hash=False)  # for the world
     name: str = "assembly"
     source: str = "<scenario>"
@@ -120,13 +139,7 @@ class Scenario:
 
     def with_changes(self, **changes: Any) -> Scenario:
         """A copy with some assembly fields replaced (validated like a file)."""
-        values = {
-            "tables": self.tables,
-            "legs_per_table": self.legs_per_table,
-            "training_tables": self.training_tables,
-            "draw": self.draw,
-            "spots": self.spots,
-        }
+        values = {key: getattr(self, key) for key in ASSEMBLY_DEFAULTS}
         for key, value in changes.items():
             if key not in values:
                 raise ScenarioError(
@@ -148,21 +161,21 @@ def parse_step(text: object, where: str) -> tuple[Gesture, Action]:
     if not isinstance(text, str) or text.count("->") != 1:
         raise ScenarioError(f"{where}: a step is written 'gesture -> action', got {text!r}")
     gesture_text, action_text = (part.strip() for part in text.split("->"))
+    return _named(Gesture, gesture_text, where), _named(Action, action_text, where)
+
+
+_Named = TypeVar("_Named", Gesture, Action)
+
+
+def _named(kind: type[_Named], text: str, where: str) -> _Named:
+    """The member of ``kind`` named ``text``; else a ScenarioError listing the valid names."""
     try:
-        gesture = Gesture(gesture_text)
+        return kind(text)
     except ValueError:
         raise ScenarioError(
-            f"{where}: unknown gesture {gesture_text!r}; valid choices: "
-            + ", ".join(g.value for g in GESTURES)
+            f"{where}: unknown {kind.__name__.lower()} {text!r}; valid choices: "
+            + ", ".join(member.value for member in kind)
         ) from None
-    try:
-        action = Action(action_text)
-    except ValueError:
-        raise ScenarioError(
-            f"{where}: unknown action {action_text!r}; valid choices: "
-            + ", ".join(a.value for a in ACTIONS)
-        ) from None
-    return gesture, action
 
 
 def states_along(pairs: Sequence[tuple[Gesture, Action]]) -> tuple[State, ...]:
@@ -284,17 +297,12 @@ def find_scenario(path: str | Path) -> Path:
 def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     """The validated counts and draw of an assembly (defaults for missing keys)."""
     values: dict[str, Any] = {}
-    for key, default, low in (
-        ("tables", 10, 1),
-        ("legs_per_table", 4, 1),
-        ("training_tables", 5, 0),
-        ("spots", 4, 1),
-    ):
-        value = raw.get(key, default)
+    for key, low in ASSEMBLY_MINIMUMS.items():
+        value = raw.get(key, ASSEMBLY_DEFAULTS[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < low:
             raise ScenarioError(f"{source}: {key}: expected a whole number >= {low}, got {value!r}")
         values[key] = value
-    draw = raw.get("draw", "balanced")
+    draw = raw.get("draw", ASSEMBLY_DEFAULTS["draw"])
     if draw not in DRAWS:
         raise ScenarioError(
             f"{source}: draw: unknown draw {draw!r}; valid choices: " + ", ".join(DRAWS)

@@ -1,4 +1,4 @@
-"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep`` and ``report`` subcommands.
+"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep``, ``report``, ``model-path``.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and
 ``run(args) -> int``; modules are imported only when their command is chosen, so
@@ -19,6 +19,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "episode": ("robin_sim.cli.episode", "one physical episode rendered headless to MP4"),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
+    "model-path": ("robin_sim.cli.model_path", "print where the MJCF model files are installed"),
 }
 
 

@@ -76,6 +76,7 @@ def with_physical(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     returned unchanged.
     """
     from pil.experiments.report import number
+    from pil.task.scenario import ASSEMBLY_DEFAULTS
 
     out = []
     for row in rows:
@@ -88,7 +89,9 @@ def with_physical(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
             elif row.get("tables") not in (None, ""):
                 per_table = row.get("legs_per_table")
                 legs = number(row["tables"], "tables") * (
-                    number(per_table, "legs_per_table") if per_table not in (None, "") else 4.0
+                    number(per_table, "legs_per_table")
+                    if per_table not in (None, "")
+                    else ASSEMBLY_DEFAULTS["legs_per_table"]
                 )
                 delivered = number(row["legs_delivered"], "legs_delivered")
                 fraction = delivered / legs if legs > 0 else float("nan")

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError, check_rate
+from pil.experiments.paper import PAPER_REPS, rates_text
 
 DEFAULT_OUT = Path("out/study")
 
@@ -34,13 +35,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The study's options (defaults: the paper's setup)."""
     parser.add_argument(
         "--rates",
-        default="0.4,0.6,0.8,1.0",
+        default=rates_text(),
         help="detection rates in [0, 1], comma separated (default: %(default)s)",
     )
     parser.add_argument(
         "--reps",
         type=int,
-        default=20,
+        default=PAPER_REPS,
         help="repetitions per rate and system (default: %(default)s)",
     )
     parser.add_argument(

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
+from pil.experiments.paper import PAPER_REPS, rates_text
 
 _EPILOG = (
     "Results: DIR/runs.jsonl (every attempt, written as it ends), DIR/results.csv (one row per "
@@ -35,15 +36,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     grid.add_argument(
         "--systems",
-        default="pil,c1,c2,c3,c4",
-        help="comma-separated systems (default: pil,c1,c2,c3,c4)",
+        default=None,
+        help="comma-separated systems (default: the paper's five, pil and c1..c4)",
     )
     grid.add_argument(
         "--rates",
-        default="0.4,0.6,0.8,1.0",
-        help="comma-separated detection rates in [0, 1] (default: 0.4,0.6,0.8,1.0)",
+        default=rates_text(),
+        help="comma-separated detection rates in [0, 1] (default: %(default)s)",
     )
-    grid.add_argument("--reps", type=int, default=20, help="repetitions per cell (default: 20)")
+    grid.add_argument(
+        "--reps", type=int, default=PAPER_REPS, help="repetitions per cell (default: %(default)s)"
+    )
     grid.add_argument(
         "--tables",
         type=int,
@@ -96,7 +99,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Validate, connect, run what is left of the grid, merge, report. 0 when all runs pass."""
     from pil.experiments.sweep_exec import execute, make_backend
-    from pil.experiments.sweep_grid import build_grid, load_target, split_list
+    from pil.experiments.sweep_grid import DEFAULT_SYSTEMS, build_grid, load_target, split_list
     from pil.experiments.sweep_store import RunStore, make_record
 
     if args.scheduler and args.workers is not None:
@@ -108,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
         tables = target.params.get("tables", 10)  # the kind's default; None: the function's
     grid = build_grid(
         target,
-        systems=split_list(args.systems, "--systems"),
+        systems=DEFAULT_SYSTEMS if args.systems is None else split_list(args.systems, "--systems"),
         rates=rates,
         reps=args.reps,
         params=args.param,

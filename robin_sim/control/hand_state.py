@@ -22,7 +22,7 @@ from robin_sim.model.names import Side
 MAX_SLIP_SPEED = 0.05  # m/s between the leg and the hand above which the leg is not held
 PALM = "palm"
 PARTS: tuple[str, ...] = (*names.FINGERS, PALM)  # f1, f2, thumb, palm
-_THUMB = PARTS.index("thumb")
+_THUMB = PARTS.index(names.THUMB)
 _PALM = PARTS.index(PALM)
 
 
@@ -95,7 +95,7 @@ class HandSensor:
 
 def is_opposed(parts: frozenset[str] | set[str]) -> bool:
     """Two distinct hand parts touch, one of them the thumb or the palm."""
-    return len(parts) >= 2 and ("thumb" in parts or PALM in parts)
+    return len(parts) >= 2 and (names.THUMB in parts or PALM in parts)
 
 
 def grasped_leg(model: mujoco.MjModel, data: mujoco.MjData, side: Side = "l") -> int | None:

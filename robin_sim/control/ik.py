@@ -22,13 +22,13 @@ import mink
 import mujoco
 import numpy as np
 
-from robin_sim.control.trajectory import Path
+from robin_sim.control.trajectory import CartesianPath
 from robin_sim.model import names
 from robin_sim.model.names import Side
 
 IK_SOLVER = "daqp"
 POSITION_TOLERANCE = 0.01  # m; a path end the IK misses by more is out of reach
-ORIENTATION_TOLERANCE = 0.15  # rad
+ORIENTATION_TOLERANCE = 0.15  # rad; a path end the IK turns short of by more is out of reach
 DEFAULT_VELOCITY_LIMIT = 1.5  # rad/s, used for joints without a given limit
 
 
@@ -74,6 +74,14 @@ class JointPlan:
     def duration(self) -> float:
         """Seconds the plan takes to play."""
         return len(self.q) * self.dt
+
+    @property
+    def reaches_goal(self) -> bool:
+        """True when the path end is met within both tolerances (position and orientation)."""
+        return (
+            self.position_error <= POSITION_TOLERANCE
+            and self.orientation_error <= ORIENTATION_TOLERANCE
+        )
 
     def prefix(self, fraction: float) -> JointPlan:
         """The first ``fraction`` of the plan (at least one tick)."""
@@ -165,7 +173,7 @@ class ArmIK:
         angle = float(np.linalg.norm((pose.rotation().inverse() @ target.rotation()).log()))
         return position, angle
 
-    def plan(self, path: Path, dt: float, settle: float = 0.4) -> JointPlan:
+    def plan(self, path: CartesianPath, dt: float, settle: float = 0.4) -> JointPlan:
         """Roll the IK along ``path`` (plus ``settle`` s at its end) from the current q.
 
         The IK configuration ends at the plan's last q; call :meth:`reset` to discard a plan.

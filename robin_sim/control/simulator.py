@@ -18,7 +18,7 @@ import mujoco
 import numpy as np
 
 from robin_sim.control.ik import ArmIK, JointPlan, arm_kinematic_model, home_arm_q
-from robin_sim.control.trajectory import Path, min_jerk
+from robin_sim.control.trajectory import CartesianPath, min_jerk
 from robin_sim.model import names
 from robin_sim.model.names import Side
 
@@ -53,7 +53,7 @@ class HandController:
         self.joint_qadr = model.jnt_qposadr[joints]
         self.joint_dofs = model.jnt_dofadr[joints]
         self._low, self._high = model.actuator_ctrlrange[self.actuators].T
-        distal = {f"{side}_{finger}_dist" for finger in names.FINGERS if finger != "thumb"}
+        distal = {names.finger_joints(side, f)[1] for f in names.FINGERS if f != names.THUMB}
         self._distal = np.array([a in distal for a in names.hand_actuators(side)])
         self._from = self.command
         self._to = self._from.copy()
@@ -195,7 +195,7 @@ class Simulator:
         return lambda: self._observers.remove(callback)
 
     # --- arm motion ---------------------------------------------------------------------------
-    def plan(self, path: Path, settle: float = 0.4) -> JointPlan:
+    def plan(self, path: CartesianPath, settle: float = 0.4) -> JointPlan:
         """IK rollout of ``path`` from the current arm targets; nothing moves."""
         start = self.arm_command
         self.ik.reset(start)

@@ -1,7 +1,7 @@
 """Minimum-jerk Cartesian paths for the hand: straight segments and lift-traverse-descend moves.
 
-A :class:`Path` is a chain of straight segments between :class:`mink.SE3` poses. Each segment
-is timed by the minimum-jerk profile ``s(τ) = 10τ³ - 15τ⁴ + 6τ⁵`` so that it starts and ends
+A :class:`CartesianPath` is a chain of straight segments between :class:`mink.SE3` poses. Each
+segment is timed by the minimum-jerk profile ``s(τ) = 10τ³ - 15τ⁴ + 6τ⁵`` so that it starts and ends
 at rest with zero acceleration; its duration follows from a peak linear and angular speed (the
 profile's peak velocity is 1.875 times its mean). Carried objects are kept clear of the table
 and the person by :func:`lift_traverse_descend`: up to a clearance height, across, then down.
@@ -80,7 +80,7 @@ def segment_duration(
 
 
 @dataclass(frozen=True)
-class Path:
+class CartesianPath:
     """Consecutive segments, each starting where the previous one ended."""
 
     segments: tuple[Segment, ...]
@@ -117,7 +117,7 @@ def through(
     waypoints: Sequence[mink.SE3],
     speed: float = DEFAULT_SPEED,
     angular_speed: float = DEFAULT_ANGULAR_SPEED,
-) -> Path:
+) -> CartesianPath:
     """A path through ``waypoints`` (at least two), stopping at each one."""
     if len(waypoints) < 2:
         raise ValueError("a path needs at least two waypoints")
@@ -125,7 +125,7 @@ def through(
         Segment(a, b, segment_duration(a, b, speed, angular_speed))
         for a, b in itertools.pairwise(waypoints)
     )
-    return Path(segments)
+    return CartesianPath(segments)
 
 
 def lift_traverse_descend(
@@ -135,7 +135,7 @@ def lift_traverse_descend(
     speed: float = DEFAULT_SPEED,
     angular_speed: float = DEFAULT_ANGULAR_SPEED,
     min_rise: float = 0.0,
-) -> Path:
+) -> CartesianPath:
     """Up from ``start`` to ``clearance_z``, across at that height, down to ``goal``.
 
     The orientation turns to the goal's during the traverse. The vertical moves are dropped when

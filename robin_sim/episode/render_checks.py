@@ -72,6 +72,8 @@ class RenderChecks(ClosesOnExit):
             "agrees": check.ok == physics,
             "detail": check.detail,
             "view": check.view,
+            "pixels": check.pixels,  # the evidence the decision rests on
+            "leg_pixels": check.leg_pixels,  # every leg pixel of the deciding view(s)
         }
 
     def take(self) -> dict[str, Any] | None:

@@ -22,7 +22,8 @@ from tqdm import tqdm
 from pil.errors import RobinPilError, check_rate
 from pil.experiments.systems import SYSTEMS, check_system, test_parts
 from pil.task.parts import PERSON_PARAMS, RunParts, check_params, resolve_scenario
-from pil.task.runner import StepRecord, steps
+from pil.task.records import StepRecord
+from pil.task.runner import steps
 from pil.task.scenario import Scenario
 from pil.types import Hand, hand_after
 from robin_sim.episode.log import StepLog, write_json_atomic

@@ -14,7 +14,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from pil.task.counting import RunStats
-from pil.task.runner import StepRecord
+from pil.task.records import StepRecord
 from pil.types import Action
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from pil.task.runner import StepRecord
+from pil.task.records import StepRecord
 from robin_sim.render.overlay import OverlayInfo
 
 

@@ -34,6 +34,11 @@ def arm_joints(side: Side) -> tuple[str, ...]:
     return tuple(f"{side}_joint{i}" for i in range(1, ARM_DOF + 1))
 
 
+def arm_bodies(side: Side) -> tuple[str, ...]:
+    """The arm's base and its seven links, shoulder to wrist: ``l_base``, ``l_link1`` ..."""
+    return (f"{side}_base", *(f"{side}_link{i}" for i in range(1, ARM_DOF + 1)))
+
+
 def arm_actuators(side: Side) -> tuple[str, ...]:
     """Position actuators of the arm joints (same names as the joints)."""
     return arm_joints(side)
@@ -42,23 +47,25 @@ def arm_actuators(side: Side) -> tuple[str, ...]:
 # Schunk SDH style hand: finger 1 and finger 2 rotate about the palm normal (``knuckle``, the two
 # coupled by a joint equality), each finger has a proximal and a distal joint; finger 3 is the
 # thumb, fixed in rotation.
-FINGERS: tuple[str, ...] = ("f1", "f2", "thumb")
+THUMB = "thumb"
+FINGERS: tuple[str, ...] = ("f1", "f2", THUMB)
+
+
+def finger_joints(side: Side, finger: str) -> tuple[str, str]:
+    """The proximal and distal joint of ``finger`` (one of FINGERS); actuators share the names."""
+    return f"{side}_{finger}_prox", f"{side}_{finger}_dist"
 
 
 def hand_joints(side: Side) -> tuple[str, ...]:
     """Every hand joint: the two knuckles, then proximal and distal joints of each finger."""
-    joints = [f"{side}_knuckle1", f"{side}_knuckle2"]
-    for finger in FINGERS:
-        joints += [f"{side}_{finger}_prox", f"{side}_{finger}_dist"]
-    return tuple(joints)
+    fingers = (joint for finger in FINGERS for joint in finger_joints(side, finger))
+    return (f"{side}_knuckle1", f"{side}_knuckle2", *fingers)
 
 
 def hand_actuators(side: Side) -> tuple[str, ...]:
     """Hand position actuators: one knuckle (the other follows by equality) and six finger ones."""
-    acts = [f"{side}_knuckle1"]
-    for finger in FINGERS:
-        acts += [f"{side}_{finger}_prox", f"{side}_{finger}_dist"]
-    return tuple(acts)
+    fingers = (joint for finger in FINGERS for joint in finger_joints(side, finger))
+    return (f"{side}_knuckle1", *fingers)
 
 
 def grasp_site(side: Side) -> str:
@@ -125,9 +132,12 @@ HUMAN_VIS_POSES: tuple[str, ...] = (
 HUMAN_VIS_PARTS: tuple[str, ...] = ("palm", "thumb", "index", "middle", "ring", "little")
 
 
+HUMAN_VIS_PREFIX = "human_vis_"  # what every gesture geom's name starts with
+
+
 def human_vis_geom(pose: str, part: str) -> str:
     """Visual geom of gesture ``pose`` (one of HUMAN_VIS_POSES) and hand ``part``."""
-    return f"human_vis_{pose}_{part}"
+    return f"{HUMAN_VIS_PREFIX}{pose}_{part}"
 
 
 def fingertip_site(side: Side, finger: str) -> str:

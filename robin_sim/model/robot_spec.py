@@ -18,7 +18,6 @@ ARM_JOINT_LIMITS: tuple[float, ...] = tuple(math.radians(v) for v in ARM_JOINT_L
 ARM_VELOCITY_LIMITS: tuple[float, ...] = tuple(math.radians(v) for v in ARM_VELOCITY_LIMITS_DEG)
 ARM_LINK_LENGTHS: tuple[float, ...] = (0.31, 0.40, 0.39, 0.078)  # base-shoulder-elbow-wrist-flange
 SHOULDER_HEIGHT = 1.20  # m, height of joint 2 of both arms
-HAND_VELOCITY_LIMIT = 2.0  # rad/s, any finger joint (a comfortable rate for the SDH style hand)
 
 # --- hand (Schunk SDH style) -------------------------------------------------------------------
 # Position targets in the order of ``names.hand_actuators(side)``:

@@ -82,7 +82,7 @@ class PhysicalBody:
 
     def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
         """Eyes on the robot's next action, meaning ``intent``, reacting in ``reaction`` s."""
-        self.last_watcher = PhysicalWatcher(self, intent, reaction)
+        self.last_watcher = PhysicalWatcher(self.world, self.display, intent, reaction)
         return self.last_watcher
 
     def show_feedback(self, feedback: Feedback) -> None:

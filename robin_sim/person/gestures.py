@@ -18,8 +18,7 @@ from robin_sim.model import names
 
 NEUTRAL_POSE = "neutral"
 POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral, pointing, give_me, ... thumb_down
-# "human_vis_": what every pose geom's name starts with (see names.human_vis_geom)
-HUMAN_VIS_PREFIX = names.human_vis_geom("{pose}", "{part}").split("{pose}")[0]
+HUMAN_VIS_PREFIX = names.HUMAN_VIS_PREFIX  # what every pose geom's name starts with
 GESTURE_POSES: dict[Gesture, str] = {
     Gesture.POINTING: "pointing",
     Gesture.GIVE_ME: "give_me",

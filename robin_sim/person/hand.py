@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from robin_sim.control.simulator import Simulator
-from robin_sim.control.trajectory import Path, pose, through
+from robin_sim.control.trajectory import CartesianPath, pose, through
 from robin_sim.model import names
 
 HAND_SPEED = 0.35  # m/s peak, free hand
@@ -43,7 +43,7 @@ class HumanHand:
         self.rest_pose = self.pose()
         site = model.site(names.HUMAN_PALM_SITE)
         self.palm_offset = model.site_pos[site.id].copy()  # palm centre in the hand frame
-        self._path: Path | None = None
+        self._path: CartesianPath | None = None
         self._start = 0.0
 
     def attach(self, sim: Simulator) -> None:
@@ -136,6 +136,6 @@ class HumanHand:
         carry = through([self.pose(), pose(lowered), pose(over_bin)], CARRY_SPEED)
         tip = through([carry.end, tipped], HAND_SPEED, 1.5)
         back = through([tip.end, self.rest_pose], HAND_SPEED)
-        self._path = Path(carry.segments + tip.segments + back.segments)
+        self._path = CartesianPath(carry.segments + tip.segments + back.segments)
         self._start = now
         return self._path.duration

@@ -20,17 +20,14 @@ the thumb down one reaction time later, and the robot takes the action back.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from pil.task.world import Intent
 from pil.types import Action, Feedback
 from robin_sim.model import robot_spec as spec
+from robin_sim.person.gestures import GestureDisplay
 from robin_sim.robot.targets import target_point
-
-if TYPE_CHECKING:
-    from robin_sim.person.body import PhysicalBody
+from robin_sim.robot.world import PhysicalWorld
 
 ARM_SEEN = 0.03  # m the hand moves before the person takes it as a motion
 FINGERS_SEEN = 0.12  # share of the open-closed travel the fingers move before it is seen
@@ -44,10 +41,10 @@ FINGER_ACTIONS = (Action.CLOSE, Action.OPEN)
 class PhysicalWatcher:
     """The person's eyes on one action (see the module doc)."""
 
-    def __init__(self, body: PhysicalBody, intent: Intent, reaction: float) -> None:
-        self.body, self.intent, self.reaction = body, intent, reaction
-        world = body.world
-        self.world = world
+    def __init__(
+        self, world: PhysicalWorld, display: GestureDisplay, intent: Intent, reaction: float
+    ) -> None:
+        self.world, self.display, self.intent, self.reaction = world, display, intent, reaction
         self.start = world.sim.site_pose().translation()
         self.start_closure = self._closure()
         self.highest = float(self.start[2])
@@ -83,7 +80,7 @@ class PhysicalWatcher:
             return False
         if self.stopped_at is None:
             self.stopped_at = now
-            self.body.display.show(Feedback.NOT_OK)
+            self.display.show(Feedback.NOT_OK)
         return True
 
     def _closure(self) -> float:

@@ -24,6 +24,7 @@ import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from robin_sim.closing import ClosesOnExit
+from robin_sim.model.names import DEFAULT_CAMERA
 
 
 class RenderError(RobinPilError):
@@ -76,7 +77,7 @@ class FrameRenderer(ClosesOnExit):
         model: mujoco.MjModel,
         width: int = 640,
         height: int = 480,
-        camera: str = "front",
+        camera: str = DEFAULT_CAMERA,
         shadows: bool = True,
     ) -> None:
         check_frame_size(model, width, height)

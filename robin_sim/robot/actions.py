@@ -1,7 +1,7 @@
 """The robot's five actions as objects: a target, a done condition, success checks, a time limit.
 
 Every action is prepared first (:meth:`RobotAction.prepare`: the arm motion is planned with IK
-and a target out of reach raises :class:`~robin_sim.robot.errors.UnreachableTargetError` before
+and a target out of reach raises :class:`~robin_sim.robot.targets.UnreachableTargetError` before
 anything moves), then run as the robot would run it, tick by tick (:meth:`RobotAction.run`). At
 every control tick the action asks ``stop`` (the person's thumb down); when it says stop the
 robot halts where it is and takes the action back from there. An action that ran to its end
@@ -26,10 +26,9 @@ import numpy as np
 
 from pil.task.world import Outcome
 from pil.types import Action, Hand
-from robin_sim.control.ik import POSITION_TOLERANCE, JointPlan
+from robin_sim.control.ik import JointPlan
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, pose, through
-from robin_sim.robot.errors import UnreachableTargetError
 from robin_sim.robot.motion import (
     FINGER_UNDO_TIME,
     HALT_SETTLE,
@@ -39,6 +38,7 @@ from robin_sim.robot.motion import (
     play,
     ramp_fingers,
 )
+from robin_sim.robot.targets import check_reached
 
 ARRIVAL_TOLERANCE = 0.015  # m between the measured grasp site and the motion's goal
 RETURN_TOLERANCE = 0.005  # m between the grasp site before an action and after its undo
@@ -153,10 +153,7 @@ class MoveAction(RobotAction):
             sim.commanded_site_pose(), self.goal, self.clearance_z, self.speed
         )
         plan = sim.plan(path)
-        if plan.position_error > POSITION_TOLERANCE:
-            raise UnreachableTargetError(
-                self.target_name, self.goal.translation(), plan.position_error, ctx.reach_region
-            )
+        check_reached(plan, self.target_name, self.goal, ctx.reach_region)
         self.plan = plan
         self.time_limit = plan.duration + 1.0
 

@@ -2,22 +2,57 @@
 
 ``Target("leg", k)`` means leg ``k`` where physics has it now (measured, so a nudged leg is
 still grasped where it lies); ``Target("spot", k)`` is the layout's table spot ``k``. Bad
-indices and kinds raise a :class:`~pil.errors.RobinPilError` that lists the valid ones.
+indices and kinds raise a :class:`~pil.errors.RobinPilError` that lists the valid ones; a goal
+the arm's plan does not reach raises :class:`UnreachableTargetError` (:func:`check_reached`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import math
+from collections.abc import Callable, Sequence
 
 import mink
 import numpy as np
 
 from pil.errors import RobinPilError
 from pil.task.world import Target
+from robin_sim.control.ik import JointPlan
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout
 
 TARGET_KINDS = ("leg", "spot")
+
+
+class UnreachableTargetError(RobinPilError):
+    """A motion target the arm cannot reach; raised before anything moves."""
+
+    def __init__(
+        self,
+        target: str,
+        position: Sequence[float],
+        missed_by: float,
+        turned_short_by: float,
+        region: str,
+    ) -> None:
+        where = "(" + ", ".join(f"{v:.3f}" for v in position) + ")"
+        super().__init__(
+            f"{target} at {where} m is out of the arm's reach (the IK stops {missed_by * 100:.1f}"
+            f" cm and {math.degrees(turned_short_by):.1f} degrees short); reachable: {region}."
+            " Move it into the reachable region of the layout."
+        )
+        self.target = target
+        self.position = tuple(float(v) for v in position)
+        self.missed_by = missed_by
+        self.turned_short_by = turned_short_by
+        self.region = region
+
+
+def check_reached(plan: JointPlan, target: str, goal: mink.SE3, region: str) -> None:
+    """Raise :class:`UnreachableTargetError` unless ``plan`` ends at ``goal`` (both tolerances)."""
+    if not plan.reaches_goal:
+        raise UnreachableTargetError(
+            target, goal.translation(), plan.position_error, plan.orientation_error, region
+        )
 
 
 def reach_text() -> str:

@@ -1,0 +1,64 @@
+"""The record of one event of the step loop (:func:`pil.task.runner.steps`).
+
+An executed action, or a request to the person to repeat the gesture (``action`` None). The
+study counts records (:mod:`pil.task.counting`), an episode logs and renders them.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+from pil.task.world import Target
+from pil.types import Action, Feedback, Gesture, State
+
+
+class StepRecord(NamedTuple):
+    """One event of the loop (immutable). ``action`` None: the robot asks for a repeat.
+
+    Built with keywords: one base record per performed gesture, updated per action.
+    """
+
+    t: int  # robot actions so far, this one included (Table I's step t)
+    gesture_count: int  # instruction gestures performed so far, this one included
+    table: int  # 0-based table
+    handover: int  # 0-based handover (leg) in the whole run
+    handover_type: str
+    step: int  # 0-based gesture index within the handover
+    true_gesture: Gesture
+    detected_gesture: Gesture | None  # None: discarded as low-confidence
+    intended_action: Action
+    legs_delivered: int
+    corrected_gesture: Gesture | None = None  # set when the learner corrected the state
+    state: State | None = None  # the state acted on (None for a repeat request)
+    action: Action | None = None
+    feedback: Feedback | None = None
+    succeeded: bool | None = None  # what the world reported (None: no action)
+    detail: str = ""
+    delivered: bool = False  # Algorithm 1, line 19: this approved open delivered a leg
+    exploited: bool = False
+    reason: str = ""
+    target: Target | None = None  # the leg or spot the person indicates (None: nothing)
+    recovery: bool = False  # an instruction the person added to have a dropped leg picked up
+    interrupted: bool = False  # the person stopped the action while it ran (or at its end)
+    dropped: int | None = None  # a leg that left the robot's hand during the action
+
+    @property
+    def state_key(self) -> str | None:
+        """The acted-on state as its text key, e.g. ``"pointing|open|free"``."""
+        return None if self.state is None else self.state.key()
+
+    @property
+    def is_repeat(self) -> bool:
+        """True for a repeat request (no action executed)."""
+        return self.action is None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain JSON-ready values (enums as the paper's names, the state as its key)."""
+        out = self._asdict()
+        out["state"] = self.state_key
+        target = self.target
+        out["target"] = None if target is None else {"kind": target.kind, "index": target.index}
+        for key, value in out.items():
+            if isinstance(value, (Gesture, Action, Feedback)):
+                out[key] = value.value
+        return out

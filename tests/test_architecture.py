@@ -1,0 +1,289 @@
+"""The architecture, checked statically: no import cycle, a MuJoCo-free `pil`, a tidy robin_sim.
+
+Every import statement of every module under pil/ and robin_sim/ counts, wherever it stands
+(module level, inside a function, under `if TYPE_CHECKING:`): the source is parsed with `ast`,
+nothing is imported. An import edge goes to the deepest module of ours that the statement names
+(`from pil.task import parts` -> pil.task.parts; `from pil.task import Scenario` -> pil.task).
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("pil", "robin_sim")
+
+# Import cycles that exist today and are being removed by someone else. The lead empties this
+# once the learner engineer's branch (which splits pil.table from pil.table_io) is merged; a
+# listed cycle that no longer exists fails `test_known_cycles_still_exist`, so it cannot linger.
+KNOWN_CYCLES: tuple[frozenset[str], ...] = (frozenset({"pil.table", "pil.table_io"}),)
+
+# `pil` is the learner and the symbolic task: it runs without any of these installed.
+PIL_FORBIDDEN = ("mujoco", "mink", "dm_control", "robin_sim")
+
+MAX_LOOSE_ROBIN_SIM_MODULES = 10
+
+
+def module_files(root: Path, packages: Iterable[str] = PACKAGES) -> dict[str, Path]:
+    """Dotted module name -> source file, for every .py file under the given packages."""
+    found: dict[str, Path] = {}
+    for package in packages:
+        for path in sorted((root / package).rglob("*.py")):
+            parts = list(path.relative_to(root).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts.pop()
+            found[".".join(parts)] = path
+    return found
+
+
+def _absolute(module: str, is_package: bool, level: int, name: str | None) -> str:
+    """The absolute dotted name of a (possibly relative) `from ... import` source."""
+    if level == 0:
+        return name or ""
+    base = module.split(".") if is_package else module.split(".")[:-1]
+    base = base[: len(base) - (level - 1)]
+    return ".".join([*base, name] if name else base)
+
+
+def imported_names(module: str, path: Path) -> set[str]:
+    """Every dotted name the module's import statements name, absolute (`from a import b`: a.b)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    is_package = path.name == "__init__.py"
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            source = _absolute(module, is_package, node.level, node.module)
+            names.update(source if a.name == "*" else f"{source}.{a.name}" for a in node.names)
+    return names
+
+
+def import_graph(modules: Mapping[str, Path]) -> dict[str, set[str]]:
+    """Module -> the modules of ours it imports (the deepest existing module of each name)."""
+    graph: dict[str, set[str]] = {}
+    for module, path in modules.items():
+        targets: set[str] = set()
+        for name in imported_names(module, path):
+            parts = name.split(".")
+            for end in range(len(parts), 0, -1):
+                candidate = ".".join(parts[:end])
+                if candidate in modules:
+                    targets.add(candidate)
+                    break
+        targets.discard(module)
+        graph[module] = targets
+    return graph
+
+
+def cycles(graph: Mapping[str, set[str]]) -> list[list[str]]:
+    """One concrete cycle (a, b, ..., a) per strongly connected component of several modules."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    components: list[set[str]] = []
+
+    def visit(node: str) -> None:  # Tarjan's algorithm; the graph has ~100 nodes
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for nxt in sorted(graph.get(node, ())):
+            if nxt not in index:
+                visit(nxt)
+                low[node] = min(low[node], low[nxt])
+            elif nxt in on_stack:
+                low[node] = min(low[node], index[nxt])
+        if low[node] == index[node]:
+            component: set[str] = set()
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.add(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                components.append(component)
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return [_cycle_in(graph, component) for component in components]
+
+
+def _cycle_in(graph: Mapping[str, set[str]], component: set[str]) -> list[str]:
+    """A shortest cycle through the component's first module (breadth-first, inside it)."""
+    start = min(component)
+    parents: dict[str, str] = {}
+    frontier = [start]
+    while frontier:
+        nxt_frontier = []
+        for node in frontier:
+            for nxt in sorted(graph[node] & component):
+                if nxt == start:
+                    path = [node]
+                    while path[-1] != start:
+                        path.append(parents[path[-1]])
+                    return [start, *reversed(path[:-1]), start]
+                if nxt not in parents:
+                    parents[nxt] = node
+                    nxt_frontier.append(nxt)
+        frontier = nxt_frontier
+    raise AssertionError(f"no cycle in strongly connected component {sorted(component)}")
+
+
+@pytest.fixture(scope="module")
+def graph() -> dict[str, set[str]]:
+    return import_graph(module_files(ROOT))
+
+
+def test_no_import_cycle(graph: dict[str, set[str]]) -> None:
+    found = [c for c in cycles(graph) if frozenset(c) not in KNOWN_CYCLES]
+    assert not found, "import cycles: " + "; ".join(" -> ".join(c) for c in found)
+
+
+def test_known_cycles_still_exist(graph: dict[str, set[str]]) -> None:
+    present = {frozenset(c) for c in cycles(graph)}
+    gone = [sorted(known) for known in KNOWN_CYCLES if known not in present]
+    assert not gone, f"these cycles are gone: remove them from KNOWN_CYCLES: {gone}"
+
+
+def test_pil_imports_no_simulation() -> None:
+    offenders = []
+    for module, path in module_files(ROOT, ("pil",)).items():
+        for name in sorted(imported_names(module, path)):
+            if name.split(".")[0] in PIL_FORBIDDEN:
+                offenders.append(f"{module} imports {name}")
+    assert not offenders, "; ".join(offenders)
+
+
+def test_few_loose_modules_in_robin_sim() -> None:
+    loose = sorted(p.name for p in (ROOT / "robin_sim").glob("*.py") if p.name != "__init__.py")
+    assert len(loose) <= MAX_LOOSE_ROBIN_SIM_MODULES, f"{len(loose)} loose modules: {loose}"
+
+
+def _name_like_fstrings(path: Path) -> list[str]:
+    """f-strings that read like a model name (``f"{side}_{finger}_dist"``, ``f"leg{i}"``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    specs = {
+        id(v.format_spec) for v in ast.walk(tree) if isinstance(v, ast.FormattedValue)
+    }  # the `.3f` of f"{x:.3f}" is an f-string of its own
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.JoinedStr) or id(node) in specs:
+            continue
+        parts = node.values
+        if not any(isinstance(p, ast.Constant) for p in parts) or any(
+            isinstance(p, ast.FormattedValue) and (p.format_spec or p.conversion != -1)
+            for p in parts
+        ):
+            continue
+        text = "".join(p.value if isinstance(p, ast.Constant) else "x" for p in parts)
+        if re.fullmatch(r"[A-Za-z0-9_]+", text):
+            found.append(f"{path.relative_to(ROOT)}:{node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_model_names_are_built_in_names_py_only() -> None:
+    # names.py's promise: the code and the MJCF agree through robin_sim.model.names alone.
+    names_py = ROOT / "robin_sim" / "model" / "names.py"
+    built = [
+        hit
+        for path in sorted((ROOT / "robin_sim").rglob("*.py"))
+        if path != names_py
+        for hit in _name_like_fstrings(path)
+    ]
+    assert not built, "model names built outside robin_sim/model/names.py: " + "; ".join(built)
+    assert _name_like_fstrings(names_py), "the check no longer sees names.py's own f-strings"
+
+
+def _error_classes(modules: Mapping[str, Path]) -> dict[str, str]:
+    """Every subclass of RobinPilError defined in our code: class name -> defining module."""
+    bases: dict[str, tuple[str, set[str]]] = {}
+    for module, path in modules.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef):
+                names = {b.id if isinstance(b, ast.Name) else ast.unparse(b) for b in node.bases}
+                bases[node.name] = (module, {n.rsplit(".", 1)[-1] for n in names})
+    errors = {"RobinPilError"}
+    while True:
+        more = {name for name, (_, parents) in bases.items() if parents & errors} - errors
+        if not more:
+            break
+        errors |= more
+    return {name: bases[name][0] for name in errors - {"RobinPilError"}}
+
+
+def _constructs(path: Path) -> set[str]:
+    """Names the module calls (``Name(...)``, ``module.Name(...)``) or raises bare."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        target = node.func if isinstance(node, ast.Call) else None
+        if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Name | ast.Attribute):
+            target = node.exc
+        if isinstance(target, ast.Name):
+            found.add(target.id)
+        elif isinstance(target, ast.Attribute):
+            found.add(target.attr)
+    return found
+
+
+def test_errors_live_next_to_what_raises_them() -> None:
+    # One base class (pil.errors.RobinPilError); a subclass lives in the module that raises it,
+    # or in pil.errors when it is a family that several modules raise (InvalidChoiceError).
+    modules = module_files(ROOT)
+    made = {module: _constructs(path) for module, path in modules.items()}
+    misplaced = []
+    for error, home in sorted(_error_classes(modules).items()):
+        raisers = sorted(m for m, names in made.items() if error in names)
+        shared = home == "pil.errors" and len(raisers) >= 2
+        if home not in raisers and not shared:
+            misplaced.append(f"{error} (in {home}, raised in {', '.join(raisers) or 'nothing'})")
+    assert not misplaced, "errors defined away from what raises them: " + "; ".join(misplaced)
+
+
+# The checker itself, on small packages written for the purpose: it must see what it claims to.
+
+
+def _write(root: Path, files: Mapping[str, str]) -> None:
+    for rel, text in files.items():
+        path = root / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+
+
+def test_checker_finds_function_level_and_relative_cycles(tmp_path: Path) -> None:
+    _write(
+        tmp_path,
+        {
+            "pk/__init__.py": "",
+            "pk/a.py": "def f():\n    from pk.sub import b\n",
+            "pk/sub/__init__.py": "",
+            "pk/sub/b.py": "from . import c\n",
+            "pk/sub/c.py": "from ..a import f\n",
+            "pk/d.py": "import pk.a\n",
+        },
+    )
+    found = cycles(import_graph(module_files(tmp_path, ("pk",))))
+    assert found == [["pk.a", "pk.sub.b", "pk.sub.c", "pk.a"]]
+
+
+def test_checker_accepts_a_package_reexporting_its_modules(tmp_path: Path) -> None:
+    _write(
+        tmp_path,
+        {
+            "pk/__init__.py": "from pk.a import f\nfrom .b import g\n",
+            "pk/a.py": "from pk.b import g\n",
+            "pk/b.py": "import os\ng = os.sep\n",
+        },
+    )
+    graph = import_graph(module_files(tmp_path, ("pk",)))
+    assert graph == {"pk": {"pk.a", "pk.b"}, "pk.a": {"pk.b"}, "pk.b": set()}
+    assert cycles(graph) == []
+    _write(tmp_path, {"pk/b.py": "from pk import f\n"})  # a module importing its package back
+    assert cycles(import_graph(module_files(tmp_path, ("pk",)))) == [["pk", "pk.b", "pk"]]
