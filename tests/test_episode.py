@@ -67,6 +67,29 @@ def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -
 
 
 @pytest.mark.slow
+def test_the_default_episode_delivers_every_leg_without_touching_the_person(
+    tmp_path: Path,
+) -> None:
+    """The main job (one table, seed 0) without video: all four legs, no robot-person contact,
+    every handover within its time, the person's parameters in the summary."""
+    summary = run_episode(EpisodeConfig(out=tmp_path, video=False, progress=False))
+    assert summary["status"] == "finished" and summary["legs_delivered"] == 4
+    assert summary["person_contacts"] == 0 and summary["timeouts"] == 0
+    assert summary["handover_success_rate"] == 1.0
+    assert summary["person"]["reaction_time"] == 0.5
+    handovers = summary["handovers"]
+    assert [h["delivered"] for h in handovers] == [True] * 4
+    assert all(0.0 < h["seconds"] <= summary["handover_timeout_s"] for h in handovers)
+    assert sum(h["actions"] for h in handovers) == summary["actions"]
+    assert summary["interrupted_actions"] == sum(h["interrupted"] for h in handovers) > 0
+    log = read_step_log(tmp_path / "episode.jsonl")
+    stopped = [e for e in log if e["interrupted"]]
+    assert all(e["feedback"] == "not ok" for e in stopped)
+    # the person stops what they did not mean, or a meant action during which the leg dropped
+    assert all(e["action"] != e["intended_action"] or e["dropped"] is not None for e in stopped)
+
+
+@pytest.mark.slow
 def test_physical_decisions_equal_the_learner_only_run(tmp_path: Path) -> None:
     config = EpisodeConfig(tables=1, seed=3, out=tmp_path, video=False, verify=False,
                            progress=False)  # fmt: skip

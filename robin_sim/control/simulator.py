@@ -83,11 +83,15 @@ class HandController:
         """Targets ``amount`` of the way from open (0) to closed (1)."""
         return self.targets.open + amount * (self.targets.closed - self.targets.open)
 
-    def nudged(self, amount: float) -> np.ndarray:
-        """Current targets with the two fingers' distal joints ``amount`` rad further closed
-        (negative: opened); the thumb and the proximal joints keep their targets."""
-        direction = np.sign(self.targets.closed - self.targets.open)
-        return np.clip(self.command + self._distal * direction * amount, self._low, self._high)
+    def eased(self) -> np.ndarray:
+        """Current targets with the two fingers' distal joints at their open targets: the
+        fingertips visibly ease while the proximal joints and the thumb keep squeezing."""
+        return np.where(self.distal, self.targets.open, self.command)
+
+    @property
+    def distal(self) -> np.ndarray:
+        """Mask over the hand actuators: the two fingers' distal joints (not the thumb's)."""
+        return self._distal.copy()
 
     def busy(self, now: float) -> bool:
         """True while the ramp is still running."""
@@ -209,9 +213,11 @@ class Simulator:
         self._plan, self._plan_tick = plan, 0
 
     def halt(self) -> None:
-        """Stop playing the current plan; the arm holds its last targets."""
+        """Stop playing the current plan: the arm's targets become where it is now, so it
+        brakes to a stop there (its damping sets the stopping distance)."""
         if self._plan is not None:
-            self.ik.reset(self.arm_command)
+            self.data.ctrl[self.arm_actuators] = self.arm_q
+            self.ik.reset(self.arm_q)
             self._plan = None
 
     @property

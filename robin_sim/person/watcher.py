@@ -6,9 +6,12 @@ a person can see: where the robot's hand is and where it heads, whether the fing
 open, whether a leg is in the hand. It is never told which action the robot runs. At every
 control tick it checks whether the motion so far contradicts what the person wants:
 
-* wanted close or open: the arm moves (more than :data:`ARM_SEEN`), or the fingers move the
-  other way (more than :data:`FINGERS_SEEN` of their travel);
-* wanted object, location or human: the fingers move, or the hand heads more than
+* wanted close or open: the arm moves (more than :data:`ARM_SEEN`); fingers that do the
+  wrong thing show in the result (a close that catches nothing, an open that keeps the leg);
+* wanted object, location or human: the fingertips move (a fingertip joint turns more than
+  :data:`FINGERS_SEEN`; carrying a leg makes them jiggle by at most 0.05 rad, measured;
+  a closing hand or the eased fingertips of a release turn them 0.2 rad and more), or the hand
+  heads more than
   :data:`HEADING_SEEN` away from the wanted place once it has moved :data:`ARM_SEEN`
   sideways, or it comes down away from that place.
 
@@ -30,7 +33,7 @@ from robin_sim.robot.targets import target_point
 from robin_sim.robot.world import PhysicalWorld
 
 ARM_SEEN = 0.03  # m the hand moves before the person takes it as a motion
-FINGERS_SEEN = 0.12  # share of the open-closed travel the fingers move before it is seen
+FINGERS_SEEN = 0.12  # rad a fingertip joint turns before the person sees it move (7 degrees)
 HEADING_SEEN = np.deg2rad(40.0)  # rad between the hand's heading and the wanted place
 DESCENT_SEEN = 0.03  # m the hand comes down from its highest point before it is seen
 PLACE_RADIUS = 0.05  # m, hand to the wanted place (horizontally) for a result to count
@@ -46,7 +49,8 @@ class PhysicalWatcher:
     ) -> None:
         self.world, self.display, self.intent, self.reaction = world, display, intent, reaction
         self.start = world.sim.site_pose().translation()
-        self.start_closure = self._closure()
+        self.start_fingers = self._fingertips()
+        self.start_held = world.held_leg()
         self.highest = float(self.start[2])
         self.goal = self._goal()  # where the hand should go (xy, z of the surface), if a move
         self.recognized_at: float | None = None  # when the person saw it was unwanted
@@ -83,13 +87,9 @@ class PhysicalWatcher:
             self.display.show(Feedback.NOT_OK)
         return True
 
-    def _closure(self) -> float:
-        """How far the fingers are from open (0) towards closed (1): joint travel summed over
-        the fingers, so the large proximal joints weigh most (as they do to the eye)."""
+    def _fingertips(self) -> np.ndarray:
         hand = self.world.sim.hand
-        span = hand.targets.closed - hand.targets.open
-        q = self.world.data.qpos[hand.joint_qadr]
-        return float(np.sum(q - hand.targets.open) / np.sum(np.abs(span)))
+        return self.world.data.qpos[hand.joint_qadr[hand.distal]].copy()
 
     def _goal(self) -> np.ndarray | None:
         action, target, world = self.intent.action, self.intent.target, self.world
@@ -105,19 +105,14 @@ class PhysicalWatcher:
         here = self.world.sim.site_pose().translation()
         moved = here - self.start
         sideways = float(np.linalg.norm(moved[:2]))
-        fingers = self._closure() - self.start_closure
+        turned = float(np.abs(self._fingertips() - self.start_fingers).max())
         self.highest = max(self.highest, float(here[2]))
         wanted = self.intent.action
         if wanted in FINGER_ACTIONS:
             lowered = self.start[2] - here[2] > ARM_SEEN
             rose = here[2] - self.start[2] > ARM_SEEN and wanted is Action.CLOSE
-            if sideways > ARM_SEEN or lowered or rose:
-                return "the arm moves"
-            closing = wanted is Action.CLOSE
-            if (fingers < -FINGERS_SEEN) if closing else (fingers > FINGERS_SEEN):
-                return "the fingers move the other way"
-            return ""
-        if abs(fingers) > FINGERS_SEEN:
+            return "the arm moves" if sideways > ARM_SEEN or lowered or rose else ""
+        if turned >= FINGERS_SEEN:
             return "the fingers move"
         if self.goal is None:
             return ""
@@ -135,13 +130,17 @@ class PhysicalWatcher:
     def _wrong_result(self) -> str:
         """Why the finished action's result is not the wanted one ("" when it is)."""
         world, wanted = self.world, self.intent.action
+        here = world.sim.site_pose().translation()
         if wanted is Action.CLOSE:
+            if float(np.linalg.norm(here - self.start)) > ARM_SEEN:
+                return "the hand is not where it was"
             return "" if world.held_leg() is not None else "no leg in the hand"
         if wanted is Action.OPEN:
             return "" if world.held_leg() is None else "the leg is still in the hand"
+        if world.held_leg() != self.start_held:
+            return "the hand took or let go of a leg"
         if self.goal is None:
             return ""
-        here = world.sim.site_pose().translation()
         if float(np.linalg.norm(here[:2] - self.goal[:2])) > PLACE_RADIUS:
             return "the hand is not at the place meant"
         if wanted is Action.OBJECT:

@@ -34,6 +34,7 @@ from robin_sim.robot.motion import (
     HALT_SETTLE,
     Stop,
     fingers_settled,
+    hold_fingers,
     never,
     play,
     ramp_fingers,
@@ -43,6 +44,12 @@ from robin_sim.robot.targets import check_reached
 ARRIVAL_TOLERANCE = 0.015  # m between the measured grasp site and the motion's goal
 RETURN_TOLERANCE = 0.005  # m between the grasp site before an action and after its undo
 RETREAT_HEIGHT = 0.10  # m the hand rises after letting go of a leg
+# s: before a held leg is let go anywhere but over a place it was carried to (the palm, a spot),
+# the two fingertips ease open (about 0.2 rad, visibly) while the proximal joints and the thumb
+# keep the grip (the leg slips about 2 mm), so that a person can stop an open they did not mean.
+# Over a place the hand opens at once: easing first tilts the leg and spoils the placement
+# (measured: up to 2.4 cm off the spot instead of at most 1.2 cm).
+EASE_RAMP, EASE_HOLD, OPEN_RAMP = 0.4, 0.3, 0.6
 HEIGHT_TOLERANCE = 0.01  # m: a released leg's centre vs radius above its supporting surface
 
 
@@ -262,7 +269,18 @@ class OpenAction(RobotAction):
         sim, start = ctx.sim, ctx.sim.time
         leg = ctx.held_leg()
         self._before, self._retreat = sim.hand.command, None
-        if not ramp_fingers(sim, sim.hand.targets.open, 0.6, stop, self.time_limit):
+        announced = (
+            leg is None
+            or self.release_point is not None
+            or (  # fingertips first
+                ramp_fingers(sim, sim.hand.eased(), EASE_RAMP, stop, self.time_limit)
+                and hold_fingers(sim, EASE_HOLD, stop, self._before)
+            )
+        )
+        opened = announced and ramp_fingers(
+            sim, sim.hand.targets.open, OPEN_RAMP, stop, self.time_limit, self._before
+        )
+        if not opened:
             dropped = _lost(ctx, leg)
             detail = "stopped by the person; fingers closed again"
             if dropped is not None:

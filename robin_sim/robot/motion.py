@@ -50,21 +50,41 @@ def play(sim: Simulator, plan: JointPlan, stop: Stop) -> int | None:
 
 
 def ramp_fingers(
-    sim: Simulator, goal: np.ndarray, duration: float, stop: Stop, limit: float
+    sim: Simulator,
+    goal: np.ndarray,
+    duration: float,
+    stop: Stop,
+    limit: float,
+    back_to: np.ndarray | None = None,
 ) -> bool:
     """Ramp the fingers to ``goal`` and wait until they settle; False when ``stop()`` said stop
-    on the way (the fingers then ramp back to where they were)."""
-    before = sim.hand.command
+    on the way (the fingers then ramp back to ``back_to``, default where they were)."""
+    before = sim.hand.command if back_to is None else back_to
     if stop():
-        return False
+        return _fingers_back(sim, before, limit)
     sim.hand.move_to(goal, sim.time, duration)
     end = sim.time + limit
     while sim.time < end - 1e-9:
         sim.tick()
         if stop():
-            sim.hand.move_to(before, sim.time, FINGER_UNDO_TIME)
-            sim.step_until(fingers_settled, limit)
-            return False
+            return _fingers_back(sim, before, limit)
         if fingers_settled(sim):
             break
     return True
+
+
+def hold_fingers(sim: Simulator, seconds: float, stop: Stop, back_to: np.ndarray) -> bool:
+    """Keep the fingers as they are for ``seconds``; False (fingers back to ``back_to``) when
+    ``stop()`` said stop meanwhile."""
+    end = sim.time + seconds
+    while sim.time < end - 1e-9:
+        sim.tick()
+        if stop():
+            return _fingers_back(sim, back_to, 2.0)
+    return True
+
+
+def _fingers_back(sim: Simulator, targets: np.ndarray, limit: float) -> bool:
+    sim.hand.move_to(targets, sim.time, FINGER_UNDO_TIME)
+    sim.step_until(fingers_settled, limit)
+    return False
