@@ -119,12 +119,12 @@ class Learner:
         if tried == _ALL_TRIED:  # every action was rejected in this step: start over
             tried = self._tried[sid] = 0
         table = self.table
-        best = table._best[sid]
+        best = table.best_id(sid)
         if best >= 0 and not tried >> best & 1:
             self.last_exploited, self.last_reason = True, "unique best"
             return ACTIONS[best]
         self.last_exploited = False
-        row = table._counts[sid]
+        row = table.row(sid)
         learnt = 0
         if row is not None:
             top = 0
@@ -140,7 +140,7 @@ class Learner:
             if tops:
                 self.last_reason = "next best" if len(tops) == 1 else "tie among learnt"
                 return ACTIONS[tops[0] if len(tops) == 1 else self._rng.choice(tops)]
-        rejected = table._rejected[sid]
+        rejected = table.rejected_mask(sid)
         fresh = [i for i in _INDICES if not (tried | rejected | learnt) >> i & 1]
         if fresh:
             self.last_reason = "explore untried"
@@ -162,12 +162,12 @@ class Learner:
         if index is None:
             index = action_index(action)
         if ok is True or (ok is not False and approves(ok)):
-            self.table._approve(sid, index)
-            self.table._follow(self._last_ok, sid)
+            self.table.approve_id(sid, index)
+            self.table.follow_id(self._last_ok, sid)
             self._tried.clear()
             self._last_ok = sid
         else:
-            self.table._reject(sid, index)
+            self.table.reject_id(sid, index)
             self._tried[sid] = self._tried.get(sid, 0) | 1 << index
 
     # -- section III-B ----------------------------------------------------------------------
@@ -182,7 +182,7 @@ class Learner:
         return self._correct(state.previous_action, state.hand, source)
 
     def _correct(self, previous_action: Action, hand: Hand, source: int) -> State | None:
-        followers = self.table._transitions[source]
+        followers = self.table.followers(source)
         candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
         top = 0
         tops: list[int] = []
@@ -207,7 +207,7 @@ class Learner:
         else:
             sid = _id_of_parts(detected, previous_action, hand)
             detected_state = ALL_STATES[sid]
-            if self.table._total == 0:  # T is empty: explore without a validity check
+            if self.table.is_empty():  # T is empty: explore without a validity check
                 action = self._choose(sid)
                 reason = f"explore (nothing learnt yet); {self.last_reason}"
                 return Decision(detected_state, detected_state, action, False, False, reason)
@@ -236,7 +236,7 @@ class Learner:
         else:
             why = f"invalid: {broken_rules(detected_state)[0].name}"
             was = detected_state.gesture.value
-        if self.table._total == 0:
+        if self.table.is_empty():
             return Decision(None, detected_state, None, False, False, f"{why}; nothing learnt yet")
         if not self.correction:
             reason = f"{why}; no correction (manual repetition)"
