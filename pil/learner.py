@@ -20,6 +20,7 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
+from pil.errors import RobinPilError
 from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
@@ -84,6 +85,11 @@ class Learner:
         correction: bool = True,
     ) -> None:
         self.seed = seed
+        if table is not None and not isinstance(table, AssociationTable):
+            raise RobinPilError(
+                f"table must be an AssociationTable (or None for an empty one), got "
+                f"{type(table).__name__} {table!r}; load a saved one with pil.load_table(path)"
+            )
         self.table = AssociationTable() if table is None else table
         self.correction = correction
         self._rng = random.Random(seed)

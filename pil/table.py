@@ -19,6 +19,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from types import MappingProxyType
 
+from pil.errors import RobinPilError
 from pil.types import ACTIONS, Action, Feedback, State
 from pil.validity import ALL_STATES
 
@@ -72,6 +73,13 @@ def state_sort_key(state: State | None) -> int:
 
 def _source_id(previous: State | None) -> int:
     return START if previous is None else state_id(previous)
+
+
+def _check_count(count: object, what: str) -> None:
+    """A count must be a whole number >= 0 (not a bool, not a float such as 1.5 or 1.0)."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+        raise RobinPilError(f"{what} must be a whole number >= 0 (counts never decrease), "
+                            f"got {count!r}")  # fmt: skip
 
 
 class AssociationTable:
@@ -137,9 +145,8 @@ class AssociationTable:
         return MappingProxyType(self._transitions[source])
 
     def add(self, state: State, action: Action | str, count: int) -> None:
-        """Add ``count`` (>= 0) approvals at once (loading and merging tables)."""
-        if count < 0:
-            raise ValueError(f"counts never decrease; got {count} for {state} -> {action}")
+        """Add ``count`` (a whole number >= 0) approvals at once (loading and merging tables)."""
+        _check_count(count, f"count for {state} -> {action}")
         if count:
             self.approve_id(state_id(state), action_index(action), count)
 
@@ -149,8 +156,7 @@ class AssociationTable:
 
     def record_transition(self, previous: State | None, state: State, count: int = 1) -> None:
         """Count that approved ``state`` followed approved ``previous`` (None: task start)."""
-        if count < 0:
-            raise ValueError(f"transition counts never decrease; got {count}")
+        _check_count(count, "transition count")
         if count:
             self.follow_id(_source_id(previous), state_id(state), count)
 

@@ -250,3 +250,9 @@ def test_names_are_parsed_and_bad_ones_raise() -> None:
         learner.feedback(State("pointing", "open", "free"), "fly", True)
     with pytest.raises(RobinPilError, match="unknown feedback"):
         learner.feedback(State("pointing", "open", "free"), "object", "maybe")
+
+
+@pytest.mark.parametrize("table", ["x", {"counts": {}}, 3])
+def test_learner_refuses_a_table_that_is_not_one(table: object) -> None:
+    with pytest.raises(RobinPilError, match=r"table must be an AssociationTable.*load_table"):
+        Learner(table=table)  # type: ignore[arg-type]

@@ -217,3 +217,16 @@ def test_id_level_interface_matches_the_named_one() -> None:
     assert dict(table.followers(START)) == {sid: 1} and table.transitions(None) == {s: 1}
     with pytest.raises(TypeError):
         table.followers(START)[sid] = 5  # read-only view
+
+
+@pytest.mark.parametrize("count", [1.5, True, 1.0, "2", -1])
+def test_add_refuses_counts_that_are_not_whole_numbers(count: object) -> None:
+    from pil.errors import RobinPilError
+
+    table = AssociationTable()
+    s = State("pointing", "open", "free")
+    with pytest.raises(RobinPilError, match="must be a whole number >= 0"):
+        table.add(s, Action.OBJECT, count)  # type: ignore[arg-type]
+    with pytest.raises(RobinPilError, match="must be a whole number >= 0"):
+        table.record_transition(None, s, count)  # type: ignore[arg-type]
+    assert table.is_empty() and table.transitions(None) == {}

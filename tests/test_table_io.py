@@ -109,6 +109,8 @@ CORRUPT = {
     "wrong format": (_corrupt(_valid_content(), "format", "something/else"), "format"),
     "unknown version": (_corrupt(_valid_content(), "version", 7), "supported versions: 1"),
     "version as text": (_corrupt(_valid_content(), "version", "1"), "unsupported version"),
+    "version as a float": (_corrupt(_valid_content(), "version", 1.0), "unsupported version 1.0"),
+    "version as a bool": (_corrupt(_valid_content(), "version", True), "unsupported version"),
     "unknown gesture": (
         _corrupt(_valid_content(), "counts", "wave|open|free", {"open": 1}),
         "unknown gesture 'wave'; valid choices: 'pointing', 'give me', 'grasp', 'release'",

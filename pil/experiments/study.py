@@ -65,6 +65,12 @@ class StudyConfig:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rates", tuple(check_rate(r) for r in self.rates))
+        repeated = sorted({r for r in self.rates if self.rates.count(r) > 1})
+        if repeated:
+            raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")
+        seed = self.seed
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
         for system in self.systems:
             check_system(system)
         if isinstance(self.reps, bool) or not isinstance(self.reps, int) or self.reps < 1:

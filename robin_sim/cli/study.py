@@ -26,7 +26,12 @@ def _rates(text: str) -> tuple[float, ...]:
                 f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
                 "by commas, e.g. 0.4,0.6,0.8,1.0"
             ) from None
-        rates.append(check_rate(value, f"--rates: detection rate {part.strip()}"))
+        rate = check_rate(value, f"--rates: detection rate {part.strip()}")
+        if rate in rates:
+            raise RobinPilError(
+                f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"
+            )
+        rates.append(rate)
     return tuple(rates)
 
 
@@ -69,8 +74,11 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
+    from pil.experiments.outdir import check_output_folder
     from pil.experiments.study import StudyConfig, run_study, write_outputs
 
+    if args.seed < 0:
+        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
     if args.reps < 1:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
     if args.tables is not None and args.tables < 1:
@@ -82,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
         scenario=args.scenario,
         params={"tables": args.tables, "detector": args.detector},
     )
+    check_output_folder(args.out)  # before the computation, not after it
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
               disable=args.no_progress) as bar:  # fmt: skip
         rows = run_study(config, progress=bar.update)
