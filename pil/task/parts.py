@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.exploration import DEFAULT_RULE, check_rule
 from pil.learner import Learner
 from pil.table import AssociationTable
 from pil.task.detector import DEFAULT_DISCARD, Detector
@@ -48,6 +49,7 @@ PARAMS: dict[str, Any] = {
     "silent_ok": 0.0,  # chance that the person approves by saying nothing
     "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
+    "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
 }
 PHASES: tuple[str, ...] = ("train", "test")
 SEED_NAMES: tuple[str, ...] = tuple(
@@ -185,7 +187,8 @@ def build_parts(
         discard=values["discard"],
         confusion=values["confusion"],
     )
-    learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual)
+    learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
+                      exploration=check_rule(values["exploration"]))  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

@@ -27,7 +27,9 @@ from pil.task.person import ScriptedPerson
 from pil.task.world import Target, World
 from pil.types import START_ACTION, Action, Feedback, Gesture, Hand, State
 
-MAX_ACTIONS_PER_GESTURE = 25
+# Random exploration has a geometric tail: 25 misses in a row at p = 3/4 happen about once a
+# study, 100 about once in 1e10 studies.
+MAX_ACTIONS_PER_GESTURE = 100
 MAX_PERFORMANCES = 1000  # times one instruction gesture may be performed before giving up
 _DELIVERY_FROM = (Action.HUMAN, Action.LOCATION)
 _NOT_OK, _OPEN, _OCCUPIED = Feedback.NOT_OK, Action.OPEN, Hand.OCCUPIED

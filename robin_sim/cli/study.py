@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError, check_rate
+from pil.exploration import DEFAULT_RULE, RULES
 
 DEFAULT_OUT = Path("out/study")
 
@@ -67,6 +68,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scenario", default=None, help="assembly scenario YAML (default: scenarios/assembly.yaml)"
     )
+    parser.add_argument(
+        "--exploration",
+        default=DEFAULT_RULE,
+        choices=tuple(RULES),
+        help="the learner's rule after a not-OK (default: %(default)s; see pil.exploration)",
+    )
+    parser.add_argument(
+        "--discarded",
+        default="repeated",
+        choices=("repeated", "corrected"),
+        help="a discarded gesture: the person repeats it, or the learner corrects it as an "
+        "invalid one (default: %(default)s)",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")  # fmt: skip
 
 
@@ -88,7 +102,12 @@ def run(args: argparse.Namespace) -> int:
         reps=args.reps,
         seed=args.seed,
         scenario=args.scenario,
-        params={"tables": args.tables, "detector": args.detector},
+        params={
+            "tables": args.tables,
+            "detector": args.detector,
+            "exploration": args.exploration,
+            "repeat_discarded": args.discarded == "repeated",
+        },
     )
     check_output_folder(args.out)  # before the computation, not after it
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
