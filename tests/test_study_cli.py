@@ -30,6 +30,8 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
         (["--reps", "0"], "--reps must be >= 1"),
         (["--seed", "-1"], "--seed must be a whole number >= 0, got -1"),
         (["--rates", "0.4,0.6,0.4"], "rate 0.4 is given twice"),
+        (["--systems", "pil,robot"], "unknown --systems: system 'robot'; valid choices: 'pil'"),
+        (["--systems", "pil,tamer,pil"], "system 'pil' is given twice"),
     ],
 )
 def test_bad_input_exits_2_with_one_clear_message(
@@ -83,3 +85,15 @@ def test_bad_out_is_refused_before_anything_runs(
     assert err.startswith("robin-pil study: error: output folder") and message in err
     assert len(err.strip().splitlines()) == 1, err
     assert (tmp_path / "a_file").read_text() == "kept\n"
+
+
+def test_study_runs_the_baselines_beside_pil(tmp_path: Path) -> None:
+    out = tmp_path / "baselines"
+    argv = ["study", "--systems", "pil,bandit,tamer", "--reps", "2", "--tables", "1",
+            "--rates", "0.6", "--out", str(out), "--no-progress"]  # fmt: skip
+    assert main(argv) == 0
+    text = (out / "summary.md").read_text()
+    for system in ("bandit", "tamer"):
+        assert f"| 0.6 | {system} | 2 |" in text
+        assert f"| 0.6 | gestures | pil | {system} |" in text
+    assert "training" not in {p.stem for p in out.iterdir()}  # no pre-trained system: no figure

@@ -38,8 +38,8 @@ from pil.experiments.report import (
     welch_ttests,
 )
 from pil.experiments.systems import (
+    PAPER_SYSTEMS,
     ROW_COLUMNS,
-    SYSTEMS,
     check_params,
     check_system,
     resolve_scenario,
@@ -59,7 +59,7 @@ class StudyConfig:
     rates: tuple[float, ...] = PAPER_RATES
     reps: int = 20
     seed: int = 0
-    systems: tuple[str, ...] = tuple(SYSTEMS)
+    systems: tuple[str, ...] = PAPER_SYSTEMS
     scenario: Scenario | str | Path | None = None
     params: Mapping[str, Any] = field(default_factory=dict)  # see pil.experiments.systems.PARAMS
 
@@ -71,8 +71,11 @@ class StudyConfig:
         seed = self.seed
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
             raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
+        object.__setattr__(self, "systems", tuple(self.systems))
         for system in self.systems:
             check_system(system)
+        if len(set(self.systems)) != len(self.systems) or not self.systems:
+            raise RobinPilError(f"give each system once (at least one), got {self.systems!r}")
         if isinstance(self.reps, bool) or not isinstance(self.reps, int) or self.reps < 1:
             raise RobinPilError(f"reps must be a whole number >= 1, got {self.reps!r}")
 

@@ -50,6 +50,8 @@ PARAMS: dict[str, Any] = {
     "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
     "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
+    "epsilon": 0.1,  # the bandit baseline's chance of a random action (pil.agents.bandit)
+    "step_size": 0.5,  # the TAMER baseline's regression step (pil.agents.tamer)
 }
 PHASES: tuple[str, ...] = ("train", "test")
 SEED_NAMES: tuple[str, ...] = tuple(

@@ -36,6 +36,20 @@ def _rates(text: str) -> tuple[float, ...]:
     return tuple(rates)
 
 
+def _systems(text: str) -> tuple[str, ...]:
+    """``"pil,bandit"`` as system names; an unknown or repeated one raises listing them."""
+    from pil.errors import InvalidChoiceError
+    from pil.experiments.systems import SYSTEMS
+
+    names = tuple(part.strip() for part in text.split(","))
+    for name in names:
+        if name not in SYSTEMS:
+            raise InvalidChoiceError("--systems: system", name, SYSTEMS)
+        if names.count(name) > 1:
+            raise RobinPilError(f"--systems: system {name!r} is given twice; give each once")
+    return names
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The study's options (defaults: the paper's setup)."""
     parser.add_argument(
@@ -81,6 +95,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="a discarded gesture: the person repeats it, or the learner corrects it as an "
         "invalid one (default: %(default)s)",
     )
+    parser.add_argument(
+        "--systems",
+        default=None,
+        help="comma-separated study systems (default: the paper's pil,c1,c2,c3,c4; also "
+        "bandit, tamer)",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")  # fmt: skip
 
 
@@ -90,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
 
     from pil.experiments.outdir import check_output_folder
     from pil.experiments.study import StudyConfig, run_study, write_outputs
+    from pil.experiments.systems import PAPER_SYSTEMS
 
     if args.seed < 0:
         raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
@@ -97,7 +118,9 @@ def run(args: argparse.Namespace) -> int:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
     if args.tables is not None and args.tables < 1:
         raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
+    systems = PAPER_SYSTEMS if args.systems is None else _systems(args.systems)
     config = StudyConfig(
+        systems=systems,
         rates=_rates(args.rates),
         reps=args.reps,
         seed=args.seed,
