@@ -16,13 +16,18 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
-from pil.errors import RobinPilError
+from pil.errors import InvalidChoiceError, RobinPilError
 from pil.exploration import ALL_TRIED, DEFAULT_RULE, RULES, check_rule
 from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES, broken_rules, is_valid
 
+# "none": eq. 2 (counts only grow); "halve": ours, a not-OK halves the refused action's count
+ADAPTATIONS: dict[str, str] = {
+    "none": "eq. 2: a not-OK leaves the counts unchanged",
+    "halve": "a not-OK halves the refused action's count (rounded down), so old habits fade",
+}
 _ACTION_INDEX: dict[Action, int] = {a: i for i, a in enumerate(ACTIONS)}
 _ID_BY_OBJECT: dict[int, int] = {id(s): i for i, s in enumerate(ALL_STATES)}
 _ID_OF_PARTS: dict[tuple[Gesture, Action, Hand], int] = {
@@ -71,7 +76,8 @@ class Learner:
     :data:`pil.exploration.RULES` that picks the next action after a not-OK. ``table`` is
     updated in place (pass ``table.copy()`` to keep a pre-trained table unchanged);
     ``correction`` False makes an invalid or discarded gesture always ask the person to repeat
-    it.
+    it. ``adaptation`` (:data:`ADAPTATIONS`): "none" is eq. 2; "halve", our option, lets a
+    not-OK halve the refused action's count so a changed mapping is taken up sooner.
     """
 
     def __init__(
@@ -81,6 +87,7 @@ class Learner:
         table: AssociationTable | None = None,
         correction: bool = True,
         exploration: str = DEFAULT_RULE,
+        adaptation: str = "none",
     ) -> None:
         self.seed = seed
         if table is not None and not isinstance(table, AssociationTable):
@@ -92,6 +99,10 @@ class Learner:
         self.correction = correction
         self.exploration = check_rule(exploration)
         self._rule = RULES[exploration]
+        if adaptation not in ADAPTATIONS:
+            raise InvalidChoiceError("adaptation", adaptation, ADAPTATIONS)
+        self.adaptation = adaptation
+        self._halve = adaptation == "halve"
         self._rng = random.Random(seed)
         self._tried: dict[int, int] = {}  # state id -> mask of actions tried in this step
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
@@ -153,6 +164,10 @@ class Learner:
             self._last_ok = sid
         else:
             self.table.reject_id(sid, index)
+            if self._halve:  # ours, outside eq. 2: a refusal halves the refused count
+                row = self.table.row(sid)
+                if row is not None and row[index]:
+                    self.table.forget_id(sid, index, row[index] - row[index] // 2)
             self._tried[sid] = self._tried.get(sid, 0) | 1 << index
             self._last_rejected[sid] = index
 

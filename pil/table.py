@@ -119,6 +119,25 @@ class AssociationTable:
         top = max(values)
         self._best[sid] = values.index(top) if values.count(top) == 1 else -1
 
+    def forget_id(self, sid: int, index: int, count: int = 1) -> None:
+        """Remove up to ``count`` approvals of action ``index`` in ``sid`` (never below 0).
+
+        Outside eq. 2 (where counts only grow): used only by a learner's adaptive option.
+        """
+        row = self._counts[sid]
+        if row is None or not row[index]:
+            return
+        values = list(row)
+        removed = min(count, values[index])
+        values[index] -= removed
+        self._total -= removed
+        if not any(values):
+            self._counts[sid], self._best[sid] = None, -1
+            return
+        self._counts[sid] = tuple(values)
+        top = max(values)
+        self._best[sid] = values.index(top) if values.count(top) == 1 else -1
+
     def reject_id(self, sid: int, index: int) -> None:
         """Record that action ``index`` got not-OK in state ``sid`` (counts unchanged)."""
         self._rejected[sid] |= 1 << index

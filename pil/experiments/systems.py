@@ -20,7 +20,7 @@ share one training run, and c2 and c4 another.
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, MutableMapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -63,13 +63,15 @@ class SystemSpec:
 
     ``trained_at``: None (from scratch), "d" (pre-trained at the test rate) or "full" (at 100 %);
     ``manual``: the person repeats a misread gesture (no correction); ``agent``: a key of
-    :data:`pil.agents.AGENTS` (pre-training is always a PIL run).
+    :data:`pil.agents.AGENTS` (pre-training is always a PIL run); ``params``: parameters of
+    :data:`PARAMS` this system sets for its test run.
     """
 
     description: str
     trained_at: str | None = None
     manual: bool = False
     agent: str = "pil"
+    params: Mapping[str, Any] = field(default_factory=dict)  # parameters it overrides
 
 
 # The registry of study systems; add an entry to make a new one selectable everywhere.
@@ -81,6 +83,10 @@ SYSTEM_SPECS: dict[str, SystemSpec] = {
     "c4": SystemSpec("pre-trained at 100 %, manual repetition", "full", manual=True),
     "bandit": SystemSpec("epsilon-greedy contextual bandit from scratch", agent="bandit"),
     "tamer": SystemSpec("TAMER-style feedback regression from scratch", agent="tamer"),
+    "pil-halve": SystemSpec(
+        "PIL from scratch, a not-OK halves the refused count (ours)",
+        params={"adaptation": "halve"},
+    ),
 }
 PAPER_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
 
@@ -195,6 +201,7 @@ def test_parts(
         training = training_for(system, rate, seed, scenario, values, cache)
     table = None if training is None else training.table.copy()
     seeds = derive_seeds(seed)
+    values = {**values, **spec.params}
     parts = build_parts(scenario, rate, seeds, phase="test", table=table,
                         manual=spec.manual, cache=cache, **values)  # fmt: skip
     if spec.agent == "pil":
@@ -249,7 +256,8 @@ def run_system(
         "train_repeats": train.repeats,
         "train_rejected": train.rejected,
     }
-    row.update({name: values[name] for name in PARAMS})
+    effective = {**values, **SYSTEM_SPECS[system].params}
+    row.update({name: effective[name] for name in PARAMS})
     row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
     return row
 

@@ -50,6 +50,7 @@ PARAMS: dict[str, Any] = {
     "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
     "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
+    "adaptation": "none",  # "halve": a not-OK halves the refused count (pil.learner)
     "epsilon": 0.1,  # the bandit baseline's chance of a random action (pil.agents.bandit)
     "step_size": 0.5,  # the TAMER baseline's regression step (pil.agents.tamer)
 }
@@ -190,7 +191,8 @@ def build_parts(
         confusion=values["confusion"],
     )
     learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
-                      exploration=check_rule(values["exploration"]))  # fmt: skip
+                      exploration=check_rule(values["exploration"]),
+                      adaptation=values["adaptation"])  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),
