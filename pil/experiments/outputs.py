@@ -31,10 +31,12 @@ def write_small_study(
     within: Sequence[str] = ("rate",),
     ylabel: str | None = None,
     extra: str = "",
+    figure_group_by: Sequence[str] | None = None,
 ) -> list[Path]:
     """Write ``NAME.csv``, ``NAME.md`` and ``NAME.png`` under ``out``; returns the paths.
 
-    ``extra`` is Markdown appended to the summary.
+    ``extra`` is Markdown appended to the summary; ``figure_group_by`` (two columns, default
+    ``group_by``) groups the bars.
     """
     from pil.experiments.figures import plot_metric
 
@@ -56,7 +58,7 @@ def write_small_study(
             rows,
             figure_metric,
             out / f"{name}.png",
-            group_by,
+            figure_group_by or group_by,
             title=f"{title} (mean ± sd)",
             ylabel=ylabel,
         )
