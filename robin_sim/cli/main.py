@@ -21,6 +21,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
     "adapt": ("robin_sim.cli.adapt", "a gesture's meaning changes mid-task (learner only)"),
     "transfer": ("robin_sim.cli.transfer", "a second task from scratch vs from saved tables"),
+    "people": ("robin_sim.cli.people", "two people's mappings: one shared table vs one each"),
 }
 
 
