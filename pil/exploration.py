@@ -39,6 +39,30 @@ Choice = tuple[int, bool, str]
 Rule = Callable[[AssociationTable, int, int, int, random.Random], Choice]
 
 
+def _unique_best(table: AssociationTable, sid: int, tried: int) -> Choice | None:
+    """eq. 4's unique best, if it was not tried in this step yet."""
+    best = table.best_id(sid)
+    if best >= 0 and not tried >> best & 1:
+        return best, True, "unique best"
+    return None
+
+
+def _next_learnt(
+    table: AssociationTable, sid: int, tried: int, rng: random.Random
+) -> Choice | None:
+    """The most probable learnt action not tried in this step (ties at random), if any."""
+    row = table.row(sid)
+    if row is None:
+        return None
+    top = max((c for i, c in enumerate(row) if c and not tried >> i & 1), default=0)
+    if not top:
+        return None
+    tops = [i for i, c in enumerate(row) if c == top and not tried >> i & 1]
+    if len(tops) == 1:
+        return tops[0], False, "next best"
+    return rng.choice(tops), False, "tie among learnt"
+
+
 def _random_but(last: int, rng: random.Random) -> Choice:
     """At random among all actions but ``last`` (-1: among all)."""
     if last < 0:
@@ -51,43 +75,27 @@ def next_best(
     table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
 ) -> Choice:
     """The unique best, then learnt actions by falling P, then random but the last rejected."""
-    best = table.best_id(sid)
-    if best >= 0 and not tried >> best & 1:
-        return best, True, "unique best"
-    row = table.row(sid)
-    if row is not None:
-        top = 0
-        tops: list[int] = []
-        for i, c in enumerate(row):
-            if c >= top and c and not tried >> i & 1:
-                if c > top:
-                    top, tops = c, [i]
-                else:
-                    tops.append(i)
-        if tops:
-            if len(tops) == 1:
-                return tops[0], False, "next best"
-            return rng.choice(tops), False, "tie among learnt"
-    return _random_but(last, rng)
+    return (
+        _unique_best(table, sid, tried)
+        or _next_learnt(table, sid, tried, rng)
+        or _random_but(last, rng)
+    )
 
 
 def avoid_last(
     table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
 ) -> Choice:
     """The unique best once per step, else at random among all but the action just rejected."""
-    best = table.best_id(sid)
-    if best >= 0 and not tried >> best & 1:
-        return best, True, "unique best"
-    return _random_but(last, rng)
+    return _unique_best(table, sid, tried) or _random_but(last, rng)
 
 
 def with_replacement(
     table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
 ) -> Choice:
     """The unique best once per step, else at random among all five."""
-    best = table.best_id(sid)
-    if best >= 0 and not tried >> best & 1:
-        return best, True, "unique best"
+    found = _unique_best(table, sid, tried)
+    if found is not None:
+        return found
     return rng.randrange(len(ACTIONS)), False, "explore at random (with replacement)"
 
 
@@ -97,26 +105,11 @@ def untried_first(
     """No repeat within a step; learnt by P, then never tried, then rejected before."""
     if tried == ALL_TRIED:  # every action was rejected in this step: start over
         tried = 0
-    best = table.best_id(sid)
-    if best >= 0 and not tried >> best & 1:
-        return best, True, "unique best"
+    found = _unique_best(table, sid, tried) or _next_learnt(table, sid, tried, rng)
+    if found is not None:
+        return found
     row = table.row(sid)
-    learnt = 0
-    if row is not None:
-        top = 0
-        tops: list[int] = []
-        for i, c in enumerate(row):
-            if c:
-                learnt |= 1 << i
-                if c >= top and not tried >> i & 1:
-                    if c > top:
-                        top, tops = c, [i]
-                    else:
-                        tops.append(i)
-        if tops:
-            if len(tops) == 1:
-                return tops[0], False, "next best"
-            return rng.choice(tops), False, "tie among learnt"
+    learnt = 0 if row is None else sum(1 << i for i, c in enumerate(row) if c)
     fresh = [i for i in _INDICES if not (tried | table.rejected_mask(sid) | learnt) >> i & 1]
     if fresh:
         return rng.choice(fresh), False, "explore untried"

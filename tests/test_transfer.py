@@ -44,5 +44,5 @@ def test_transfer_command_from_its_own_saved_table(tmp_path: Path, capsys) -> No
     assert main([*argv, "--table", str(bad), "--out", str(tmp_path / "never")]) == 2
     assert main([*argv[:2], "tamer", "--out", str(tmp_path / "never")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert "not valid JSON" in err[-2] and "transfer runs PIL learners" in err[-1]
+    assert "not valid JSON" in err[-2] and "this study runs PIL learners" in err[-1]
     assert not (tmp_path / "never").exists()

@@ -19,15 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from pil.errors import ScenarioError, check_rate
 from pil.experiments.study import rep_seeds
+from pil.experiments.study_files import read_study_file
 from pil.experiments.systems import check_system, test_parts, training_for
-from pil.task.parts import check_params, derive_seeds, resolve_scenario
+from pil.task.parts import check_params, derive_seeds
 from pil.task.person import ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import run, steps
-from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, build_type, find_scenario
+from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, build_type
 from pil.task.world import SymbolicWorld
 from pil.types import Action, Feedback, Gesture
 
@@ -50,21 +49,10 @@ class MappingChange:
 
 def load_change(path: str | Path = DEFAULT_CHANGE) -> MappingChange:
     """Read a change file; anything malformed raises :class:`ScenarioError` naming it."""
-    path = find_scenario(path)
-    try:
-        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as error:
-        raise ScenarioError(f"{path}: cannot read the mapping change: {error}") from None
-    if not isinstance(raw, Mapping):
-        raise ScenarioError(f"{path}: expected a mapping with keys {', '.join(_KEYS)}")
-    for key in raw:
-        if key not in _KEYS:
-            raise ScenarioError(f"{path}: unknown key {key!r}; valid choices: {', '.join(_KEYS)}")
+    path, raw, scenario = read_study_file(path, _KEYS, "mapping change")
     change = raw.get("change")
     if not isinstance(change, Mapping) or set(change) != set(_CHANGE_KEYS):
         raise ScenarioError(f"{path}: change: expected the keys {', '.join(_CHANGE_KEYS)}")
-    base = raw.get("scenario", "assembly.yaml")
-    scenario = resolve_scenario((path.parent / str(base)), {})
     first = change["from_table"]
     if isinstance(first, bool) or not isinstance(first, int) or not 2 <= first <= scenario.tables:
         raise ScenarioError(f"{path}: change.from_table: expected a whole number from 2 to "

@@ -20,17 +20,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 
-from pil.errors import ScenarioError, check_rate
+from pil.errors import RobinPilError, ScenarioError, check_rate
 from pil.experiments.adaptation import remap
 from pil.experiments.study import rep_seeds
+from pil.experiments.study_files import read_study_file
 from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.task.detector import Detector
-from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
+from pil.task.parts import build_parts, check_params, derive_seeds
 from pil.task.person import ScriptedPerson, plan_script
 from pil.task.runner import RunStats, run
-from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, find_scenario, parse_step
+from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, parse_step
 from pil.task.world import SymbolicWorld
 from pil.types import Action, Gesture
 
@@ -50,16 +50,7 @@ class People:
 
 def load_people(path: str | Path = DEFAULT_PEOPLE) -> People:
     """Read a people file; anything malformed raises :class:`ScenarioError` naming it."""
-    path = find_scenario(path)
-    try:
-        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as error:
-        raise ScenarioError(f"{path}: cannot read the people file: {error}") from None
-    if not isinstance(raw, Mapping):
-        raise ScenarioError(f"{path}: expected a mapping with keys {', '.join(_KEYS)}")
-    for key in raw:
-        if key not in _KEYS:
-            raise ScenarioError(f"{path}: unknown key {key!r}; valid choices: {', '.join(_KEYS)}")
+    path, raw, scenario = read_study_file(path, _KEYS, "people file")
     people = raw.get("people")
     if not isinstance(people, Mapping) or len(people) < 2:
         raise ScenarioError(f"{path}: people: expected at least two people (name: [overrides])")
@@ -68,7 +59,6 @@ def load_people(path: str | Path = DEFAULT_PEOPLE) -> People:
         if not isinstance(steps, list):
             raise ScenarioError(f"{path}: people.{name}: expected a list of 'gesture -> action'")
         overrides[str(name)] = tuple(parse_step(text, f"{path}: people.{name}") for text in steps)
-    scenario = resolve_scenario(path.parent / str(raw.get("scenario", "assembly.yaml")), {})
     return People(scenario, overrides)
 
 
@@ -136,7 +126,7 @@ def run_people_study(
     for system in systems:
         spec = SYSTEM_SPECS[check_system(system)]
         if spec.agent != "pil" or spec.trained_at is not None:
-            raise ScenarioError(f"the people study runs PIL learners; {system!r} is not one")
+            raise RobinPilError(f"the people study runs PIL learners; {system!r} is not one")
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:

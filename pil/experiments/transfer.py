@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import check_rate
+from pil.errors import RobinPilError, check_rate
 from pil.experiments.study import rep_seeds
 from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.table import AssociationTable
@@ -33,7 +33,7 @@ TRANSFER_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
 def _learner_values(system: str, values: Mapping[str, Any]) -> dict[str, Any]:
     spec = SYSTEM_SPECS[check_system(system)]
     if spec.agent != "pil" or spec.trained_at is not None:
-        raise ValueError(f"transfer runs PIL learners from scratch; {system!r} is not one")
+        raise RobinPilError(f"transfer runs PIL learners from scratch; {system!r} is not one")
     return {**values, **spec.params}
 
 

@@ -7,40 +7,27 @@ other system, how many runs adapted) and ``adaptation.png``.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from pil.errors import RobinPilError
-from robin_sim.cli.study import _rates, _systems
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
 
 DEFAULT_OUT = Path("out/adapt")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The adaptation study's options."""
+    from pil.experiments.adaptation import ADAPT_SYSTEMS
+
     parser.add_argument(
         "--change",
         default=None,
         help="mapping change file (default: scenarios/mapping_change.yaml)",
     )
-    parser.add_argument(
-        "--systems",
-        default=None,
-        help="comma-separated systems (default: pil,pil-halve,c1,c2,c3,c4,bandit,tamer)",
-    )
-    parser.add_argument("--rates", default="0.8,1.0", help="detection rates (default: %(default)s)")
-    parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
-    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
-    parser.add_argument(
-        "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
-    )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_run_options(parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=ADAPT_SYSTEMS)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the paired runs and write the outputs; bad input raises before anything runs."""
-    from tqdm import tqdm
-
     from pil.experiments.adaptation import (
         ADAPT_SYSTEMS,
         DEFAULT_CHANGE,
@@ -50,17 +37,10 @@ def run(args: argparse.Namespace) -> int:
     )
     from pil.experiments.outdir import check_output_folder
 
-    if args.seed < 0:
-        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
-    if args.reps < 1:
-        raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
-    rates = _rates(args.rates)
-    systems = ADAPT_SYSTEMS if args.systems is None else _systems(args.systems)
+    rates, systems = run_options(args, ADAPT_SYSTEMS)
     change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
     check_output_folder(args.out)
-    total = len(rates) * len(systems) * args.reps
-    with tqdm(total=total, desc="adapt", unit="run", file=sys.stderr,
-              disable=args.no_progress) as bar:  # fmt: skip
+    with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
         rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
                                     progress=bar.update)  # fmt: skip
     written = write_adaptation(rows, change, args.out)

@@ -10,44 +10,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.exploration import DEFAULT_RULE, RULES
+from robin_sim.cli.options import parse_rates, parse_systems
 
 DEFAULT_OUT = Path("out/study")
-
-
-def _rates(text: str) -> tuple[float, ...]:
-    """``"0.4,0.6"`` as rates; a bad one raises naming the valid range."""
-    rates = []
-    for part in text.split(","):
-        try:
-            value = float(part)
-        except ValueError:
-            raise RobinPilError(
-                f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
-                "by commas, e.g. 0.4,0.6,0.8,1.0"
-            ) from None
-        rate = check_rate(value, f"--rates: detection rate {part.strip()}")
-        if rate in rates:
-            raise RobinPilError(
-                f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"
-            )
-        rates.append(rate)
-    return tuple(rates)
-
-
-def _systems(text: str) -> tuple[str, ...]:
-    """``"pil,bandit"`` as system names; an unknown or repeated one raises listing them."""
-    from pil.errors import InvalidChoiceError
-    from pil.experiments.systems import SYSTEMS
-
-    names = tuple(part.strip() for part in text.split(","))
-    for name in names:
-        if name not in SYSTEMS:
-            raise InvalidChoiceError("--systems: system", name, SYSTEMS)
-        if names.count(name) > 1:
-            raise RobinPilError(f"--systems: system {name!r} is given twice; give each once")
-    return names
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -118,10 +85,10 @@ def run(args: argparse.Namespace) -> int:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
     if args.tables is not None and args.tables < 1:
         raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
-    systems = PAPER_SYSTEMS if args.systems is None else _systems(args.systems)
+    systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(
         systems=systems,
-        rates=_rates(args.rates),
+        rates=parse_rates(args.rates),
         reps=args.reps,
         seed=args.seed,
         scenario=args.scenario,

@@ -8,60 +8,37 @@ repetition's assembly table, reusable with ``--table``).
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from pil.errors import RobinPilError
-from robin_sim.cli.study import _rates, _systems
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
 
 DEFAULT_OUT = Path("out/transfer")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The transfer study's options."""
+    from pil.experiments.transfer import TRANSFER_SYSTEMS
+
     parser.add_argument("--table", type=Path, default=None,
                         help="start every transferred run from this saved table (default: "
                         "each repetition's own assembly run)")  # fmt: skip
-    parser.add_argument(
-        "--systems", default=None, help="comma-separated PIL systems (default: pil,pil-halve)"
-    )
-    parser.add_argument(
-        "--rates", default="0.6,0.8,1.0", help="detection rates (default: %(default)s)"
-    )
-    parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
-    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
-    parser.add_argument(
-        "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
-    )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_run_options(parser, rates="0.6,0.8,1.0", out=DEFAULT_OUT, systems=TRANSFER_SYSTEMS)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the paired runs and write the outputs; bad input raises before anything runs."""
-    from tqdm import tqdm
-
     from pil.experiments.outdir import check_output_folder
     from pil.experiments.transfer import TRANSFER_SYSTEMS, run_transfer_study, write_transfer
     from pil.table_io import load_table
 
-    if args.seed < 0:
-        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
-    if args.reps < 1:
-        raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
-    rates = _rates(args.rates)
-    systems = TRANSFER_SYSTEMS if args.systems is None else _systems(args.systems)
-    for system in systems:
-        if system not in ("pil", "pil-halve"):
-            raise RobinPilError(f"--systems: transfer runs PIL learners; {system!r} is not one "
-                                "(valid choices: 'pil', 'pil-halve')")  # fmt: skip
+    rates, systems = run_options(args, TRANSFER_SYSTEMS, only=TRANSFER_SYSTEMS)
     if args.table is not None:
         load_table(args.table)  # a corrupt or missing file fails here, before anything runs
     check_output_folder(args.out)
     save_first = None if args.table is not None else args.out / "assembly_table.json"
     if save_first is not None:
         args.out.mkdir(parents=True, exist_ok=True)
-    with tqdm(total=len(rates) * len(systems) * args.reps, desc="transfer", unit="pair",
-              file=sys.stderr, disable=args.no_progress) as bar:  # fmt: skip
+    with progress_bar(len(rates) * len(systems) * args.reps, "transfer", args) as bar:
         rows = run_transfer_study(systems, rates, args.reps, args.seed, table_file=args.table,
                                   save_first=save_first, progress=bar.update)  # fmt: skip
     source = f"the saved table {args.table}" if args.table else "each repetition's assembly table"
