@@ -18,7 +18,7 @@ from pil.errors import RobinPilError
 from pil.experiments.systems import run_one
 from pil.task.parts import derive_seeds
 from pil.task.world import SymbolicWorld
-from pil.types import ACTIONS
+from pil.types import ACTIONS, Action, Hand
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -63,7 +63,7 @@ def test_pil_through_the_environment_decides_like_the_study_loop() -> None:
     row = run_one("pil", 1.0, seed=3, tables=2)
     assert step.step_type is dm_env.StepType.LAST and step.discount == 0.0
     assert (env.stats.gestures, env.stats.actions) == (row["gestures"], row["actions"])
-    assert env.stats.rejected == row["rejected"] and env.stats.legs == row["gestures"]
+    assert env.stats.rejected == row["rejected"] and env.stats.approved == row["gestures"]
 
 
 def test_discarded_readings_are_repeated_or_shown() -> None:
@@ -75,7 +75,7 @@ def test_discarded_readings_are_repeated_or_shown() -> None:
     while not step.last():
         assert int(step.observation["gesture"]) != DISCARDED
         step = half.step(ACTIONS.index(half._script[half._index].intent.action))
-    assert half.stats.gestures > half.stats.legs  # discarded readings were repeated
+    assert half.stats.gestures > half.stats.approved  # discarded readings were repeated
     shown = AssemblyEnv(rate=0.0, seed=0, tables=1, discard=1.0, repeat_discarded=False)
     step = shown.reset()
     assert int(step.observation["gesture"]) == DISCARDED and shown.state() is None
@@ -139,3 +139,24 @@ def test_readme_example_trains_a_bandit() -> None:
         random_policy.append(env.stats.actions)
     assert np.mean(costs) < 0.5 * np.mean(random_policy), (costs, random_policy)
     assert min(costs) >= 220  # every one of the 220 instructions needs an approved action
+
+
+@pytest.mark.slow
+def test_the_physical_world_plugs_in_behind_the_same_interface() -> None:
+    """One handover in MuJoCo through the environment: the hand state is read from physics."""
+    from robin_sim.robot.world import PhysicalWorld
+
+    env = AssemblyEnv(rate=1.0, seed=0, scenario="one_handover", world=PhysicalWorld)
+    step = env.reset()
+    assert step.observation["gesture"] == 0 and step.observation["hand"] == 0  # pointing, free
+    step = env.step(ACTIONS.index(Action.CLOSE))  # not what the person means: refused, undone
+    assert step.reward == -1.0 and step.observation["hand"] == 0
+    hands, rewards = [], []
+    for wanted in (Action.OBJECT, Action.CLOSE, Action.HUMAN, Action.OPEN):
+        step = env.step(ACTIONS.index(wanted))
+        rewards.append(step.reward)
+        hands.append(int(step.observation["hand"]))
+    assert rewards == [1.0, 1.0, 1.0, 1.0] and step.last()
+    assert hands[1] == 1, "after an approved close the physics must read the leg as held"
+    assert env.world is not None and env.world.hand() is Hand.FREE  # let go on the palm
+    assert (env.stats.actions, env.stats.rejected, env.stats.approved) == (5, 1, 4)

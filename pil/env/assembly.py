@@ -50,7 +50,7 @@ class EnvStats:
     gestures: int = 0  # instruction gestures performed, repeats included
     actions: int = 0  # robot actions executed
     rejected: int = 0
-    legs: int = 0  # instructions completed (approved)
+    approved: int = 0  # instructions completed (an approved action each)
 
 
 def observation_state(observation: dict[str, Any]) -> State | None:
@@ -144,7 +144,7 @@ class AssemblyEnv(dm_env.Environment):
         ok = self._person.feedback(item.intent, chosen, outcome) is not Feedback.NOT_OK
         if ok:
             self._previous = chosen
-            self.stats.legs += 1
+            self.stats.approved += 1
             if self._index + 1 == len(self._script):
                 self._done = True
                 return dm_env.termination(1.0, self._observation())
