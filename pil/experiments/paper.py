@@ -17,6 +17,7 @@ from typing import Any
 
 from pil.experiments.report import Row, markdown_table, mean_sd, number, welch_ttests
 from pil.exploration import RULES
+from pil.task.scenario import Scenario
 
 PAPER_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
 # The paper's training figures (5 tables): rate -> (gestures, actions)
@@ -63,7 +64,7 @@ def training_figures(rows: Sequence[Row]) -> Figures:
 
 
 def rule_training(
-    scenario: Any, rates: Sequence[float], seeds: Sequence[int], values: Mapping[str, Any]
+    scenario: Scenario, rates: Sequence[float], seeds: Sequence[int], values: Mapping[str, Any]
 ) -> dict[str, Figures]:
     """The training figures of every exploration rule, at ``rates``, one run per seed."""
     from pil.experiments.systems import pretrain
