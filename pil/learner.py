@@ -1,13 +1,9 @@
 """The PIL agent: Algorithm 1 (lines 3-18) with the feedback learning and gesture correction.
 
 One *step* is one instruction: the robot acts on a state until the person approves an action
-(OK or no feedback). Within a step the learner never repeats an action it already tried in that
-state until all five were tried. :meth:`Learner.choose` ranks the actions as
-
-1. the unique best action of eq. 4 (an *exploit*),
-2. other learnt actions (count > 0), most probable first, ties at random,
-3. actions never tried in this state, at random,
-4. actions that got not-OK in this state in earlier steps, at random.
+(OK or no feedback). :meth:`Learner.choose` exploits the unique best action of eq. 4 and
+otherwise explores by the learner's exploration rule (:mod:`pil.exploration`: ``next-best``
+by default, ``avoid-last``, ``with-replacement`` or ``untried-first``).
 
 :meth:`Learner.decide` runs Algorithm 1 for one detected gesture: explore on an empty table,
 choose on a valid state, otherwise correct the gesture (section III-B) or ask for a repeat.
@@ -20,13 +16,18 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
+from pil.errors import InvalidChoiceError, RobinPilError
+from pil.exploration import ALL_TRIED, DEFAULT_RULE, RULES, check_rule
 from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES, broken_rules, is_valid
 
-_ALL_TRIED = (1 << len(ACTIONS)) - 1
-_INDICES = range(len(ACTIONS))
+# "none": eq. 2 (counts only grow); "halve": ours, a not-OK halves the refused action's count
+ADAPTATIONS: dict[str, str] = {
+    "none": "eq. 2: a not-OK leaves the counts unchanged",
+    "halve": "a not-OK halves the refused action's count (rounded down), so old habits fade",
+}
 _ACTION_INDEX: dict[Action, int] = {a: i for i, a in enumerate(ACTIONS)}
 _ID_BY_OBJECT: dict[int, int] = {id(s): i for i, s in enumerate(ALL_STATES)}
 _ID_OF_PARTS: dict[tuple[Gesture, Action, Hand], int] = {
@@ -71,9 +72,12 @@ class Learner:
     """Learns on the fly which action each state asks for (Proactive Incremental Learning).
 
     ``seed`` seeds the learner's own ``random.Random`` (exploration and tie breaks), so the same
-    seed and the same calls give the same decisions. ``table`` is updated in place (pass
-    ``table.copy()`` to keep a pre-trained table unchanged); ``correction`` False makes an
-    invalid or discarded gesture always ask the person to repeat it.
+    seed and the same calls give the same decisions. ``exploration`` names the rule of
+    :data:`pil.exploration.RULES` that picks the next action after a not-OK. ``table`` is
+    updated in place (pass ``table.copy()`` to keep a pre-trained table unchanged);
+    ``correction`` False makes an invalid or discarded gesture always ask the person to repeat
+    it. ``adaptation`` (:data:`ADAPTATIONS`): "none" is eq. 2; "halve", our option, lets a
+    not-OK halve the refused action's count so a changed mapping is taken up sooner.
     """
 
     def __init__(
@@ -82,12 +86,26 @@ class Learner:
         *,
         table: AssociationTable | None = None,
         correction: bool = True,
+        exploration: str = DEFAULT_RULE,
+        adaptation: str = "none",
     ) -> None:
         self.seed = seed
+        if table is not None and not isinstance(table, AssociationTable):
+            raise RobinPilError(
+                f"table must be an AssociationTable (or None for an empty one), got "
+                f"{type(table).__name__} {table!r}; load a saved one with pil.load_table(path)"
+            )
         self.table = AssociationTable() if table is None else table
         self.correction = correction
+        self.exploration = check_rule(exploration)
+        self._rule = RULES[exploration]
+        if adaptation not in ADAPTATIONS:
+            raise InvalidChoiceError("adaptation", adaptation, ADAPTATIONS)
+        self.adaptation = adaptation
+        self._halve = adaptation == "halve"
         self._rng = random.Random(seed)
         self._tried: dict[int, int] = {}  # state id -> mask of actions tried in this step
+        self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
         self._last_ok = START  # id of the last approved state; START at the task start
         self.last_exploited = False
         self.last_reason = ""
@@ -106,47 +124,24 @@ class Learner:
     def restart(self) -> None:
         """The robot is back at its start pose: forget the step and the previous OK state."""
         self._tried.clear()
+        self._last_rejected.clear()
         self._last_ok = START
 
     # -- section III-A ----------------------------------------------------------------------
     def choose(self, state: State) -> Action:
-        """The next action to try in ``state`` within the current step (see module docstring)."""
+        """The next action to try in ``state`` within the current step (by the exploration rule)."""
         sid = _ID_BY_OBJECT.get(id(state))
         return self._choose(state_id(state) if sid is None else sid)
 
     def _choose(self, sid: int) -> Action:
         tried = self._tried.get(sid, 0)
-        if tried == _ALL_TRIED:  # every action was rejected in this step: start over
+        if tried == ALL_TRIED:  # every action was rejected in this step: start over
             tried = self._tried[sid] = 0
-        table = self.table
-        best = table._best[sid]
-        if best >= 0 and not tried >> best & 1:
-            self.last_exploited, self.last_reason = True, "unique best"
-            return ACTIONS[best]
-        self.last_exploited = False
-        row = table._counts[sid]
-        learnt = 0
-        if row is not None:
-            top = 0
-            tops: list[int] = []
-            for i, c in enumerate(row):
-                if c:
-                    learnt |= 1 << i
-                    if c >= top and not tried >> i & 1:
-                        if c > top:
-                            top, tops = c, [i]
-                        else:
-                            tops.append(i)
-            if tops:
-                self.last_reason = "next best" if len(tops) == 1 else "tie among learnt"
-                return ACTIONS[tops[0] if len(tops) == 1 else self._rng.choice(tops)]
-        rejected = table._rejected[sid]
-        fresh = [i for i in _INDICES if not (tried | rejected | learnt) >> i & 1]
-        if fresh:
-            self.last_reason = "explore untried"
-            return ACTIONS[self._rng.choice(fresh)]
-        self.last_reason = "re-explore rejected"
-        return ACTIONS[self._rng.choice([i for i in _INDICES if not (tried | learnt) >> i & 1])]
+        last = self._last_rejected.get(sid, -1)
+        index, self.last_exploited, self.last_reason = self._rule(
+            self.table, sid, tried, last, self._rng
+        )
+        return ACTIONS[index]
 
     def feedback(self, state: State, action: Action | str, ok: bool | Feedback | str) -> None:
         """Apply the person's feedback on ``action`` in ``state`` (eq. 1 and 2).
@@ -162,13 +157,19 @@ class Learner:
         if index is None:
             index = action_index(action)
         if ok is True or (ok is not False and approves(ok)):
-            self.table._approve(sid, index)
-            self.table._follow(self._last_ok, sid)
+            self.table.approve_id(sid, index)
+            self.table.follow_id(self._last_ok, sid)
             self._tried.clear()
+            self._last_rejected.clear()
             self._last_ok = sid
         else:
-            self.table._reject(sid, index)
+            self.table.reject_id(sid, index)
+            if self._halve:  # ours, outside eq. 2: a refusal halves the refused count
+                row = self.table.row(sid)
+                if row is not None and row[index]:
+                    self.table.forget_id(sid, index, row[index] - row[index] // 2)
             self._tried[sid] = self._tried.get(sid, 0) | 1 << index
+            self._last_rejected[sid] = index
 
     # -- section III-B ----------------------------------------------------------------------
     def correct(self, state: State, previous_state: State | None) -> State | None:
@@ -182,7 +183,7 @@ class Learner:
         return self._correct(state.previous_action, state.hand, source)
 
     def _correct(self, previous_action: Action, hand: Hand, source: int) -> State | None:
-        followers = self.table._transitions[source]
+        followers = self.table.followers(source)
         candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
         top = 0
         tops: list[int] = []
@@ -207,7 +208,7 @@ class Learner:
         else:
             sid = _id_of_parts(detected, previous_action, hand)
             detected_state = ALL_STATES[sid]
-            if self.table._total == 0:  # T is empty: explore without a validity check
+            if self.table.is_empty():  # T is empty: explore without a validity check
                 action = self._choose(sid)
                 reason = f"explore (nothing learnt yet); {self.last_reason}"
                 return Decision(detected_state, detected_state, action, False, False, reason)
@@ -236,7 +237,7 @@ class Learner:
         else:
             why = f"invalid: {broken_rules(detected_state)[0].name}"
             was = detected_state.gesture.value
-        if self.table._total == 0:
+        if self.table.is_empty():
             return Decision(None, detected_state, None, False, False, f"{why}; nothing learnt yet")
         if not self.correction:
             reason = f"{why}; no correction (manual repetition)"
@@ -262,7 +263,12 @@ class Learner:
 
     @classmethod
     def load(
-        cls, path: str | os.PathLike[str], seed: int = 0, *, correction: bool = True
+        cls,
+        path: str | os.PathLike[str],
+        seed: int = 0,
+        *,
+        correction: bool = True,
+        exploration: str = DEFAULT_RULE,
     ) -> Learner:
         """A learner at the task start whose table is read from ``path``."""
-        return cls(seed, table=load_table(path), correction=correction)
+        return cls(seed, table=load_table(path), correction=correction, exploration=exploration)

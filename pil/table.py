@@ -8,15 +8,18 @@ leaves it unchanged (eq. 2), so counts never decrease. Next to the counts the ta
 * the *transitions*: how often an approved state followed another approved state (``None``
   stands for the start of the task); the gesture correction of section III-B reads them.
 
-All three are shared, merged (counts add) and saved together (:mod:`pil.table_io`).
+All three are shared, merged (counts add) and saved together (:mod:`pil.table_io`, which
+imports this module; this module never imports it).
 Internally a state is its position in :data:`pil.validity.ALL_STATES` (its *id*) and an action
 its position in :data:`pil.types.ACTIONS`, so the learner's hot path indexes lists.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from types import MappingProxyType
 
+from pil.errors import RobinPilError
 from pil.types import ACTIONS, Action, Feedback, State
 from pil.validity import ALL_STATES
 
@@ -72,15 +75,23 @@ def _source_id(previous: State | None) -> int:
     return START if previous is None else state_id(previous)
 
 
+def _check_count(count: object, what: str) -> None:
+    """A count must be a whole number >= 0 (not a bool, not a float such as 1.5 or 1.0)."""
+    if isinstance(count, bool) or not isinstance(count, int) or count < 0:
+        raise RobinPilError(f"{what} must be a whole number >= 0 (counts never decrease), "
+                            f"got {count!r}")  # fmt: skip
+
+
 class AssociationTable:
     """Counts ``T(s, a)`` of approved state-action pairs, with rejections and transitions."""
 
     __slots__ = ("_best", "_counts", "_rejected", "_total", "_transitions")
 
     def __init__(self) -> None:
-        # Per state id: counts per action (None until approved once), the index of the unique
-        # best action (-1: none), and a bit mask of the actions that ever got not-OK.
-        self._counts: list[list[int] | None] = [None] * N_STATES
+        # Per state id: counts per action (None until approved once; a tuple, so that
+        # :meth:`row` can hand it out), the index of the unique best action (-1: none), and a
+        # bit mask of the actions that ever got not-OK.
+        self._counts: list[tuple[int, ...] | None] = [None] * N_STATES
         self._best: list[int] = [-1] * N_STATES
         self._rejected: list[int] = [0] * N_STATES
         # Per source id (START for the task start): follower id -> count.
@@ -91,46 +102,82 @@ class AssociationTable:
     def update(self, state: State, action: Action | str, ok: bool | Feedback | str) -> None:
         """eq. 2: OK or no feedback adds one to ``T(state, action)``; not-OK records a rejection."""
         if approves(ok):
-            self._approve(state_id(state), action_index(action))
+            self.approve_id(state_id(state), action_index(action))
         else:
-            self._reject(state_id(state), action_index(action))
+            self.reject_id(state_id(state), action_index(action))
 
-    def _approve(self, sid: int, index: int, count: int = 1) -> None:
-        """Fast path of :meth:`update` for a state id and an action index."""
+    # -- the id-level interface (the learner's hot path) ----------------------------------
+    # A state is its id (:func:`state_id`, START for the task start in transitions), an action
+    # its index in ACTIONS (:func:`action_index`); nothing is parsed or checked here.
+    def approve_id(self, sid: int, index: int, count: int = 1) -> None:
+        """Add ``count`` approvals of action ``index`` in state ``sid`` (eq. 2)."""
         row = self._counts[sid]
-        if row is None:
-            row = self._counts[sid] = [0] * len(ACTIONS)
-        row[index] += count
+        values = [0] * len(ACTIONS) if row is None else list(row)
+        values[index] += count
+        self._counts[sid] = tuple(values)
         self._total += count
-        top = max(row)
-        self._best[sid] = row.index(top) if row.count(top) == 1 else -1
+        top = max(values)
+        self._best[sid] = values.index(top) if values.count(top) == 1 else -1
 
-    def _reject(self, sid: int, index: int) -> None:
-        """Fast path of a not-OK :meth:`update`."""
+    def forget_id(self, sid: int, index: int, count: int = 1) -> None:
+        """Remove up to ``count`` approvals of action ``index`` in ``sid`` (never below 0).
+
+        Outside eq. 2 (where counts only grow): used only by a learner's adaptive option.
+        """
+        row = self._counts[sid]
+        if row is None or not row[index]:
+            return
+        values = list(row)
+        removed = min(count, values[index])
+        values[index] -= removed
+        self._total -= removed
+        if not any(values):
+            self._counts[sid], self._best[sid] = None, -1
+            return
+        self._counts[sid] = tuple(values)
+        top = max(values)
+        self._best[sid] = values.index(top) if values.count(top) == 1 else -1
+
+    def reject_id(self, sid: int, index: int) -> None:
+        """Record that action ``index`` got not-OK in state ``sid`` (counts unchanged)."""
         self._rejected[sid] |= 1 << index
 
-    def _follow(self, source: int, sid: int, count: int = 1) -> None:
-        """Fast path of :meth:`record_transition` for ids."""
+    def follow_id(self, source: int, sid: int, count: int = 1) -> None:
+        """Count that approved state ``sid`` followed approved ``source`` (START: task start)."""
         followers = self._transitions[source]
         followers[sid] = followers.get(sid, 0) + count
 
+    def best_id(self, sid: int) -> int:
+        """eq. 4 for state ``sid``: the index of the unique best action, -1 on a tie or unseen."""
+        return self._best[sid]
+
+    def row(self, sid: int) -> tuple[int, ...] | None:
+        """The counts ``T(sid, .)`` per action index, or None for a state never approved."""
+        return self._counts[sid]
+
+    def rejected_mask(self, sid: int) -> int:
+        """Bit ``i`` set when action index ``i`` ever got not-OK in state ``sid``."""
+        return self._rejected[sid]
+
+    def followers(self, source: int) -> Mapping[int, int]:
+        """Follower state id -> count after approved ``source`` (START: task start), read-only."""
+        return MappingProxyType(self._transitions[source])
+
     def add(self, state: State, action: Action | str, count: int) -> None:
-        """Add ``count`` (>= 0) approvals at once (loading and merging tables)."""
-        if count < 0:
-            raise ValueError(f"counts never decrease; got {count} for {state} -> {action}")
+        """Add ``count`` (a whole number >= 0) approvals at once (loading and merging tables)."""
+        _check_count(count, f"count for {state} -> {action}")
         if count:
-            self._approve(state_id(state), action_index(action), count)
+            self.approve_id(state_id(state), action_index(action), count)
 
     def reject(self, state: State, action: Action | str) -> None:
         """Record that ``action`` got not-OK in ``state`` (no change to the counts)."""
-        self._reject(state_id(state), action_index(action))
+        self.reject_id(state_id(state), action_index(action))
 
     def record_transition(self, previous: State | None, state: State, count: int = 1) -> None:
         """Count that approved ``state`` followed approved ``previous`` (None: task start)."""
-        if count < 0:
-            raise ValueError(f"transition counts never decrease; got {count}")
+        _check_count(count, "transition count")
         if count:
-            self._follow(_source_id(previous), state_id(state), count)
+            self.follow_id(_source_id(previous), state_id(state), count)
 
     # -- reading (eq. 3, 4) ---------------------------------------------------------------
     def count(self, state: State, action: Action | str) -> int:
@@ -215,20 +262,6 @@ class AssociationTable:
             f"{len(self.rejected_states())} states with rejections)"
         )
 
-    # -- text -----------------------------------------------------------------------------
-    def to_json(self) -> str:
-        """The versioned JSON text of :mod:`pil.table_io` (stable order, byte-reproducible)."""
-        from pil.table_io import table_to_json
-
-        return table_to_json(self)
-
-    @classmethod
-    def from_json(cls, text: str, source: str = "<json text>") -> AssociationTable:
-        """Parse :meth:`to_json` output; raises :class:`pil.table_io.TableFileError` if corrupt."""
-        from pil.table_io import table_from_json
-
-        return table_from_json(text, source)
-
 
 def merge_all(tables: Iterable[AssociationTable]) -> AssociationTable:
     """One new table holding all of ``tables`` (counts and transitions add, rejections unite)."""
@@ -238,9 +271,9 @@ def merge_all(tables: Iterable[AssociationTable]) -> AssociationTable:
             if row is not None:
                 for index, count in enumerate(row):
                     if count:
-                        merged._approve(sid, index, count)
+                        merged.approve_id(sid, index, count)
             merged._rejected[sid] |= table._rejected[sid]
         for source, followers in enumerate(table._transitions):
             for sid, count in followers.items():
-                merged._follow(source, sid, count)
+                merged.follow_id(source, sid, count)
     return merged

@@ -122,7 +122,7 @@ def table_from_dict(data: object, source: str = "<data>") -> AssociationTable:
             source, f"not an association table (format {data.get('format')!r}, expected {FORMAT!r})"
         )
     version = data.get("version")
-    if isinstance(version, bool) or version not in SUPPORTED_VERSIONS:
+    if version.__class__ is not int or version not in SUPPORTED_VERSIONS:
         supported = ", ".join(map(str, SUPPORTED_VERSIONS))
         raise _fail(source, f"unsupported version {version!r}; supported versions: {supported}")
     if "counts" not in data:

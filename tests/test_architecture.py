@@ -18,10 +18,6 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("pil", "robin_sim")
 
-# Import cycles that exist today and are being removed by someone else. The lead empties this
-# once the learner engineer's branch (which splits pil.table from pil.table_io) is merged; a
-# listed cycle that no longer exists fails `test_known_cycles_still_exist`, so it cannot linger.
-KNOWN_CYCLES: tuple[frozenset[str], ...] = (frozenset({"pil.table", "pil.table_io"}),)
 
 # `pil` is the learner and the symbolic task: it runs without any of these installed.
 PIL_FORBIDDEN = ("mujoco", "mink", "dm_control", "robin_sim")
@@ -143,14 +139,8 @@ def graph() -> dict[str, set[str]]:
 
 
 def test_no_import_cycle(graph: dict[str, set[str]]) -> None:
-    found = [c for c in cycles(graph) if frozenset(c) not in KNOWN_CYCLES]
+    found = cycles(graph)
     assert not found, "import cycles: " + "; ".join(" -> ".join(c) for c in found)
-
-
-def test_known_cycles_still_exist(graph: dict[str, set[str]]) -> None:
-    present = {frozenset(c) for c in cycles(graph)}
-    gone = [sorted(known) for known in KNOWN_CYCLES if known not in present]
-    assert not gone, f"these cycles are gone: remove them from KNOWN_CYCLES: {gone}"
 
 
 def test_pil_imports_no_simulation() -> None:

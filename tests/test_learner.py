@@ -92,7 +92,7 @@ def test_learns_table_one_types_and_then_only_exploits() -> None:
 
 @pytest.mark.parametrize("seed", range(8))
 def test_no_repeat_within_a_step_until_all_five_were_tried(seed: int) -> None:
-    learner = Learner(seed)
+    learner = Learner(seed, exploration="untried-first")
     learner.feedback(S, Action.LOCATION, True)  # something learnt, so the order is mixed
     learner.feedback(S, Action.OBJECT, False)  # and something rejected in an earlier step
     learner.feedback(State("pointing", "open", "free"), Action.OBJECT, True)  # ends the step
@@ -114,7 +114,7 @@ def test_order_learnt_then_untried_then_rejected(seed: int) -> None:
         table.update(S, Action.LOCATION, True)
     table.update(S, Action.HUMAN, True)
     table.update(S, Action.CLOSE, False)  # rejected in an earlier step
-    learner = Learner(seed, table=table)
+    learner = Learner(seed, table=table, exploration="untried-first")
     order, exploited = [], []
     for _ in range(len(ACTIONS)):
         action = learner.choose(S)
@@ -250,3 +250,64 @@ def test_names_are_parsed_and_bad_ones_raise() -> None:
         learner.feedback(State("pointing", "open", "free"), "fly", True)
     with pytest.raises(RobinPilError, match="unknown feedback"):
         learner.feedback(State("pointing", "open", "free"), "object", "maybe")
+
+
+@pytest.mark.parametrize("table", ["x", {"counts": {}}, 3])
+def test_learner_refuses_a_table_that_is_not_one(table: object) -> None:
+    with pytest.raises(RobinPilError, match=r"table must be an AssociationTable.*load_table"):
+        Learner(table=table)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_next_best_ranks_learnt_then_draws_all_but_the_action_just_rejected(seed: int) -> None:
+    table = AssociationTable()
+    for _ in range(3):
+        table.update(S, Action.LOCATION, True)
+    table.update(S, Action.HUMAN, True)
+    learner = Learner(seed, table=table)  # next-best is the default
+    assert learner.exploration == "next-best"
+    order = []
+    for _ in range(40):
+        action = learner.choose(S)
+        if len(order) >= 2:
+            assert action is not order[-1], "repeated the action just rejected"
+        order.append(action)
+        learner.feedback(S, action, False)
+    assert order[:2] == [Action.LOCATION, Action.HUMAN]
+    assert set(order[2:]) == set(ACTIONS), "earlier rejections must be explored again"
+
+
+@pytest.mark.parametrize("rule", ["avoid-last", "with-replacement"])
+def test_random_rules_exploit_once_then_draw(rule: str) -> None:
+    table = AssociationTable()
+    table.update(S, Action.LOCATION, True)
+    repeats = 0
+    for seed in range(10):
+        learner = Learner(seed, table=table.copy(), exploration=rule)
+        assert learner.choose(S) is Action.LOCATION and learner.last_exploited
+        learner.feedback(S, Action.LOCATION, False)
+        previous, seen = Action.LOCATION, {Action.LOCATION}
+        for _ in range(20):
+            action = learner.choose(S)
+            if learner.last_exploited:  # only once all five were tried: the step starts over
+                assert seen == set(ACTIONS) and action is Action.LOCATION
+                seen = set()
+            seen.add(action)
+            repeats += action is previous
+            learner.feedback(S, action, False)
+            previous = action
+    if rule == "avoid-last":
+        assert repeats == 0
+    else:
+        assert repeats > 0, "with replacement must sometimes draw the rejected action again"
+
+
+@pytest.mark.parametrize("rule", ["next-best", "avoid-last", "with-replacement", "untried-first"])
+def test_every_rule_is_seeded(rule: str) -> None:
+    runs = [simulate(Learner(4, exploration=rule), seed=11, legs=8, detection=0.6) for _ in (0, 1)]
+    assert runs[0] == runs[1]
+
+
+def test_unknown_exploration_rule_lists_the_valid_ones() -> None:
+    with pytest.raises(InvalidChoiceError, match="'next-best', 'avoid-last', 'with-replacement'"):
+        Learner(exploration="greedy")

@@ -9,7 +9,7 @@ import pytest
 from pil.learner import Learner
 from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
-from pil.task.runner import RunnerError, StepRecord, run, steps
+from pil.task.runner import MAX_ACTIONS_PER_GESTURE, RunnerError, StepRecord, run, steps
 from pil.task.scenario import SCENARIOS_DIR, Scenario, load_scenario
 from pil.task.watching import InstantWatcher
 from pil.task.world import Intent, Outcome, SymbolicWorld, Target, Watcher
@@ -140,7 +140,9 @@ class FailingWorld(SymbolicWorld):
 def test_failed_action_gets_not_ok_and_the_guard_stops_the_loop(scenario: Scenario) -> None:
     learner, person, detector = parts(scenario, 1.0, 6)
     records: list[StepRecord] = []
-    with pytest.raises(RunnerError, match="no approved action after 25 actions"):
+    with pytest.raises(
+        RunnerError, match=f"no approved action after {MAX_ACTIONS_PER_GESTURE} actions"
+    ):
         for record in steps(learner, person, detector, FailingWorld()):
             records.append(record)
     closes = [r for r in records if r.action is Action.CLOSE and r.intended_action is Action.CLOSE]

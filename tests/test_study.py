@@ -69,3 +69,35 @@ def test_bad_config_is_rejected() -> None:
         StudyConfig(systems=("pil", "c9"))
     with pytest.raises(RobinPilError, match="reps"):
         StudyConfig(reps=0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [({"seed": -1}, "seed must be a whole number >= 0"), ({"rates": (0.4, 0.4)}, "given twice")],
+)
+def test_study_config_refuses_bad_seeds_and_duplicate_rates(kwargs: dict, message: str) -> None:
+    with pytest.raises(RobinPilError, match=message):
+        StudyConfig(**kwargs)
+
+
+def test_default_rule_puts_all_eight_training_figures_within_10_percent() -> None:
+    from pil.experiments.paper_comparison import worst_difference
+    from pil.experiments.study import training_by_rule
+
+    by_rule = training_by_rule(StudyConfig())  # the paper's setup: 20 reps, seed 0
+    assert list(by_rule) == ["next-best", "avoid-last", "with-replacement", "untried-first"]
+    assert worst_difference(by_rule["next-best"]) < 10.0
+    assert worst_difference(by_rule["untried-first"]) > 10.0  # actions 14-19 % short
+    assert all(f[1.0]["gestures"] == 110 for f in by_rule.values())
+
+
+def test_summary_compares_every_rule_and_checks_the_claim_both_ways(tmp_path: Path) -> None:
+    config = StudyConfig(rates=(0.4, 1.0), reps=3, params={"tables": 2})
+    rows = run_study(config)
+    write_outputs(rows, config, tmp_path)
+    text = (tmp_path / "summary.md").read_text()
+    assert "**next-best** (used)" in text
+    for rule in ("avoid-last", "with-replacement", "untried-first"):
+        assert f"| {rule} |" in text
+    assert "- totals (training counted): PIL costlier" in text
+    assert "- test tables alone: PIL costlier" in text

@@ -28,6 +28,10 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
         (["--rates", "1.5"], "must lie in [0, 1]"),
         (["--rates", "0.4,abc"], "'abc' is not a number"),
         (["--reps", "0"], "--reps must be >= 1"),
+        (["--seed", "-1"], "--seed must be a whole number >= 0, got -1"),
+        (["--rates", "0.4,0.6,0.4"], "rate 0.4 is given twice"),
+        (["--systems", "pil,robot"], "unknown --systems: system 'robot'; valid choices: 'pil'"),
+        (["--systems", "pil,tamer,pil"], "system 'pil' is given twice"),
     ],
 )
 def test_bad_input_exits_2_with_one_clear_message(
@@ -58,3 +62,38 @@ def test_study_command_never_loads_mujoco(tmp_path: Path) -> None:
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True)  # fmt: skip
     assert result.stdout.split()[-2:] == ["0", "False"]
+
+
+def _out_cases(tmp_path: Path) -> dict[str, tuple[Path, str]]:
+    a_file = tmp_path / "a_file"
+    a_file.write_text("kept\n")
+    return {
+        "a file": (a_file, "is a file"),
+        "under a file": (a_file / "sub", "lies under"),
+        "unwritable": (Path("/proc/robin-pil-study"), "cannot be written"),
+    }
+
+
+@pytest.mark.parametrize("case", ["a file", "under a file", "unwritable"])
+def test_bad_out_is_refused_before_anything_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture, case: str
+) -> None:
+    out, message = _out_cases(tmp_path)[case]
+    # progress on: a started study would draw its bar on stderr before any error
+    assert main(["study", "--reps", "20", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("robin-pil study: error: output folder") and message in err
+    assert len(err.strip().splitlines()) == 1, err
+    assert (tmp_path / "a_file").read_text() == "kept\n"
+
+
+def test_study_runs_the_baselines_beside_pil(tmp_path: Path) -> None:
+    out = tmp_path / "baselines"
+    argv = ["study", "--systems", "pil,bandit,tamer", "--reps", "2", "--tables", "1",
+            "--rates", "0.6", "--out", str(out), "--no-progress"]  # fmt: skip
+    assert main(argv) == 0
+    text = (out / "summary.md").read_text()
+    for system in ("bandit", "tamer"):
+        assert f"| 0.6 | {system} | 2 |" in text
+        assert f"| 0.6 | gestures | pil | {system} |" in text
+    assert "training" not in {p.stem for p in out.iterdir()}  # no pre-trained system: no figure

@@ -181,3 +181,52 @@ def test_unseen_is_uniform_and_best_is_none_iff_tie_or_unseen(sequence, probe: S
 @given(updates, updates)
 def test_merge_equals_replaying_both(first, second) -> None:
     assert _build(first).merge(_build(second)) == _build(first + second)
+
+
+def test_no_module_reaches_into_the_table_privately() -> None:
+    """Only pil/table.py touches AssociationTable's private fields (issue 8)."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    private = re.compile(r"\._(counts|best|rejected|transitions|total|approve|follow|reject)\b")
+    offenders = [
+        f"{path.relative_to(root)}:{n}"
+        for folder in ("pil", "robin_sim", "bench")
+        for path in sorted((root / folder).rglob("*.py"))
+        if path.name != "table.py" or path.parent.name != "pil"
+        for n, line in enumerate(path.read_text().splitlines(), 1)
+        if private.search(line)
+    ]
+    assert offenders == []
+
+
+def test_id_level_interface_matches_the_named_one() -> None:
+    from pil.table import START, action_index, state_id
+
+    table = AssociationTable()
+    s = State("pointing", "open", "free")
+    sid, obj = state_id(s), action_index(Action.OBJECT)
+    assert table.row(sid) is None and table.best_id(sid) == -1
+    table.approve_id(sid, obj, 2)
+    table.reject_id(sid, action_index(Action.CLOSE))
+    table.follow_id(START, sid)
+    assert table.row(sid) == tuple(table.counts(s).values())
+    assert table.best_id(sid) == obj and table.best(s) is Action.OBJECT
+    assert table.rejected_mask(sid) == 1 << action_index(Action.CLOSE)
+    assert dict(table.followers(START)) == {sid: 1} and table.transitions(None) == {s: 1}
+    with pytest.raises(TypeError):
+        table.followers(START)[sid] = 5  # read-only view
+
+
+@pytest.mark.parametrize("count", [1.5, True, 1.0, "2", -1])
+def test_add_refuses_counts_that_are_not_whole_numbers(count: object) -> None:
+    from pil.errors import RobinPilError
+
+    table = AssociationTable()
+    s = State("pointing", "open", "free")
+    with pytest.raises(RobinPilError, match="must be a whole number >= 0"):
+        table.add(s, Action.OBJECT, count)  # type: ignore[arg-type]
+    with pytest.raises(RobinPilError, match="must be a whole number >= 0"):
+        table.record_transition(None, s, count)  # type: ignore[arg-type]
+    assert table.is_empty() and table.transitions(None) == {}

@@ -84,10 +84,13 @@ def test_step_ten_exploits_object(seed: int) -> None:
 
 @pytest.mark.parametrize("seed", range(10))
 def test_step_twelve_next_choice_is_not_close(seed: int) -> None:
-    learner = Learner(seed)
-    _replay(learner, until=13)  # t = 12 fed: close got not-OK
     state = State("pointing", "close", "occupied")
-    for _ in range(4):  # the rest of the step never returns to close
+    learner = Learner(seed)  # next-best: never the action just rejected
+    _replay(learner, until=13)  # t = 12 fed: close got not-OK
+    assert learner.choose(state) is not Action.CLOSE
+    learner = Learner(seed, exploration="untried-first")
+    _replay(learner, until=13)
+    for _ in range(4):  # untried-first: the rest of the step never returns to close
         action = learner.choose(state)
         assert action is not Action.CLOSE
         learner.feedback(state, action, False)
@@ -102,7 +105,7 @@ def test_step_seventeen_is_unseen_and_uniform(seed: int) -> None:
     assert learner.table.best(state) is None
     decision = learner.decide("pointing", "object", "free")
     assert not decision.exploited
-    assert decision.reason == "explore untried"
+    assert decision.reason == "explore at random"
 
 
 @pytest.mark.parametrize("seed", range(5))

@@ -115,3 +115,40 @@ def plot_comparison(
         return _save(fig, path)
     finally:
         plt.close(fig)
+
+
+def plot_rules(
+    by_rule: Mapping[str, Mapping[float, Mapping[str, float]]],
+    paper: Mapping[float, tuple[float, float]],
+    path: str | Path,
+    *,
+    title: str = "training (5 tables): the paper vs each exploration rule",
+) -> Path:
+    """Per quantity (gestures, actions): bars per rate, the paper's first, then each rule's
+    mean with its sd."""
+    plt = _pyplot()
+    rates = sorted(paper)
+    series = len(by_rule) + 1
+    width = 0.8 / series
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.0))
+    for ax, (i, quantity) in zip(axes, enumerate(("gestures", "actions")), strict=True):
+        xs = range(len(rates))
+        offset = (series - 1) / 2
+        ax.bar([x - offset * width for x in xs], [paper[r][i] for r in rates], width,
+               label="paper", color="black")  # fmt: skip
+        for j, (rule, figures) in enumerate(by_rule.items(), start=1):
+            means = [figures.get(r, {}).get(quantity, float("nan")) for r in rates]
+            sds = [figures.get(r, {}).get(f"{quantity}_sd", 0.0) for r in rates]
+            ax.bar([x + (j - offset) * width for x in xs], means, width, yerr=sds, capsize=2,
+                   label=rule)  # fmt: skip
+        ax.set_xticks(list(xs), [f"{r * 100:.0f} %" for r in rates])
+        ax.set_xlabel("detection rate")
+        ax.set_title(quantity)
+        ax.grid(axis="y", alpha=0.3)
+        ax.legend(fontsize="small")
+    fig.suptitle(title)
+    fig.tight_layout()
+    try:
+        return _save(fig, path)
+    finally:
+        plt.close(fig)

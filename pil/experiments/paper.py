@@ -18,6 +18,9 @@ PAPER_TRAINING: dict[float, tuple[int, int]] = {
 }
 
 
+LOW_RATES: tuple[float, ...] = (0.4, 0.6)  # where the paper says PIL costs more than c1, c2
+
+
 def rates_text(rates: tuple[float, ...] = PAPER_RATES) -> str:
     """Rates as a command line takes them: ``"0.4,0.6,0.8,1.0"``."""
     return ",".join(str(float(rate)) for rate in rates)

@@ -21,17 +21,23 @@ import numpy as np
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, check_rate
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS, PAPER_TRAINING
+from pil.experiments.paper_comparison import (
+    Figures,
+    claim_markdown,
+    rule_training,
+    rules_markdown,
+    training_figures,
+    training_markdown,
+)
 from pil.experiments.report import (
     Row,
-    mean_sd,
-    number,
     summary_markdown,
     ttests_markdown,
     welch_ttests,
 )
 from pil.experiments.systems import (
+    PAPER_SYSTEMS,
     ROW_COLUMNS,
-    SYSTEMS,
     check_params,
     check_system,
     resolve_scenario,
@@ -51,14 +57,23 @@ class StudyConfig:
     rates: tuple[float, ...] = PAPER_RATES
     reps: int = PAPER_REPS
     seed: int = 0
-    systems: tuple[str, ...] = tuple(SYSTEMS)
+    systems: tuple[str, ...] = PAPER_SYSTEMS
     scenario: Scenario | str | Path | None = None
     params: Mapping[str, Any] = field(default_factory=dict)  # see pil.experiments.systems.PARAMS
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rates", tuple(check_rate(r) for r in self.rates))
+        repeated = sorted({r for r in self.rates if self.rates.count(r) > 1})
+        if repeated:
+            raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")
+        seed = self.seed
+        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+            raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
+        object.__setattr__(self, "systems", tuple(self.systems))
         for system in self.systems:
             check_system(system)
+        if len(set(self.systems)) != len(self.systems) or not self.systems:
+            raise RobinPilError(f"give each system once (at least one), got {self.systems!r}")
         if isinstance(self.reps, bool) or not isinstance(self.reps, int) or self.reps < 1:
             raise RobinPilError(f"reps must be a whole number >= 1, got {self.reps!r}")
 
@@ -103,57 +118,18 @@ def csv_text(rows: Sequence[Row], columns: Sequence[str] = STUDY_COLUMNS) -> str
     return buffer.getvalue()
 
 
-def training_figures(rows: Sequence[Row]) -> dict[float, dict[str, float]]:
-    """Mean and sd of the training gestures and actions per training rate.
-
-    Training at rate d is taken from c1 (or c3) rows, training at 100 % from c2/c4 rows or
-    from c1 at rate 1.0. Each repetition's (or, without a ``rep`` column, each seed's) training
-    run is counted once.
-    """
-    runs: dict[tuple[float, str], tuple[float, float]] = {}
-    for row in rows:
-        system = str(row["system"])
-        if system in ("c1", "c3"):
-            train_rate = number(row["rate"], "rate")
-        elif system in ("c2", "c4"):
-            train_rate = 1.0
-        else:
-            continue
-        key = (train_rate, str(row.get("rep", row.get("seed"))))
-        runs[key] = (number(row["train_gestures"]), number(row["train_actions"]))
-    out: dict[float, dict[str, float]] = {}
-    for rate in sorted({k[0] for k in runs}):
-        gestures = [g for (r, _), (g, _a) in runs.items() if r == rate]
-        actions = [a for (r, _), (_g, a) in runs.items() if r == rate]
-        (g_mean, g_sd), (a_mean, a_sd) = mean_sd(gestures), mean_sd(actions)
-        out[rate] = {"gestures": g_mean, "gestures_sd": g_sd, "actions": a_mean,
-                     "actions_sd": a_sd, "n": len(gestures)}  # fmt: skip
-    return out
+def training_by_rule(config: StudyConfig) -> dict[str, Figures]:
+    """The training figures of every exploration rule at the study's rates (same seeds)."""
+    values = check_params(dict(config.params))
+    scenario = resolve_scenario(config.scenario, values)
+    rates = sorted({*config.rates, 1.0})
+    return rule_training(scenario, rates, rep_seeds(config.seed, config.reps), values)
 
 
-def training_markdown(figures: Mapping[float, Mapping[str, float]]) -> str:
-    """Our training figures next to the paper's, with the % difference."""
-    lines = [
-        "| rate | gestures (ours) | gestures (paper) | diff | actions (ours) | "
-        "actions (paper) | diff |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for rate, fig in figures.items():
-        paper = PAPER_TRAINING.get(rate)
-        cells = [f"{rate * 100:.0f} %"]
-        for i, name in enumerate(("gestures", "actions")):
-            ours = f"{fig[name]:.1f} ± {fig[f'{name}_sd']:.1f}"
-            if paper is None:
-                cells += [ours, "n/a", "n/a"]
-            else:
-                diff = 100.0 * (fig[name] - paper[i]) / paper[i]
-                cells += [ours, str(paper[i]), f"{diff:+.1f} %"]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
-def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
-    """The study's ``summary.md``."""
+def summary_text(
+    rows: Sequence[Row], config: StudyConfig, by_rule: Mapping[str, Figures] | None = None
+) -> str:
+    """The study's ``summary.md`` (``by_rule``: :func:`training_by_rule`, to compare rules)."""
     values = check_params(dict(config.params))
     scenario = resolve_scenario(config.scenario, values)
     values.update({key: getattr(scenario, key) for key in SCENARIO_KEYS})
@@ -165,7 +141,8 @@ def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
         f"seed {config.seed}; systems {', '.join(config.systems)}.  ",
         f"Parameters: {setup}.",
         "",
-        "Totals include the pre-training of c1-c4 (5 tables), as in the paper's Figs. 3 and 4.",
+        "`total_*` include the pre-training of c1-c4 (5 tables), as the paper says its Figs. 3 "
+        "and 4 do; `gestures` and `actions` are the test tables alone.",
         "",
         "## Mean ± sd per system and rate",
         "",
@@ -173,8 +150,26 @@ def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
     ]
     figures = training_figures(rows)
     if figures:
-        parts += ["", "## Training (5 tables): ours vs the paper", "", training_markdown(figures)]
+        parts += ["", f"## Training (5 tables): ours ({values['exploration']}) vs the paper", "",
+                  training_markdown(figures)]  # fmt: skip
+    if by_rule:
+        parts += [
+            "",
+            "## The paper's eight training figures under every exploration rule",
+            "",
+            "Same seeds and settings, only the rule after a not-OK differs "
+            "(`pil.exploration`); ours vs the paper's, difference in %.",
+            "",
+            rules_markdown(by_rule, str(values["exploration"])),
+        ]
     systems = {str(r["system"]) for r in rows}
+    if {"pil", "c1", "c2"} <= systems:
+        parts += [
+            "",
+            "## The paper's claim: at low rates PIL costs more than conditions 1 and 2",
+            "",
+            claim_markdown(rows),
+        ]
     if "pil" in systems and len(systems) > 1:
         metrics = (*METRICS, "gestures", "actions")
         tests = welch_ttests(rows, "pil", compare_by="system", within=("rate",), metrics=metrics)
@@ -182,7 +177,7 @@ def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
         untestable = sum(1 for t in tests if t["p"] != t["p"])
         parts += [
             "",
-            "## Welch t-tests: PIL against each condition",
+            "## Welch t-tests: PIL against each other system",
             "",
             f"Totals (with training, as the paper) and the test tables alone (`gestures`, "
             f"`actions`). {significant} of {len(tests)} comparisons have p < 0.05 (marked *); "
@@ -195,22 +190,19 @@ def summary_text(rows: Sequence[Row], config: StudyConfig) -> str:
 
 def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> list[Path]:
     """Write ``runs.csv``, ``summary.md``, ``gestures.png``, ``actions.png``, ``training.png``."""
-    from pil.experiments.figures import plot_comparison, plot_metric
+    from pil.experiments.figures import plot_metric, plot_rules
 
     out = Path(out)
+    figures = training_figures(rows)
+    by_rule = training_by_rule(config) if figures else None
     written = [write_text_atomic(out / "runs.csv", csv_text(rows))]
-    written.append(write_text_atomic(out / "summary.md", summary_text(rows, config)))
+    written.append(write_text_atomic(out / "summary.md", summary_text(rows, config, by_rule)))
     for metric, name in (("total_gestures", "gestures"), ("total_actions", "actions")):
         written.append(
             plot_metric(rows, metric, out / f"{name}.png", ("rate", "system"),
                         title=f"{name} to assemble the tables (mean ± sd)",
                         ylabel=f"number of {name}")
         )  # fmt: skip
-    figures = training_figures(rows)
-    if figures:
-        ours = {f"{r * 100:.0f} %": {"gestures": f["gestures"], "actions": f["actions"]}
-                for r, f in figures.items()}  # fmt: skip
-        paper = {f"{r * 100:.0f} %": {"gestures": g, "actions": a}
-                 for r, (g, a) in PAPER_TRAINING.items()}  # fmt: skip
-        written.append(plot_comparison(ours, paper, out / "training.png"))
+    if by_rule:
+        written.append(plot_rules(by_rule, PAPER_TRAINING, out / "training.png"))
     return written

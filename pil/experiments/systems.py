@@ -1,10 +1,12 @@
-"""The five systems of the paper's study (section IV-B) and :func:`run_one`, one learner-only run.
+"""The study's systems (the paper's five, section IV-B, and baselines) and :func:`run_one`.
 
 * ``pil``: Proactive Incremental Learning from scratch, with correction, on the test tables.
 * ``c1``: pre-trained at the test rate d, with correction.
 * ``c2``: pre-trained at 100 %, with correction.
 * ``c3``: pre-trained at d, manual repetition (the person repeats a misread gesture).
 * ``c4``: pre-trained at 100 %, manual repetition.
+* ``bandit``, ``tamer``: the baselines of :mod:`pil.agents`, from scratch, same person, detector
+  and counting (they act on the detected state as it is: no correction).
 
 Pre-training is a PIL run (with correction) on ``training_tables`` tables (5 x 4 = 20
 handovers, each handover type exactly twice). Its gestures and actions are reported apart
@@ -17,11 +19,12 @@ share one training run, and c2 and c4 another.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, MutableMapping
-from dataclasses import dataclass
+from collections.abc import Iterator, Mapping, MutableMapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from pil.agents import AGENTS
 from pil.errors import InvalidChoiceError, check_rate
 from pil.learner import Learner
 from pil.table import AssociationTable
@@ -40,9 +43,11 @@ from pil.task.scenario import Scenario
 from pil.task.world import SymbolicWorld
 
 __all__ = [
+    "PAPER_SYSTEMS",
     "PARAMS",
     "ROW_COLUMNS",
     "SYSTEMS",
+    "SYSTEM_SPECS",
     "check_params",
     "check_system",
     "derive_seeds",
@@ -52,21 +57,55 @@ __all__ = [
     "training_for",
 ]
 
-SYSTEMS: dict[str, str] = {
-    "pil": "PIL from scratch, with correction",
-    "c1": "pre-trained at d, with correction",
-    "c2": "pre-trained at 100 %, with correction",
-    "c3": "pre-trained at d, manual repetition",
-    "c4": "pre-trained at 100 %, manual repetition",
+
+@dataclass(frozen=True, slots=True)
+class SystemSpec:
+    """How one study system learns and is tested.
+
+    ``trained_at``: None (from scratch), "d" (pre-trained at the test rate) or "full" (at 100 %);
+    ``manual``: the person repeats a misread gesture (no correction); ``agent``: a key of
+    :data:`pil.agents.AGENTS` (pre-training is always a PIL run); ``params``: parameters of
+    :data:`PARAMS` this system sets for its test run.
+    """
+
+    description: str
+    trained_at: str | None = None
+    manual: bool = False
+    agent: str = "pil"
+    params: Mapping[str, Any] = field(default_factory=dict)  # parameters it overrides
+
+
+# The registry of study systems; add an entry to make a new one selectable everywhere.
+SYSTEM_SPECS: dict[str, SystemSpec] = {
+    "pil": SystemSpec("PIL from scratch, with correction"),
+    "c1": SystemSpec("pre-trained at d, with correction", "d"),
+    "c2": SystemSpec("pre-trained at 100 %, with correction", "full"),
+    "c3": SystemSpec("pre-trained at d, manual repetition", "d", manual=True),
+    "c4": SystemSpec("pre-trained at 100 %, manual repetition", "full", manual=True),
+    "bandit": SystemSpec("epsilon-greedy contextual bandit from scratch", agent="bandit"),
+    "tamer": SystemSpec("TAMER-style feedback regression from scratch", agent="tamer"),
+    "pil-halve": SystemSpec(
+        "PIL from scratch, a not-OK halves the refused count (ours)",
+        params={"adaptation": "halve"},
+    ),
 }
-# system -> (pre-trained at: None / "d" / "full", manual repetition in the test)
-_DESIGN: dict[str, tuple[str | None, bool]] = {
-    "pil": (None, False),
-    "c1": ("d", False),
-    "c2": ("full", False),
-    "c3": ("d", True),
-    "c4": ("full", True),
-}
+PAPER_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
+
+
+class _Descriptions(Mapping[str, str]):
+    """A read-only view: system name -> description, always in step with SYSTEM_SPECS."""
+
+    def __getitem__(self, name: str) -> str:
+        return SYSTEM_SPECS[name].description
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(SYSTEM_SPECS)
+
+    def __len__(self) -> int:
+        return len(SYSTEM_SPECS)
+
+
+SYSTEMS: Mapping[str, str] = _Descriptions()
 ROW_COLUMNS: tuple[str, ...] = (
     "system", "rate", "seed", "scenario", "legs", "handovers", "gestures", "actions",
     "train_gestures", "train_actions", "total_gestures", "total_actions", "corrections",
@@ -85,8 +124,8 @@ class Training:
 
 def check_system(system: str) -> str:
     """``system`` if it is one of :data:`SYSTEMS`, else an error naming them."""
-    if system not in SYSTEMS:
-        raise InvalidChoiceError("system", system, SYSTEMS)
+    if system not in SYSTEM_SPECS:
+        raise InvalidChoiceError("system", system, SYSTEM_SPECS)
     return system
 
 
@@ -130,7 +169,7 @@ def training_for(
     cache: MutableMapping[Any, Any] | None = None,
 ) -> Training | None:
     """The pre-training ``system`` starts from (None for ``pil``), from ``cache`` if there."""
-    trained_at, _ = _DESIGN[check_system(system)]
+    trained_at = SYSTEM_SPECS[check_system(system)].trained_at
     if trained_at is None:
         return None
     train_rate = check_rate(rate) if trained_at == "d" else 1.0
@@ -159,12 +198,18 @@ def test_parts(
     parts through :func:`pil.task.runner.steps` with its own world. ``training`` defaults to
     :func:`training_for`; ``body`` is the person's body in a physical world.
     """
-    _, manual = _DESIGN[check_system(system)]
+    spec = SYSTEM_SPECS[check_system(system)]
     if training is None:
         training = training_for(system, rate, seed, scenario, values, cache)
     table = None if training is None else training.table.copy()
-    return build_parts(scenario, rate, derive_seeds(seed), phase="test", table=table,
-                       manual=manual, cache=cache, body=body, **values)  # fmt: skip
+    seeds = derive_seeds(seed)
+    values = {**values, **spec.params}
+    parts = build_parts(scenario, rate, seeds, phase="test", table=table,
+                        manual=spec.manual, cache=cache, body=body, **values)  # fmt: skip
+    if spec.agent == "pil":
+        return parts
+    agent = AGENTS[spec.agent](seeds["test_learner"], table, values)
+    return RunParts(agent, parts.person, parts.detector, parts.options)  # type: ignore[arg-type]
 
 
 test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
@@ -213,7 +258,8 @@ def run_system(
         "train_repeats": train.repeats,
         "train_rejected": train.rejected,
     }
-    row.update({name: values[name] for name in PARAMS})
+    effective = {**values, **SYSTEM_SPECS[system].params}
+    row.update({name: effective[name] for name in PARAMS})
     row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
     return row
 

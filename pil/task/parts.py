@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.exploration import DEFAULT_RULE, check_rule
 from pil.learner import Learner
 from pil.table import AssociationTable
 from pil.task.detector import DEFAULT_DISCARD, Detector
@@ -46,6 +47,10 @@ PARAMS: dict[str, Any] = {
     "reaction_spread": DEFAULT_REACTION_SPREAD,  # s, its standard deviation
     "handover_timeout": 180.0,  # s from a handover's first gesture (physical episodes)
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
+    "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
+    "adaptation": "none",  # "halve": a not-OK halves the refused count (pil.learner)
+    "epsilon": 0.1,  # the bandit baseline's chance of a random action (pil.agents.bandit)
+    "step_size": 0.5,  # the TAMER baseline's regression step (pil.agents.tamer)
 }
 # The person's parameters (recorded in an episode's summary).
 PERSON_PARAMS: tuple[str, ...] = ("silent_ok", "patience", "reaction_time", "reaction_spread")
@@ -188,7 +193,9 @@ def build_parts(
         discard=values["discard"],
         confusion=values["confusion"],
     )
-    learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual)
+    learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
+                      exploration=check_rule(values["exploration"]),
+                      adaptation=values["adaptation"])  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

@@ -20,6 +20,9 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
     "model-path": ("robin_sim.cli.model_path", "print where the MJCF model files are installed"),
+    "adapt": ("robin_sim.cli.adapt", "a gesture's meaning changes mid-task (learner only)"),
+    "transfer": ("robin_sim.cli.transfer", "a second task from scratch vs from saved tables"),
+    "people": ("robin_sim.cli.people", "two people's mappings: one shared table vs one each"),
 }
 
 

@@ -10,25 +10,12 @@ import argparse
 import sys
 from pathlib import Path
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
+from pil.exploration import DEFAULT_RULE, RULES
+from robin_sim.cli.options import parse_rates, parse_systems
 
 DEFAULT_OUT = Path("out/study")
-
-
-def _rates(text: str) -> tuple[float, ...]:
-    """``"0.4,0.6"`` as rates; a bad one raises naming the valid range."""
-    rates = []
-    for part in text.split(","):
-        try:
-            value = float(part)
-        except ValueError:
-            raise RobinPilError(
-                f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
-                "by commas, e.g. 0.4,0.6,0.8,1.0"
-            ) from None
-        rates.append(check_rate(value, f"--rates: detection rate {part.strip()}"))
-    return tuple(rates)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -63,6 +50,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--scenario", default=None, help="assembly scenario YAML (default: scenarios/assembly.yaml)"
     )
+    parser.add_argument(
+        "--exploration",
+        default=DEFAULT_RULE,
+        choices=tuple(RULES),
+        help="the learner's rule after a not-OK (default: %(default)s; see pil.exploration)",
+    )
+    parser.add_argument(
+        "--discarded",
+        default="repeated",
+        choices=("repeated", "corrected"),
+        help="a discarded gesture: the person repeats it, or the learner corrects it as an "
+        "invalid one (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--systems",
+        default=None,
+        help="comma-separated study systems (default: the paper's pil,c1,c2,c3,c4; also "
+        "bandit, tamer)",
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")  # fmt: skip
 
 
@@ -70,19 +76,31 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
+    from pil.experiments.outdir import check_output_folder
     from pil.experiments.study import StudyConfig, run_study, write_outputs
+    from pil.experiments.systems import PAPER_SYSTEMS
 
+    if args.seed < 0:
+        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
     if args.reps < 1:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
     if args.tables is not None and args.tables < 1:
         raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
+    systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(
-        rates=_rates(args.rates),
+        systems=systems,
+        rates=parse_rates(args.rates),
         reps=args.reps,
         seed=args.seed,
         scenario=args.scenario,
-        params={"tables": args.tables, "detector": args.detector},
+        params={
+            "tables": args.tables,
+            "detector": args.detector,
+            "exploration": args.exploration,
+            "repeat_discarded": args.discarded == "repeated",
+        },
     )
+    check_output_folder(args.out)  # before the computation, not after it
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
               disable=args.no_progress) as bar:  # fmt: skip
         rows = run_study(config, progress=bar.update)

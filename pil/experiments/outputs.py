@@ -1,0 +1,66 @@
+"""Outputs of the smaller studies (adaptation, transfer, personal mappings): a CSV, a summary
+with mean ± sd and Welch t-tests, and one bar chart, each written atomically."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from pil.atomic import write_text_atomic
+from pil.experiments.report import Row, summary_markdown, ttests_markdown, welch_ttests
+from pil.experiments.study import csv_text
+
+
+def rep_rows_text(rows: Sequence[Row]) -> str:
+    """The rows as CSV text in their own column order (byte-reproducible)."""
+    return csv_text(rows, list(rows[0]))
+
+
+def write_small_study(
+    rows: Sequence[Row],
+    out: str | Path,
+    name: str,
+    *,
+    title: str,
+    intro: str,
+    group_by: Sequence[str],
+    metrics: Sequence[str],
+    figure_metric: str,
+    baseline: str,
+    compare_by: str,
+    within: Sequence[str] = ("rate",),
+    ylabel: str | None = None,
+    extra: str = "",
+    figure_group_by: Sequence[str] | None = None,
+) -> list[Path]:
+    """Write ``NAME.csv``, ``NAME.md`` and ``NAME.png`` under ``out``; returns the paths.
+
+    ``extra`` is Markdown appended to the summary; ``figure_group_by`` (two columns, default
+    ``group_by``) groups the bars.
+    """
+    from pil.experiments.figures import plot_metric
+
+    out = Path(out)
+    tests = welch_ttests(rows, baseline, compare_by=compare_by, within=within, metrics=metrics)
+    significant = sum(1 for t in tests if t["p"] < 0.05)
+    text = "\n".join([
+        f"# {title}", "", intro, "", "## Mean ± sd", "",
+        summary_markdown(rows, group_by, metrics), "",
+        f"## Welch t-tests: {baseline} against each other {compare_by}", "",
+        f"{significant} of {len(tests)} comparisons have p < 0.05 (marked *).", "",
+        ttests_markdown(tests, within), "",
+        *([extra, ""] if extra else []),
+    ])  # fmt: skip
+    written = [write_text_atomic(out / f"{name}.csv", rep_rows_text(rows))]
+    written.append(write_text_atomic(out / f"{name}.md", text))
+    written.append(
+        plot_metric(
+            rows,
+            figure_metric,
+            out / f"{name}.png",
+            figure_group_by or group_by,
+            title=f"{title} (mean ± sd)",
+            ylabel=ylabel,
+        )
+    )
+    return written

@@ -1,0 +1,159 @@
+"""The personal-mappings study: two people who mean different actions by the same gesture.
+
+A people file (``scenarios/two_people.yaml``) names a base assembly and, per person, the
+gestures they mean differently (``give me -> location``). The people take turns, one table
+each (person ``k % n`` assembles test table ``k``). Two ways to learn:
+
+* ``shared``: one learner over the whole assembly, as if the robot could not tell the people
+  apart;
+* ``per-person``: the robot knows who is there and keeps a table per person (each learner
+  sees only its person's tables).
+
+Both get the same detection rate; costs are summed over both people.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pil.errors import RobinPilError, check_rate
+from pil.experiments.adaptation import remap
+from pil.experiments.study import rep_seeds
+from pil.experiments.study_files import read_study_file
+from pil.experiments.systems import SYSTEM_SPECS, check_system
+from pil.task.detector import Detector
+from pil.task.parts import build_parts, check_params, derive_seeds
+from pil.task.person import ScriptedPerson, plan_script
+from pil.task.runner import RunStats, run
+from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
+from pil.task.world import SymbolicWorld
+from pil.types import Action, Gesture
+
+DEFAULT_PEOPLE = SCENARIOS_DIR / "two_people.yaml"
+MODES: tuple[str, ...] = ("shared", "per-person")
+PEOPLE_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+_KEYS = ("name", "description", "scenario", "people")
+
+
+@dataclass(frozen=True, slots=True)
+class People:
+    """The base assembly and each person's overrides (gesture -> action)."""
+
+    scenario: Scenario
+    overrides: Mapping[str, tuple[tuple[Gesture, Action], ...]]
+
+
+def load_people(path: str | Path = DEFAULT_PEOPLE) -> People:
+    """Read a people file; anything malformed raises :class:`ScenarioError` naming it."""
+    path, raw, scenario = read_study_file(path, _KEYS, "people file")
+    people = raw.get("people")
+    if not isinstance(people, Mapping) or len(people) < 2:
+        raise ScenarioError(f"{path}: people: expected at least two people (name: [overrides])")
+    overrides = {}
+    for name, steps in people.items():
+        if not isinstance(steps, list):
+            raise ScenarioError(f"{path}: people.{name}: expected a list of 'gesture -> action'")
+        overrides[str(name)] = tuple(parse_step(text, f"{path}: people.{name}") for text in steps)
+    return People(scenario, overrides)
+
+
+def person_types(people: People, name: str, types: Sequence[HandoverType]) -> list[HandoverType]:
+    """``types`` as person ``name`` performs them (their overrides applied)."""
+    out = list(types)
+    for gesture, action in people.overrides[name]:
+        out = [remap(t, gesture, action) for t in out]
+    return out
+
+
+def _run(script: Sequence[Any], rate: float, seeds: Mapping[str, int], learner: Any,
+         values: Mapping[str, Any]) -> RunStats:  # fmt: skip
+    person = ScriptedPerson(script, seeds["test_person"], silent_ok=values["silent_ok"],
+                            patience=values["patience"])  # fmt: skip
+    detector = Detector(rate, seeds["test_detector"], model=values["detector"],
+                        deck_size=len(script), discard=values["discard"],
+                        confusion=values["confusion"])  # fmt: skip
+    options = {"repeat_discarded": bool(values["repeat_discarded"]),
+               "max_actions_per_gesture": values["max_actions_per_gesture"]}  # fmt: skip
+    return run(learner, person, detector, SymbolicWorld(), **options)
+
+
+def run_people(system: str, mode: str, rate: float, seed: int, people: People,
+               values: Mapping[str, Any]) -> dict[str, Any]:  # fmt: skip
+    """One run of the whole assembly by the people taking turns, in ``mode``."""
+    spec = SYSTEM_SPECS[check_system(system)]
+    learner_values = {**values, **spec.params}
+    scenario, names = people.scenario, list(people.overrides)
+    legs = scenario.legs_per_table
+    seeds = derive_seeds(seed)
+    types = scenario.draw_types(scenario.tables * legs, seeds["test_draw"])
+    by_table = [person_types(people, names[k % len(names)], types[k * legs:(k + 1) * legs])
+                for k in range(scenario.tables)]  # fmt: skip
+    if mode == "shared":
+        script = plan_script([t for table in by_table for t in table], legs, scenario.spots)
+        learner = build_parts(scenario, rate, seeds, **learner_values).learner
+        parts = [_run(script, rate, seeds, learner, learner_values)]
+    else:
+        parts = []
+        for i in range(len(names)):
+            own = [t for k, table in enumerate(by_table) if k % len(names) == i for t in table]
+            sub = derive_seeds(int(np.random.SeedSequence([seed, i]).generate_state(1)[0] >> 1))
+            learner = build_parts(scenario, rate, sub, **learner_values).learner
+            parts.append(_run(plan_script(own, legs, scenario.spots), rate, sub, learner,
+                              learner_values))  # fmt: skip
+    return {
+        "system": system, "mode": mode, "run": f"{system} {mode}", "rate": rate,
+        "seed": int(seed), "people": len(names), "tables": scenario.tables,
+        "gestures": sum(p.gestures for p in parts), "actions": sum(p.actions for p in parts),
+        "rejected": sum(p.rejected for p in parts), "legs": sum(p.legs for p in parts),
+    }  # fmt: skip
+
+
+def run_people_study(
+    people: People,
+    systems: Sequence[str] = PEOPLE_SYSTEMS,
+    rates: Sequence[float] = (0.8, 1.0),
+    reps: int = 20,
+    seed: int = 0,
+    progress: Any = None,
+) -> list[dict[str, Any]]:
+    """Both modes for every system, rate and repetition (same handover order per seed)."""
+    values = check_params({})
+    for system in systems:
+        spec = SYSTEM_SPECS[check_system(system)]
+        if spec.agent != "pil" or spec.trained_at is not None:
+            raise RobinPilError(f"the people study runs PIL learners; {system!r} is not one")
+    rows = []
+    for rep, run_seed in enumerate(rep_seeds(seed, reps)):
+        for rate in rates:
+            for system in systems:
+                for mode in MODES:
+                    row = run_people(system, mode, check_rate(rate), run_seed, people, values)
+                    rows.append({"rep": rep, **row})
+                if progress is not None:
+                    progress(1)
+    order = {s: i for i, s in enumerate(systems)}
+    rows.sort(key=lambda r: (r["rate"], order[r["system"]], MODES.index(r["mode"]), r["rep"]))
+    return rows
+
+
+def write_people(rows: Sequence[Mapping[str, Any]], out: Any) -> list:
+    """``people.csv``, ``people.md`` and ``people.png`` under ``out``."""
+    from pil.experiments.outputs import write_small_study
+
+    tables = rows[0]["tables"] if rows else "?"
+    intro = (f"Two people take turns over {tables} tables, one table each; B means location by "
+             "give me, A human. "
+             "`shared`: one table for both; `per-person`: one table each. Costs summed over "
+             "both people.")  # fmt: skip
+    return write_small_study(
+        rows, out, "people", title="Personal mappings: one shared table vs one per person",
+        intro=intro, group_by=("rate", "system", "mode"),
+        metrics=("actions", "gestures", "rejected"), figure_metric="actions",
+        baseline="shared", compare_by="mode", within=("rate", "system"),
+        ylabel="robot actions for 10 tables", figure_group_by=("rate", "run"),
+    )  # fmt: skip

@@ -1,0 +1,127 @@
+"""The transfer study: a second task (tidying legs onto spots) from scratch or from the
+associations saved after the assembly.
+
+Per repetition and rate, a PIL run assembles the 10 tables (``scenarios/assembly.yaml``) and
+its table is kept, unless a saved table is given (``--table FILE``: every run starts from
+it). Then the same person and detector seeds tidy 10 rounds (``scenarios/tidy.yaml``) twice:
+from an empty table and from a copy of the transferred one. The tidy task shares most of its
+states with the assembly, with the same meaning, but in one handover type "give me" means
+location, where the assembly taught human.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from pil.errors import RobinPilError, check_rate
+from pil.experiments.study import rep_seeds
+from pil.experiments.systems import SYSTEM_SPECS, check_system
+from pil.table import AssociationTable
+from pil.table_io import load_table, save_table
+from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
+from pil.task.runner import run
+from pil.task.scenario import SCENARIOS_DIR, Scenario
+from pil.task.world import SymbolicWorld
+
+TIDY = SCENARIOS_DIR / "tidy.yaml"
+STARTS: tuple[str, ...] = ("scratch", "table")
+TRANSFER_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+
+
+def _learner_values(system: str, values: Mapping[str, Any]) -> dict[str, Any]:
+    spec = SYSTEM_SPECS[check_system(system)]
+    if spec.agent != "pil" or spec.trained_at is not None:
+        raise RobinPilError(f"transfer runs PIL learners from scratch; {system!r} is not one")
+    return {**values, **spec.params}
+
+
+def assembly_table(scenario: Scenario, rate: float, seed: int, values: Mapping[str, Any],
+                   ) -> AssociationTable:  # fmt: skip
+    """The table a PIL run leaves after assembling ``scenario``'s test tables."""
+    parts = build_parts(scenario, rate, derive_seeds(seed), **values)
+    run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    return parts.learner.table
+
+
+def run_transfer(
+    system: str,
+    rate: float,
+    seed: int,
+    task: Scenario,
+    start: str,
+    table: AssociationTable | None,
+    values: Mapping[str, Any],
+) -> dict[str, Any]:
+    """One run of the second task from ``start`` ("scratch" or "table")."""
+    used = None if start == "scratch" else table.copy()  # type: ignore[union-attr]
+    learner_values = _learner_values(system, values)
+    parts = build_parts(task, rate, derive_seeds(seed), table=used, **learner_values)
+    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    return {
+        "system": system, "start": start, "run": f"{system} from {start}", "rate": rate,
+        "seed": int(seed), "task": task.name,
+        "gestures": stats.gestures, "actions": stats.actions, "rejected": stats.rejected,
+        "corrections": stats.corrections, "repeats": stats.repeats,
+        "transferred_approvals": 0 if used is None else table.total(),  # type: ignore[union-attr]
+    }  # fmt: skip
+
+
+def run_transfer_study(
+    systems: Sequence[str] = TRANSFER_SYSTEMS,
+    rates: Sequence[float] = (0.6, 0.8, 1.0),
+    reps: int = 20,
+    seed: int = 0,
+    *,
+    table_file: str | Path | None = None,
+    save_first: str | Path | None = None,
+    params: Mapping[str, Any] | None = None,
+    progress: Any = None,
+) -> list[dict[str, Any]]:
+    """Paired runs (scratch vs table) of every system, rate and repetition.
+
+    ``table_file``: start every "table" run from this saved table instead of each
+    repetition's own assembly; ``save_first``: save the first repetition's assembly table
+    at the first rate there (to reuse with ``table_file``).
+    """
+    values = check_params(dict(params or {}))
+    assembly = resolve_scenario(None, values)
+    task = resolve_scenario(TIDY, {})
+    given = None if table_file is None else load_table(table_file)
+    for system in systems:
+        _learner_values(system, values)
+    rows = []
+    for rep, run_seed in enumerate(rep_seeds(seed, reps)):
+        for rate in rates:
+            rate = check_rate(rate)
+            for system in systems:
+                table = given
+                if table is None:
+                    table = assembly_table(assembly, rate, run_seed,
+                                           _learner_values(system, values))  # fmt: skip
+                    if save_first is not None and rep == 0 and rate == rates[0]:
+                        save_table(table, save_first)
+                for start in STARTS:
+                    row = run_transfer(system, rate, run_seed, task, start, table, values)
+                    rows.append({"rep": rep, **row})
+                if progress is not None:
+                    progress(1)
+    order = {s: i for i, s in enumerate(systems)}
+    rows.sort(key=lambda r: (r["rate"], order[r["system"]], STARTS.index(r["start"]), r["rep"]))
+    return rows
+
+
+def write_transfer(rows: Sequence[Mapping[str, Any]], out: Any, source: str) -> list:
+    """``transfer.csv``, ``transfer.md`` and ``transfer.png`` under ``out``."""
+    from pil.experiments.outputs import write_small_study
+
+    intro = ("The second task (tidying 10 rounds of 4 legs onto spots) from an empty table "
+             f"(`scratch`) and from {source} (`table`); same seeds in both.")  # fmt: skip
+    return write_small_study(
+        rows, out, "transfer", title="Transfer to a second task", intro=intro,
+        group_by=("rate", "system", "start"), metrics=("actions", "gestures", "rejected"),
+        figure_group_by=("rate", "run"),
+        figure_metric="actions", baseline="scratch", compare_by="start",
+        within=("rate", "system"), ylabel="robot actions to tidy 10 rounds",
+    )  # fmt: skip

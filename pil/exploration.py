@@ -1,0 +1,133 @@
+"""How the learner picks the next action in a state: the exploration rules.
+
+Equations 2-4 fix the exploit (the unique argmax of P(a|s), eq. 4) but not what happens after a
+not-OK: T is left unchanged (eq. 2), so the argmax would stay the same, and section III only
+says that the robot then tries "the next best action", and the actions that got not-OK last.
+Each rule is one reading of that; all exploit the unique best action first in a step.
+
+* ``next-best`` (the default): after a not-OK, the learnt actions (count > 0) not yet tried in
+  this step by falling P (ties at random): section III-B's "next best action"; then, when none
+  is left, at random among the actions other than the one just rejected, those that got not-OK
+  before included (III-B: "explores the actions which had received not-OK"). Eq. 2 leaves T
+  unchanged after a not-OK, so only the action just refused is known to be wrong now.
+* ``avoid-last``: after a not-OK, at random among the four actions other than the one just
+  rejected, learnt or not (Algorithm 1, lines 8-13: the argmax when unique, else random).
+* ``with-replacement``: after a not-OK, at random among all five actions, the rejected one
+  included: eq. 2-4 taken word for word, with the argmax tried once per step.
+* ``untried-first``: never repeat an action within a step until all five were tried, and rank
+  the others as learnt ones by falling P (ties at random), then actions never tried in this
+  state, then actions rejected in earlier steps, each group at random. The fewest actions;
+  this project's first rule.
+
+A rule is a function of the table, the state id, the actions tried in this step (a bit mask),
+the action just rejected in this state (-1: none) and the learner's random generator; it
+returns the action index, whether it was an exploit, and the reason.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable
+
+from pil.errors import InvalidChoiceError
+from pil.table import AssociationTable
+from pil.types import ACTIONS
+
+ALL_TRIED = (1 << len(ACTIONS)) - 1
+_INDICES = range(len(ACTIONS))
+Choice = tuple[int, bool, str]
+Rule = Callable[[AssociationTable, int, int, int, random.Random], Choice]
+
+
+def _unique_best(table: AssociationTable, sid: int, tried: int) -> Choice | None:
+    """eq. 4's unique best, if it was not tried in this step yet."""
+    best = table.best_id(sid)
+    if best >= 0 and not tried >> best & 1:
+        return best, True, "unique best"
+    return None
+
+
+def _next_learnt(
+    table: AssociationTable, sid: int, tried: int, rng: random.Random
+) -> Choice | None:
+    """The most probable learnt action not tried in this step (ties at random), if any."""
+    row = table.row(sid)
+    if row is None:
+        return None
+    top = max((c for i, c in enumerate(row) if c and not tried >> i & 1), default=0)
+    if not top:
+        return None
+    tops = [i for i, c in enumerate(row) if c == top and not tried >> i & 1]
+    if len(tops) == 1:
+        return tops[0], False, "next best"
+    return rng.choice(tops), False, "tie among learnt"
+
+
+def _random_but(last: int, rng: random.Random) -> Choice:
+    """At random among all actions but ``last`` (-1: among all)."""
+    if last < 0:
+        return rng.randrange(len(ACTIONS)), False, "explore at random"
+    others = [i for i in _INDICES if i != last]
+    return rng.choice(others), False, "explore, avoiding the action just rejected"
+
+
+def next_best(
+    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+) -> Choice:
+    """The unique best, then learnt actions by falling P, then random but the last rejected."""
+    return (
+        _unique_best(table, sid, tried)
+        or _next_learnt(table, sid, tried, rng)
+        or _random_but(last, rng)
+    )
+
+
+def avoid_last(
+    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+) -> Choice:
+    """The unique best once per step, else at random among all but the action just rejected."""
+    return _unique_best(table, sid, tried) or _random_but(last, rng)
+
+
+def with_replacement(
+    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+) -> Choice:
+    """The unique best once per step, else at random among all five."""
+    found = _unique_best(table, sid, tried)
+    if found is not None:
+        return found
+    return rng.randrange(len(ACTIONS)), False, "explore at random (with replacement)"
+
+
+def untried_first(
+    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+) -> Choice:
+    """No repeat within a step; learnt by P, then never tried, then rejected before."""
+    if tried == ALL_TRIED:  # every action was rejected in this step: start over
+        tried = 0
+    found = _unique_best(table, sid, tried) or _next_learnt(table, sid, tried, rng)
+    if found is not None:
+        return found
+    row = table.row(sid)
+    learnt = 0 if row is None else sum(1 << i for i, c in enumerate(row) if c)
+    fresh = [i for i in _INDICES if not (tried | table.rejected_mask(sid) | learnt) >> i & 1]
+    if fresh:
+        return rng.choice(fresh), False, "explore untried"
+    left = [i for i in _INDICES if not (tried | learnt) >> i & 1]
+    return rng.choice(left), False, "re-explore rejected"
+
+
+RULES: dict[str, Rule] = {
+    "next-best": next_best,
+    "avoid-last": avoid_last,
+    "with-replacement": with_replacement,
+    "untried-first": untried_first,
+}
+DEFAULT_RULE = "next-best"
+
+
+def check_rule(name: str) -> str:
+    """``name`` if it is one of :data:`RULES`, else an error listing them."""
+    if name not in RULES:
+        raise InvalidChoiceError("exploration rule", name, RULES)
+    return name

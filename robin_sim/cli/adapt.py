@@ -1,0 +1,48 @@
+"""``robin-pil adapt``: the person changes a gesture's meaning mid-task (learner only).
+
+Writes ``adaptation.csv``, ``adaptation.md`` (mean ± sd, Welch t-tests of PIL against every
+other system, how many runs adapted) and ``adaptation.png``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
+
+DEFAULT_OUT = Path("out/adapt")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The adaptation study's options."""
+    from pil.experiments.adaptation import ADAPT_SYSTEMS
+
+    parser.add_argument(
+        "--change",
+        default=None,
+        help="mapping change file (default: scenarios/mapping_change.yaml)",
+    )
+    add_run_options(parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=ADAPT_SYSTEMS)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the paired runs and write the outputs; bad input raises before anything runs."""
+    from pil.experiments.adaptation import (
+        ADAPT_SYSTEMS,
+        DEFAULT_CHANGE,
+        load_change,
+        run_adaptation_study,
+        write_adaptation,
+    )
+    from pil.experiments.outdir import check_output_folder
+
+    rates, systems = run_options(args, ADAPT_SYSTEMS)
+    change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
+    check_output_folder(args.out)
+    with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
+        rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
+                                    progress=bar.update)  # fmt: skip
+    written = write_adaptation(rows, change, args.out)
+    print(f"{len(rows)} paired runs; wrote " + ", ".join(str(p) for p in written))
+    return 0

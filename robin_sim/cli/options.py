@@ -1,0 +1,88 @@
+"""Options shared by the learner-only study commands (adapt, transfer, people), and the
+parsing of ``--rates`` and ``--systems`` lists; each check raises before anything runs."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from pil.errors import RobinPilError, check_rate
+
+
+def parse_rates(text: str) -> tuple[float, ...]:
+    """``"0.4,0.6"`` as rates; a bad one raises naming the valid range."""
+    rates = []
+    for part in text.split(","):
+        try:
+            value = float(part)
+        except ValueError:
+            raise RobinPilError(
+                f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
+                "by commas, e.g. 0.4,0.6,0.8,1.0"
+            ) from None
+        rate = check_rate(value, f"--rates: detection rate {part.strip()}")
+        if rate in rates:
+            raise RobinPilError(
+                f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"
+            )
+        rates.append(rate)
+    return tuple(rates)
+
+
+def parse_systems(text: str) -> tuple[str, ...]:
+    """``"pil,bandit"`` as system names; an unknown or repeated one raises listing them."""
+    from pil.errors import InvalidChoiceError
+    from pil.experiments.systems import SYSTEMS
+
+    names = tuple(part.strip() for part in text.split(","))
+    for name in names:
+        if name not in SYSTEMS:
+            raise InvalidChoiceError("--systems: system", name, SYSTEMS)
+        if names.count(name) > 1:
+            raise RobinPilError(f"--systems: system {name!r} is given twice; give each once")
+    return names
+
+
+def add_run_options(
+    parser: argparse.ArgumentParser, *, rates: str, out: Path, systems: Sequence[str]
+) -> None:
+    """``--systems``, ``--rates``, ``--reps``, ``--seed``, ``--out`` and ``--no-progress``."""
+    parser.add_argument(
+        "--systems", default=None, help=f"comma-separated systems (default: {','.join(systems)})"
+    )
+    parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
+    parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
+    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
+    parser.add_argument(
+        "--out", type=Path, default=out, help="output folder (default: %(default)s)"
+    )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def run_options(
+    args: argparse.Namespace, systems: Sequence[str], *, only: Sequence[str] | None = None
+) -> tuple[tuple[float, ...], tuple[str, ...]]:
+    """The checked rates and systems (``systems`` by default; ``only`` limits the choice)."""
+    if args.seed < 0:
+        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
+    if args.reps < 1:
+        raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
+    rates = parse_rates(args.rates)
+    chosen = tuple(systems) if args.systems is None else parse_systems(args.systems)
+    for system in chosen:
+        if only is not None and system not in only:
+            valid = ", ".join(repr(s) for s in only)
+            raise RobinPilError(f"--systems: this study runs PIL learners; {system!r} is not "
+                                f"one (valid choices: {valid})")  # fmt: skip
+    return rates, chosen
+
+
+def progress_bar(total: int, desc: str, args: argparse.Namespace) -> Any:
+    """A tqdm bar on stderr (off with ``--no-progress``)."""
+    import sys
+
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="run", file=sys.stderr, disable=args.no_progress)

@@ -1,0 +1,49 @@
+"""``robin-pil transfer``: a second task (tidying) from scratch vs from saved associations.
+
+Writes ``transfer.csv``, ``transfer.md`` (mean ± sd, Welch t-tests of scratch against table)
+and ``transfer.png``; without ``--table`` also ``assembly_table.json`` (the first
+repetition's assembly table, reusable with ``--table``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
+
+DEFAULT_OUT = Path("out/transfer")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The transfer study's options."""
+    from pil.experiments.transfer import TRANSFER_SYSTEMS
+
+    parser.add_argument("--table", type=Path, default=None,
+                        help="start every transferred run from this saved table (default: "
+                        "each repetition's own assembly run)")  # fmt: skip
+    add_run_options(parser, rates="0.6,0.8,1.0", out=DEFAULT_OUT, systems=TRANSFER_SYSTEMS)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the paired runs and write the outputs; bad input raises before anything runs."""
+    from pil.experiments.outdir import check_output_folder
+    from pil.experiments.transfer import TRANSFER_SYSTEMS, run_transfer_study, write_transfer
+    from pil.table_io import load_table
+
+    rates, systems = run_options(args, TRANSFER_SYSTEMS, only=TRANSFER_SYSTEMS)
+    if args.table is not None:
+        load_table(args.table)  # a corrupt or missing file fails here, before anything runs
+    check_output_folder(args.out)
+    save_first = None if args.table is not None else args.out / "assembly_table.json"
+    if save_first is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+    with progress_bar(len(rates) * len(systems) * args.reps, "transfer", args) as bar:
+        rows = run_transfer_study(systems, rates, args.reps, args.seed, table_file=args.table,
+                                  save_first=save_first, progress=bar.update)  # fmt: skip
+    source = f"the saved table {args.table}" if args.table else "each repetition's assembly table"
+    written = write_transfer(rows, args.out, source)
+    if save_first is not None:
+        written.append(save_first)
+    print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
+    return 0
