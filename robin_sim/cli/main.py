@@ -19,6 +19,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "episode": ("robin_sim.cli.episode", "one physical episode rendered headless to MP4"),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
+    "train-gestures": (
+        "robin_sim.cli.train_gestures",
+        "render the gesture data set, train the eye-camera gesture model, report",
+    ),
 }
 
 
