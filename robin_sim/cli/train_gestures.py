@@ -24,9 +24,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="training samples (held-out: a third as many) (default: %(default)s)",
     )  # fmt: skip
     parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
-    parser.add_argument(
-        "--out", type=Path, default=Path("out/gestures"), help="output folder (default: %(default)s)"
-    )
+    parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
     parser.add_argument("--workers", type=int, default=2, help="render processes (default: 2)")
     parser.add_argument(
         "--install", action="store_true", help="copy the trained model into the package"

@@ -116,7 +116,9 @@ def train_and_report(config: BuildConfig) -> dict[str, object]:
     model_path = model.save(config.out / "gesture_model.npz")
     evaluation = evaluate(model, heldout)
     training = evaluate(model, train)
-    written = write_report(config, model_path, model.threshold, evaluation, training, heldout, train)
+    written = write_report(
+        config, model_path, model.threshold, evaluation, training, heldout, train
+    )
     return {
         "model": str(model_path),
         "heldout_accuracy": evaluation.accuracy,

@@ -107,10 +107,11 @@ def write_report(
             f"| {name} | {e.accuracy:.1%} | {e.discard_rate:.1%} | {e.accepted_accuracy:.1%} | "
             f"{e.detection_rate():.1%} |"
         )
+    iou_heldout, iou_train = heldout_split["iou"][::2].mean(), train_split["iou"][::2].mean()
     lines += [
         "",
         f"Hand segmentation (left eye, IoU with the renderer's ground truth): held-out mean "
-        f"{heldout_split['iou'][::2].mean():.2f}, training mean {train_split['iou'][::2].mean():.2f}; "
+        f"{iou_heldout:.2f}, training mean {iou_train:.2f}; "
         f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views.",
         "",
         "## Held-out confusion (counts; rows: the pose shown)",

@@ -47,7 +47,7 @@ def fit(
         intercept=classifier.intercept_,
         threshold=threshold,
         seed=seed,
-        samples=int(len(np.unique(split["sample"]))),
+        samples=len(np.unique(split["sample"])),
     )
 
 
@@ -111,8 +111,8 @@ def evaluate(model: GestureModel, split: dict[str, np.ndarray]) -> Evaluation:
     gestures = np.zeros((4, 5), np.int64)
     feedback = np.zeros((2, 3), np.int64)
     for true, reading in zip(truth, reads, strict=True):
-        column = len(CLASSES) if reading.confidence < model.threshold else CLASSES.index(
-            reading.label
+        column = (
+            len(CLASSES) if reading.confidence < model.threshold else CLASSES.index(reading.label)
         )
         confusion[true, column] += 1
         name = CLASSES[true]
