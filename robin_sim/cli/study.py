@@ -30,12 +30,33 @@ def _rates(text: str) -> tuple[float, ...]:
     return tuple(rates)
 
 
+def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
+    """The rates to run: ``--rates``, or for a measured detector its file's measured rate."""
+    from pil.task.detector import MEASURED_PREFIX, MODELS, load_measured
+
+    if detector.startswith(MEASURED_PREFIX):
+        errors = load_measured(detector[len(MEASURED_PREFIX) :])  # fails here, before any run
+        if text is not None:
+            raise RobinPilError(
+                f"--rates cannot be combined with --detector {detector}: the file sets the "
+                f"detection rate (measured d = {errors.rate:.3f}); drop --rates"
+            )
+        return (round(errors.rate, 4),)
+    if detector not in MODELS:
+        raise RobinPilError(
+            f"--detector: unknown detection model {detector!r}; choose exact, independent "
+            "or measured:FILE"
+        )
+    return _rates(text if text is not None else "0.4,0.6,0.8,1.0")
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The study's options (defaults: the paper's setup)."""
     parser.add_argument(
         "--rates",
-        default="0.4,0.6,0.8,1.0",
-        help="detection rates in [0, 1], comma separated (default: %(default)s)",
+        default=None,
+        help="detection rates in [0, 1], comma separated (default: 0.4,0.6,0.8,1.0; with "
+        "--detector measured:FILE the file's measured rate)",
     )
     parser.add_argument(
         "--reps",
@@ -56,8 +77,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--detector",
         default="exact",
-        choices=("exact", "independent"),
-        help="detection model (default: %(default)s)",
+        help="detection model: exact, independent, or measured:FILE (a measured confusion "
+        "matrix and discard rate, e.g. the measured.json of robin-pil train-gestures) "
+        "(default: %(default)s)",
     )
     parser.add_argument(
         "--scenario", default=None, help="assembly scenario YAML (default: scenarios/assembly.yaml)"
@@ -75,8 +97,9 @@ def run(args: argparse.Namespace) -> int:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
     if args.tables is not None and args.tables < 1:
         raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
+    rates = _study_rates(args.rates, args.detector)
     config = StudyConfig(
-        rates=_rates(args.rates),
+        rates=rates,
         reps=args.reps,
         seed=args.seed,
         scenario=args.scenario,
