@@ -146,3 +146,21 @@ def test_vision_detector_reads_the_physical_persons_hand() -> None:
     learner.feedback(state, Action.CLOSE, perceived is not Feedback.NOT_OK)
     assert learner.table.best(state) is Action.CLOSE  # the rejected action was learnt as OK
     assert detector.summary()["feedback_misread"] >= 1
+
+
+def test_detector_inset_draws_the_box_and_reading(renderer: SampleRenderer) -> None:
+    from robin_sim.control.simulator import HandTargets, Simulator
+    from robin_sim.model import robot_spec as spec
+    from robin_sim.vision.detector import VisionDetector
+
+    sim = Simulator(
+        renderer.model,
+        HandTargets(np.array(spec.HAND_OPEN_CTRL), np.array(spec.HAND_CLOSED_CTRL)),
+    )
+    sim.data.mocap_pos[renderer.mocap] = CLEAR_PLACES[0]
+    detector = VisionDetector(sim, display=renderer.display, seed=1)
+    assert detector.inset() is None
+    detector.detect(Gesture.RELEASE)
+    inset = detector.inset()
+    assert inset is not None and inset.shape == (detector.eyes.size, detector.eyes.size, 3)
+    assert not np.array_equal(inset, detector.last_view)  # box and text drawn on it

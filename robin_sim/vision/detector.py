@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 
 from pil.types import Feedback, Gesture
@@ -92,6 +93,7 @@ class VisionDetector:
         self.records: list[VisionRecord] = []
         self.detected = self.discarded = self.misread = 0
         self.last_reading: Reading | None = None
+        self.last_view: np.ndarray | None = None
 
     @property
     def rate(self) -> str:
@@ -108,8 +110,23 @@ class VisionDetector:
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
         views, depths = see(self.eyes, data, target, self.condition, self.rng)
         reading = read_views(self.gesture_model, views, depths)
-        self.last_reading = reading
+        self.last_reading, self.last_view = reading, views[0].rgb
         return reading
+
+    def inset(self) -> np.ndarray | None:
+        """The left eye's last view with the hand's box and the reading (for a video inset)."""
+        if self.last_view is None or not self.records:
+            return None
+        image = cv2.cvtColor(self.last_view, cv2.COLOR_RGB2BGR)
+        record = self.records[-1]
+        box = record.boxes[0] if record.boxes else None
+        colour = (0, 0, 255) if record.discarded else (0, 200, 0)
+        if box is not None:
+            x, y, w, h = box
+            cv2.rectangle(image, (x, y), (x + w, y + h), colour, 1)
+        text = f"{record.read} {record.confidence:.2f}"
+        cv2.putText(image, text, (2, 10), cv2.FONT_HERSHEY_PLAIN, 0.7, colour, 1, cv2.LINE_AA)
+        return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
 
     def _show(self, pose: str) -> None:
         if self.display is not None:
