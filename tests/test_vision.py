@@ -98,7 +98,8 @@ def _swapped_thumbs(model: GestureModel) -> GestureModel:
     order = list(range(len(CLASSES)))
     up, down = CLASSES.index("thumb_up"), CLASSES.index("thumb_down")
     order[up], order[down] = down, up
-    return replace(model, coef=model.coef[order], intercept=model.intercept[order])
+    weights = (*model.weights[:-1], model.weights[-1][:, order])
+    return replace(model, weights=weights, biases=(*model.biases[:-1], model.biases[-1][order]))
 
 
 @pytest.mark.slow

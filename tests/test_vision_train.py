@@ -16,7 +16,7 @@ from robin_sim.vision.dataset import CHUNK, SPLITS, chunk_path, sample_spec
 
 
 def _arrays(model: GestureModel) -> list[np.ndarray]:
-    return [model.mean, model.scale, model.coef, model.intercept]
+    return [model.mean, model.scale, *model.weights, *model.biases]
 
 
 @pytest.mark.slow
@@ -44,7 +44,7 @@ def test_same_seed_rebuilds_the_same_model_and_runs_resume(tmp_path: Path) -> No
     render_all(other)
     train_and_report(other)
     c = GestureModel.load(other.out / "gesture_model.npz")
-    assert not np.array_equal(a.coef, c.coef)
+    assert not np.array_equal(a.weights[0], c.weights[0])
 
 
 def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
@@ -77,7 +77,7 @@ def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> N
 
 def test_shipped_model_is_small_and_loads(tmp_path: Path) -> None:
     model = load_shipped()
-    assert model.coef.shape[0] == len(CLASSES) and 0 < model.threshold < 1
+    assert model.weights[-1].shape[1] == len(CLASSES) and 0 < model.threshold < 1
     assert model.samples >= 1000
     bad = tmp_path / "bad.npz"
     bad.write_bytes(b"not a model")

@@ -3,7 +3,8 @@
 Writes under ``--out`` (default ``out/gestures``): ``chunks/`` (the rendered data set, kept so
 that an interrupted run resumes), ``gesture_model.npz``, ``report.md``, ``confusion.png`` and
 ``measured.json`` (the error model for ``robin-pil study --detector measured:FILE``).
-``--install`` also copies the model into the package (what episodes read).
+``--install`` also copies the model, its report, figure and measured error model into the
+package (``robin_sim/vision/data``: what episodes read).
 """
 
 from __future__ import annotations
@@ -27,8 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
     parser.add_argument("--workers", type=int, default=2, help="render processes (default: 2)")
     parser.add_argument(
-        "--install", action="store_true", help="copy the trained model into the package"
-    )
+        "--install", action="store_true",
+        help="copy the model, report and measured error model into the package",
+    )  # fmt: skip
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -46,7 +48,9 @@ def run(args: argparse.Namespace) -> int:
         render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
     result = train_and_report(config)
     if args.install:
-        shutil.copyfile(result["model"], shipped_path())
-        result["installed"] = str(shipped_path())
+        folder = shipped_path().parent
+        for name in (shipped_path().name, "report.md", "confusion.png", "measured.json"):
+            shutil.copyfile(config.out / name, folder / name)
+        result["installed"] = str(folder)
     print(json.dumps(result, indent=2))
     return 0

@@ -1,7 +1,8 @@
-"""The gesture model: standardised features -> softmax over the seven classes (numpy only).
+"""The gesture model: standardised features -> a small MLP -> softmax over the seven classes.
 
-Trained by :mod:`robin_sim.vision.train` (scikit-learn's multinomial logistic regression) and
-stored as a small ``.npz`` of plain arrays (no pickle), so reading needs no scikit-learn. The
+Trained by :mod:`robin_sim.vision.train` (scikit-learn's ``MLPClassifier``: one hidden layer of
+ReLU units) and stored as a small ``.npz`` of plain arrays (no pickle), so reading needs only
+numpy. The
 shipped model is ``robin_sim/vision/data/gesture_model.npz`` (:func:`load_shipped`).
 """
 
@@ -25,7 +26,7 @@ CLASSES: tuple[str, ...] = (
     "no_gesture",
 )
 NO_GESTURE = "no_gesture"
-FORMAT = 1
+FORMAT = 2
 SHIPPED = "gesture_model.npz"
 
 
@@ -35,21 +36,24 @@ class ModelFileError(RobinPilError):
 
 @dataclass(frozen=True)
 class GestureModel:
-    """Linear softmax classifier over standardised features."""
+    """A feed-forward softmax classifier over standardised features."""
 
     mean: np.ndarray  # (F,)
     scale: np.ndarray  # (F,)
-    coef: np.ndarray  # (C, F)
-    intercept: np.ndarray  # (C,)
+    weights: tuple[np.ndarray, ...]  # layer k: (inputs, outputs); the last has 7 outputs
+    biases: tuple[np.ndarray, ...]  # layer k: (outputs,)
     threshold: float  # confidence below which a reading is discarded
     seed: int = 0
     samples: int = 0
 
     def probabilities(self, features: np.ndarray) -> np.ndarray:
         """Class probabilities (N, 7) of feature rows (N, F) (or (7,) for one row)."""
-        x = (np.asarray(features, np.float64) - self.mean) / self.scale
-        logits = x @ self.coef.T + self.intercept
-        logits -= logits.max(axis=-1, keepdims=True)
+        h = (np.asarray(features, np.float64) - self.mean) / self.scale
+        for k, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
+            h = h @ w + b
+            if k < len(self.weights) - 1:
+                h = np.maximum(h, 0.0)  # ReLU
+        logits = h - h.max(axis=-1, keepdims=True)
         p = np.exp(logits)
         return p / p.sum(axis=-1, keepdims=True)
 
@@ -63,8 +67,9 @@ class GestureModel:
                 classes=np.array(CLASSES),
                 mean=self.mean.astype(np.float32),
                 scale=self.scale.astype(np.float32),
-                coef=self.coef.astype(np.float32),
-                intercept=self.intercept.astype(np.float32),
+                layers=np.int64(len(self.weights)),
+                **{f"w{k}": w.astype(np.float32) for k, w in enumerate(self.weights)},
+                **{f"b{k}": b.astype(np.float32) for k, b in enumerate(self.biases)},
                 threshold=np.float64(self.threshold),
                 seed=np.int64(self.seed),
                 samples=np.int64(self.samples),
@@ -84,8 +89,8 @@ class GestureModel:
                 return cls(
                     mean=z["mean"].astype(np.float64),
                     scale=z["scale"].astype(np.float64),
-                    coef=z["coef"].astype(np.float64),
-                    intercept=z["intercept"].astype(np.float64),
+                    weights=tuple(z[f"w{k}"].astype(np.float64) for k in range(int(z["layers"]))),
+                    biases=tuple(z[f"b{k}"].astype(np.float64) for k in range(int(z["layers"]))),
                     threshold=float(z["threshold"]),
                     seed=int(z["seed"]),
                     samples=int(z["samples"]),
