@@ -23,6 +23,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "robin_sim.cli.train_gestures",
         "render the gesture data set, train the eye-camera gesture model, report",
     ),
+    "vision-conditions": (
+        "robin_sim.cli.vision_conditions",
+        "measured detection rate per camera condition (light x noise) and PIL's costs",
+    ),
 }
 
 

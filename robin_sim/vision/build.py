@@ -71,20 +71,46 @@ def render_all(config: BuildConfig, progress: Callable[[int], None] = lambda n: 
     """Render every pending chunk; ``progress(samples)`` after each. Returns chunks rendered."""
     jobs = pending(config)
     progress(CHUNK * (len(_jobs(config)) - len(jobs)))
+    work = [Job(split, k) for split, k in jobs]
+    return run_jobs(work, config.chunks, config.seed, config.workers, progress)
+
+
+@dataclass(frozen=True, slots=True)
+class Job:
+    """One chunk to render: split, chunk index, spec overrides, file name (default: split)."""
+
+    split: str
+    chunk: int
+    overrides: tuple[tuple[str, float], ...] = ()
+    name: str | None = None
+
+
+def run_jobs(
+    jobs: list[Job],
+    folder: Path,
+    seed: int,
+    workers: int,
+    progress: Callable[[int], None] = lambda n: None,
+) -> int:
+    """Render ``jobs`` in a spawn process pool (Ctrl-C / SIGTERM stop it; finished chunk files
+    stay); ``progress(samples)`` after each. Returns the chunks rendered."""
     if not jobs:
         return 0
     os.environ.setdefault("MUJOCO_GL", "egl")
     previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     context = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(
-        min(config.workers, len(jobs)), mp_context=context, initializer=_worker_init
+        min(workers, len(jobs)), mp_context=context, initializer=_worker_init
     )
     from robin_sim.vision.render_set import render_chunk
 
     done = 0
     try:
         futures: set[Future[int]] = {
-            pool.submit(render_chunk, config.chunks, config.seed, split, k) for split, k in jobs
+            pool.submit(
+                render_chunk, folder, seed, job.split, job.chunk, dict(job.overrides), job.name
+            )
+            for job in jobs
         }
         while futures:
             finished, futures = wait(futures, return_when=FIRST_COMPLETED)

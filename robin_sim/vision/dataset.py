@@ -44,6 +44,9 @@ SPLITS: dict[str, Ranges] = {
     "heldout": Ranges(
         skin=((1.5, 2.5),), lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
     ),
+    # the condition sweep (robin_sim.vision.conditions): every skin tone, the light and noise
+    # set per condition
+    "sweep": Ranges(skin=((0.0, 4.0),), lighting=((1.0, 1.0),), light_tilt=((0.0, 0.5),)),
 }
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
@@ -57,6 +60,8 @@ AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 
 def _uniform(rng: np.random.Generator, intervals: tuple[tuple[float, float], ...]) -> float:
     widths = np.array([hi - lo for lo, hi in intervals])
+    if widths.sum() <= 0:  # a fixed value (a sweep's condition, set per sample anyway)
+        return float(intervals[0][0])
     k = int(rng.choice(len(intervals), p=widths / widths.sum()))
     return float(rng.uniform(*intervals[k]))
 

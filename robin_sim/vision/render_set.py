@@ -9,6 +9,7 @@ the found region with the true hand pixels, for the report only.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -96,14 +97,25 @@ class SampleRenderer:
 _RENDERER: SampleRenderer | None = None
 
 
-def render_chunk(folder: Path, seed: int, split: str, chunk: int) -> int:
-    """Render chunk ``chunk`` of ``split`` into its file; returns the samples rendered."""
+def render_chunk(
+    folder: Path,
+    seed: int,
+    split: str,
+    chunk: int,
+    overrides: dict[str, float] | None = None,
+    name: str | None = None,
+) -> int:
+    """Render chunk ``chunk`` of ``split`` into its file; returns the samples rendered.
+
+    ``overrides`` replace fields of each sample's spec (e.g. a fixed ``lighting``); ``name``
+    names the chunk files instead of ``split``.
+    """
     global _RENDERER  # one scene per worker process, built on its first chunk
     if _RENDERER is None:
         _RENDERER = SampleRenderer()
     rows, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
     for index in range(chunk * CHUNK, (chunk + 1) * CHUNK):
-        spec = sample_spec(seed, split, index)
+        spec = replace(sample_spec(seed, split, index), **(overrides or {}))
         features, iou = _RENDERER.render(spec)
         ious.append(iou)
         conditions.append([spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise])
@@ -114,7 +126,7 @@ def render_chunk(folder: Path, seed: int, split: str, chunk: int) -> int:
             samples.append(index)
             eyes.append(eye)
     save_chunk(
-        chunk_path(folder, split, chunk),
+        chunk_path(folder, name or split, chunk),
         {
             "features": np.stack(rows),
             "label": np.array(labels, np.int64),
