@@ -165,3 +165,24 @@ def test_detector_inset_draws_the_box_and_reading(renderer: SampleRenderer) -> N
     inset = detector.inset()
     assert inset is not None and inset.shape == (detector.eyes.size, detector.eyes.size, 3)
     assert not np.array_equal(inset, detector.last_view)  # box and text drawn on it
+
+
+def test_detector_from_params_names_the_valid_parameters(renderer: SampleRenderer) -> None:
+    from pil.errors import RobinPilError
+    from robin_sim.control.simulator import HandTargets, Simulator
+    from robin_sim.model import robot_spec as spec
+    from robin_sim.vision.detector import VisionDetector
+
+    sim = Simulator(
+        renderer.model,
+        HandTargets(np.array(spec.HAND_OPEN_CTRL), np.array(spec.HAND_CLOSED_CTRL)),
+    )
+    detector = VisionDetector.from_params(sim, {"lighting": "0.3", "camera_noise": 12})
+    assert detector.condition == Condition(lighting=0.3, camera_noise=12.0)
+    detector.close()
+    with pytest.raises(RobinPilError, match=r"'brightness'.*'lighting'"):
+        VisionDetector.from_params(sim, {"brightness": 1})
+    with pytest.raises(RobinPilError, match="must be a number"):
+        VisionDetector.from_params(sim, {"lighting": "dim"})
+    with pytest.raises(ConditionError, match="lighting must lie in"):
+        VisionDetector.from_params(sim, {"lighting": -2})

@@ -83,3 +83,64 @@ def test_shipped_model_is_small_and_loads(tmp_path: Path) -> None:
     bad.write_bytes(b"not a model")
     with pytest.raises(ModelFileError, match="cannot read gesture model"):
         GestureModel.load(bad)
+
+
+@pytest.mark.slow
+def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -> None:
+    from robin_sim.vision.conditions import run_conditions
+
+    written = run_conditions(
+        tmp_path, samples=MIN_SAMPLES, reps=2, lighting=(1.0,), noise=(0.0, 40.0)
+    )
+    assert [p.name for p in written] == ["conditions.csv", "conditions.md", "conditions.png"]
+    rows = (tmp_path / "conditions.csv").read_text().splitlines()
+    assert len(rows) == 3  # header and the two conditions
+    for noise in ("0", "40"):
+        data = json.loads((tmp_path / f"measured-l1-n{noise}.json").read_text())
+        assert all(abs(sum(r) - 1) < 1e-4 for r in data["confusion"])
+    clean, noisy = (
+        json.loads((tmp_path / f"measured-l1-n{n}.json").read_text()) for n in ("0", "40")
+    )
+
+    def rate(d: dict) -> float:
+        return sum(row[i] for i, row in enumerate(d["confusion"])) / 4
+
+    assert rate(noisy) < rate(clean)  # heavy sensor noise lowers the measured detection rate
+
+
+def test_vision_conditions_rejects_bad_lists_with_exit_2(tmp_path: Path) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "robin_sim.cli.main", "vision-conditions", "--lighting", "dim",
+         "--out", str(tmp_path / "v")],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert "robin-pil vision-conditions: error: --lighting: give numbers" in done.stderr
+
+
+@pytest.mark.slow
+def test_interrupted_training_keeps_finished_chunks_and_resumes(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    out = tmp_path / "g"
+    command = [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "96",
+               "--out", str(out), "--workers", "1", "--quiet"]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 240
+    while not list((out / "chunks").glob("train-*.npz")) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 130, err
+    assert "interrupted; finished work is kept" in err
+    kept = sorted(p.name for p in (out / "chunks").glob("*.npz"))
+    assert kept and not any("partial" in name for name in kept)
+    assert not (out / "gesture_model.npz").exists()
+    config = BuildConfig(samples=96, out=out, workers=1)
+    assert len(pending(config)) == 3 - len(kept)  # two training chunks and one held-out
+    before = {name: (out / "chunks" / name).stat().st_mtime_ns for name in kept}
+    done = subprocess.run(command, capture_output=True, text=True, check=False, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert all((out / "chunks" / n).stat().st_mtime_ns == t for n, t in before.items())
+    assert (out / "gesture_model.npz").exists() and not pending(config)

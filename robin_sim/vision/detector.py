@@ -18,11 +18,13 @@ built) and ``camera_noise`` (sd of pixel noise, 8-bit units).
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import cv2
 import numpy as np
 
+from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import Feedback, Gesture
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
@@ -34,6 +36,7 @@ from robin_sim.vision.gaze import look_at
 from robin_sim.vision.reader import Reading, read_views, see
 from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
 
+VISION_PARAMS: dict[str, float] = {"lighting": 1.0, "camera_noise": 0.0}  # name -> default
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
 FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
 DISCARDED = "discarded"
@@ -94,6 +97,29 @@ class VisionDetector:
         self.detected = self.discarded = self.misread = 0
         self.last_reading: Reading | None = None
         self.last_view: np.ndarray | None = None
+
+    @classmethod
+    def from_params(
+        cls,
+        sim: Simulator,
+        params: Mapping[str, object],
+        *,
+        display: GestureDisplay | None = None,
+        seed: int = 0,
+    ) -> VisionDetector:
+        """A detector from ``--param`` style values (text or numbers) of :data:`VISION_PARAMS`;
+        an unknown name or a bad value raises one :class:`RobinPilError` naming the choices."""
+        values = dict(VISION_PARAMS)
+        for name, value in params.items():
+            if name not in VISION_PARAMS:
+                raise InvalidChoiceError("vision parameter", name, VISION_PARAMS)
+            try:
+                values[name] = float(value)  # type: ignore[arg-type]
+            except (TypeError, ValueError):
+                raise RobinPilError(
+                    f"vision parameter {name!r} must be a number, got {value!r}"
+                ) from None
+        return cls(sim, display=display, seed=seed, **values)
 
     @property
     def rate(self) -> str:
