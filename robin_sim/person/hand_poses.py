@@ -202,13 +202,11 @@ class HandShaper:
         mujoco.mju_mat2Quat(quat, rotation.flatten())
         model.geom_quat[palm] = quat
         model.geom_size[palm] = PALM_HALF * performance.size
-        model.geom_rbound[palm] = float(np.linalg.norm(PALM_HALF * performance.size))
         for part, (start, end, radius) in part_segments(pose, performance).items():
             centre, quat, half = _capsule(start, end)
             g = ids[part]
             model.geom_pos[g], model.geom_quat[g] = centre, quat
             model.geom_size[g] = (radius, half, 0.0)
-            model.geom_rbound[g] = radius + half
         colour = skin_colour(performance.skin)
         for g in ids.values():
             model.geom_rgba[g, :3] = colour
