@@ -91,3 +91,60 @@ def test_bad_discard_and_deck_size_are_rejected() -> None:
         Detector(0.5, seed=0, discard=2.0)
     with pytest.raises(DetectorError, match="deck size"):
         Detector(0.5, seed=0, deck_size=0)
+
+
+# --- measured:FILE -------------------------------------------------------------------------------
+def _measured_file(tmp_path, rows=None, gestures=None):
+    import json
+
+    path = tmp_path / "measured.json"
+    rows = rows or [
+        [0.8, 0.05, 0.05, 0.0, 0.1],
+        [0.1, 0.6, 0.1, 0.0, 0.2],
+        [0.0, 0.0, 0.9, 0.1, 0.0],
+        [0.0, 0.3, 0.0, 0.7, 0.0],
+    ]
+    gestures = gestures or ["pointing", "give me", "grasp", "release"]
+    path.write_text(json.dumps({"gestures": gestures, "confusion": rows}))
+    return path
+
+
+def test_measured_detector_draws_each_reading_from_its_true_row(tmp_path) -> None:
+    from pil.task.detector import MeasuredDetector, load_measured, make_detector
+
+    errors = load_measured(str(_measured_file(tmp_path)))
+    assert errors.rate == pytest.approx((0.8 + 0.6 + 0.9 + 0.7) / 4)
+    detector = make_detector(f"measured:{_measured_file(tmp_path)}", 0.5, seed=3)
+    assert isinstance(detector, MeasuredDetector)
+    n = 20000
+    reads = [detector.detect(Gesture.GIVE_ME) for _ in range(n)]
+    share = {g: reads.count(g) / n for g in (*GESTURES, None)}
+    # within 0.015 of the file's row (binomial sd at n = 20000 is at most 0.0035)
+    for got, want in zip(share.values(), (0.1, 0.6, 0.1, 0.0, 0.2), strict=True):
+        assert got == pytest.approx(want, abs=0.015)
+    assert detector.discarded + detector.detected + detector.misread == n
+    # rate 1 (the study's pre-training at 100 %) is perfect detection
+    perfect = make_detector(f"measured:{_measured_file(tmp_path)}", 1.0, seed=3)
+    assert all(perfect.detect(g) is g for g in GESTURES for _ in range(50))
+
+
+def test_measured_file_problems_are_one_clear_error(tmp_path) -> None:
+    from pil.task.detector import load_measured
+
+    with pytest.raises(DetectorError, match="no such file"):
+        load_measured(str(tmp_path / "missing.json"))
+    bad_row = [[0.5, 0.5, 0.5, 0.0, 0.0]] * 4
+    with pytest.raises(DetectorError, match="summing to 1"):
+        load_measured(str(_measured_file(tmp_path, rows=bad_row)))
+    with pytest.raises(DetectorError, match="name each of"):
+        load_measured(str(_measured_file(tmp_path, gestures=["pointing"] * 4)))
+
+
+def test_shipped_measured_file_loads() -> None:
+    from importlib import resources
+
+    from pil.task.detector import load_measured
+
+    path = resources.files("robin_sim.vision") / "data" / "measured.json"
+    errors = load_measured(str(path))
+    assert 0.3 < errors.rate < 1.0

@@ -11,6 +11,10 @@ Two models decide which gestures are read correctly:
   refilled and reshuffled when used up; ``n`` is the run's scripted number of gestures.
 * ``independent``: each gesture is read correctly with probability ``d``.
 
+A third kind, :class:`MeasuredDetector` (``measured:FILE``), draws each reading from a measured
+confusion row of the true gesture (read as each gesture, or discarded), e.g. the eye cameras'
+held-out figures written by ``robin-pil train-gestures``.
+
 The detector owns its seeded RNG, so its draws do not depend on anything else in the run.
 """
 
@@ -126,3 +130,109 @@ def _cumulative(weights: Sequence[float]) -> list[float]:
         total += w
         out.append(total)
     return out
+
+
+# --- a detector with a measured error model (``--detector measured:FILE``) ---------------------
+MEASURED_PREFIX = "measured:"
+
+
+class MeasuredErrors:
+    """A measured error model: per true gesture, the share read as each gesture or discarded.
+
+    Read from the JSON file ``robin-pil train-gestures`` writes (``measured.json``): keys
+    ``gestures`` (the four gesture names, in any order) and ``confusion`` (rows: true gesture;
+    columns: read as each of ``gestures``, then discarded; each row sums to 1).
+    """
+
+    def __init__(self, rows: Sequence[Sequence[float]], order: Sequence[Gesture], source: str):
+        by_gesture = dict(zip(order, rows, strict=True))
+        self.rows = tuple(
+            (*(float(by_gesture[g][order.index(h)]) for h in GESTURES), float(by_gesture[g][-1]))
+            for g in GESTURES
+        )  # G order; last column discarded
+        self.source = source
+
+    @property
+    def rate(self) -> float:
+        """Mean share of gestures read right (the detection rate d this model stands for)."""
+        return sum(row[i] for i, row in enumerate(self.rows)) / len(GESTURES)
+
+    @property
+    def discard(self) -> float:
+        """Mean share discarded."""
+        return sum(row[-1] for row in self.rows) / len(GESTURES)
+
+
+def load_measured(path: str) -> MeasuredErrors:
+    """Read a measured error model file; any problem raises one :class:`DetectorError`."""
+    import json
+    from pathlib import Path
+
+    what = f"measured error model {path!r}"
+    try:
+        data = json.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise DetectorError(
+            f"{what}: no such file (robin-pil train-gestures writes one: measured.json)"
+        ) from None
+    except (OSError, ValueError) as error:
+        raise DetectorError(f"{what}: not readable JSON ({error})") from None
+    valid = ", ".join(g.value for g in GESTURES)
+    try:
+        order = [Gesture(name) for name in data["gestures"]]
+        rows = [[float(x) for x in row] for row in data["confusion"]]
+    except (KeyError, TypeError, ValueError):
+        raise DetectorError(
+            f"{what}: needs 'gestures' (the four of {valid}) and 'confusion' (4 rows of 5 "
+            "numbers: read as each gesture, then discarded)"
+        ) from None
+    if sorted(order, key=GESTURES.index) != list(GESTURES):
+        raise DetectorError(f"{what}: 'gestures' must name each of {valid} once")
+    if len(rows) != len(GESTURES) or any(len(row) != len(GESTURES) + 1 for row in rows):
+        raise DetectorError(f"{what}: 'confusion' must be 4 rows of 5 numbers")
+    for gesture, row in zip(order, rows, strict=True):
+        if any(not 0.0 <= x <= 1.0 for x in row) or abs(sum(row) - 1.0) > 1e-3:
+            raise DetectorError(
+                f"{what}: row {gesture.value!r} must hold shares in [0, 1] summing to 1"
+            )
+    return MeasuredErrors(rows, order, str(path))
+
+
+class MeasuredDetector:
+    """Reads gestures as a measured error model says: each reading drawn from its true row."""
+
+    def __init__(self, errors: MeasuredErrors, seed: int) -> None:
+        self.errors = errors
+        self.rate = errors.rate
+        self._rng = random.Random(seed)
+        self._cumulative = dict(zip(GESTURES, map(_cumulative, errors.rows), strict=True))
+        self.detected = self.discarded = self.misread = 0
+
+    def detect(self, gesture: Gesture) -> Gesture | None:
+        """What the detector reads when the person performs ``gesture`` (None: discarded)."""
+        choices = (*GESTURES, None)
+        read = self._rng.choices(choices, cum_weights=self._cumulative[gesture])[0]
+        if read is None:
+            self.discarded += 1
+        elif read is gesture:
+            self.detected += 1
+        else:
+            self.misread += 1
+        return read
+
+
+def make_detector(
+    model: str, rate: float, seed: int, **options: object
+) -> Detector | MeasuredDetector:
+    """A :class:`Detector` of ``model``, or for ``measured:FILE`` a :class:`MeasuredDetector`
+    (the other options are then the file's business and ignored).
+
+    With ``measured:FILE`` a ``rate`` of 1 still means perfect detection (the study's
+    systems pre-trained at 100 %); any other rate stands for the file's measured one.
+    """
+    if isinstance(model, str) and model.startswith(MEASURED_PREFIX) and rate != 1.0:
+        return MeasuredDetector(load_measured(model[len(MEASURED_PREFIX) :]), seed)
+    if isinstance(model, str) and model.startswith(MEASURED_PREFIX):
+        load_measured(model[len(MEASURED_PREFIX) :])  # a bad file fails here too
+        model = "exact"
+    return Detector(rate, seed, model=model, **options)  # type: ignore[arg-type]

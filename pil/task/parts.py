@@ -26,7 +26,7 @@ from pil.errors import InvalidChoiceError, RobinPilError
 from pil.exploration import DEFAULT_RULE, check_rule
 from pil.learner import Learner
 from pil.table import AssociationTable
-from pil.task.detector import DEFAULT_DISCARD, Detector
+from pil.task.detector import DEFAULT_DISCARD, Detector, MeasuredDetector, make_detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import MAX_ACTIONS_PER_GESTURE
 from pil.task.scenario import ASSEMBLY_DEFAULTS, Scenario, load_scenario
@@ -37,7 +37,7 @@ SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY_DEFAULTS)
 _SCENARIO_KINDS: dict[str, Any] = ASSEMBLY_DEFAULTS  # the type each setting converts to
 PARAMS: dict[str, Any] = {
     **dict.fromkeys(SCENARIO_KEYS),
-    "detector": "exact",  # exact | independent
+    "detector": "exact",  # exact | independent | measured:FILE (pil.task.detector)
     "discard": DEFAULT_DISCARD,  # share of misses discarded as low-confidence
     "confusion": None,  # 4x4 rows: how a miss of each gesture is misread; None = uniform
     "repeat_discarded": True,  # the robot asks for a repeat of a discarded gesture
@@ -66,7 +66,7 @@ class RunParts:
 
     learner: Learner
     person: ScriptedPerson
-    detector: Detector
+    detector: Detector | MeasuredDetector
     options: Mapping[str, Any]  # keyword options of steps()/run(): manual, repeat_discarded, ...
 
 
@@ -185,10 +185,10 @@ def build_parts(
         reaction_time=ReactionTime(values["reaction_time"], values["reaction_spread"]),
         body=body,
     )
-    detector = Detector(
+    detector = make_detector(
+        values["detector"],
         rate,
         seeds[f"{phase}_detector"],
-        model=values["detector"],
         deck_size=max(1, len(script)),
         discard=values["discard"],
         confusion=values["confusion"],

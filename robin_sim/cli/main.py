@@ -23,6 +23,14 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "adapt": ("robin_sim.cli.adapt", "a gesture's meaning changes mid-task (learner only)"),
     "transfer": ("robin_sim.cli.transfer", "a second task from scratch vs from saved tables"),
     "people": ("robin_sim.cli.people", "two people's mappings: one shared table vs one each"),
+    "train-gestures": (
+        "robin_sim.cli.train_gestures",
+        "render the gesture data set, train the eye-camera gesture model, report",
+    ),
+    "vision-conditions": (
+        "robin_sim.cli.vision_conditions",
+        "measured detection rate per camera condition (light x noise) and PIL's costs",
+    ),
 }
 
 

@@ -18,12 +18,33 @@ from robin_sim.cli.options import parse_rates, parse_systems
 DEFAULT_OUT = Path("out/study")
 
 
+def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
+    """The rates to run: ``--rates``, or for a measured detector its file's measured rate."""
+    from pil.task.detector import MEASURED_PREFIX, MODELS, load_measured
+
+    if detector.startswith(MEASURED_PREFIX):
+        errors = load_measured(detector[len(MEASURED_PREFIX) :])  # fails here, before any run
+        if text is not None:
+            raise RobinPilError(
+                f"--rates cannot be combined with --detector {detector}: the file sets the "
+                f"detection rate (measured d = {errors.rate:.3f}); drop --rates"
+            )
+        return (round(errors.rate, 4),)
+    if detector not in MODELS:
+        raise RobinPilError(
+            f"--detector: unknown detection model {detector!r}; choose exact, independent "
+            "or measured:FILE"
+        )
+    return parse_rates(rates_text() if text is None else text)
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The study's options (defaults: the paper's setup)."""
     parser.add_argument(
         "--rates",
-        default=rates_text(),
-        help="detection rates in [0, 1], comma separated (default: %(default)s)",
+        default=None,
+        help="detection rates in [0, 1], comma separated (default: the paper's rates; with "
+        "--detector measured:FILE the file's measured rate)",
     )
     parser.add_argument(
         "--reps",
@@ -44,8 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--detector",
         default="exact",
-        choices=("exact", "independent"),
-        help="detection model (default: %(default)s)",
+        help="detection model: exact, independent, or measured:FILE (a measured confusion "
+        "matrix and discard rate, e.g. the measured.json of robin-pil train-gestures) "
+        "(default: %(default)s)",
     )
     parser.add_argument(
         "--scenario", default=None, help="assembly scenario YAML (default: scenarios/assembly.yaml)"
@@ -89,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
     systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(
         systems=systems,
-        rates=parse_rates(args.rates),
+        rates=_study_rates(args.rates, args.detector),
         reps=args.reps,
         seed=args.seed,
         scenario=args.scenario,

@@ -5,6 +5,10 @@ pose, named ``human_vis_<pose>_<part>`` (:func:`robin_sim.model.names.human_vis_
 :data:`robin_sim.model.names.HUMAN_VIS_POSES`). :class:`GestureDisplay` shows one pose by giving its
 geoms their visible alpha in ``model.geom_rgba`` and every other pose's geoms alpha 0, which
 MuJoCo does not draw. Only colours change, so physics is unaffected.
+
+In the project's scene (six part geoms per pose) the display also gives each pose its shape
+(:mod:`robin_sim.person.hand_poses`) so that the poses are told apart at a glance, and
+``show(sign, performance)`` varies one performance (pose jitter, hand size, skin tone).
 """
 
 from __future__ import annotations
@@ -15,6 +19,7 @@ import numpy as np
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import Feedback, Gesture
 from robin_sim.model import names
+from robin_sim.person.hand_poses import HandShaper, Performance
 
 NEUTRAL_POSE = "neutral"
 POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral, pointing, give_me, ... thumb_down
@@ -94,6 +99,9 @@ class GestureDisplay:
         self._visible_alpha = dict(
             zip(every.tolist(), np.where(loaded > 0, loaded, 1.0), strict=True)
         )
+        self.shaper = HandShaper(model) if HandShaper.fits(model) else None
+        if self.shaper is not None:
+            self.shaper.shape_all()
         self.pose = NEUTRAL_POSE
         self.show(NEUTRAL_POSE)
 
@@ -101,9 +109,17 @@ class GestureDisplay:
         """Geom ids of ``pose``."""
         return tuple(self._geoms[pose_for(pose)].tolist())
 
-    def show(self, sign: Gesture | Feedback | str | None) -> str:
-        """Show the pose for ``sign`` (see :func:`pose_for`), hide the others; return the pose."""
+    def show(
+        self, sign: Gesture | Feedback | str | None, performance: Performance | None = None
+    ) -> str:
+        """Show the pose for ``sign`` (see :func:`pose_for`), hide the others; return the pose.
+
+        ``performance`` (scene models only) shapes this showing of the pose; without it the
+        pose has its plain shape.
+        """
         pose = pose_for(sign)
+        if self.shaper is not None:
+            self.shaper.shape(pose, performance)
         for other, ids in self._geoms.items():
             if other != pose:
                 self._model.geom_rgba[ids, 3] = 0.0

@@ -38,18 +38,25 @@ class RenderPoolError(RenderError):
 
 @dataclass(frozen=True, slots=True)
 class FrameState:
-    """What a frame needs of the simulation: time, joint positions, mocap poses, geom colours."""
+    """What a frame needs of the simulation: time, joint positions, mocap poses, geom colours
+    and geom shapes."""
 
     time: float
     qpos: np.ndarray
     mocap_pos: np.ndarray
     mocap_quat: np.ndarray
     geom_rgba: np.ndarray  # (ngeom, 4); the gesture display changes alphas at run time
+    # (ngeom, 3), (ngeom, 4), (ngeom, 3): the person's hand poses are shaped at run time
+    # (robin_sim.person.hand_poses), so a worker's freshly built model needs them too
+    geom_pos: np.ndarray | None = None
+    geom_quat: np.ndarray | None = None
+    geom_size: np.ndarray | None = None
 
     @classmethod
     def capture(cls, model: mujoco.MjModel, data: mujoco.MjData) -> FrameState:
         """Copy the state of ``model``/``data`` now (later changes do not reach the frame)."""
-        copies = (data.qpos, data.mocap_pos, data.mocap_quat, model.geom_rgba)
+        copies = (data.qpos, data.mocap_pos, data.mocap_quat, model.geom_rgba, model.geom_pos,
+                  model.geom_quat, model.geom_size)  # fmt: skip
         return cls(float(data.time), *(array.copy() for array in copies))
 
 
@@ -70,6 +77,10 @@ def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -
     data.mocap_pos[:] = state.mocap_pos
     data.mocap_quat[:] = state.mocap_quat
     model.geom_rgba[:] = state.geom_rgba
+    if state.geom_pos is not None:
+        model.geom_pos[:] = state.geom_pos
+        model.geom_quat[:] = state.geom_quat
+        model.geom_size[:] = state.geom_size
     mujoco.mj_fwdPosition(model, data)
 
 

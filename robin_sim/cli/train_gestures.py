@@ -1,0 +1,57 @@
+"""``robin-pil train-gestures``: render the gesture data set, train the model, report.
+
+Writes under ``--out`` (default ``out/gestures``): ``chunks/`` (the rendered data set, kept so
+that an interrupted run resumes), ``gesture_model.npz``, ``report.md``, ``confusion.png`` and
+``measured.json`` (the error model for ``robin-pil study --detector measured:FILE``).
+``--install`` also copies the model, its report, figure and measured error model into the
+package (``robin_sim/vision/data``: what episodes read).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from pathlib import Path
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The command's options."""
+    from robin_sim.vision.build_config import DEFAULT_SAMPLES
+
+    parser.add_argument(
+        "--samples", type=int, default=DEFAULT_SAMPLES,
+        help="training samples (held-out: a third as many) (default: %(default)s)",
+    )  # fmt: skip
+    parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
+    parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
+    parser.add_argument("--workers", type=int, default=2, help="render processes (default: 2)")
+    parser.add_argument(
+        "--install", action="store_true",
+        help="copy the model, report and measured error model into the package",
+    )  # fmt: skip
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Render (resuming), train and report; bad input raises a RobinPilError (exit 2)."""
+    from tqdm import tqdm
+
+    from robin_sim.vision.build import render_all, train_and_report
+    from robin_sim.vision.build_config import BuildConfig
+    from robin_sim.vision.classifier import shipped_path
+
+    config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=args.workers)
+    total = config.samples + config.heldout
+    with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
+              disable=args.quiet) as bar:  # fmt: skip
+        render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
+    result = train_and_report(config)
+    if args.install:
+        folder = shipped_path().parent
+        for name in (shipped_path().name, "report.md", "confusion.png", "measured.json"):
+            shutil.copyfile(config.out / name, folder / name)
+        result["installed"] = str(folder)
+    print(json.dumps(result, indent=2))
+    return 0

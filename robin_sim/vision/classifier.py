@@ -1,0 +1,109 @@
+"""The gesture model: standardised features -> a small MLP -> softmax over the seven classes.
+
+Trained by :mod:`robin_sim.vision.train` (scikit-learn's ``MLPClassifier``: one hidden layer of
+ReLU units) and stored as a small ``.npz`` of plain arrays (no pickle), so reading needs only
+numpy. The
+shipped model is ``robin_sim/vision/data/gesture_model.npz`` (:func:`load_shipped`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from pil.errors import RobinPilError
+
+CLASSES: tuple[str, ...] = (
+    "pointing",
+    "give_me",
+    "grasp",
+    "release",
+    "thumb_up",
+    "thumb_down",
+    "no_gesture",
+)
+NO_GESTURE = "no_gesture"
+FORMAT = 2
+SHIPPED = "gesture_model.npz"
+
+
+class ModelFileError(RobinPilError):
+    """A gesture model file that cannot be read."""
+
+
+@dataclass(frozen=True)
+class GestureModel:
+    """A feed-forward softmax classifier over standardised features."""
+
+    mean: np.ndarray  # (F,)
+    scale: np.ndarray  # (F,)
+    weights: tuple[np.ndarray, ...]  # layer k: (inputs, outputs); the last has 7 outputs
+    biases: tuple[np.ndarray, ...]  # layer k: (outputs,)
+    threshold: float  # confidence below which a reading is discarded
+    seed: int = 0
+    samples: int = 0
+
+    def probabilities(self, features: np.ndarray) -> np.ndarray:
+        """Class probabilities (N, 7) of feature rows (N, F) (or (7,) for one row)."""
+        h = (np.asarray(features, np.float64) - self.mean) / self.scale
+        for k, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
+            h = h @ w + b
+            if k < len(self.weights) - 1:
+                h = np.maximum(h, 0.0)  # ReLU
+        logits = h - h.max(axis=-1, keepdims=True)
+        p = np.exp(logits)
+        return p / p.sum(axis=-1, keepdims=True)
+
+    def save(self, path: Path) -> Path:
+        """Write the model as ``.npz`` (float32 weights)."""
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with path.open("wb") as handle:
+            np.savez_compressed(
+                handle,
+                format=np.int64(FORMAT),
+                classes=np.array(CLASSES),
+                mean=self.mean.astype(np.float32),
+                scale=self.scale.astype(np.float32),
+                layers=np.int64(len(self.weights)),
+                **{f"w{k}": w.astype(np.float32) for k, w in enumerate(self.weights)},
+                **{f"b{k}": b.astype(np.float32) for k, b in enumerate(self.biases)},
+                threshold=np.float64(self.threshold),
+                seed=np.int64(self.seed),
+                samples=np.int64(self.samples),
+            )
+        return path
+
+    @classmethod
+    def load(cls, path: Path | str) -> GestureModel:
+        """Read a model written by :meth:`save`; a bad file raises :class:`ModelFileError`."""
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                if int(z["format"]) != FORMAT or tuple(z["classes"].tolist()) != CLASSES:
+                    raise ModelFileError(
+                        f"gesture model {path}: format {int(z['format'])} or classes "
+                        f"{z['classes'].tolist()} do not match this version ({FORMAT}, {CLASSES})"
+                    )
+                return cls(
+                    mean=z["mean"].astype(np.float64),
+                    scale=z["scale"].astype(np.float64),
+                    weights=tuple(z[f"w{k}"].astype(np.float64) for k in range(int(z["layers"]))),
+                    biases=tuple(z[f"b{k}"].astype(np.float64) for k in range(int(z["layers"]))),
+                    threshold=float(z["threshold"]),
+                    seed=int(z["seed"]),
+                    samples=int(z["samples"]),
+                )
+        except (OSError, KeyError, ValueError) as error:
+            raise ModelFileError(f"cannot read gesture model {path}: {error}") from None
+
+
+def shipped_path() -> Path:
+    """Path of the model shipped in the package."""
+    return Path(str(resources.files("robin_sim.vision") / "data" / SHIPPED))
+
+
+def load_shipped() -> GestureModel:
+    """The shipped gesture model (trained by ``robin-pil train-gestures``)."""
+    return GestureModel.load(shipped_path())

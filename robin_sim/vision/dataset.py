@@ -1,0 +1,135 @@
+"""The rendered gesture data set: sampled performances, conditions and views, in chunks.
+
+Sample ``i`` of split ``s`` draws everything from ``default_rng([seed, s, i])`` (so a sample
+never depends on which worker renders it or in which order): its class (cycling through the
+seven), where the hand is (above a leg or a table spot as when pointing, or anywhere the person
+holds it), its performance (pose jitter, hand size, skin tone), the aim's error and the
+condition (light intensity and direction, sensor noise, blur). The *training* split and the
+*held-out* split draw skin tones and light from disjoint ranges (:data:`SPLITS`), so the
+held-out accuracy measures conditions never trained on.
+
+A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels, and
+per-sample conditions; finished chunks are kept, so an interrupted run resumes.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from robin_sim.vision.classifier import CLASSES
+
+CHUNK = 48  # samples per chunk
+EYES = 2
+
+
+@dataclass(frozen=True, slots=True)
+class Ranges:
+    """Ranges a split draws its conditions from (each a tuple of (low, high) intervals)."""
+
+    skin: tuple[tuple[float, float], ...]
+    lighting: tuple[tuple[float, float], ...]
+    light_tilt: tuple[tuple[float, float], ...]
+    camera_noise: tuple[float, float] = (0.0, 10.0)
+    blur: tuple[float, float] = (0.0, 0.8)
+
+
+SPLITS: dict[str, Ranges] = {
+    "train": Ranges(
+        skin=((0.0, 1.3), (2.7, 4.0)), lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)
+    ),
+    "heldout": Ranges(
+        skin=((1.5, 2.5),), lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
+    ),
+    # the condition sweep (robin_sim.vision.conditions): every skin tone, the light and noise
+    # set per condition
+    "sweep": Ranges(skin=((0.0, 4.0),), lighting=((1.0, 1.0),), light_tilt=((0.0, 0.5),)),
+}
+SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
+# Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
+# and spots plus the hand's pointing offset), or anywhere in the person's working box.
+POINT_OFFSET = np.array([0.14, 0.0, 0.13])  # m, as robin_sim.person.hand.POINT_OFFSET
+PLACES = np.array([[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
+                  + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)])  # fmt: skip
+BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.08]))  # m, x y z
+AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
+
+
+def _uniform(rng: np.random.Generator, intervals: tuple[tuple[float, float], ...]) -> float:
+    widths = np.array([hi - lo for lo, hi in intervals])
+    if widths.sum() <= 0:  # a fixed value (a sweep's condition, set per sample anyway)
+        return float(intervals[0][0])
+    k = int(rng.choice(len(intervals), p=widths / widths.sum()))
+    return float(rng.uniform(*intervals[k]))
+
+
+@dataclass(frozen=True, slots=True)
+class SampleSpec:
+    """Everything one sample shows (drawn by :func:`sample_spec`)."""
+
+    label: int
+    hand: np.ndarray  # mocap position, m
+    aim_error: np.ndarray  # m
+    skin: float
+    lighting: float
+    light_turn: float
+    light_tilt: float
+    camera_noise: float
+    blur: float
+    seed: int  # for the performance and the noise
+
+
+def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
+    """Sample ``index`` of ``split``."""
+    rng = np.random.default_rng([seed, SPLIT_IDS[split], index])
+    ranges = SPLITS[split]
+    if rng.random() < 0.5:
+        hand = PLACES[rng.integers(len(PLACES))] + POINT_OFFSET + rng.normal(0, 0.02, 3)
+    else:
+        hand = rng.uniform(*BOX)
+    return SampleSpec(
+        label=index % len(CLASSES),
+        hand=hand,
+        aim_error=rng.normal(0.0, AIM_ERROR, 3),
+        skin=_uniform(rng, ranges.skin),
+        lighting=_uniform(rng, ranges.lighting),
+        light_turn=float(rng.uniform(-np.pi, np.pi)),
+        light_tilt=_uniform(rng, ranges.light_tilt),
+        camera_noise=float(rng.uniform(*ranges.camera_noise)),
+        blur=float(rng.uniform(*ranges.blur)),
+        seed=int(rng.integers(2**31)),
+    )
+
+
+def chunk_path(folder: Path, split: str, chunk: int) -> Path:
+    """File of chunk ``chunk`` of ``split``."""
+    return folder / f"{split}-{chunk:04d}.npz"
+
+
+def chunks_for(samples: int) -> int:
+    """Number of chunks holding ``samples`` samples."""
+    return -(-samples // CHUNK)
+
+
+def save_chunk(path: Path, arrays: dict[str, np.ndarray]) -> None:
+    """Write ``arrays`` to ``path`` atomically (a partial file never stays behind)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    partial = path.with_suffix(".partial.npz")
+    with partial.open("wb") as handle:
+        np.savez_compressed(handle, **arrays)
+    os.replace(partial, path)
+
+
+def load_split(folder: Path, split: str, samples: int) -> dict[str, np.ndarray]:
+    """The first ``samples`` samples of ``split`` from its chunk files, concatenated."""
+    parts: dict[str, list[np.ndarray]] = {}
+    for k in range(chunks_for(samples)):
+        with np.load(chunk_path(folder, split, k), allow_pickle=False) as z:
+            for key in z.files:
+                parts.setdefault(key, []).append(z[key])
+    data = {key: np.concatenate(value) for key, value in parts.items()}
+    keep = data["sample"] < samples
+    return {key: value[keep] for key, value in data.items()}

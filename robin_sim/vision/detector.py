@@ -1,0 +1,222 @@
+"""Robin reads gestures and thumbs with its eye cameras: :class:`VisionDetector`.
+
+It has the step loop's detector interface (``detect(true_gesture) -> Gesture | None``, ``rate``
+and the ``detected`` / ``discarded`` / ``misread`` counts) plus :meth:`read_feedback` for the
+person's thumb. Each reading: the head looks at the person's palm (position actuators, the
+simulator runs until the head is there), both eyes render, the hand is found and classified
+(:mod:`robin_sim.vision.reader`). In context the robot only considers what it expects: one of
+the four instruction gestures while waiting for an instruction, a thumb while waiting for
+feedback; "no gesture" or a confidence below the model's threshold discards the reading. A
+discarded thumb reads as no feedback (which the learner counts as OK); a thumb read the wrong
+way round reaches the learner as the wrong feedback. Only pixels decide: the true gesture is
+used to *show* the pose (when the detector is given the display) and to keep the record.
+
+Conditions replace the detection rate: ``lighting`` (scale of the scene's light, 1 = as
+built) and ``camera_noise`` (sd of pixel noise, 8-bit units).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from pil.errors import InvalidChoiceError, RobinPilError
+from pil.types import Feedback, Gesture
+from robin_sim.control.simulator import Simulator
+from robin_sim.model import names
+from robin_sim.person.gestures import GestureDisplay, pose_for
+from robin_sim.person.hand_poses import Performance
+from robin_sim.vision.classifier import NO_GESTURE, GestureModel, load_shipped
+from robin_sim.vision.eyes import Condition, EyeCameras
+from robin_sim.vision.gaze import look_at
+from robin_sim.vision.reader import Reading, read_views, see
+from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
+
+VISION_PARAMS: dict[str, float] = {"lighting": 1.0, "camera_noise": 0.0}  # name -> default
+GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
+FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
+DISCARDED = "discarded"
+
+
+@dataclass(frozen=True, slots=True)
+class VisionRecord:
+    """One reading: what was shown, what was read (class or "discarded"), and how sure."""
+
+    kind: str  # "gesture" or "feedback"
+    shown: str  # pose name shown
+    read: str  # pose name read, or "discarded"
+    label: str  # the best class in context before the threshold
+    confidence: float
+    boxes: tuple[tuple[int, int, int, int] | None, ...]  # hand box per eye (pixels)
+    sim_time: float
+
+    @property
+    def discarded(self) -> bool:
+        """Whether the reading was discarded."""
+        return self.read == DISCARDED
+
+    def as_dict(self) -> dict[str, object]:
+        """Plain values for the episode log."""
+        return {
+            "kind": self.kind,
+            "shown": self.shown,
+            "read": self.read,
+            "label": self.label,
+            "confidence": round(self.confidence, 4),
+            "boxes": [None if b is None else list(map(int, b)) for b in self.boxes],
+            "sim_time": round(self.sim_time, 4),
+        }
+
+
+class VisionDetector:
+    """Reads the person's hand with Robin's eye cameras in ``sim``'s model and data."""
+
+    def __init__(
+        self,
+        sim: Simulator,
+        *,
+        display: GestureDisplay | None = None,
+        lighting: float = 1.0,
+        camera_noise: float = 0.0,
+        seed: int = 0,
+        gesture_model: GestureModel | None = None,
+        vary_performance: bool = True,
+    ) -> None:
+        self.sim = sim
+        self.condition = Condition(lighting=lighting, camera_noise=camera_noise)
+        self.display = display
+        self.gesture_model = gesture_model or load_shipped()
+        self.eyes = EyeCameras(sim.model)
+        self.rng = np.random.default_rng(seed)
+        self.vary_performance = vary_performance
+        self.records: list[VisionRecord] = []
+        self.detected = self.discarded = self.misread = 0
+        self.last_reading: Reading | None = None
+        self.last_view: np.ndarray | None = None
+
+    @classmethod
+    def from_params(
+        cls,
+        sim: Simulator,
+        params: Mapping[str, object],
+        *,
+        display: GestureDisplay | None = None,
+        seed: int = 0,
+    ) -> VisionDetector:
+        """A detector from ``--param`` style values (text or numbers) of :data:`VISION_PARAMS`;
+        an unknown name or a bad value raises one :class:`RobinPilError` naming the choices."""
+        values = dict(VISION_PARAMS)
+        for name, value in params.items():
+            if name not in VISION_PARAMS:
+                raise InvalidChoiceError("vision parameter", name, VISION_PARAMS)
+            try:
+                values[name] = float(value)  # type: ignore[arg-type]
+            except (TypeError, ValueError):
+                raise RobinPilError(
+                    f"vision parameter {name!r} must be a number, got {value!r}"
+                ) from None
+        return cls(sim, display=display, seed=seed, **values)
+
+    @property
+    def rate(self) -> str:
+        """What sets the detection rate here (the step loop quotes it in messages)."""
+        c = self.condition
+        return f"vision, lighting {c.lighting:g}, noise {c.camera_noise:g}"
+
+    # --- reading -------------------------------------------------------------------------------
+    def look(self) -> Reading:
+        """Look at the person's palm now and read the hand (all seven classes)."""
+        data = self.sim.data
+        target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
+        look_at(self.sim, target)
+        target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
+        views, depths = see(self.eyes, data, target, self.condition, self.rng)
+        reading = read_views(self.gesture_model, views, depths)
+        self.last_reading, self.last_view = reading, views[0].rgb
+        return reading
+
+    def inset(self) -> np.ndarray | None:
+        """The left eye's last view with the hand's box and the reading (for a video inset)."""
+        if self.last_view is None or not self.records:
+            return None
+        image = cv2.cvtColor(self.last_view, cv2.COLOR_RGB2BGR)
+        record = self.records[-1]
+        box = record.boxes[0] if record.boxes else None
+        colour = (0, 0, 255) if record.discarded else (0, 200, 0)
+        if box is not None:
+            x, y, w, h = box
+            cv2.rectangle(image, (x, y), (x + w, y + h), colour, 1)
+        text = f"{record.read} {record.confidence:.2f}"
+        cv2.putText(image, text, (2, 10), cv2.FONT_HERSHEY_PLAIN, 0.7, colour, 1, cv2.LINE_AA)
+        return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
+
+    def _show(self, pose: str) -> None:
+        if self.display is not None:
+            performance = Performance.draw(self.rng) if self.vary_performance else None
+            self.display.show(pose, performance)
+
+    def _read(self, kind: str, pose: str, classes: tuple[str, ...]) -> VisionRecord:
+        self._show(pose)
+        reading = self.look()
+        label, confidence = reading.among(classes)
+        kept = label != NO_GESTURE and confidence >= reading.threshold
+        record = VisionRecord(
+            kind, pose, label if kept else DISCARDED, label, confidence, reading.boxes,
+            self.sim.time,
+        )  # fmt: skip
+        self.records.append(record)
+        return record
+
+    def detect(self, gesture: Gesture) -> Gesture | None:
+        """What Robin reads while the person shows ``gesture`` (None: discarded)."""
+        record = self._read("gesture", pose_for(gesture), GESTURE_CLASSES)
+        if record.discarded:
+            self.discarded += 1
+            return None
+        read = GESTURE_OF[record.read]
+        if read is gesture:
+            self.detected += 1
+        else:
+            self.misread += 1
+        return read
+
+    def read_feedback(self, feedback: Feedback) -> Feedback:
+        """The feedback Robin perceives while the person gives ``feedback``.
+
+        A thumb shows its pose; no feedback shows the neutral hand. A discarded reading is no
+        feedback (:attr:`Feedback.NONE`).
+        """
+        record = self._read("feedback", pose_for(feedback), FEEDBACK_CLASSES)
+        return Feedback.NONE if record.discarded else FEEDBACK_OF[record.read]
+
+    # --- the summary ---------------------------------------------------------------------------
+    def summary(self) -> dict[str, object]:
+        """The episode summary's ``vision`` block."""
+        gestures = [r for r in self.records if r.kind == "gesture"]
+        thumbs = [r for r in self.records if r.kind == "feedback" and r.shown in FEEDBACK_OF]
+        confusion: dict[str, dict[str, int]] = {}
+        for record in self.records:
+            row = confusion.setdefault(record.shown, {})
+            row[record.read] = row.get(record.read, 0) + 1
+        right = sum(r.read == r.shown for r in gestures)
+        return {
+            "lighting": self.condition.lighting,
+            "camera_noise": self.condition.camera_noise,
+            "gestures_read": len(gestures),
+            "detection_rate": right / len(gestures) if gestures else None,
+            "discarded": sum(r.discarded for r in gestures),
+            "misread": sum(not r.discarded and r.read != r.shown for r in gestures),
+            "feedback_read": len(thumbs),
+            "feedback_misread": sum(not r.discarded and r.read != r.shown for r in thumbs),
+            "feedback_discarded": sum(r.discarded for r in thumbs),
+            "confusion": confusion,
+            "reads": dict(Counter(r.read for r in self.records)),
+        }
+
+    def close(self) -> None:
+        """Free the eye cameras' OpenGL context."""
+        self.eyes.close()

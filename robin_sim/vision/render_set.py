@@ -1,0 +1,140 @@
+"""Render data-set chunks (one process renders with one scene and one pair of eyes).
+
+:func:`render_chunk` is the worker's job: it builds the scene once per process, renders each
+sample of the chunk (kinematics only: the hand's mocap pose, the head aimed by ``qpos``),
+finds the hand in each eye and stores the features, and writes the chunk file. Where the
+segmentation renderer's ground truth is available it records the left eye's overlap (IoU) of
+the found region with the true hand pixels, for the report only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from robin_sim.render.gl_backend import ensure_gl_backend
+
+ensure_gl_backend()
+
+import mujoco  # noqa: E402
+
+from robin_sim.model import names  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.person.gestures import GestureDisplay  # noqa: E402
+from robin_sim.person.hand_poses import Performance  # noqa: E402
+from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
+from robin_sim.vision.dataset import (  # noqa: E402
+    CHUNK,
+    SampleSpec,
+    chunk_path,
+    sample_spec,
+    save_chunk,
+)
+from robin_sim.vision.eyes import Condition, EyeCameras  # noqa: E402
+from robin_sim.vision.features import FEATURE_COUNT  # noqa: E402
+from robin_sim.vision.reader import aim_and_see, eye_features, regions  # noqa: E402
+
+POSE_OF = {c: ("neutral" if c == NO_GESTURE else c) for c in CLASSES}
+
+
+class SampleRenderer:
+    """A scene with the person's hand, Robin at home, and the eye cameras."""
+
+    def __init__(self) -> None:
+        self.model = build_model()
+        self.data = mujoco.MjData(self.model)
+        mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key(names.HOME_KEY).id)
+        mujoco.mj_forward(self.model, self.data)
+        self.display = GestureDisplay(self.model)
+        self.mocap = int(self.model.body_mocapid[self.model.body(names.HUMAN_MOCAP_BODY).id])
+        self.eyes = EyeCameras(self.model)
+        self._truth = mujoco.Renderer(self.model, self.eyes.size, self.eyes.size)
+
+    def render(self, spec: SampleSpec) -> tuple[list[np.ndarray | None], float]:
+        """Per-eye features (None: no hand found) and the left eye's IoU with the truth."""
+        rng = np.random.default_rng(spec.seed)
+        pose = POSE_OF[CLASSES[spec.label]]
+        performance = Performance.draw(rng, skin_range=(spec.skin, spec.skin))
+        self.data.mocap_pos[self.mocap] = spec.hand
+        self.display.show(pose, performance)
+        mujoco.mj_kinematics(self.model, self.data)
+        target = self.data.site(names.HUMAN_PALM_SITE).xpos + spec.aim_error
+        condition = Condition(
+            lighting=spec.lighting,
+            light_turn=spec.light_turn,
+            light_tilt=spec.light_tilt,
+            camera_noise=spec.camera_noise,
+            blur=spec.blur,
+        )
+        views, depths = aim_and_see(self.eyes, self.data, target, condition, rng)
+        found = regions(views, depths)
+        truth = self.truth_mask(pose)
+        left = found[0]
+        if left is None:
+            iou = 0.0 if truth.any() else 1.0
+        else:
+            iou = float((left.mask & truth).sum() / max((left.mask | truth).sum(), 1))
+        return eye_features(views, found), iou
+
+    def truth_mask(self, pose: str) -> np.ndarray:
+        """True hand pixels of the left eye (segmentation render; labels and tests only)."""
+        model, camera = self.model, self.eyes.cameras[0]
+        saved = float(model.cam_fovy[camera])
+        model.cam_fovy[camera] = self.eyes.fovy
+        try:
+            self._truth.update_scene(self.data, camera)
+            self._truth.enable_segmentation_rendering()
+            seg = self._truth.render()
+            self._truth.disable_segmentation_rendering()
+        finally:
+            model.cam_fovy[camera] = saved
+        ids = list(self.display.geoms(pose))
+        return (seg[..., 1] == mujoco.mjtObj.mjOBJ_GEOM) & np.isin(seg[..., 0], ids)
+
+
+_RENDERER: SampleRenderer | None = None
+
+
+def render_chunk(
+    folder: Path,
+    seed: int,
+    split: str,
+    chunk: int,
+    overrides: dict[str, float] | None = None,
+    name: str | None = None,
+) -> int:
+    """Render chunk ``chunk`` of ``split`` into its file; returns the samples rendered.
+
+    ``overrides`` replace fields of each sample's spec (e.g. a fixed ``lighting``); ``name``
+    names the chunk files instead of ``split``.
+    """
+    global _RENDERER  # one scene per worker process, built on its first chunk
+    if _RENDERER is None:
+        _RENDERER = SampleRenderer()
+    rows, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
+    for index in range(chunk * CHUNK, (chunk + 1) * CHUNK):
+        spec = replace(sample_spec(seed, split, index), **(overrides or {}))
+        features, iou = _RENDERER.render(spec)
+        ious.append(iou)
+        conditions.append([spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise])
+        for eye, f in enumerate(features):
+            rows.append(np.zeros(FEATURE_COUNT, np.float32) if f is None else f)
+            found.append(f is not None)
+            labels.append(spec.label)
+            samples.append(index)
+            eyes.append(eye)
+    save_chunk(
+        chunk_path(folder, name or split, chunk),
+        {
+            "features": np.stack(rows),
+            "label": np.array(labels, np.int64),
+            "sample": np.array(samples, np.int64),
+            "eye": np.array(eyes, np.int64),
+            "found": np.array(found, bool),
+            "iou": np.repeat(np.array(ious), 2),
+            "condition": np.repeat(np.array(conditions), 2, axis=0),
+        },
+    )
+    return CHUNK

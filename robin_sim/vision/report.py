@@ -1,0 +1,134 @@
+"""The ``train-gestures`` report: held-out accuracy and confusion (Markdown and PNG), and the
+measured error model file for ``robin-pil study --detector measured:FILE``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from robin_sim.vision.classifier import CLASSES
+from robin_sim.vision.dataset import SPLITS
+from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES, Evaluation
+
+if TYPE_CHECKING:
+    from robin_sim.vision.build_config import BuildConfig
+
+# the pil names of the classes (measured files speak the learner's language)
+PIL_NAMES = {"pointing": "pointing", "give_me": "give me", "grasp": "grasp", "release": "release",
+             "thumb_up": "OK", "thumb_down": "not OK"}  # fmt: skip
+
+
+def _rows(counts: np.ndarray) -> np.ndarray:
+    return counts / np.maximum(counts.sum(axis=1, keepdims=True), 1)
+
+
+def measured(evaluation: Evaluation, condition: str) -> dict[str, object]:
+    """The in-context error model: rows true class, columns readings then "discarded"."""
+    return {
+        "format": 1,
+        "source": f"robin-pil train-gestures, held-out split ({condition})",
+        "gestures": [PIL_NAMES[c] for c in GESTURE_CLASSES],
+        "confusion": _rows(evaluation.gestures).round(6).tolist(),
+        "feedback": [PIL_NAMES[c] for c in FEEDBACK_CLASSES],
+        "feedback_confusion": _rows(evaluation.feedback).round(6).tolist(),
+        "samples": int(evaluation.gestures.sum()),
+    }
+
+
+def _table(counts: np.ndarray, rows: tuple[str, ...], columns: tuple[str, ...]) -> list[str]:
+    lines = ["| true \\ read | " + " | ".join(columns) + " |"]
+    lines.append("|---" * (len(columns) + 1) + "|")
+    for name, row in zip(rows, counts, strict=True):
+        lines.append(f"| {name} | " + " | ".join(str(int(v)) for v in row) + " |")
+    return lines
+
+
+def _figure(evaluation: Evaluation, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    share = _rows(evaluation.confusion)
+    fig, ax = plt.subplots(figsize=(7, 5.2))
+    ax.imshow(share, cmap="Blues", vmin=0, vmax=1)
+    columns = [*CLASSES, DISCARDED]
+    ax.set_xticks(range(len(columns)), columns, rotation=40, ha="right")
+    ax.set_yticks(range(len(CLASSES)), CLASSES)
+    for i in range(share.shape[0]):
+        for j in range(share.shape[1]):
+            ax.text(j, i, f"{share[i, j]:.2f}", ha="center", va="center", fontsize=7,
+                    color="white" if share[i, j] > 0.5 else "black")  # fmt: skip
+    ax.set_xlabel("reading")
+    ax.set_ylabel("true pose")
+    ax.set_title(f"held-out (unseen skin tones and light): accuracy {evaluation.accuracy:.1%}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def write_report(
+    config: BuildConfig,
+    model_path: Path,
+    threshold: float,
+    heldout: Evaluation,
+    training: Evaluation,
+    heldout_split: dict[str, np.ndarray],
+    train_split: dict[str, np.ndarray],
+) -> list[Path]:
+    """Write report.md, confusion.png and measured.json under ``config.out``."""
+    out = config.out
+    ranges = {name: r for name, r in SPLITS.items()}
+    condition = (
+        f"skin tones {ranges['heldout'].skin}, light scale {ranges['heldout'].lighting}, "
+        f"light tilt {ranges['heldout'].light_tilt} rad"
+    )
+    lines = [
+        "# Gesture recognition: train-gestures report",
+        "",
+        f"Seed {config.seed}; {config.samples} training samples, {config.heldout} held-out "
+        f"samples (two eyes each); model `{model_path.name}` "
+        f"({model_path.stat().st_size / 1024:.0f} KiB), confidence threshold "
+        f"{threshold:.2f}.",
+        "",
+        f"- training conditions: skin tones {ranges['train'].skin}, light scale "
+        f"{ranges['train'].lighting}, light tilt {ranges['train'].light_tilt} rad",
+        f"- held-out conditions (never trained on): {condition}",
+        "",
+        "| split | accuracy (7 classes) | discarded | accuracy of kept readings | "
+        "instruction gestures read right in context (d) |",
+        "|---|---|---|---|---|",
+    ]
+    for name, e in (("held-out", heldout), ("training", training)):
+        lines.append(
+            f"| {name} | {e.accuracy:.1%} | {e.discard_rate:.1%} | {e.accepted_accuracy:.1%} | "
+            f"{e.detection_rate():.1%} |"
+        )
+    iou_heldout, iou_train = heldout_split["iou"][::2].mean(), train_split["iou"][::2].mean()
+    lines += [
+        "",
+        f"Hand segmentation (left eye, IoU with the renderer's ground truth): held-out mean "
+        f"{iou_heldout:.2f}, training mean {iou_train:.2f}; "
+        f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views.",
+        "",
+        "## Held-out confusion (counts; rows: the pose shown)",
+        "",
+        *_table(heldout.confusion, CLASSES, (*CLASSES, DISCARDED)),
+        "",
+        "## In context (what `--detector measured:FILE` uses)",
+        "",
+        *_table(heldout.gestures, GESTURE_CLASSES, (*GESTURE_CLASSES, DISCARDED)),
+        "",
+        *_table(heldout.feedback, FEEDBACK_CLASSES, (*FEEDBACK_CLASSES, DISCARDED)),
+        "",
+    ]
+    report = out / "report.md"
+    report.write_text("\n".join(lines))
+    figure = out / "confusion.png"
+    _figure(heldout, figure)
+    measured_path = out / "measured.json"
+    measured_path.write_text(json.dumps(measured(heldout, condition), indent=2) + "\n")
+    return [report, figure, measured_path]

@@ -1,0 +1,147 @@
+"""Tests of train-gestures: reproducible from its seed, resumable, bad input, the shipped model."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from robin_sim.vision.build import pending, render_all, train_and_report
+from robin_sim.vision.build_config import MIN_SAMPLES, BuildConfig
+from robin_sim.vision.classifier import CLASSES, GestureModel, ModelFileError, load_shipped
+from robin_sim.vision.dataset import CHUNK, SPLITS, chunk_path, sample_spec
+
+
+def _arrays(model: GestureModel) -> list[np.ndarray]:
+    return [model.mean, model.scale, *model.weights, *model.biases]
+
+
+@pytest.mark.slow
+def test_same_seed_rebuilds_the_same_model_and_runs_resume(tmp_path: Path) -> None:
+    first = BuildConfig(samples=MIN_SAMPLES, seed=5, out=tmp_path / "a", workers=2)
+    assert render_all(first) == 2  # one training and one held-out chunk
+    result = train_and_report(first)
+    again = BuildConfig(samples=MIN_SAMPLES, seed=5, out=tmp_path / "b", workers=1)
+    render_all(again)
+    train_and_report(again)
+    a = GestureModel.load(first.out / "gesture_model.npz")
+    b = GestureModel.load(again.out / "gesture_model.npz")
+    for x, y in zip(_arrays(a), _arrays(b), strict=True):
+        np.testing.assert_array_equal(x, y)
+    # resumable: a finished chunk is kept, a lost one is rendered again (and only that one)
+    chunk_path(first.chunks, "heldout", 0).unlink()
+    assert pending(first) == [("heldout", 0)]
+    assert render_all(first) == 1 and not pending(first)
+    report = (first.out / "report.md").read_text()
+    assert "held-out" in report and (first.out / "confusion.png").stat().st_size > 1000
+    measured = json.loads((first.out / "measured.json").read_text())
+    assert len(measured["confusion"]) == 4 and all(len(r) == 5 for r in measured["confusion"])
+    assert 0.0 <= result["heldout_accuracy"] <= 1.0
+    other = BuildConfig(samples=MIN_SAMPLES, seed=6, out=tmp_path / "c", workers=2)
+    render_all(other)
+    train_and_report(other)
+    c = GestureModel.load(other.out / "gesture_model.npz")
+    assert not np.array_equal(a.weights[0], c.weights[0])
+
+
+def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
+    def inside(value: float, intervals: tuple[tuple[float, float], ...]) -> bool:
+        return any(lo <= value <= hi for lo, hi in intervals)
+
+    for i in range(200):
+        held = sample_spec(0, "heldout", i)
+        assert not inside(held.skin, SPLITS["train"].skin)
+        assert not inside(held.lighting, SPLITS["train"].lighting)
+        train = sample_spec(0, "train", i)
+        assert not inside(train.skin, SPLITS["heldout"].skin)
+    a, b = sample_spec(0, "train", 7), sample_spec(0, "train", 7)  # same seed, same sample
+    assert a.seed == b.seed and np.array_equal(a.hand, b.hand) and a.skin == b.skin
+    assert [sample_spec(0, "train", i).label for i in range(7)] == list(range(7))
+    assert CHUNK > 0
+
+
+def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> None:
+    out = tmp_path / "g"
+    done = subprocess.run(
+        [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "3",
+         "--out", str(out)],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert "robin-pil train-gestures: error: --samples must be a whole number >= 28" in done.stderr
+    assert not out.exists()
+
+
+def test_shipped_model_is_small_and_loads(tmp_path: Path) -> None:
+    model = load_shipped()
+    assert model.weights[-1].shape[1] == len(CLASSES) and 0 < model.threshold < 1
+    assert model.samples >= 1000
+    bad = tmp_path / "bad.npz"
+    bad.write_bytes(b"not a model")
+    with pytest.raises(ModelFileError, match="cannot read gesture model"):
+        GestureModel.load(bad)
+
+
+@pytest.mark.slow
+def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -> None:
+    from robin_sim.vision.conditions import run_conditions
+
+    written = run_conditions(
+        tmp_path, samples=MIN_SAMPLES, reps=2, lighting=(1.0,), noise=(0.0, 40.0)
+    )
+    assert [p.name for p in written] == ["conditions.csv", "conditions.md", "conditions.png"]
+    rows = (tmp_path / "conditions.csv").read_text().splitlines()
+    assert len(rows) == 3  # header and the two conditions
+    for noise in ("0", "40"):
+        data = json.loads((tmp_path / f"measured-l1-n{noise}.json").read_text())
+        assert all(abs(sum(r) - 1) < 1e-4 for r in data["confusion"])
+    clean, noisy = (
+        json.loads((tmp_path / f"measured-l1-n{n}.json").read_text()) for n in ("0", "40")
+    )
+
+    def rate(d: dict) -> float:
+        return sum(row[i] for i, row in enumerate(d["confusion"])) / 4
+
+    assert rate(noisy) < rate(clean)  # heavy sensor noise lowers the measured detection rate
+
+
+def test_vision_conditions_rejects_bad_lists_with_exit_2(tmp_path: Path) -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "robin_sim.cli.main", "vision-conditions", "--lighting", "dim",
+         "--out", str(tmp_path / "v")],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert "robin-pil vision-conditions: error: --lighting: give numbers" in done.stderr
+
+
+@pytest.mark.slow
+def test_interrupted_training_keeps_finished_chunks_and_resumes(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    out = tmp_path / "g"
+    command = [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "96",
+               "--out", str(out), "--workers", "1", "--quiet"]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 240
+    while not list((out / "chunks").glob("train-*.npz")) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 130, err
+    assert "interrupted; finished work is kept" in err
+    kept = sorted(p.name for p in (out / "chunks").glob("*.npz"))
+    assert kept and not any("partial" in name for name in kept)
+    assert not (out / "gesture_model.npz").exists()
+    config = BuildConfig(samples=96, out=out, workers=1)
+    assert len(pending(config)) == 3 - len(kept)  # two training chunks and one held-out
+    before = {name: (out / "chunks" / name).stat().st_mtime_ns for name in kept}
+    done = subprocess.run(command, capture_output=True, text=True, check=False, timeout=600)
+    assert done.returncode == 0, done.stderr
+    assert all((out / "chunks" / n).stat().st_mtime_ns == t for n, t in before.items())
+    assert (out / "gesture_model.npz").exists() and not pending(config)
