@@ -71,6 +71,7 @@ def handover(world: PhysicalWorld) -> dict[Action, float]:
         world.execute(action, target if action is Action.OBJECT else None, True)
         assert world.last_result is not None and world.last_result.succeeded, action
         body.show_feedback(Feedback.OK)
+        body.after_feedback(Feedback.OK)
         spent[action] = world.time - before
     return spent
 

@@ -37,5 +37,7 @@ class Acted:
             self._performed = meant
         outcome = self.world.execute(action, meant.target, self.body.watch(meant, self.reaction))
         ok = action is meant.action and outcome.succeeded and not outcome.interrupted
-        self.body.show_feedback(Feedback.OK if ok else Feedback.NOT_OK)
+        thumb = Feedback.OK if ok else Feedback.NOT_OK
+        self.body.show_feedback(thumb)
+        self.body.after_feedback(thumb)
         return outcome

@@ -126,3 +126,31 @@ def test_bad_input_is_refused_before_anything_runs(tmp_path: Path) -> None:
     with pytest.raises(Exception, match="tables"):
         run_episode(EpisodeConfig(tables=0, out=tmp_path, video=False))
     assert not (tmp_path / "episode.jsonl").exists()
+
+
+@pytest.mark.slow
+def test_a_vision_episode_reads_gestures_and_thumbs_with_the_eye_cameras(tmp_path: Path) -> None:
+    """``--detector vision``: every gesture and every thumb after a finished action is read
+    from the eye cameras; readings are logged with their confidence and summarised."""
+    config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, video=False, verify=False,
+                           progress=False, params={"detector": "vision"})  # fmt: skip
+    summary = run_episode(config)
+    assert summary["status"] == "finished" and summary["legs_delivered"] == 1
+    vision = summary["vision"]
+    assert vision["gestures_read"] == summary["gestures"]
+    assert 0.0 < vision["detection_rate"] <= 1.0
+    assert sum(sum(row.values()) for row in vision["confusion"].values()) == (
+        vision["gestures_read"] + vision["feedback_read"]
+    )
+    log = read_step_log(tmp_path / "episode.jsonl")
+    readings = [r for entry in log for r in entry["vision"]]
+    assert len(readings) == vision["gestures_read"] + vision["feedback_read"]
+    assert all(0.0 <= r["confidence"] <= 1.0 for r in readings)
+    stopped = [e for e in log if e["interrupted"]]
+    assert all(e["feedback_read"] == "not ok" for e in stopped)  # the robot saw the stop
+
+
+def test_camera_conditions_need_the_vision_detector(tmp_path: Path) -> None:
+    with pytest.raises(Exception, match="need --detector vision"):
+        run_episode(EpisodeConfig(out=tmp_path, video=False, params={"lighting": 0.3}))
+    assert not (tmp_path / "summary.json").exists()

@@ -172,10 +172,11 @@ def test_the_observer_sees_each_decision_before_the_world_acts(scenario: Scenari
 
     records = list(steps(*parts(scenario, 0.6, 11), world, observer=Observer()))
     acted = [r for r in records if not r.is_repeat]
-    assert len(seen) == len(acted) and answers == acted
+    assert len(seen) == len(acted) == len(answers)
+    assert [a.feedback for a in answers] == [r.feedback for r in acted]
     assert all(s.feedback is None and s.succeeded is None for s in seen)
     answer = {"feedback": None, "succeeded": None, "delivered": False, "legs_delivered": 0,
-              "interrupted": False, "detail": ""}  # fmt: skip
+              "interrupted": False, "detail": "", "feedback_read": None}  # fmt: skip
     assert [s._replace(**answer) for s in seen] == [r._replace(**answer) for r in acted]
     assert acted[0].target == Target("leg", 0) or acted[0].target == Target("leg", 1)
     assert json.loads(json.dumps(acted[0].to_dict()))["target"]["kind"] == "leg"
@@ -199,6 +200,9 @@ class RecordingBody:
 
     def show_feedback(self, feedback: Feedback) -> None:
         self.events.append(f"thumb {feedback.value}")
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        self.events.append("after")
 
     def recover(self, leg: int) -> bool:
         raise AssertionError("nothing is dropped in a symbolic world")
@@ -235,7 +239,7 @@ def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> Non
         assert (
             events[i - 1] == "watch"
             and events[i + 1].startswith("thumb ")
-            and events[i + 2 : i + 4] == ["learner", "record"]
+            and events[i + 2 : i + 5] == ["after", "learner", "record"]
         )
     thumbs = [e.removeprefix("thumb ") for e in events if e.startswith("thumb ")]
     assert thumbs == [r.feedback.value for r in records if not r.is_repeat]  # type: ignore[union-attr]

@@ -150,6 +150,8 @@ class AssemblyEnv(dm_env.Environment):
         self._spent += 1
         feedback = person.judge(item.intent, chosen, outcome)
         person.show_feedback(feedback)
+        feedback = self._detector.read_feedback(feedback)
+        person.after_feedback(feedback)
         ok = feedback is not Feedback.NOT_OK
         if ok:
             self._previous = chosen

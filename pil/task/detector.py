@@ -24,7 +24,7 @@ import random
 from collections.abc import Sequence
 
 from pil.errors import InvalidChoiceError, RobinPilError, check_rate
-from pil.types import GESTURES, Gesture
+from pil.types import GESTURES, Feedback, Gesture
 
 MODELS: tuple[str, ...] = ("exact", "independent")
 DEFAULT_DISCARD = 0.5  # share of misses discarded as low-confidence; calibrated, see README
@@ -110,6 +110,11 @@ class Detector:
             self._deck = [True] * hits + [False] * (self.deck_size - hits)
             self._rng.shuffle(self._deck)
         return self._deck.pop()
+
+    def read_feedback(self, feedback: Feedback) -> Feedback:
+        """The thumb as the robot reads it: the study's detectors read thumbs right (the
+        paper's feedback is never misread; a camera detector may misread it)."""
+        return feedback
 
     def detect(self, gesture: Gesture) -> Gesture | None:
         """What the detector reads when the person performs ``gesture`` (None: discarded)."""
@@ -207,6 +212,10 @@ class MeasuredDetector:
         self._rng = random.Random(seed)
         self._cumulative = dict(zip(GESTURES, map(_cumulative, errors.rows), strict=True))
         self.detected = self.discarded = self.misread = 0
+
+    def read_feedback(self, feedback: Feedback) -> Feedback:
+        """Thumbs are read right (the measured file describes gestures only)."""
+        return feedback
 
     def detect(self, gesture: Gesture) -> Gesture | None:
         """What the detector reads when the person performs ``gesture`` (None: discarded)."""

@@ -97,8 +97,11 @@ class PersonBody(Protocol):
         ...
 
     def show_feedback(self, feedback: Feedback) -> None:
-        """Show the thumb (or nothing for silence) and hold it; then do what follows from it,
-        e.g. carry a leg that now lies on the palm to the bin."""
+        """Show the thumb (or nothing for silence) and hold it."""
+        ...
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        """What follows the thumb, e.g. carry a leg that now lies on the palm to the bin."""
         ...
 
     def recover(self, leg: int) -> bool:
@@ -215,6 +218,11 @@ class ScriptedPerson:
         """Give the thumb ``feedback`` (visibly, with a body), before the learner receives it."""
         if self.body is not None:
             self.body.show_feedback(feedback)
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        """Once the robot has seen the thumb: what follows it (with a body)."""
+        if self.body is not None:
+            self.body.after_feedback(feedback)
 
     def loses_patience(self, rejections: int) -> bool:
         """True when ``rejections`` in a row make the person perform the gesture again."""

@@ -41,6 +41,7 @@ class StepRecord(NamedTuple):
     recovery: bool = False  # an instruction the person added to have a dropped leg picked up
     interrupted: bool = False  # the person stopped the action while it ran (or at its end)
     dropped: int | None = None  # a leg that left the robot's hand during the action
+    feedback_read: Feedback | None = None  # the thumb as the robot read it (what it learnt)
 
     @property
     def state_key(self) -> str | None:

@@ -134,7 +134,14 @@ def steps(
                     )
                 outcome = world.execute(action, intent.target, person.watch(intent))
                 feedback = person.judge(intent, action, outcome)
-                ok = feedback is not _NOT_OK  # no feedback counts as OK (eq. 1)
+                if observer is not None:
+                    observer.answered(base._replace(t=actions, action=action, feedback=feedback))
+                person.show_feedback(feedback)
+                # What the robot sees of the thumb: it stopped a stopped action because it saw
+                # the thumb go down; the thumb after an action that ran to its end is read.
+                heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
+                person.after_feedback(feedback)
+                ok = heard is not _NOT_OK  # no feedback counts as OK (eq. 1)
                 delivered = (
                     ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
                 )
@@ -143,20 +150,18 @@ def steps(
                     t=actions, action=action, exploited=exploited, reason=reason,
                     feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
                     delivered=delivered, legs_delivered=legs, interrupted=outcome.interrupted,
-                    dropped=outcome.dropped,
+                    dropped=outcome.dropped, feedback_read=heard,
                 )  # fmt: skip
-                if observer is not None:
-                    observer.answered(record)
-                person.show_feedback(feedback)
                 learner.feedback(state, action, ok)
                 yield record
-                if ok:
-                    person.completed(item, action)
+                if ok:  # the robot takes the step as approved
                     previous, expected = action, hand_after(action, hand)
+                if feedback is not _NOT_OK:  # the person does: on to their next instruction
+                    person.completed(item, action)
                     done = True
                     break
-                if world.hand() is not hand:
-                    changed = True  # the world changed under the step: the person re-plans
+                if ok or world.hand() is not hand:
+                    changed = True  # the robot moved on, or the world changed: the person re-plans
                     break
                 rejections += 1
                 if person.loses_patience(rejections):

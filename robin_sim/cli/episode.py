@@ -34,6 +34,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
     parser.add_argument("--no-policy", action="store_true", help="no P(a|s) panel in the video")
     parser.add_argument(
+        "--detector",
+        default=None,
+        help="how the robot reads the person: exact (default, the study's), independent, "
+        "measured:FILE, or vision (its eye cameras; conditions --param lighting=0.3, "
+        "--param camera_noise=12)",
+    )
+    parser.add_argument(
         "--param",
         action="append",
         default=[],
@@ -71,8 +78,10 @@ def run(args: argparse.Namespace) -> int:
     """Run the episode and print its summary."""
     width, height = _size(args.size)
     params = _params(args.param)
+    if args.detector is not None:
+        params["detector"] = args.detector
     video = not args.no_video
-    if video or not args.no_verify:
+    if video or not args.no_verify or params.get("detector") == "vision":
         from robin_sim.render.gl_backend import ensure_gl_backend
 
         ensure_gl_backend()

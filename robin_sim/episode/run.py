@@ -13,7 +13,7 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator, Mapping
 from contextlib import ExitStack
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -27,6 +27,7 @@ from pil.task.runner import steps
 from pil.task.scenario import Scenario
 from pil.types import Hand, hand_after
 from robin_sim.episode.log import StepLog, write_json_atomic
+from robin_sim.episode.reading import split_params, vision_detector
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
@@ -86,8 +87,11 @@ def episode_parts(config: EpisodeConfig, task: EpisodeTask, world: PhysicalWorld
     """Learner, person (with a :class:`PhysicalBody` in ``world``) and detector of ``config``:
     the study's parts, so that the same seed gives the same decisions."""
     body = PhysicalBody(world, seed=config.seed)
-    return test_parts(config.system, config.rate, config.seed, task.scenario, task.values,
-                      body=body)  # fmt: skip
+    parts = test_parts(config.system, config.rate, config.seed, task.scenario, task.values,
+                       body=body)  # fmt: skip
+    if task.vision is None:
+        return parts
+    return replace(parts, detector=vision_detector(world, body.display, task.vision, config.seed))
 
 
 def episode_records(
@@ -106,6 +110,7 @@ class EpisodeTask:
     scenario: Scenario
     values: Mapping[str, Any]
     layout: SceneLayout
+    vision: Mapping[str, Any] | None = None  # camera conditions when the robot reads by eye
 
     @property
     def legs_total(self) -> int:
@@ -120,7 +125,8 @@ class EpisodeTask:
         tables = config.tables
         if tables is None and config.scenario is None:
             tables = 1  # the main job assembles one table of the paper's assembly
-        values = check_params({**config.params, "tables": tables})
+        params, vision = split_params(config.params)
+        values = check_params({**params, "tables": tables})
         scenario = resolve_scenario(config.scenario, values)
         layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
         if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
@@ -130,7 +136,7 @@ class EpisodeTask:
                 f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
                 "layout section or lower spots / legs_per_table"
             )
-        return cls(scenario, values, layout)
+        return cls(scenario, values, layout, vision)
 
 
 def run_episode(config: EpisodeConfig) -> dict[str, Any]:
@@ -195,12 +201,18 @@ def _play(
 ) -> None:
     """Check, log and count every step; stop at a hand-state mismatch."""
     hand = Hand.FREE
+    readings = getattr(parts.detector, "records", None)  # the eye cameras' readings, if any
+    logged = 0
     for record in records:
+        view.finished(record)
         if record.action is None:
             view.asked_to_repeat(record)
         physical = world.hand()
         hand = _expected_hand(hand, record, physical)
         entry = _log_entry(record, world, checks.take(), physical)
+        if readings is not None:
+            entry["vision"] = [reading.as_dict() for reading in readings[logged:]]
+            logged = len(readings)
         log.write(entry)
         body = parts.person.body
         assert isinstance(body, PhysicalBody)
@@ -256,6 +268,8 @@ def _summary(
         "wall_time_s": round(wall, 3),
         "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
     }
+    if task.vision is not None:
+        summary["vision"] = parts.detector.summary()  # type: ignore[attr-defined]
     if recorder is not None:
         timing = recorder.timing
         summary["video"] = {

@@ -33,9 +33,12 @@ class EpisodeView:
         self.update(policy=self._policy(record))
 
     def answered(self, record: StepRecord) -> None:
-        """The person is about to show the thumb."""
-        feedback = None if record.feedback is None else record.feedback.value
-        self.update(feedback=feedback, legs_delivered=record.legs_delivered)
+        """The person is about to show the thumb (``record.feedback``)."""
+        self.update(feedback=None if record.feedback is None else record.feedback.value)
+
+    def finished(self, record: StepRecord) -> None:
+        """A record is done: the legs delivered so far."""
+        self.update(legs_delivered=record.legs_delivered)
 
     def asked_to_repeat(self, record: StepRecord) -> None:
         """The robot asks for the gesture again (a record without an action)."""

@@ -86,9 +86,12 @@ class PhysicalBody:
         return self.last_watcher
 
     def show_feedback(self, feedback: Feedback) -> None:
-        """Show the thumb and hold it; after an approval carry a leg on the palm to the bin."""
+        """Show the thumb and hold it (the robot reads it meanwhile)."""
         self.display.show(feedback)
         self.world.run(FEEDBACK_HOLD)
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        """After an approval, carry a leg that lies on the palm to the bin."""
         if feedback.approves and self.leg_on_palm() is not None:
             bin_centre = np.array([*self.world.layout.bin, 0.0])
             self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
