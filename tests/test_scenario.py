@@ -114,14 +114,16 @@ def test_invalid_state_is_rejected(tmp_path: Path) -> None:
 
 def test_zero_tables_is_rejected(tmp_path: Path) -> None:
     path = write(tmp_path, f"types: {DEFAULT_TYPES}\ntables: 0\n")
-    with pytest.raises(ScenarioError, match=r"tables: expected a whole number >= 1, got 0"):
+    with pytest.raises(ScenarioError, match=r"tables must be a whole number from 1 to 1000, got 0"):
         load_scenario(path)
 
 
 def test_unknown_key_and_draw_are_rejected(tmp_path: Path) -> None:
     with pytest.raises(ScenarioError, match="unknown key 'tabels'; valid choices: name"):
         load_scenario(write(tmp_path, f"types: {DEFAULT_TYPES}\ntabels: 3\n"))
-    with pytest.raises(ScenarioError, match="unknown draw 'zigzag'; valid choices: balanced"):
+    with pytest.raises(
+        ScenarioError, match="draw must be one of 'balanced', 'cycle', 'random', got 'zigzag'"
+    ):
         load_scenario(write(tmp_path, f"types: {DEFAULT_TYPES}\ndraw: zigzag\n"))
 
 

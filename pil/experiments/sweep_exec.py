@@ -31,10 +31,19 @@ from concurrent.futures.process import BrokenProcessPool, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, quote
 from pil.experiments.sweep_grid import RunSpec, import_object
+from pil.task.params import ParamSpec
 
 DEFAULT_CONNECT_TIMEOUT_S = 10.0
+WORKERS = ParamSpec(
+    "workers", "int", None, "local worker processes", 1, 1024, optional=True, empty="all cores"
+)
+CONNECT_TIMEOUT = ParamSpec(
+    "connect_timeout", "float", DEFAULT_CONNECT_TIMEOUT_S, "seconds to reach the scheduler",
+    0.1, 3600.0,
+)  # fmt: skip
+SCHEMES: tuple[str, ...] = ("tcp", "tls", "ws", "wss")
 _ERROR_LIMIT = 2000  # characters of an error kept in the results
 _SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it has
 
@@ -191,6 +200,26 @@ class DaskBackend(Backend):
             self._executor.shutdown(wait=not cancel)
             self._executor = None
             self._client.close()
+
+
+def check_address(address: str) -> str:
+    """``address`` if it reads ``SCHEME://HOST:PORT`` (or ``HOST:PORT``), else an error."""
+    scheme, sep, rest = address.rpartition("://") if "://" in address else ("tcp", "", address)
+    host, colon, port = rest.rpartition(":")
+    good = (
+        scheme in SCHEMES
+        and colon
+        and host.strip("[]")
+        and not any(c.isspace() or c == "/" for c in host)
+        and port.isdigit()
+        and 0 < int(port) < 65536
+    )
+    if not good:
+        raise SchedulerError(
+            f"--scheduler must be a Dask scheduler address SCHEME://HOST:PORT (scheme "
+            f"{', '.join(SCHEMES)}), e.g. tcp://127.0.0.1:8786, got {quote(address)}"
+        )
+    return address if sep else f"tcp://{address}"
 
 
 def make_backend(

@@ -39,17 +39,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--reps",
-        type=int,
         default=20,
         help="repetitions per rate and system (default: %(default)s)",
     )
     parser.add_argument(
         "--tables",
-        type=int,
         default=None,
         help="test tables per run (default: the scenario's, 10 in the paper's setup)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
+    parser.add_argument("--seed", default=0, help="master seed, >= 0 (default: %(default)s)")
     parser.add_argument(
         "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
     )
@@ -70,18 +68,22 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from pil.experiments.study import StudyConfig, run_study, write_outputs
+    from pil.experiments.systems import check_params, resolve_scenario
+    from pil.outdir import check_out_dir
+    from pil.task.params import ASSEMBLY, REPS, SEED
 
-    if args.reps < 1:
-        raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
-    if args.tables is not None and args.tables < 1:
-        raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
+    params = {
+        "tables": ASSEMBLY["tables"].parse(args.tables, "--tables"),
+        "detector": args.detector,
+    }
     config = StudyConfig(
         rates=_rates(args.rates),
-        reps=args.reps,
-        seed=args.seed,
-        scenario=args.scenario,
-        params={"tables": args.tables, "detector": args.detector},
+        reps=REPS.parse(args.reps, "--reps"),
+        seed=SEED.parse(args.seed, "--seed"),
+        scenario=resolve_scenario(args.scenario, check_params(params)),  # a bad file: refused now
+        params=params,
     )
+    check_out_dir(args.out)  # before hours of computing, not after
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
               disable=args.no_progress) as bar:  # fmt: skip
         rows = run_study(config, progress=bar.update)

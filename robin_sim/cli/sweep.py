@@ -43,10 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="0.4,0.6,0.8,1.0",
         help="comma-separated detection rates in [0, 1] (default: 0.4,0.6,0.8,1.0)",
     )
-    grid.add_argument("--reps", type=int, default=20, help="repetitions per cell (default: 20)")
+    grid.add_argument("--reps", default=20, help="repetitions per cell (default: 20)")
     grid.add_argument(
         "--tables",
-        type=int,
         default=None,
         help="tables per run (default: the kind's: 10 learner, the scenario's physical)",
     )
@@ -59,7 +58,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     grid.add_argument(
         "--seed",
-        type=int,
         default=0,
         help="base seed; each run's seed derives from it and the run's parameters",
     )
@@ -74,7 +72,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--out", type=Path, default=Path("sweep"), help="results directory (default: ./sweep)"
     )
     where.add_argument(
-        "--workers", type=int, default=None, help="local worker processes (default: all cores)"
+        "--workers", default=None, help="local worker processes (default: all cores)"
     )
     where.add_argument(
         "--scheduler",
@@ -84,7 +82,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     where.add_argument(
         "--connect-timeout",
-        type=float,
         default=10.0,
         metavar="S",
         help="seconds to wait for the scheduler (default: 10)",
@@ -95,17 +92,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Validate, connect, run what is left of the grid, merge, report. 0 when all runs pass."""
-    from pil.experiments.sweep_exec import execute, make_backend
+    from pil.experiments.sweep_exec import (
+        CONNECT_TIMEOUT,
+        WORKERS,
+        check_address,
+        execute,
+        make_backend,
+    )
     from pil.experiments.sweep_grid import build_grid, load_target, split_list
     from pil.experiments.sweep_store import RunStore, make_record
+    from pil.outdir import check_out_dir
+    from pil.task.params import RATE
 
     if args.scheduler and args.workers is not None:
         raise RobinPilError("give --workers (local pool) or --scheduler (Dask), not both")
+    workers = WORKERS.parse(args.workers, "--workers")
+    timeout = CONNECT_TIMEOUT.parse(args.connect_timeout, "--connect-timeout")
+    if args.scheduler is not None:
+        check_address(args.scheduler)
     target = load_target(args.kind, args.run_function)
-    rates = [_number(text) for text in split_list(args.rates, "--rates")]
+    rates = [RATE.parse(text, "--rates") for text in split_list(args.rates, "--rates")]
     tables = args.tables
     if tables is None and not any(p.strip().startswith("tables=") for p in args.param):
-        tables = target.params.get("tables", 10)  # the kind's default; None: the function's
+        spec = target.params.get("tables")  # the kind's default; None: the function's
+        tables = 10 if spec is None else spec.default
     grid = build_grid(
         target,
         systems=split_list(args.systems, "--systems"),
@@ -118,8 +128,9 @@ def run(args: argparse.Namespace) -> int:
     specs = grid.runs()
     id_columns = list(specs[0].columns())
     manifest = {"kind": target.kind, "function": target.function, "seed": grid.base_seed}
-    backend = make_backend(args.workers, args.scheduler, args.connect_timeout)
+    backend = make_backend(workers, args.scheduler, timeout)
     try:
+        check_out_dir(args.out)  # after connecting: an unreachable scheduler leaves no folder
         with RunStore(args.out, manifest) as store:
             done = store.finished_ids()
             todo = [spec for spec in specs if spec.run_id not in done]
@@ -164,13 +175,6 @@ def run(args: argparse.Namespace) -> int:
         except RobinPilError as error:  # the runs are done and kept; only the report is not
             _say(f"no report: {error}; see 'robin-pil report --help'")
     return 1 if tally.failed else 0
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise RobinPilError(f"--rates: {text!r} is not a number in [0, 1]") from None
 
 
 def _progress(total: int, initial: int, quiet: bool) -> Any:

@@ -13,60 +13,25 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator, Mapping
 from contextlib import ExitStack
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
 from tqdm import tqdm
 
-from pil.errors import RobinPilError, check_rate
-from pil.experiments.systems import SYSTEMS, check_system, test_parts
-from pil.task.parts import check_params, resolve_scenario
+from pil.errors import RobinPilError
+from pil.experiments.systems import SYSTEMS, test_parts
+from pil.outdir import check_out_dir
 from pil.task.runner import StepRecord, steps
-from pil.task.scenario import Scenario
 from pil.types import Action, Hand
+from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeTask
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.render_checks import RenderChecks
-from robin_sim.model.scene import SceneLayout
 from robin_sim.person.narration import EpisodeView, Narrator
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
-
-
-class EpisodeError(RobinPilError):
-    """The episode cannot go on (e.g. the learner's hand state disagrees with physics)."""
-
-
-@dataclass(frozen=True)
-class EpisodeConfig:
-    """Everything that defines an episode; the defaults are ``robin-pil episode``'s."""
-
-    tables: int | None = None  # None: the scenario file's, but 1 for the default assembly
-    rate: float = 1.0
-    seed: int = 0
-    system: str = "pil"
-    scenario: str | Path | None = None  # an assembly YAML; default scenarios/assembly.yaml
-    out: Path = Path("out")
-    video: bool = True
-    camera: str = "front"
-    width: int = 640
-    height: int = 480
-    fps: int = 30
-    shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
-    render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
-    policy_panel: bool = True
-    verify: bool = True  # off-screen render checks after grasps, handovers and placements
-    progress: bool = True
-    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
-
-    def checked(self) -> EpisodeConfig:
-        """Validate what can be validated before anything runs."""
-        check_rate(self.rate)
-        check_system(self.system)
-        if self.tables is not None and (int(self.tables) != self.tables or self.tables < 1):
-            raise RobinPilError(f"tables must be a whole number >= 1, got {self.tables!r}")
-        return self
+__all__ = ["EpisodeConfig", "EpisodeError", "EpisodeTask", "run_episode"]
 
 
 @dataclass
@@ -113,47 +78,17 @@ def episode_records(
     )
 
 
-@dataclass(frozen=True)
-class EpisodeTask:
-    """What an episode's config resolves to: the scenario, its parameters and the scene layout."""
-
-    scenario: Scenario
-    values: Mapping[str, Any]
-    layout: SceneLayout
-
-    @property
-    def legs_total(self) -> int:
-        """Legs the person is to receive."""
-        return self.scenario.tables * self.scenario.legs_per_table
-
-    @classmethod
-    def of(cls, config: EpisodeConfig) -> EpisodeTask:
-        """Resolve ``config``: its scenario (tables default to 1 for the paper's assembly) and
-        the scene layout (the scenario's ``layout`` section, else the default), checking that
-        the layout has the legs and spots the person will point at."""
-        tables = config.tables
-        if tables is None and config.scenario is None:
-            tables = 1  # the main job assembles one table of the paper's assembly
-        values = check_params({**config.params, "tables": tables})
-        scenario = resolve_scenario(config.scenario, values)
-        layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
-        if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
-            raise EpisodeError(
-                f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
-                f"{scenario.legs_per_table} legs per table, but its layout has "
-                f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
-                "layout section or lower spots / legs_per_table"
-            )
-        return cls(scenario, values, layout)
-
-
 def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     """Run one episode, write its files under ``config.out`` and return the summary."""
-    config = config.checked()
+    config = config.checked()  # bad input: refused here, before anything is built or written
     task = EpisodeTask.of(config)
-    out = Path(config.out)
-    out.mkdir(parents=True, exist_ok=True)
     world = PhysicalWorld(task.layout, seed=config.seed)
+    if config.video:
+        from robin_sim.render.renderer import camera_id, check_frame_size
+
+        check_frame_size(world.sim.model, config.width, config.height)
+        camera_id(world.sim.model, config.camera)
+    out = check_out_dir(config.out)
     view = EpisodeView()
     narrator = Narrator(world, view)
     totals = EpisodeTotals()
