@@ -25,6 +25,7 @@ from pil.outdir import check_out_dir
 from pil.task.runner import StepRecord, steps
 from pil.types import Action, Hand
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeTask
+from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.person.narration import EpisodeView, Narrator
@@ -94,39 +95,43 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     totals = EpisodeTotals()
     started = time.perf_counter()
     status, error, recorder = "running", "", None
-    try:
-        with ExitStack() as stack:
-            if config.video:
-                from robin_sim.episode.recorder import (
-                    VideoRecorder,  # renders: needs the GL backend
-                )
+    with InterruptGuard() as guard:  # Ctrl-C / SIGTERM: acted on between two ticks
+        try:
+            with ExitStack() as stack:
+                stack.callback(world.sim.add_observer(guard.check))
+                if config.video:
+                    from robin_sim.episode.recorder import VideoRecorder  # needs the GL backend
 
-                recorder = stack.enter_context(
-                    VideoRecorder(
-                        world.sim, view, out / VIDEO_NAME, layout=task.layout,
-                        width=config.width, height=config.height, fps=config.fps,
-                        camera=config.camera, shadows=config.shadows,
-                        render_workers=config.render_workers,
-                    )
+                    recorder = stack.enter_context(
+                        VideoRecorder(
+                            world.sim, view, out / VIDEO_NAME, layout=task.layout,
+                            width=config.width, height=config.height, fps=config.fps,
+                            camera=config.camera, shadows=config.shadows,
+                            render_workers=config.render_workers,
+                        )
+                    )  # fmt: skip
+                checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
+                log = stack.enter_context(StepLog(out / LOG_NAME))
+                view.update(legs_total=task.legs_total)
+                bar = stack.enter_context(
+                    tqdm(total=task.legs_total, desc="episode", unit="leg",
+                         disable=not config.progress)
                 )  # fmt: skip
-            checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
-            log = stack.enter_context(StepLog(out / LOG_NAME))
-            view.update(legs_total=task.legs_total)
-            bar = stack.enter_context(
-                tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
-            )
-            _play(episode_records(config, task, world, narrator), world, narrator, checks, log,
-                  bar, totals)  # fmt: skip
-        status = "finished"  # the video and the log are closed by now
-    except KeyboardInterrupt:
-        status = "interrupted"
-        raise
-    except RobinPilError as problem:
-        status, error = "failed", str(problem)
-        raise
-    finally:
-        summary = _summary(config, task, totals, world, started, status, error, recorder)
-        write_json_atomic(out / SUMMARY_NAME, summary)
+                guard.check()  # a signal during start-up
+                _play(episode_records(config, task, world, narrator), world, narrator, checks,
+                      log, bar, totals)  # fmt: skip
+            status = "finished"  # the video and the log are closed by now
+            guard.check()  # a signal while the video was being finished
+        except KeyboardInterrupt:
+            status = "interrupted"
+            raise
+        except Exception as problem:
+            detail = str(problem) if isinstance(problem, RobinPilError) else repr(problem)
+            status, error = "failed", detail
+            raise
+        finally:
+            summary = _summary(config, task, totals, world, started, status, error, recorder)
+            write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
 
 
