@@ -16,6 +16,8 @@ interrupt propagates; every outcome already handed to ``on_outcome`` was written
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import multiprocessing
 import os
 import signal
@@ -26,7 +28,7 @@ import traceback
 from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Executor, Future, wait
 from concurrent.futures.process import BrokenProcessPool, ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
@@ -50,6 +52,10 @@ _SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it ha
 
 class SchedulerError(RobinPilError):
     """A Dask scheduler that cannot be reached or used."""
+
+
+class ClusterLostError(SchedulerError):
+    """The connection to the Dask scheduler was lost mid-sweep (not the runs' fault)."""
 
 
 # --- worker side ----------------------------------------------------------------------------
@@ -118,6 +124,14 @@ class Backend(ABC):
     @abstractmethod
     def close(self, cancel: bool = False) -> None:
         """Release the executor; ``cancel`` stops runs in flight instead of waiting."""
+
+    def lost(self) -> str | None:
+        """Why the back end can no longer run anything (a lost cluster), else None."""
+        return None
+
+    def waiting(self) -> str | None:
+        """What runs in flight wait for when none can progress (no workers), else None."""
+        return None
 
 
 class LocalBackend(Backend):
@@ -195,11 +209,36 @@ class DaskBackend(Backend):
             self._slots_checked = time.monotonic()
         return self._slots
 
+    def lost(self) -> str | None:
+        if self._client.status in ("running", "newly-created"):
+            return None
+        return (
+            f"lost the connection to the Dask scheduler at {self.address!r} "
+            f"(client {self._client.status})"
+        )
+
+    def waiting(self) -> str | None:
+        try:
+            threads = sum(self._client.nthreads().values())
+        except Exception:  # the scheduler is going away: lost() will say so
+            return None
+        if threads:
+            return None
+        return (
+            f"waiting for Dask workers: the scheduler at {self.address!r} has none; start "
+            f"them with 'dask worker {self.address} --nthreads 1'"
+        )
+
     def close(self, cancel: bool = False) -> None:
         if self._executor is not None:
-            self._executor.shutdown(wait=not cancel)
+            lost = self.lost() is not None
+            if lost:  # we say what happened; the client's reconnect traceback adds nothing
+                logging.getLogger("distributed.client").setLevel(logging.CRITICAL)
+            with contextlib.suppress(Exception):  # a lost scheduler: nothing left to release
+                self._executor.shutdown(wait=not (cancel or lost))
             self._executor = None
-            self._client.close()
+            with contextlib.suppress(Exception):
+                self._client.close(timeout=2 if lost else None)
 
 
 def check_address(address: str) -> str:
@@ -247,6 +286,7 @@ class Tally:
 
 
 OnOutcome = Callable[[RunSpec, dict[str, Any], int, bool], None]
+WAIT_NOTICE_S = 10.0  # how long runs may make no progress before on_wait is told why
 
 
 def execute(
@@ -257,12 +297,15 @@ def execute(
     *,
     max_attempts: int = 2,
     first_attempt: Callable[[str], int] = lambda run_id: 1,
+    on_wait: Callable[[str], None] | None = None,
 ) -> Tally:
     """Run ``specs`` on ``backend``; call ``on_outcome(spec, outcome, attempt, final)`` per try.
 
     ``final`` is True when the run will not be tried again in this call (it passed, or it
     failed ``max_attempts`` times). ``first_attempt(run_id)`` numbers the first try (a resumed
-    sweep continues the count).
+    sweep continues the count). ``on_wait(message)`` is told what the sweep waits for when no
+    run has ended for :data:`WAIT_NOTICE_S` (e.g. a scheduler without workers). A lost
+    cluster raises :class:`ClusterLostError`; the runs in flight are not charged an attempt.
     """
     tally = Tally()
     queue: deque[RunSpec] = deque(specs)
@@ -292,21 +335,44 @@ def execute(
         future = backend.executor().submit(execute_run, function, args, kwargs)
         in_flight[future] = (spec, isolated)
 
+    def check_cluster(error: BaseException | None = None) -> None:
+        reason = backend.lost()
+        if reason is None and isinstance(error, CancelledError):
+            reason = f"a run was cancelled by the cluster ({type(error).__name__})"
+        if reason is not None:
+            raise ClusterLostError(
+                f"{reason}; {len(in_flight) + len(done_now)} runs in flight are not charged "
+                "an attempt"
+            ) from None
+
+    done_now: set[Future[dict[str, Any]]] = set()
     try:
         while queue or alone or in_flight:
-            if alone:
-                if not in_flight:
-                    submit(alone.popleft(), True)
-            else:
-                while queue and len(in_flight) < backend.slots():
-                    submit(queue.popleft(), False)
-            done, _ = wait(list(in_flight), return_when=FIRST_COMPLETED)
+            try:
+                if alone:
+                    if not in_flight:
+                        submit(alone.popleft(), True)
+                else:
+                    while queue and len(in_flight) < backend.slots():
+                        submit(queue.popleft(), False)
+            except (OSError, RuntimeError, TimeoutError) as error:  # the scheduler went away
+                check_cluster(error)
+                raise
+            done_now, _ = wait(list(in_flight), timeout=WAIT_NOTICE_S, return_when=FIRST_COMPLETED)
+            if not done_now:
+                check_cluster()
+                message = backend.waiting()
+                if message is not None and on_wait is not None:
+                    on_wait(message)
+                continue
             broken = False
-            for future in done:
-                spec, isolated = in_flight.pop(future)
+            for future in list(done_now):
+                spec, isolated = in_flight[future]
                 try:
                     outcome = future.result()
                 except BrokenProcessPool as error:
+                    del in_flight[future]
+                    done_now.discard(future)
                     broken = True
                     if isolated:
                         finish(spec, _lost(error, "worker process died"), True)
@@ -314,7 +380,10 @@ def execute(
                         alone.append(spec)  # a suspect: rerun it alone to find the culprit
                     continue
                 except Exception as error:  # e.g. Dask's KilledWorker
+                    check_cluster(error)  # a lost connection is not the run's fault
                     outcome = _lost(error)
+                del in_flight[future]
+                done_now.discard(future)
                 finish(spec, outcome, isolated)
             if broken:
                 for future in list(in_flight):  # they all fail with the broken pool

@@ -10,10 +10,13 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
+
+EXIT_CLUSTER_LOST = 3  # the Dask cluster went away mid-sweep; rerun to resume
 
 _EPILOG = (
     "Results: DIR/runs.jsonl (every attempt, written as it ends), DIR/results.csv (one row per "
@@ -95,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
     from pil.experiments.sweep_exec import (
         CONNECT_TIMEOUT,
         WORKERS,
+        ClusterLostError,
         check_address,
         execute,
         make_backend,
@@ -140,6 +144,7 @@ def run(args: argparse.Namespace) -> int:
             )
             bar = _progress(len(specs), len(specs) - len(todo), args.quiet)
             failed = retried = 0
+            lost_cluster = ""
 
             def record(spec: Any, outcome: dict[str, Any], attempt: int, final: bool) -> None:
                 nonlocal failed, retried
@@ -150,6 +155,14 @@ def run(args: argparse.Namespace) -> int:
                 if final:
                     bar.update(1)
 
+            notices: dict[str, float] = {}
+
+            def waiting(message: str) -> None:  # once a minute at most, per message
+                if time.monotonic() - notices.get(message, -1e9) > 60:
+                    notices[message] = time.monotonic()
+                    bar.clear()
+                    _say(message)
+
             try:
                 tally = execute(
                     specs=todo,
@@ -157,12 +170,23 @@ def run(args: argparse.Namespace) -> int:
                     backend=backend,
                     on_outcome=record,
                     first_attempt=lambda run_id: store.attempts(run_id) + 1,
+                    on_wait=waiting,
                 )
+            except ClusterLostError as lost:
+                lost_cluster = f"{lost}"
             finally:
                 bar.close()
                 results = store.write_results([s.run_id for s in specs], id_columns)
+            finished = len(store.finished_ids())
     finally:
         backend.close()
+    if lost_cluster:
+        _say(
+            f"{lost_cluster}. {finished} of {len(specs)} runs are finished and kept in "
+            f"{args.out}; start the scheduler and its workers again and rerun the same command "
+            "to resume"
+        )
+        return EXIT_CLUSTER_LOST
     _say(f"{tally.ok} runs done, {tally.failed} failed after a retry; results: {results}")
     for run_id in tally.failed_ids[:10]:
         _say(f"  failed: {run_id}")
