@@ -6,10 +6,11 @@ Each figure is the median of ``--repeats`` timed sweeps through the real pipelin
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
 (5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:run_physical``:
-PIL at
-100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds) are included when
-that function is importable, else the table says so. Dask runs on a ``LocalCluster`` on
-loopback with the same number of single-threaded worker processes; its
+PIL at 100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds: the handover
+types differ, so the runs differ in length) are timed in the grid's order and longest expected
+first (the order ``robin-pil sweep`` uses, :func:`pil.experiments.sweep_grid.longest_first`).
+Dask runs on a ``LocalCluster`` on loopback with the same number of single-threaded worker
+processes; its
 overhead per run is (Dask time - local time) / runs. "Workers busy" is the share of the
 workers' time spent inside runs: near 100 % means the sweep machinery keeps them fed, and the
 speed-up is then bounded only by the free cores (the load average is printed alongside).
@@ -27,7 +28,13 @@ import time
 from pathlib import Path
 
 from pil.experiments.sweep_exec import Backend, DaskBackend, LocalBackend, execute
-from pil.experiments.sweep_grid import RunSpec, build_grid, import_object, load_target
+from pil.experiments.sweep_grid import (
+    RunSpec,
+    build_grid,
+    import_object,
+    load_target,
+    longest_first,
+)
 from pil.experiments.sweep_store import RunStore, make_record
 
 RATES = (0.4, 0.6, 0.8, 1.0)
@@ -103,15 +110,28 @@ def specs_for(
     return target.function, grid.runs()
 
 
-def bench_kind(label: str, function: str, specs: list[RunSpec], repeats: int, dask: str | None):
-    """Table rows for one run kind: 1 worker, 2 workers, Dask with 2 workers."""
+def bench_kind(
+    label: str,
+    function: str,
+    specs: list[RunSpec],
+    repeats: int,
+    dask: str | None,
+    ordered: list[RunSpec] | None = None,
+):
+    """Table rows for one run kind: 1 worker, 2 workers (grid order, and ``ordered`` if
+    given: longest expected run first), Dask with 2 workers (in the order the sweep uses)."""
     n = len(specs)
     one, busy_one = median_sweep(LocalBackend(1), function, specs, repeats)
     two, busy_two = median_sweep(LocalBackend(2), function, specs, repeats)
     rows = [
         (label, "local, 1 worker", n, one, busy_one, "1.00 x"),
-        (label, "local, 2 workers", n, two, busy_two, f"{one / two:.2f} x"),
+        (label, "local, 2 workers, grid order", n, two, busy_two, f"{one / two:.2f} x"),
     ]
+    if ordered is not None:
+        two, busy_two = median_sweep(LocalBackend(2), function, ordered, repeats)
+        rows.append((label, "local, 2 workers, longest first", n, two, busy_two,
+                     f"{one / two:.2f} x"))  # fmt: skip
+        specs = ordered
     if dask is not None:
         on_dask, _ = median_sweep(DaskBackend(dask), function, specs, repeats)
         overhead_ms = 1000 * (on_dask - two) / n
@@ -124,8 +144,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed sweeps per figure")
     parser.add_argument("--learner-reps", type=int, default=4, help="reps of the 5x4 grid")
-    parser.add_argument("--physical-runs", type=int, default=4, help="physical runs per sweep")
-    parser.add_argument("--physical-repeats", type=int, default=1)
+    parser.add_argument("--physical-runs", type=int, default=16, help="physical runs per sweep")
+    parser.add_argument("--physical-repeats", type=int, default=3)
     parser.add_argument("--physical-legs", type=int, default=1, help="legs per physical run")
     parser.add_argument("--no-dask", action="store_true")
     args = parser.parse_args()
@@ -151,8 +171,10 @@ def main() -> None:
             physical_note = ""
             legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length
             function, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
+            ordered = longest_first(specs, load_target("physical"))
             try:
-                rows += bench_kind("physical", function, specs, args.physical_repeats, address)
+                rows += bench_kind("physical", function, specs, args.physical_repeats, address,
+                                   ordered)  # fmt: skip
             except RuntimeError as error:
                 physical_note = f"physical: not measured ({error})"
     finally:

@@ -142,3 +142,23 @@ def test_custom_function_declares_its_own_params() -> None:
     assert {"delay", "die", "discard", "tables"} <= set(target.params)
     assert target.systems == tuple(SYSTEMS)
     assert parse_param("delay=0.01", target) == ("delay", (0.01,))
+
+
+def test_physical_runs_start_longest_expected_first() -> None:
+    from pil.experiments.sweep_grid import longest_first
+    from robin_sim.episode.physical_run import expected_cost
+
+    target = load_target("physical")
+    grid = build_grid(target, systems=["pil"], rates=[0.6, 1.0], reps=4, tables=1,
+                      params=["legs_per_table=1"])  # fmt: skip
+    runs = grid.runs()
+    ordered = longest_first(runs, target)
+    assert sorted(r.run_id for r in ordered) == [r.run_id for r in runs]
+    costs = [expected_cost(*r.call_args()[0], **r.call_args()[1]) for r in ordered]
+    assert costs == sorted(costs, reverse=True) and costs[0] > costs[-1]
+    # the learner-only twin's counts: a run at 60 % costs more than the same seed at 100 %
+    low = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 0.6}
+    high = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 1.0}
+    assert sum(low.values()) > sum(high.values())
+    learner = load_target("learner")
+    assert longest_first(runs, learner) == runs  # learner-only: the grid's order

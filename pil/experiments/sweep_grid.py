@@ -44,6 +44,9 @@ CHECKS: dict[str, str] = {
     "learner": "pil.experiments.systems:check_run",
     "physical": "robin_sim.episode.physical_run:check_physical",
 }
+# each kind's expected cost of a run, cost(system, rate, seed, **params) -> float, to start the
+# longest runs first (learner-only runs are all short: they keep the grid's order)
+COSTS: dict[str, str] = {"physical": "robin_sim.episode.physical_run:expected_cost"}
 DEFAULT_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
 DEFAULT_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
 RESERVED: dict[str, str] = {
@@ -84,6 +87,7 @@ class RunTarget:
     params: Mapping[str, ParamSpec]  # valid parameter name -> its spec (type, range, default)
     open_params: bool  # the function takes **params and names no PARAMS: accept any name
     check: str | None = None  # import path of check(system, rate, seed, **params), if any
+    cost: str | None = None  # import path of cost(system, rate, seed, **params), if any
 
     def spec(self, name: str) -> ParamSpec:
         """The spec of parameter ``name`` (an open target's unknown names: any value)."""
@@ -114,8 +118,9 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
         sources = [import_object(path) for path in PARAM_SOURCES[kind]]
     else:
         sources = [getattr(modules[0], "PARAMS", None) or {}]
+    cost: str | None = None
     if own:
-        check = CHECKS[kind]
+        check, cost = CHECKS[kind], COSTS.get(kind)
     elif callable(getattr(modules[0], "check_run", None)):
         check = f"{modules[0].__name__}:check_run"
     params: dict[str, ParamSpec] = {}
@@ -135,7 +140,8 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
             params[parameter.name] = spec_for(parameter.name, default)
     for name in RESERVED:
         params.pop(name, None)
-    return RunTarget(kind, function, systems, dict(sorted(params.items())), open_params, check)
+    params = dict(sorted(params.items()))
+    return RunTarget(kind, function, systems, params, open_params, check, cost)
 
 
 @dataclass(frozen=True, slots=True)
@@ -285,6 +291,22 @@ def build_grid(
     grid = Grid(target, tuple(systems), checked_rates, reps, tuple(swept), base_seed)
     check_runs(grid)
     return grid
+
+
+def longest_first(specs: Sequence[RunSpec], target: RunTarget) -> list[RunSpec]:
+    """``specs`` in the order to start them: by the target's expected cost, longest first.
+
+    Starting the longest runs first (LPT scheduling) keeps a worker from being left alone with
+    a long run at the end of a sweep. Without a cost function the order is unchanged.
+    """
+    if target.cost is None:
+        return list(specs)
+    cost = import_object(target.cost)
+    expected = {}
+    for spec in specs:
+        args, kwargs = spec.call_args()
+        expected[spec.run_id] = float(cost(*args, **kwargs))
+    return sorted(specs, key=lambda spec: -expected[spec.run_id])
 
 
 def check_runs(grid: Grid) -> None:

@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
         execute,
         make_backend,
     )
-    from pil.experiments.sweep_grid import build_grid, load_target, split_list
+    from pil.experiments.sweep_grid import build_grid, load_target, longest_first, split_list
     from pil.experiments.sweep_store import RunStore, make_record
     from pil.outdir import check_out_dir
     from pil.task.params import RATE
@@ -137,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
         check_out_dir(args.out)  # after connecting: an unreachable scheduler leaves no folder
         with RunStore(args.out, manifest) as store:
             done = store.finished_ids()
-            todo = [spec for spec in specs if spec.run_id not in done]
+            todo = longest_first([spec for spec in specs if spec.run_id not in done], target)
             _say(
                 f"{len(specs)} runs in the grid, {len(specs) - len(todo)} already done, "
                 f"{len(todo)} to run on {backend.name} ({backend.slots()} slots) -> {args.out}"
