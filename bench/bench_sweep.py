@@ -2,7 +2,7 @@
 
     python bench/bench_sweep.py [--repeats 5] [--learner-reps 4] [--physical-runs 4]
 
-Each figure is the median of ``--repeats`` timed sweeps through the real pipeline (the
+Each figure is the median of ``--repeats`` rounds of timed sweeps through the real pipeline (the
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
 (5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:run_physical``:
@@ -119,24 +119,40 @@ def bench_kind(
     ordered: list[RunSpec] | None = None,
 ):
     """Table rows for one run kind: 1 worker, 2 workers (grid order, and ``ordered`` if
-    given: longest expected run first), Dask with 2 workers (in the order the sweep uses)."""
+    given: longest expected run first), Dask with 2 workers (in the order the sweep uses).
+
+    The executors take turns, one sweep each per round, and every ratio is the median over
+    rounds of that round's ratio: load from other processes then hits all of them alike.
+    """
     n = len(specs)
-    one, busy_one = median_sweep(LocalBackend(1), function, specs, repeats)
-    two, busy_two = median_sweep(LocalBackend(2), function, specs, repeats)
-    rows = [
-        (label, "local, 1 worker", n, one, busy_one, "1.00 x"),
-        (label, "local, 2 workers, grid order", n, two, busy_two, f"{one / two:.2f} x"),
-    ]
+    sweeps: dict[str, list[RunSpec]] = {
+        "local, 1 worker": specs,
+        "local, 2 workers, grid order": specs,
+    }
     if ordered is not None:
-        two, busy_two = median_sweep(LocalBackend(2), function, ordered, repeats)
-        rows.append((label, "local, 2 workers, longest first", n, two, busy_two,
-                     f"{one / two:.2f} x"))  # fmt: skip
-        specs = ordered
+        sweeps["local, 2 workers, longest first"] = ordered
+    last = list(sweeps)[-1]
     if dask is not None:
-        on_dask, _ = median_sweep(DaskBackend(dask), function, specs, repeats)
-        overhead_ms = 1000 * (on_dask - two) / n
-        rows.append((label, f"Dask, 2 workers ({overhead_ms:+.1f} ms/run vs local)", n,
-                     on_dask, float("nan"), f"{one / on_dask:.2f} x"))  # fmt: skip
+        sweeps["Dask, 2 workers"] = ordered or specs
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in sweeps}
+    for _ in range(repeats):
+        for name, runs in sweeps.items():
+            if name.startswith("Dask"):
+                backend: Backend = DaskBackend(dask)  # type: ignore[arg-type]
+            else:
+                backend = LocalBackend(1 if "1 worker" in name else 2)
+            times[name].append(median_sweep(backend, function, runs, 1))
+    one = [t for t, _ in times["local, 1 worker"]]
+    rows = []
+    for name, measured in times.items():
+        seconds = statistics.median(t for t, _ in measured)
+        busy = statistics.median(b for _, b in measured) if "Dask" not in name else float("nan")
+        speedup = statistics.median(o / t for o, (t, _) in zip(one, measured, strict=True))
+        if name.startswith("Dask"):
+            pairs = zip(measured, times[last], strict=True)
+            overhead_ms = statistics.median(1000 * (d - loc) / n for (d, _), (loc, _) in pairs)
+            name = f"{name} ({overhead_ms:+.0f} ms/run vs {last.removeprefix('local, ')})"
+        rows.append((label, name, n, seconds, busy, f"{speedup:.2f} x"))
     return rows
 
 
