@@ -27,7 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pil.experiments.sweep_exec import Backend, DaskBackend, LocalBackend, execute
+from pil.experiments.sweep_backends import Backend, DaskBackend, LocalBackend
+from pil.experiments.sweep_exec import execute
 from pil.experiments.sweep_grid import (
     RunSpec,
     build_grid,

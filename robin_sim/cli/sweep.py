@@ -95,14 +95,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Validate, connect, run what is left of the grid, merge, report. 0 when all runs pass."""
-    from pil.experiments.sweep_exec import (
+    from pil.experiments.sweep_backends import (
         CONNECT_TIMEOUT,
         WORKERS,
         ClusterLostError,
         check_address,
-        execute,
         make_backend,
     )
+    from pil.experiments.sweep_exec import execute
     from pil.experiments.sweep_grid import build_grid, load_target, longest_first, split_list
     from pil.experiments.sweep_store import RunStore, make_record
     from pil.outdir import check_out_dir
