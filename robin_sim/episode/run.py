@@ -89,13 +89,13 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
 
         check_frame_size(world.sim.model, config.width, config.height)
         camera_id(world.sim.model, config.camera)
-    out = check_out_dir(config.out)
-    view = EpisodeView()
-    narrator = Narrator(world, view)
-    totals = EpisodeTotals()
-    started = time.perf_counter()
-    status, error, recorder = "running", "", None
-    with InterruptGuard() as guard:  # Ctrl-C / SIGTERM: acted on between two ticks
+    with InterruptGuard() as guard:  # Ctrl-C / SIGTERM from here on: acted on between ticks
+        out = check_out_dir(config.out)  # the first thing written: the folder
+        view = EpisodeView()
+        narrator = Narrator(world, view)
+        totals = EpisodeTotals()
+        started = time.perf_counter()
+        status, error, recorder = "running", "", None
         try:
             with ExitStack() as stack:
                 stack.callback(world.sim.add_observer(guard.check))
