@@ -25,8 +25,8 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--rates", "1.5"], "must lie in [0, 1]"),
-        (["--rates", "0.4,abc"], "'abc' is not a number"),
+        (["--rates", "1.5"], "--rates must be a number in [0, 1], got '1.5'"),
+        (["--rates", "0.4,abc"], "--rates must be a number in [0, 1], got 'abc'"),
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got '0'"),
     ],
 )

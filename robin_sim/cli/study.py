@@ -10,24 +10,15 @@ import argparse
 import sys
 from pathlib import Path
 
-from pil.errors import RobinPilError, check_rate
-
 DEFAULT_OUT = Path("out/study")
 
 
 def _rates(text: str) -> tuple[float, ...]:
-    """``"0.4,0.6"`` as rates; a bad one raises naming the valid range."""
-    rates = []
-    for part in text.split(","):
-        try:
-            value = float(part)
-        except ValueError:
-            raise RobinPilError(
-                f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
-                "by commas, e.g. 0.4,0.6,0.8,1.0"
-            ) from None
-        rates.append(check_rate(value, f"--rates: detection rate {part.strip()}"))
-    return tuple(rates)
+    """``"0.4,0.6"`` as rates (the sweep's list rules and the rate spec); errors name the range."""
+    from pil.experiments.sweep_grid import split_list
+    from pil.task.params import RATE
+
+    return tuple(RATE.parse(part, "--rates") for part in split_list(text, "--rates"))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
