@@ -76,10 +76,18 @@ def handover(world: PhysicalWorld) -> dict[Action, float]:
     return spent
 
 
-def controlled_run() -> tuple[float, float, float, int, float, dict[Action, float]]:
-    """Steps/s, real-time factor, wall s, IK solves, share of wall time in ``mj_step`` and the
-    action times of one handover."""
-    world = PhysicalWorld()
+def without_sleep(world: PhysicalWorld) -> PhysicalWorld:
+    """``world`` with MuJoCo's island sleeping switched off (the default; see build_spec)."""
+    world.model.opt.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    return world
+
+
+def controlled_run(
+    sleep: bool = True,
+) -> tuple[float, float, float, int, float, dict[Action, float], np.ndarray]:
+    """Steps/s, real-time factor, wall s, IK solves, share of wall time in ``mj_step``, the
+    action times of one handover and where the legs ended (``sleep`` off: the old settings)."""
+    world = PhysicalWorld(sleep=True) if sleep else without_sleep(PhysicalWorld())
     ticks, sim_start, solves = world.sim.ticks, world.time, world.sim.ik.solves
     physics = world.sim.physics_seconds
     start = time.perf_counter()
@@ -88,7 +96,8 @@ def controlled_run() -> tuple[float, float, float, int, float, dict[Action, floa
     steps = (world.sim.ticks - ticks) * world.sim.substeps
     share = (world.sim.physics_seconds - physics) / wall
     rtf = (world.time - sim_start) / wall
-    return steps / wall, rtf, wall, world.sim.ik.solves - solves, share, spent
+    legs = np.array(world.leg_positions())
+    return steps / wall, rtf, wall, world.sim.ik.solves - solves, share, spent, legs
 
 
 def held_leg_state() -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -127,11 +136,16 @@ def main(argv: list[str] | None = None) -> int:
     home_model, home_data = world.model, world.data
     held_model, held_data = held_leg_state()
     rows: list[tuple[float, float, float, float, float, float, float, dict[Action, float]]] = []
+    before: list[tuple[float, float]] = []  # (steps/s, wall s) with sleeping off
+    ends: list[float] = []  # legs' end positions, sleep on vs off (m, largest difference)
     for _ in range(args.repeats):  # interleaved, so that load from other processes hits all
         raw_home = raw_steps_per_second(home_model, home_data, args.steps)
         raw_held = raw_steps_per_second(held_model, held_data, args.steps)
-        rate, rtf, wall, solves, share, spent = controlled_run()
+        rate, rtf, wall, solves, share, spent, legs = controlled_run()
         rows.append((raw_home, raw_held, rate, rtf, wall, solves, share, spent))
+        old_rate, _, old_wall, _, _, _, old_legs = controlled_run(sleep=False)
+        before.append((old_rate, old_wall))
+        ends.append(float(np.abs(legs - old_legs).max()))
 
     def med(i: int) -> float:
         return statistics.median(float(row[i]) for row in rows)  # type: ignore[arg-type]
@@ -157,6 +171,15 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"share of the controlled run's wall time spent in mj_step (same states, no load "
         f"difference): {med(6):.0%}"
+    )
+    gains = sorted(b[1] / r[4] for b, r in zip(before, rows, strict=True))
+    old = statistics.median(b[0] for b in before)
+    print(
+        f"\nIsland sleeping (legs at rest sleep), the controlled handover in the same run: "
+        f"{old:.0f} steps/s without, {med(2):.0f} with (medians); gain per interleaved pair "
+        f"(wall without / wall with): median {statistics.median(gains):.2f}x, all "
+        + ", ".join(f"{g:.2f}" for g in gains)
+        + f"; legs' end positions differ by at most {1000 * max(ends):.2f} mm"
     )
     runs = [row[7] for row in rows]
 

@@ -2,14 +2,15 @@
 
     python bench/bench_sweep.py [--repeats 5] [--learner-reps 4] [--physical-runs 4]
 
-Each figure is the median of ``--repeats`` timed sweeps through the real pipeline (the
+Each figure is the median of ``--repeats`` rounds of timed sweeps through the real pipeline (the
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
 (5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:run_physical``:
-PIL at
-100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds) are included when
-that function is importable, else the table says so. Dask runs on a ``LocalCluster`` on
-loopback with the same number of single-threaded worker processes; its
+PIL at 100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds: the handover
+types differ, so the runs differ in length) are timed in the grid's order and longest expected
+first (the order ``robin-pil sweep`` uses, :func:`pil.experiments.sweep_grid.longest_first`).
+Dask runs on a ``LocalCluster`` on loopback with the same number of single-threaded worker
+processes; its
 overhead per run is (Dask time - local time) / runs. "Workers busy" is the share of the
 workers' time spent inside runs: near 100 % means the sweep machinery keeps them fed, and the
 speed-up is then bounded only by the free cores (the load average is printed alongside).
@@ -26,7 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from pil.experiments.sweep_exec import Backend, DaskBackend, LocalBackend, execute
+from pil.experiments.sweep_backends import Backend, DaskBackend, LocalBackend
+from pil.experiments.sweep_exec import execute
 from pil.experiments.sweep_grid import (
     DEFAULT_RATES,
     DEFAULT_SYSTEMS,
@@ -34,6 +36,7 @@ from pil.experiments.sweep_grid import (
     build_grid,
     import_object,
     load_target,
+    longest_first,
 )
 from pil.experiments.sweep_store import RunStore, make_record
 
@@ -107,20 +110,49 @@ def specs_for(
     return target.function, grid.runs()
 
 
-def bench_kind(label: str, function: str, specs: list[RunSpec], repeats: int, dask: str | None):
-    """Table rows for one run kind: 1 worker, 2 workers, Dask with 2 workers."""
+def bench_kind(
+    label: str,
+    function: str,
+    specs: list[RunSpec],
+    repeats: int,
+    dask: str | None,
+    ordered: list[RunSpec] | None = None,
+):
+    """Table rows for one run kind: 1 worker, 2 workers (grid order, and ``ordered`` if
+    given: longest expected run first), Dask with 2 workers (in the order the sweep uses).
+
+    The executors take turns, one sweep each per round, and every ratio is the median over
+    rounds of that round's ratio: load from other processes then hits all of them alike.
+    """
     n = len(specs)
-    one, busy_one = median_sweep(LocalBackend(1), function, specs, repeats)
-    two, busy_two = median_sweep(LocalBackend(2), function, specs, repeats)
-    rows = [
-        (label, "local, 1 worker", n, one, busy_one, "1.00 x"),
-        (label, "local, 2 workers", n, two, busy_two, f"{one / two:.2f} x"),
-    ]
+    sweeps: dict[str, list[RunSpec]] = {
+        "local, 1 worker": specs,
+        "local, 2 workers, grid order": specs,
+    }
+    if ordered is not None:
+        sweeps["local, 2 workers, longest first"] = ordered
+    last = list(sweeps)[-1]
     if dask is not None:
-        on_dask, _ = median_sweep(DaskBackend(dask), function, specs, repeats)
-        overhead_ms = 1000 * (on_dask - two) / n
-        rows.append((label, f"Dask, 2 workers ({overhead_ms:+.1f} ms/run vs local)", n,
-                     on_dask, float("nan"), f"{one / on_dask:.2f} x"))  # fmt: skip
+        sweeps["Dask, 2 workers"] = ordered or specs
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in sweeps}
+    for _ in range(repeats):
+        for name, runs in sweeps.items():
+            if name.startswith("Dask"):
+                backend: Backend = DaskBackend(dask)  # type: ignore[arg-type]
+            else:
+                backend = LocalBackend(1 if "1 worker" in name else 2)
+            times[name].append(median_sweep(backend, function, runs, 1))
+    one = [t for t, _ in times["local, 1 worker"]]
+    rows = []
+    for name, measured in times.items():
+        seconds = statistics.median(t for t, _ in measured)
+        busy = statistics.median(b for _, b in measured) if "Dask" not in name else float("nan")
+        speedup = statistics.median(o / t for o, (t, _) in zip(one, measured, strict=True))
+        if name.startswith("Dask"):
+            pairs = zip(measured, times[last], strict=True)
+            overhead_ms = statistics.median(1000 * (d - loc) / n for (d, _), (loc, _) in pairs)
+            name = f"{name} ({overhead_ms:+.0f} ms/run vs {last.removeprefix('local, ')})"
+        rows.append((label, name, n, seconds, busy, f"{speedup:.2f} x"))
     return rows
 
 
@@ -128,8 +160,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="timed sweeps per figure")
     parser.add_argument("--learner-reps", type=int, default=4, help="reps of the 5x4 grid")
-    parser.add_argument("--physical-runs", type=int, default=4, help="physical runs per sweep")
-    parser.add_argument("--physical-repeats", type=int, default=1)
+    parser.add_argument("--physical-runs", type=int, default=16, help="physical runs per sweep")
+    parser.add_argument("--physical-repeats", type=int, default=3)
     parser.add_argument("--physical-legs", type=int, default=1, help="legs per physical run")
     parser.add_argument("--no-dask", action="store_true")
     args = parser.parse_args()
@@ -155,8 +187,10 @@ def main() -> None:
             physical_note = ""
             legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length
             function, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
+            ordered = longest_first(specs, load_target("physical"))
             try:
-                rows += bench_kind("physical", function, specs, args.physical_repeats, address)
+                rows += bench_kind("physical", function, specs, args.physical_repeats, address,
+                                   ordered)  # fmt: skip
             except RuntimeError as error:
                 physical_note = f"physical: not measured ({error})"
     finally:

@@ -9,6 +9,17 @@ A subclass lives next to what raises it (``pil.task.scenario.ScenarioError``,
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
+
+QUOTE_LIMIT = 80  # characters of a bad value quoted in an error message
+
+
+def quote(value: Any, limit: int = QUOTE_LIMIT) -> str:
+    """``repr(value)`` cut to about ``limit`` characters: a 50 MB value is not echoed whole."""
+    if isinstance(value, str) and len(value) > limit:
+        return repr(value[:limit]) + f"... ({len(value)} characters)"
+    shown = repr(value)
+    return shown if len(shown) <= limit else shown[:limit] + f"... ({len(shown)} characters)"
 
 
 class RobinPilError(ValueError):
@@ -20,7 +31,7 @@ class InvalidChoiceError(RobinPilError):
 
     def __init__(self, what: str, value: object, choices: Iterable[object]) -> None:
         listed = ", ".join(repr(str(c)) for c in choices)
-        super().__init__(f"unknown {what} {value!r}; valid choices: {listed}")
+        super().__init__(f"unknown {what} {quote(value)}; valid choices: {listed}")
         self.what = what
         self.value = value
         self.choices = tuple(choices)
@@ -31,7 +42,7 @@ def check_rate(rate: float, name: str = "detection rate") -> float:
     try:
         value = float(rate)
     except (TypeError, ValueError):
-        raise RobinPilError(f"{name} must be a number in [0, 1], got {rate!r}") from None
+        raise RobinPilError(f"{name} must be a number in [0, 1], got {quote(rate)}") from None
     if not 0.0 <= value <= 1.0:
         raise RobinPilError(f"{name} must lie in [0, 1] (e.g. 0.6 for 60 %), got {value}")
     return value

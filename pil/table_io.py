@@ -176,6 +176,8 @@ def table_from_json(text: str, source: str = "<json text>") -> AssociationTable:
         ) from None
     except ValueError as error:  # a duplicate key
         raise _fail(source, f"not a valid table: {error}") from None
+    except RecursionError:  # e.g. 100 000 nested brackets
+        raise _fail(source, "nested too deeply to be a table (a table is 3 levels deep)") from None
     return table_from_dict(data, source)
 
 

@@ -68,9 +68,17 @@ def test_parameter_values_from_text_are_converted() -> None:
                            "legs_per_table": 3.0})  # fmt: skip
     assert values["discard"] == 0.3 and values["repeat_discarded"] is False
     assert values["patience"] == 2 and values["legs_per_table"] == 3
-    with pytest.raises(RobinPilError, match="'patience' must be of type int"):
+    with pytest.raises(
+        RobinPilError, match=r"'patience' must be a whole number from 0 to 1000, got '2.5'"
+    ):
         check_params({"patience": "2.5"})
-    with pytest.raises(RobinPilError, match="'repeat_discarded' must be of type bool"):
+    with pytest.raises(
+        RobinPilError, match="'repeat_discarded' must be true or false, got 'maybe'"
+    ):
         check_params({"repeat_discarded": "maybe"})
-    with pytest.raises(RobinPilError, match="'tables' must be of type int"):
+    with pytest.raises(
+        RobinPilError,
+        match=r"'tables' must be a whole number from 1 to 1000 "
+        r"\(or empty: the scenario's\), got True",
+    ):
         check_params({"tables": True})

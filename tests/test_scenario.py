@@ -6,9 +6,9 @@ from pathlib import Path
 
 import pytest
 
+from pil.task.params import ASSEMBLY
 from pil.task.scenario import (
     ASSEMBLY_DEFAULTS,
-    ASSEMBLY_MINIMUMS,
     DEFAULT_SCENARIO,
     DEFAULT_TYPES,
     SCENARIOS_DIR,
@@ -122,14 +122,16 @@ def test_invalid_state_is_rejected(tmp_path: Path) -> None:
 
 def test_zero_tables_is_rejected(tmp_path: Path) -> None:
     path = write(tmp_path, f"types: {DEFAULT_TYPES}\ntables: 0\n")
-    with pytest.raises(ScenarioError, match=r"tables: expected a whole number >= 1, got 0"):
+    with pytest.raises(ScenarioError, match=r"tables must be a whole number from 1 to 1000, got 0"):
         load_scenario(path)
 
 
 def test_unknown_key_and_draw_are_rejected(tmp_path: Path) -> None:
     with pytest.raises(ScenarioError, match="unknown key 'tabels'; valid choices: name"):
         load_scenario(write(tmp_path, f"types: {DEFAULT_TYPES}\ntabels: 3\n"))
-    with pytest.raises(ScenarioError, match="unknown draw 'zigzag'; valid choices: balanced"):
+    with pytest.raises(
+        ScenarioError, match="draw must be one of 'balanced', 'cycle', 'random', got 'zigzag'"
+    ):
         load_scenario(write(tmp_path, f"types: {DEFAULT_TYPES}\ndraw: zigzag\n"))
 
 
@@ -168,4 +170,4 @@ def test_the_shipped_assembly_is_the_default_one() -> None:
     # scenarios/assembly.yaml spells out the paper's test; a file without the keys gets the same
     scenario = load_scenario(DEFAULT_SCENARIO)
     assert {key: getattr(scenario, key) for key in ASSEMBLY_DEFAULTS} == ASSEMBLY_DEFAULTS
-    assert set(ASSEMBLY_MINIMUMS) <= set(ASSEMBLY_DEFAULTS)
+    assert set(ASSEMBLY) == set(ASSEMBLY_DEFAULTS)  # every setting has a spec and a default

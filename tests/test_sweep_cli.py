@@ -62,10 +62,10 @@ def _ctrl_c_as_in_a_terminal() -> None:
     [
         (["--param", "dicsard=0.3"], "unknown learner parameter 'dicsard'; valid choices: "),
         (["--rates", ""], "empty grid: no detection rates given"),
-        (["--rates", "0.4,1.2"], r"detection rate must lie in [0, 1] (e.g. 0.6 for 60 %), got 1.2"),
-        (["--rates", "0.4,abc"], "--rates: 'abc' is not a number in [0, 1]"),
+        (["--rates", "0.4,1.2"], "--rates must be a number in [0, 1], got '1.2'"),
+        (["--rates", "0.4,abc"], "--rates must be a number in [0, 1], got 'abc'"),
         (["--systems", "pil,c7"], "unknown system 'c7'; valid choices: 'pil', 'c1', 'c2'"),
-        (["--reps", "0"], "empty grid: --reps must be at least 1, got 0"),
+        (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got '0'"),
         (["--param", "discard="], "empty grid: --param discard has no values"),
         (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
         (["--connect-timeout", "1", "--scheduler", "tcp://127.0.0.1:PORT"],

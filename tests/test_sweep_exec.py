@@ -12,13 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from pil.experiments.sweep_exec import (
-    LocalBackend,
-    SchedulerError,
-    execute,
-    execute_run,
-    make_backend,
-)
+from pil.experiments.sweep_backends import LocalBackend, SchedulerError, make_backend
+from pil.experiments.sweep_exec import execute, execute_run
 from pil.experiments.sweep_grid import build_grid, load_target
 from pil.experiments.systems import run_one
 

@@ -14,6 +14,7 @@ from pil.experiments.sweep_grid import (
     split_list,
 )
 from pil.experiments.systems import PARAMS, SYSTEMS
+from pil.task.params import ParamError
 
 
 @pytest.fixture(scope="module")
@@ -67,9 +68,13 @@ def test_param_values_take_the_type_of_the_default(learner) -> None:
     assert parse_param("patience=0,3", learner) == ("patience", (0, 3))
     assert parse_param("repeat_discarded=true,no", learner) == ("repeat_discarded", (True, False))
     assert parse_param("detector=exact,independent", learner)[1] == ("exact", "independent")
-    with pytest.raises(SweepGridError, match="'patience': 'two' is not an integer"):
+    with pytest.raises(
+        ParamError, match="--param patience must be a whole number from 0 to 1000, got 'two'"
+    ):
         parse_param("patience=two", learner)
-    with pytest.raises(SweepGridError, match="not true/false"):
+    with pytest.raises(
+        ParamError, match="--param repeat_discarded must be true or false, got 'maybe'"
+    ):
         parse_param("repeat_discarded=maybe", learner)
 
 
@@ -89,7 +94,7 @@ def test_unknown_parameter_lists_the_valid_ones(learner) -> None:
         ({"rates": [-0.1]}, r"must lie in \[0, 1\]"),
         ({"rates": []}, "empty grid: no detection rates"),
         ({"systems": []}, "empty grid: no systems"),
-        ({"reps": 0}, "empty grid: --reps must be at least 1"),
+        ({"reps": 0}, "--reps must be a whole number from 1 to 100000, got 0"),
         ({"params": ["discard="]}, "empty grid: --param discard has no values"),
         ({"params": ["discard"]}, "write it as NAME=V1,V2"),
         ({"params": ["discard=0.1,0.1"]}, "0.1 given more than once"),
@@ -97,7 +102,7 @@ def test_unknown_parameter_lists_the_valid_ones(learner) -> None:
         ({"params": ["tables=2,4"]}, "either with --tables or --param tables"),
         ({"params": ["rate=0.5"]}, "not a parameter; use --rates"),
         ({"rates": [0.4, 0.4]}, "given twice"),
-        ({"tables": 0}, "--tables must be a positive integer"),
+        ({"tables": 0}, "--tables must be a whole number from 1 to 1000"),
     ],
 )
 def test_bad_grids_raise_one_clear_error(learner, changes, message) -> None:
@@ -137,3 +142,23 @@ def test_custom_function_declares_its_own_params() -> None:
     assert {"delay", "die", "discard", "tables"} <= set(target.params)
     assert target.systems == tuple(SYSTEMS)
     assert parse_param("delay=0.01", target) == ("delay", (0.01,))
+
+
+def test_physical_runs_start_longest_expected_first() -> None:
+    from pil.experiments.sweep_grid import longest_first
+    from robin_sim.episode.physical_run import expected_cost
+
+    target = load_target("physical")
+    grid = build_grid(target, systems=["pil"], rates=[0.6, 1.0], reps=4, tables=1,
+                      params=["legs_per_table=1"])  # fmt: skip
+    runs = grid.runs()
+    ordered = longest_first(runs, target)
+    assert sorted(r.run_id for r in ordered) == [r.run_id for r in runs]
+    costs = [expected_cost(*r.call_args()[0], **r.call_args()[1]) for r in ordered]
+    assert costs == sorted(costs, reverse=True) and costs[0] > costs[-1]
+    # the learner-only twin's counts: a run at 60 % costs more than the same seed at 100 %
+    low = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 0.6}
+    high = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 1.0}
+    assert sum(low.values()) > sum(high.values())
+    learner = load_target("learner")
+    assert longest_first(runs, learner) == runs  # learner-only: the grid's order

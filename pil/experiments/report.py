@@ -34,6 +34,12 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
             rows = list(csv.DictReader(handle))
     except OSError as error:
         raise ReportError(f"{path}: cannot read the results: {error.strerror}") from None
+    except UnicodeDecodeError as error:
+        raise ReportError(
+            f"{path}: not UTF-8 text (byte {error.start}); a results file is a UTF-8 CSV"
+        ) from None
+    except csv.Error as error:
+        raise ReportError(f"{path}: not a readable CSV ({error})") from None
     if not rows:
         raise ReportError(f"{path}: no result rows")
     return rows

@@ -1,7 +1,7 @@
-"""Running a sweep's runs: a local process pool or a Dask cluster, behind one loop.
+"""Running a sweep's runs on a back end (:mod:`pil.experiments.sweep_backends`), in one loop.
 
-Both back ends are :class:`concurrent.futures.Executor` s (``ProcessPoolExecutor``, and the
-``ClientExecutor`` of a ``distributed.Client``), so :func:`execute` is the same code for both.
+The back ends (a local process pool, a Dask cluster) are :class:`concurrent.futures.Executor`
+s, so :func:`execute` is the same code for both.
 Workers receive the run function's import path and the run's arguments, never pickled code:
 a Dask worker needs nothing but the installed package.
 
@@ -16,31 +16,25 @@ interrupt propagates; every outcome already handed to ``on_outcome`` was written
 
 from __future__ import annotations
 
-import multiprocessing
 import os
-import signal
 import socket
-import threading
 import time
 import traceback
-from abc import ABC, abstractmethod
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
-from concurrent.futures.process import BrokenProcessPool, ProcessPoolExecutor
+from concurrent.futures import FIRST_COMPLETED, CancelledError, Future, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from typing import Any
 
-from pil.errors import RobinPilError
+from pil.experiments.sweep_backends import Backend, SchedulerError
 from pil.experiments.sweep_grid import RunSpec, import_object
 
-DEFAULT_CONNECT_TIMEOUT_S = 10.0
 _ERROR_LIMIT = 2000  # characters of an error kept in the results
-_SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it has
 
 
-class SchedulerError(RobinPilError):
-    """A Dask scheduler that cannot be reached or used."""
+class ClusterLostError(SchedulerError):
+    """The connection to the Dask scheduler was lost mid-sweep (not the runs' fault)."""
 
 
 # --- worker side ----------------------------------------------------------------------------
@@ -71,141 +65,6 @@ def _plain_values(metrics: Mapping[str, Any]) -> dict[str, Any]:
     return plain
 
 
-def _init_worker() -> None:
-    """Pool worker initializer: leave Ctrl-C to the parent; exit when orphaned.
-
-    Workers are children of the sweep process, so a changed parent pid means the sweep is
-    gone (e.g. ``kill -9``): stop within half a second instead of idling forever.
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    parent = os.getppid()
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.5)
-        os._exit(1)
-
-    threading.Thread(target=watch, name="orphan-watch", daemon=True).start()
-
-
-# --- back ends ------------------------------------------------------------------------------
-class Backend(ABC):
-    """An executor that can be rebuilt after a break, with its parallelism."""
-
-    name = "backend"
-
-    @abstractmethod
-    def executor(self) -> Executor:
-        """The executor to submit runs to."""
-
-    @abstractmethod
-    def renew(self) -> None:
-        """Replace a broken executor by a fresh one."""
-
-    @abstractmethod
-    def slots(self) -> int:
-        """How many runs to keep in flight."""
-
-    @abstractmethod
-    def close(self, cancel: bool = False) -> None:
-        """Release the executor; ``cancel`` stops runs in flight instead of waiting."""
-
-
-class LocalBackend(Backend):
-    """A process pool on this machine (``spawn`` processes: no inherited threads or locks)."""
-
-    name = "local"
-
-    def __init__(self, workers: int | None = None) -> None:
-        self.workers = workers or os.cpu_count() or 1
-        self._pool: ProcessPoolExecutor | None = None
-
-    def executor(self) -> ProcessPoolExecutor:
-        if self._pool is None:
-            context = multiprocessing.get_context("spawn")
-            self._pool = ProcessPoolExecutor(
-                self.workers, mp_context=context, initializer=_init_worker
-            )
-        return self._pool
-
-    def renew(self) -> None:
-        self.close(cancel=True)
-
-    def slots(self) -> int:
-        return self.workers
-
-    def close(self, cancel: bool = False) -> None:
-        pool, self._pool = self._pool, None
-        if pool is None:
-            return
-        if not cancel:
-            pool.shutdown(wait=True)
-        elif hasattr(pool, "terminate_workers"):  # Python >= 3.14
-            pool.terminate_workers()
-        else:  # stop runs in flight now, not when they end (the pool's own process table)
-            processes = list((getattr(pool, "_processes", None) or {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for process in processes:
-                if process.is_alive():
-                    process.terminate()
-            for process in processes:
-                process.join(timeout=5)
-
-
-class DaskBackend(Backend):
-    """A Dask distributed cluster, reached through its scheduler's address."""
-
-    name = "dask"
-
-    def __init__(self, address: str, timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> None:
-        from distributed import Client  # imported here: the CLI must start fast
-
-        self.address = address
-        try:
-            self._client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as error:
-            raise SchedulerError(
-                f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s "
-                f"({type(error).__name__}: {error}); start one with 'dask scheduler' and "
-                "workers with 'dask worker <address>'"
-            ) from None
-        self._executor = self._client.get_executor(pure=False)
-        self._slots, self._slots_checked = 2, -float("inf")
-
-    def executor(self) -> Executor:
-        return self._executor
-
-    def renew(self) -> None:
-        """Nothing to do: Dask replaces lost workers itself."""
-
-    def slots(self) -> int:
-        """Twice the cluster's worker threads (asked again every few seconds: workers come
-        and go), at least 2."""
-        if time.monotonic() - self._slots_checked > _SLOTS_REFRESH_S:
-            self._slots = max(2 * sum(self._client.nthreads().values()), 2)
-            self._slots_checked = time.monotonic()
-        return self._slots
-
-    def close(self, cancel: bool = False) -> None:
-        if self._executor is not None:
-            self._executor.shutdown(wait=not cancel)
-            self._executor = None
-            self._client.close()
-
-
-def make_backend(
-    workers: int | None = None,
-    scheduler: str | None = None,
-    timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S,
-) -> Backend:
-    """A Dask back end when ``scheduler`` is given, else a local pool of ``workers``."""
-    if scheduler:
-        return DaskBackend(scheduler, timeout_s)
-    if workers is not None and workers < 1:
-        raise RobinPilError(f"--workers must be at least 1, got {workers}")
-    return LocalBackend(workers)
-
-
 # --- the loop -------------------------------------------------------------------------------
 @dataclass
 class Tally:
@@ -218,6 +77,7 @@ class Tally:
 
 
 OnOutcome = Callable[[RunSpec, dict[str, Any], int, bool], None]
+WAIT_NOTICE_S = 10.0  # how long runs may make no progress before on_wait is told why
 
 
 def execute(
@@ -228,12 +88,15 @@ def execute(
     *,
     max_attempts: int = 2,
     first_attempt: Callable[[str], int] = lambda run_id: 1,
+    on_wait: Callable[[str], None] | None = None,
 ) -> Tally:
     """Run ``specs`` on ``backend``; call ``on_outcome(spec, outcome, attempt, final)`` per try.
 
     ``final`` is True when the run will not be tried again in this call (it passed, or it
     failed ``max_attempts`` times). ``first_attempt(run_id)`` numbers the first try (a resumed
-    sweep continues the count).
+    sweep continues the count). ``on_wait(message)`` is told what the sweep waits for when no
+    run has ended for :data:`WAIT_NOTICE_S` (e.g. a scheduler without workers). A lost
+    cluster raises :class:`ClusterLostError`; the runs in flight are not charged an attempt.
     """
     tally = Tally()
     queue: deque[RunSpec] = deque(specs)
@@ -263,21 +126,44 @@ def execute(
         future = backend.executor().submit(execute_run, function, args, kwargs)
         in_flight[future] = (spec, isolated)
 
+    def check_cluster(error: BaseException | None = None) -> None:
+        reason = backend.lost()
+        if reason is None and isinstance(error, CancelledError):
+            reason = f"a run was cancelled by the cluster ({type(error).__name__})"
+        if reason is not None:
+            raise ClusterLostError(
+                f"{reason}; {len(in_flight) + len(done_now)} runs in flight are not charged "
+                "an attempt"
+            ) from None
+
+    done_now: set[Future[dict[str, Any]]] = set()
     try:
         while queue or alone or in_flight:
-            if alone:
-                if not in_flight:
-                    submit(alone.popleft(), True)
-            else:
-                while queue and len(in_flight) < backend.slots():
-                    submit(queue.popleft(), False)
-            done, _ = wait(list(in_flight), return_when=FIRST_COMPLETED)
+            try:
+                if alone:
+                    if not in_flight:
+                        submit(alone.popleft(), True)
+                else:
+                    while queue and len(in_flight) < backend.slots():
+                        submit(queue.popleft(), False)
+            except (OSError, RuntimeError, TimeoutError) as error:  # the scheduler went away
+                check_cluster(error)
+                raise
+            done_now, _ = wait(list(in_flight), timeout=WAIT_NOTICE_S, return_when=FIRST_COMPLETED)
+            if not done_now:
+                check_cluster()
+                message = backend.waiting()
+                if message is not None and on_wait is not None:
+                    on_wait(message)
+                continue
             broken = False
-            for future in done:
-                spec, isolated = in_flight.pop(future)
+            for future in list(done_now):
+                spec, isolated = in_flight[future]
                 try:
                     outcome = future.result()
                 except BrokenProcessPool as error:
+                    del in_flight[future]
+                    done_now.discard(future)
                     broken = True
                     if isolated:
                         finish(spec, _lost(error, "worker process died"), True)
@@ -285,7 +171,10 @@ def execute(
                         alone.append(spec)  # a suspect: rerun it alone to find the culprit
                     continue
                 except Exception as error:  # e.g. Dask's KilledWorker
+                    check_cluster(error)  # a lost connection is not the run's fault
                     outcome = _lost(error)
+                del in_flight[future]
+                done_now.discard(future)
                 finish(spec, outcome, isolated)
             if broken:
                 for future in list(in_flight):  # they all fail with the broken pool

@@ -18,28 +18,38 @@ from __future__ import annotations
 import hashlib
 import importlib
 import inspect
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError, check_rate
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
-from pil.experiments.systems import SYSTEMS
-from pil.task.scenario import ASSEMBLY_DEFAULTS
+from pil.experiments.systems import PAPER_SYSTEMS
+from pil.task.params import ASSEMBLY_DEFAULTS, REPS, SEED, ParamSpec, spec_for
 
 KINDS: dict[str, str] = {
     "learner": "pil.experiments.systems:run_one",
     "physical": "robin_sim.episode.physical_run:run_physical",
 }
-# where each kind's parameter names and defaults live (later sources override earlier ones)
+# where each kind's parameter specs live (later sources override earlier ones)
 PARAM_SOURCES: dict[str, tuple[str, ...]] = {
-    "learner": ("pil.experiments.systems:PARAMS",),
+    "learner": ("pil.task.params:PARAMS", "pil.task.params:RUN_OPTIONS"),
     "physical": (
-        "pil.experiments.systems:PARAMS",
+        "pil.task.params:PARAMS",
+        "pil.task.params:RUN_OPTIONS",
         "robin_sim.episode.physical_run:PHYSICAL_PARAMS",
     ),
 }
-DEFAULT_SYSTEMS: tuple[str, ...] = tuple(SYSTEMS)  # the paper's five
+# each kind's whole-run check: check(system, rate, seed, **params) raises on a run that cannot
+# start (a missing scenario, a layout without the legs asked for), before the first run
+CHECKS: dict[str, str] = {
+    "learner": "pil.experiments.systems:check_run",
+    "physical": "robin_sim.episode.physical_run:check_physical",
+}
+# each kind's expected cost of a run, cost(system, rate, seed, **params) -> float, to start the
+# longest runs first (learner-only runs are all short: they keep the grid's order)
+COSTS: dict[str, str] = {"physical": "robin_sim.episode.physical_run:expected_cost"}
+DEFAULT_SYSTEMS: tuple[str, ...] = tuple(PAPER_SYSTEMS)  # the paper's five
 DEFAULT_RATES: tuple[float, ...] = PAPER_RATES
 RESERVED: dict[str, str] = {
     "system": "--systems",
@@ -76,17 +86,26 @@ class RunTarget:
     kind: str
     function: str
     systems: tuple[str, ...] | None  # None: any system name is passed through
-    params: Mapping[str, Any]  # valid parameter name -> default (None: type unknown)
+    params: Mapping[str, ParamSpec]  # valid parameter name -> its spec (type, range, default)
     open_params: bool  # the function takes **params and names no PARAMS: accept any name
+    check: str | None = None  # import path of check(system, rate, seed, **params), if any
+    cost: str | None = None  # import path of cost(system, rate, seed, **params), if any
+
+    def spec(self, name: str) -> ParamSpec:
+        """The spec of parameter ``name`` (an open target's unknown names: any value)."""
+        return self.params.get(name) or spec_for(name, None)
 
 
 def load_target(kind: str, function: str | None = None) -> RunTarget:
     """The run target of ``kind`` (``learner`` or ``physical``) or of a custom ``function``.
 
-    Valid parameters are the keyword-only arguments of the function plus the mappings of
-    :data:`PARAM_SOURCES` (for a custom function: ``PARAMS`` of its module, if any); valid
-    systems come from ``SYSTEMS`` of the function's module or of ``pil.experiments.systems``.
+    Valid parameters are the keyword-only arguments of the function plus the spec mappings of
+    :data:`PARAM_SOURCES` (for a custom function: ``PARAMS`` of its module, if any: specs or
+    defaults); valid systems come from ``SYSTEMS`` of the function's module or of
+    ``pil.experiments.systems``; the whole-run check is :data:`CHECKS`' (for a custom
+    function: ``check_run`` of its module, if any).
     """
+    own = function is None  # the kind's own run function: its whole-run check applies
     if function is None:
         if kind not in KINDS:
             raise InvalidChoiceError("run kind", kind, KINDS)
@@ -95,14 +114,20 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
     if not callable(run_function):
         raise SweepGridError(f"{function!r} is not a function")
     modules = [importlib.import_module(function.partition(":")[0])]
+    check: str | None = None
     if kind in KINDS:
         modules.append(importlib.import_module(_SYSTEMS_MODULE))
         sources = [import_object(path) for path in PARAM_SOURCES[kind]]
     else:
         sources = [getattr(modules[0], "PARAMS", None) or {}]
-    params: dict[str, Any] = {}
+    cost: str | None = None
+    if own:
+        check, cost = CHECKS[kind], COSTS.get(kind)
+    elif callable(getattr(modules[0], "check_run", None)):
+        check = f"{modules[0].__name__}:check_run"
+    params: dict[str, ParamSpec] = {}
     for source in sources:
-        params.update(source)
+        params.update({name: spec_for(name, value) for name, value in source.items()})
     systems: tuple[str, ...] | None = None
     for module in modules:
         if systems is None and getattr(module, "SYSTEMS", None):
@@ -113,10 +138,12 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
             open_params = not params
         elif parameter.name not in params:
             default = parameter.default
-            params[parameter.name] = None if default is inspect.Parameter.empty else default
+            default = None if default is inspect.Parameter.empty else default
+            params[parameter.name] = spec_for(parameter.name, default)
     for name in RESERVED:
         params.pop(name, None)
-    return RunTarget(kind, function, systems, dict(sorted(params.items())), open_params)
+    params = dict(sorted(params.items()))
+    return RunTarget(kind, function, systems, params, open_params, check, cost)
 
 
 @dataclass(frozen=True, slots=True)
@@ -206,33 +233,6 @@ def split_list(text: str, what: str) -> list[str]:
     return items
 
 
-def coerce(name: str, text: str, default: Any) -> Any:
-    """Parse ``text`` to the type of ``default`` (bool, int, float, str); guess when unknown."""
-    if isinstance(default, bool):
-        lowered = text.lower()
-        if lowered in ("1", "true", "yes", "on"):
-            return True
-        if lowered in ("0", "false", "no", "off"):
-            return False
-        raise SweepGridError(f"parameter {name!r}: {text!r} is not true/false")
-    converters: list[Callable[[str], Any]]
-    if isinstance(default, int):
-        converters = [int]
-    elif isinstance(default, float):
-        converters = [float]
-    elif isinstance(default, str):
-        return text
-    else:
-        converters = [int, float, str]
-    for convert in converters:
-        try:
-            return convert(text)
-        except ValueError:
-            continue
-    kind = "an integer" if converters == [int] else "a number"
-    raise SweepGridError(f"parameter {name!r}: {text!r} is not {kind}")
-
-
 def parse_param(text: str, target: RunTarget) -> tuple[str, tuple[Any, ...]]:
     """``"discard=0,0.3"`` -> ``("discard", (0.0, 0.3))``, checked against the target."""
     name, sep, values = text.partition("=")
@@ -246,8 +246,9 @@ def parse_param(text: str, target: RunTarget) -> tuple[str, tuple[Any, ...]]:
     raw = split_list(values, f"--param {name}")
     if not raw:
         raise SweepGridError(f"empty grid: --param {name} has no values")
-    parsed = tuple(coerce(name, item, target.params.get(name)) for item in raw)
-    if len(set(parsed)) != len(parsed):
+    spec = target.spec(name)
+    parsed = tuple(spec.parse(item, f"--param {name}") for item in raw)
+    if len({format_value(value) for value in parsed}) != len(parsed):
         raise SweepGridError(f"--param {name}: the same value given twice in {values!r}")
     return name, parsed
 
@@ -274,8 +275,7 @@ def build_grid(
     checked_rates = tuple(check_rate(rate, "detection rate") for rate in rates)
     if len(set(checked_rates)) != len(checked_rates):
         raise SweepGridError(f"a detection rate is given twice in {list(rates)}")
-    if isinstance(reps, bool) or not isinstance(reps, int) or reps < 1:
-        raise SweepGridError(f"empty grid: --reps must be at least 1, got {reps!r}")
+    reps = REPS.parse(reps, "--reps")
     swept = [parse_param(text, target) for text in params]
     names = [name for name, _ in swept]
     repeated = sorted({name for name in names if names.count(name) > 1})
@@ -284,7 +284,39 @@ def build_grid(
     if tables is not None:
         if "tables" in names:
             raise SweepGridError("give the tables either with --tables or --param tables=...")
-        if isinstance(tables, bool) or not isinstance(tables, int) or tables < 1:
-            raise SweepGridError(f"--tables must be a positive integer, got {tables!r}")
-        swept.insert(0, ("tables", (tables,)))
-    return Grid(target, tuple(systems), checked_rates, reps, tuple(swept), int(base_seed))
+        swept.insert(0, ("tables", (target.spec("tables").parse(tables, "--tables"),)))
+    base_seed = SEED.parse(base_seed, "--seed")
+    grid = Grid(target, tuple(systems), checked_rates, reps, tuple(swept), base_seed)
+    check_runs(grid)
+    return grid
+
+
+def longest_first(specs: Sequence[RunSpec], target: RunTarget) -> list[RunSpec]:
+    """``specs`` in the order to start them: by the target's expected cost, longest first.
+
+    Starting the longest runs first (LPT scheduling) keeps a worker from being left alone with
+    a long run at the end of a sweep. Without a cost function the order is unchanged.
+    """
+    if target.cost is None:
+        return list(specs)
+    cost = import_object(target.cost)
+    expected = {}
+    for spec in specs:
+        args, kwargs = spec.call_args()
+        expected[spec.run_id] = float(cost(*args, **kwargs))
+    return sorted(specs, key=lambda spec: -expected[spec.run_id])
+
+
+def check_runs(grid: Grid) -> None:
+    """Run the target's whole-run check once per distinct parameter combination (not per
+    repetition or system), so a run that cannot start is refused before the first one."""
+    if grid.target.check is None:
+        return
+    check = import_object(grid.target.check)
+    seen: set[str] = set()
+    for spec in grid.runs():
+        key = "|".join(_pair(n, v) for n, v in spec.params)
+        if key not in seen:
+            seen.add(key)
+            args, kwargs = spec.call_args()
+            check(*args, **kwargs)

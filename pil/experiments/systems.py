@@ -28,6 +28,7 @@ from pil.agents import AGENTS
 from pil.errors import InvalidChoiceError, check_rate
 from pil.learner import Learner
 from pil.table import AssociationTable
+from pil.task.params import SCENARIO
 from pil.task.parts import (
     PARAMS,
     SCENARIO_KEYS,
@@ -49,6 +50,7 @@ __all__ = [
     "SYSTEMS",
     "SYSTEM_SPECS",
     "check_params",
+    "check_run",
     "check_system",
     "derive_seeds",
     "resolve_scenario",
@@ -262,6 +264,17 @@ def run_system(
     row.update({name: effective[name] for name in PARAMS})
     row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
     return row
+
+
+def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
+    """Everything :func:`run_one` checks before it runs (system, rate, seed, parameters, the
+    scenario file); returns the resolved scenario. A sweep calls it before its first run."""
+    check_system(system)
+    check_rate(rate)
+    derive_seeds(seed)
+    scenario = params.pop("scenario", None)
+    values = check_params({**params, "detector": params.pop("detector", "exact")})
+    return resolve_scenario(SCENARIO.parse(scenario, "scenario"), values)
 
 
 def run_one(

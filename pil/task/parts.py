@@ -9,8 +9,8 @@ succeed)::
     for record in steps(parts.learner, parts.person, parts.detector, world, **parts.options):
         ...
 
-:data:`PARAMS` names every parameter with its default; an unknown name raises an error that
-lists them.
+:data:`PARAMS` names every parameter with its default; their types and valid ranges are the
+specs of :mod:`pil.task.params`, which :func:`check_params` applies.
 """
 
 from __future__ import annotations
@@ -22,36 +22,19 @@ from typing import Any
 
 import numpy as np
 
-from pil.errors import InvalidChoiceError, RobinPilError
-from pil.exploration import DEFAULT_RULE, check_rule
+from pil.errors import InvalidChoiceError
+from pil.exploration import check_rule
 from pil.learner import Learner
 from pil.table import AssociationTable
-from pil.task.detector import DEFAULT_DISCARD, Detector, MeasuredDetector, make_detector
+from pil.task.detector import Detector, MeasuredDetector, make_detector
+from pil.task.params import ASSEMBLY, SEED, parse_all
+from pil.task.params import PARAMS as PARAM_SPECS
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
-from pil.task.runner import MAX_ACTIONS_PER_GESTURE
-from pil.task.scenario import ASSEMBLY_DEFAULTS, Scenario, load_scenario
-from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD, ReactionTime
+from pil.task.scenario import Scenario, load_scenario
+from pil.task.watching import ReactionTime
 
-# The assembly's own settings: None (the default) keeps the scenario file's value.
-SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY_DEFAULTS)
-_SCENARIO_KINDS: dict[str, Any] = ASSEMBLY_DEFAULTS  # the type each setting converts to
-PARAMS: dict[str, Any] = {
-    **dict.fromkeys(SCENARIO_KEYS),
-    "detector": "exact",  # exact | independent | measured:FILE (pil.task.detector)
-    "discard": DEFAULT_DISCARD,  # share of misses discarded as low-confidence
-    "confusion": None,  # 4x4 rows: how a miss of each gesture is misread; None = uniform
-    "repeat_discarded": True,  # the robot asks for a repeat of a discarded gesture
-    "silent_ok": 0.0,  # chance that the person approves by saying nothing
-    "patience": 0,  # rejections in a row after which the person repeats the gesture; 0 = off
-    "reaction_time": DEFAULT_REACTION_MEAN,  # s, mean delay from recognising to thumb down
-    "reaction_spread": DEFAULT_REACTION_SPREAD,  # s, its standard deviation
-    "handover_timeout": 180.0,  # s from a handover's first gesture (physical episodes)
-    "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
-    "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
-    "adaptation": "none",  # "halve": a not-OK halves the refused count (pil.learner)
-    "epsilon": 0.1,  # the bandit baseline's chance of a random action (pil.agents.bandit)
-    "step_size": 0.5,  # the TAMER baseline's regression step (pil.agents.tamer)
-}
+SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY)  # None (the default): the scenario file's
+PARAMS: dict[str, Any] = {name: spec.default for name, spec in PARAM_SPECS.items()}
 # The person's parameters (recorded in an episode's summary).
 PERSON_PARAMS: tuple[str, ...] = ("silent_ok", "patience", "reaction_time", "reaction_spread")
 PHASES: tuple[str, ...] = ("train", "test")
@@ -71,53 +54,17 @@ class RunParts:
 
 
 def check_params(params: Mapping[str, Any]) -> dict[str, Any]:
-    """All parameters with defaults filled in; an unknown name raises listing the valid ones.
+    """All parameters with defaults filled in, each parsed by its :mod:`pil.task.params` spec.
 
-    Values are converted to the type of their default, so text from a command line or a CSV
-    works (``"0.3"``, ``"false"``); a value that does not convert raises naming the parameter.
+    Text from a command line or a CSV works (``"0.3"``, ``"false"``); an unknown name raises
+    listing the valid ones, a bad value raises naming the parameter and its valid range.
     """
-    values = dict(PARAMS)
-    for name, value in params.items():
-        if name not in PARAMS:
-            raise InvalidChoiceError("parameter", name, PARAMS)
-        kind = _SCENARIO_KINDS.get(name, PARAMS[name])
-        values[name] = None if value is None else _convert(name, value, kind)
-    return values
-
-
-_TRUE, _FALSE = ("true", "yes", "1", "on"), ("false", "no", "0", "off")
-
-
-def _convert(name: str, value: Any, default: Any) -> Any:
-    """``value`` as the type of ``default`` (bool, int, float, str; None: as given)."""
-    kind = type(default)
-    if default is None:
-        return value
-    if isinstance(value, kind) and (kind is bool or not isinstance(value, bool)):
-        return value
-    try:
-        if kind is bool:
-            text = str(value).strip().lower()
-            if text in _TRUE or text in _FALSE:
-                return text in _TRUE
-            raise ValueError
-        if kind is int:
-            number = float(value)
-            if isinstance(value, bool) or not number.is_integer():
-                raise ValueError
-            return int(number)
-        return kind(value)
-    except (TypeError, ValueError):
-        raise RobinPilError(
-            f"parameter {name!r} must be of type {kind.__name__} (default {default!r}), "
-            f"got {value!r}"
-        ) from None
+    return parse_all(PARAM_SPECS, params)
 
 
 def derive_seeds(seed: int) -> dict[str, int]:
     """Independent sub-seeds of one run or repetition (numpy SeedSequence of ``seed``)."""
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
+    seed = SEED.parse(seed, "seed")
     words = np.random.SeedSequence(int(seed)).generate_state(len(SEED_NAMES), np.uint64)
     return {name: int(w) for name, w in zip(SEED_NAMES, words, strict=True)}
 

@@ -21,6 +21,7 @@ from typing import Any, TypeVar
 import yaml
 
 from pil.errors import RobinPilError
+from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
 from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -29,22 +30,6 @@ SCENARIOS_DIR = Path(str(resources.files("pil.task") / "scenarios"))
 DEFAULT_SCENARIO = SCENARIOS_DIR / "assembly.yaml"
 DEFAULT_TYPES = SCENARIOS_DIR / "handover_types.yaml"
 MIN_STEPS, MAX_STEPS = 4, 7
-DRAWS: tuple[str, ...] = ("balanced", "cycle", "random")
-# The assembly's settings and their defaults (the paper's test: 10 tables of 4 legs, training on
-# 5), and the least whole number each count takes; the one source for files, code and the CLI.
-ASSEMBLY_DEFAULTS: dict[str, Any] = {
-    "tables": 10,
-    "legs_per_table": 4,
-    "training_tables": 5,
-    "draw": "balanced",
-    "spots": 4,  # table spots the person can point at
-}
-ASSEMBLY_MINIMUMS: dict[str, int] = {
-    "tables": 1,
-    "legs_per_table": 1,
-    "training_tables": 0,
-    "spots": 1,
-}
 ASSEMBLY_KEYS: tuple[str, ...] = (
     "name",
     "description",
@@ -295,19 +280,20 @@ def find_scenario(path: str | Path) -> Path:
 
 
 def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
-    """The validated counts and draw of an assembly (defaults for missing keys)."""
+    """The validated counts and draw of an assembly (defaults for missing keys).
+
+    Each key is checked by its spec in :data:`pil.task.params.ASSEMBLY`, the same that checks
+    the command-line and sweep values.
+    """
     values: dict[str, Any] = {}
-    for key, low in ASSEMBLY_MINIMUMS.items():
-        value = raw.get(key, ASSEMBLY_DEFAULTS[key])
-        if isinstance(value, bool) or not isinstance(value, int) or value < low:
-            raise ScenarioError(f"{source}: {key}: expected a whole number >= {low}, got {value!r}")
-        values[key] = value
-    draw = raw.get("draw", ASSEMBLY_DEFAULTS["draw"])
-    if draw not in DRAWS:
-        raise ScenarioError(
-            f"{source}: draw: unknown draw {draw!r}; valid choices: " + ", ".join(DRAWS)
-        )
-    values["draw"] = draw
+    for key, spec in ASSEMBLY.items():
+        value = raw.get(key)
+        if value is None:
+            value = ASSEMBLY_DEFAULTS[key]
+        try:
+            values[key] = spec.required().parse(value, f"{source}: {key}")
+        except ParamError as error:
+            raise ScenarioError(str(error)) from None
     return values
 
 
@@ -327,7 +313,12 @@ def _read_yaml(path: Path) -> Mapping[str, Any]:
     try:
         raw = yaml.safe_load(text)
     except yaml.YAMLError as error:
-        raise ScenarioError(f"{path}: malformed YAML: {error}") from None
+        mark = getattr(error, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
+        raise ScenarioError(f"{path}: malformed YAML{where}: {problem}") from None
+    except RecursionError:
+        raise ScenarioError(f"{path}: nested too deeply to be a scenario") from None
     if not isinstance(raw, Mapping):
         raise ScenarioError(f"{path}: expected a mapping at the top level")
     return raw

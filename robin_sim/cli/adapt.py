@@ -35,11 +35,11 @@ def run(args: argparse.Namespace) -> int:
         run_adaptation_study,
         write_adaptation,
     )
-    from pil.experiments.outdir import check_output_folder
+    from pil.outdir import check_out_dir
 
     rates, systems = run_options(args, ADAPT_SYSTEMS)
     change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
-    check_output_folder(args.out)
+    check_out_dir(args.out)
     with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
         rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
                                     progress=bar.update)  # fmt: skip

@@ -15,20 +15,22 @@ from pathlib import Path
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The episode's options."""
     parser.add_argument(
-        "--tables", type=int, default=None,
+        "--tables", default=None,
         help="tables to assemble, 4 legs each (default: 1; with --scenario, the scenario's)",
     )  # fmt: skip
-    parser.add_argument("--rate", type=float, default=1.0, help="gesture detection rate in [0, 1]")
-    parser.add_argument("--seed", type=int, default=0, help="seed of every random choice")
+    parser.add_argument("--rate", default=1.0, help="gesture detection rate in [0, 1]")
+    parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
     parser.add_argument("--system", default="pil", help="pil (default) or c1..c4 (pre-trained)")
-    parser.add_argument("--scenario", type=Path, default=None, help="assembly YAML to use")
-    parser.add_argument("--camera", default="front", help="front, side or head")
+    parser.add_argument("--scenario", default=None, help="assembly YAML to use")
+    parser.add_argument(
+        "--camera", default="front", help="front, side, head, head_left_eye or head_right_eye"
+    )
     parser.add_argument("--size", default="640x480", help="video size WxH (even numbers)")
-    parser.add_argument("--fps", type=int, default=30, help="video frame rate")
+    parser.add_argument("--fps", default=30, help="video frame rate (1-240)")
     parser.add_argument("--no-video", action="store_true", help="physics and log only")
     parser.add_argument("--shadows", action="store_true", help="render shadows (about 3x slower)")
     parser.add_argument(
-        "--render-workers", type=int, default=None,
+        "--render-workers", default=None,
         help="processes rendering video frames (default 2; 0 renders in this process)",
     )  # fmt: skip
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
@@ -52,16 +54,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _size(text: str) -> tuple[int, int]:
-    from pil.errors import RobinPilError
-
-    try:
-        width, height = (int(part) for part in text.lower().split("x"))
-    except ValueError:
-        raise RobinPilError(f"--size must look like 640x480, got {text!r}") from None
-    return width, height
-
-
 def _params(texts: list[str]) -> dict[str, str]:
     from pil.errors import RobinPilError
 
@@ -75,25 +67,27 @@ def _params(texts: list[str]) -> dict[str, str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the episode and print its summary."""
-    width, height = _size(args.size)
+    """Check every option, then run the episode and print its summary."""
+    from robin_sim.episode.config import EpisodeConfig, parse_size
+
+    width, height = parse_size(args.size)
+    video = not args.no_video
     params = _params(args.param)
     if args.detector is not None:
         params["detector"] = args.detector
-    video = not args.no_video
-    if video or not args.no_verify or params.get("detector") == "vision":
-        from robin_sim.render.gl_backend import ensure_gl_backend
-
-        ensure_gl_backend()
-    from robin_sim.episode.run import EpisodeConfig, run_episode
-
     config = EpisodeConfig(
         tables=args.tables, rate=args.rate, seed=args.seed, system=args.system,
         scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
         height=height, fps=args.fps, shadows=args.shadows,
         render_workers=args.render_workers, policy_panel=not args.no_policy,
         verify=not args.no_verify, progress=not args.quiet, params=params,
-    )  # fmt: skip
+    ).checked()  # fmt: skip
+    if video or config.verify or params.get("detector") == "vision":
+        from robin_sim.render.gl_backend import ensure_gl_backend
+
+        ensure_gl_backend()  # before MuJoCo is imported
+    from robin_sim.episode.run import run_episode
+
     summary = run_episode(config)
     print(json.dumps(summary, indent=2))
     return 0

@@ -52,10 +52,14 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; bad input ends with one clear message and exit code 2."""
+    """Entry point; bad input ends with one clear message and exit code 2, Ctrl-C with 130."""
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((arg for arg in argv if not arg.startswith("-")), None)
-    args = build_parser(command if command in COMMANDS else None).parse_args(argv)
+    try:
+        args = build_parser(command if command in COMMANDS else None).parse_args(argv)
+    except KeyboardInterrupt:  # while importing the command's module: nothing started yet
+        print(f"robin-pil {command}: interrupted before starting", file=sys.stderr)
+        return 130
     try:
         return int(args._module.run(args) or 0)
     except RobinPilError as error:

@@ -32,7 +32,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run both modes and write the outputs; bad input raises before anything runs."""
-    from pil.experiments.outdir import check_output_folder
     from pil.experiments.people import (
         DEFAULT_PEOPLE,
         PEOPLE_SYSTEMS,
@@ -41,12 +40,13 @@ def run(args: argparse.Namespace) -> int:
         run_people_study,
         write_people,
     )
+    from pil.outdir import check_out_dir
 
     rates, systems = run_options(args, PEOPLE_SYSTEMS, only=PEOPLE_SYSTEMS)
     people = load_people(DEFAULT_PEOPLE if args.people is None else args.people)
     if args.tables is not None:
         people = People(people.scenario.with_changes(tables=args.tables), people.overrides)
-    check_output_folder(args.out)
+    check_out_dir(args.out)
     with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
         rows = run_people_study(people, systems, rates, args.reps, args.seed,
                                 progress=bar.update)  # fmt: skip

@@ -50,7 +50,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write the report and list its files."""
+    from pil.errors import InvalidChoiceError
+    from pil.experiments.report import load_rows
+
     metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
+    systems = sorted({str(row.get("system")) for row in load_rows(args.results)})
+    if args.baseline not in systems:  # asked for by name: an unknown one is an error
+        raise InvalidChoiceError("baseline system", args.baseline, systems)
     out = args.out if args.out is not None else args.results.parent / "report"
     for path in write_report(args.results, out, metrics=metrics, baseline=args.baseline):
         print(path)

@@ -54,11 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--tables",
-        type=int,
         default=None,
         help="test tables per run (default: the scenario's, 10 in the paper's setup)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
+    parser.add_argument("--seed", default=0, help="master seed, >= 0 (default: %(default)s)")
     parser.add_argument(
         "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
     )
@@ -98,31 +97,27 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
-    from pil.experiments.outdir import check_output_folder
     from pil.experiments.study import StudyConfig, run_study, write_outputs
-    from pil.experiments.systems import PAPER_SYSTEMS
+    from pil.experiments.systems import PAPER_SYSTEMS, check_params, resolve_scenario
+    from pil.outdir import check_out_dir
+    from pil.task.params import ASSEMBLY, REPS, SEED
 
-    if args.seed < 0:
-        raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
-    if args.reps < 1:
-        raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
-    if args.tables is not None and args.tables < 1:
-        raise RobinPilError(f"--tables must be >= 1, got {args.tables}")
+    params = {
+        "tables": ASSEMBLY["tables"].parse(args.tables, "--tables"),
+        "detector": args.detector,
+        "exploration": args.exploration,
+        "repeat_discarded": args.discarded == "repeated",
+    }
     systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(
         systems=systems,
         rates=_study_rates(args.rates, args.detector),
-        reps=args.reps,
-        seed=args.seed,
-        scenario=args.scenario,
-        params={
-            "tables": args.tables,
-            "detector": args.detector,
-            "exploration": args.exploration,
-            "repeat_discarded": args.discarded == "repeated",
-        },
+        reps=REPS.parse(args.reps, "--reps"),
+        seed=SEED.parse(args.seed, "--seed"),
+        scenario=resolve_scenario(args.scenario, check_params(params)),  # a bad file: refused now
+        params=params,
     )
-    check_output_folder(args.out)  # before the computation, not after it
+    check_out_dir(args.out)  # before the computation, not after it
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
               disable=args.no_progress) as bar:  # fmt: skip
         rows = run_study(config, progress=bar.update)

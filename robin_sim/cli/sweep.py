@@ -10,11 +10,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
+
+EXIT_CLUSTER_LOST = 3  # the Dask cluster went away mid-sweep; rerun to resume
 
 _EPILOG = (
     "Results: DIR/runs.jsonl (every attempt, written as it ends), DIR/results.csv (one row per "
@@ -45,11 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="comma-separated detection rates in [0, 1] (default: %(default)s)",
     )
     grid.add_argument(
-        "--reps", type=int, default=PAPER_REPS, help="repetitions per cell (default: %(default)s)"
+        "--reps", default=PAPER_REPS, help="repetitions per cell (default: %(default)s)"
     )
     grid.add_argument(
         "--tables",
-        type=int,
         default=None,
         help="tables per run (default: the kind's: 10 learner, the scenario's physical)",
     )
@@ -62,7 +64,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     grid.add_argument(
         "--seed",
-        type=int,
         default=0,
         help="base seed; each run's seed derives from it and the run's parameters",
     )
@@ -77,7 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--out", type=Path, default=Path("sweep"), help="results directory (default: ./sweep)"
     )
     where.add_argument(
-        "--workers", type=int, default=None, help="local worker processes (default: all cores)"
+        "--workers", default=None, help="local worker processes (default: all cores)"
     )
     where.add_argument(
         "--scheduler",
@@ -87,7 +88,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     where.add_argument(
         "--connect-timeout",
-        type=float,
         default=10.0,
         metavar="S",
         help="seconds to wait for the scheduler (default: 10)",
@@ -98,17 +98,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Validate, connect, run what is left of the grid, merge, report. 0 when all runs pass."""
-    from pil.experiments.sweep_exec import execute, make_backend
-    from pil.experiments.sweep_grid import DEFAULT_SYSTEMS, build_grid, load_target, split_list
+    from pil.experiments.sweep_backends import (
+        CONNECT_TIMEOUT,
+        WORKERS,
+        check_address,
+        make_backend,
+    )
+    from pil.experiments.sweep_exec import ClusterLostError, execute
+    from pil.experiments.sweep_grid import (
+        DEFAULT_SYSTEMS,
+        build_grid,
+        load_target,
+        longest_first,
+        split_list,
+    )
     from pil.experiments.sweep_store import RunStore, make_record
+    from pil.outdir import check_out_dir
+    from pil.task.params import RATE
 
     if args.scheduler and args.workers is not None:
         raise RobinPilError("give --workers (local pool) or --scheduler (Dask), not both")
+    workers = WORKERS.parse(args.workers, "--workers")
+    timeout = CONNECT_TIMEOUT.parse(args.connect_timeout, "--connect-timeout")
+    if args.scheduler is not None:
+        check_address(args.scheduler)
     target = load_target(args.kind, args.run_function)
-    rates = [_number(text) for text in split_list(args.rates, "--rates")]
+    rates = [RATE.parse(text, "--rates") for text in split_list(args.rates, "--rates")]
     tables = args.tables
     if tables is None and not any(p.strip().startswith("tables=") for p in args.param):
-        tables = target.params.get("tables", 10)  # the kind's default; None: the function's
+        spec = target.params.get("tables")  # the kind's default; None: the function's
+        tables = 10 if spec is None else spec.default
     grid = build_grid(
         target,
         systems=DEFAULT_SYSTEMS if args.systems is None else split_list(args.systems, "--systems"),
@@ -121,17 +140,19 @@ def run(args: argparse.Namespace) -> int:
     specs = grid.runs()
     id_columns = list(specs[0].columns())
     manifest = {"kind": target.kind, "function": target.function, "seed": grid.base_seed}
-    backend = make_backend(args.workers, args.scheduler, args.connect_timeout)
+    backend = make_backend(workers, args.scheduler, timeout)
     try:
+        check_out_dir(args.out)  # after connecting: an unreachable scheduler leaves no folder
         with RunStore(args.out, manifest) as store:
             done = store.finished_ids()
-            todo = [spec for spec in specs if spec.run_id not in done]
+            todo = longest_first([spec for spec in specs if spec.run_id not in done], target)
             _say(
                 f"{len(specs)} runs in the grid, {len(specs) - len(todo)} already done, "
                 f"{len(todo)} to run on {backend.name} ({backend.slots()} slots) -> {args.out}"
             )
             bar = _progress(len(specs), len(specs) - len(todo), args.quiet)
             failed = retried = 0
+            lost_cluster = ""
 
             def record(spec: Any, outcome: dict[str, Any], attempt: int, final: bool) -> None:
                 nonlocal failed, retried
@@ -142,6 +163,14 @@ def run(args: argparse.Namespace) -> int:
                 if final:
                     bar.update(1)
 
+            notices: dict[str, float] = {}
+
+            def waiting(message: str) -> None:  # once a minute at most, per message
+                if time.monotonic() - notices.get(message, -1e9) > 60:
+                    notices[message] = time.monotonic()
+                    bar.clear()
+                    _say(message)
+
             try:
                 tally = execute(
                     specs=todo,
@@ -149,12 +178,23 @@ def run(args: argparse.Namespace) -> int:
                     backend=backend,
                     on_outcome=record,
                     first_attempt=lambda run_id: store.attempts(run_id) + 1,
+                    on_wait=waiting,
                 )
+            except ClusterLostError as lost:
+                lost_cluster = f"{lost}"
             finally:
                 bar.close()
                 results = store.write_results([s.run_id for s in specs], id_columns)
+            finished = len(store.finished_ids())
     finally:
         backend.close()
+    if lost_cluster:
+        _say(
+            f"{lost_cluster}. {finished} of {len(specs)} runs are finished and kept in "
+            f"{args.out}; start the scheduler and its workers again and rerun the same command "
+            "to resume"
+        )
+        return EXIT_CLUSTER_LOST
     _say(f"{tally.ok} runs done, {tally.failed} failed after a retry; results: {results}")
     for run_id in tally.failed_ids[:10]:
         _say(f"  failed: {run_id}")
@@ -167,13 +207,6 @@ def run(args: argparse.Namespace) -> int:
         except RobinPilError as error:  # the runs are done and kept; only the report is not
             _say(f"no report: {error}; see 'robin-pil report --help'")
     return 1 if tally.failed else 0
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise RobinPilError(f"--rates: {text!r} is not a number in [0, 1]") from None
 
 
 def _progress(total: int, initial: int, quiet: bool) -> Any:

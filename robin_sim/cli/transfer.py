@@ -27,14 +27,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the paired runs and write the outputs; bad input raises before anything runs."""
-    from pil.experiments.outdir import check_output_folder
     from pil.experiments.transfer import TRANSFER_SYSTEMS, run_transfer_study, write_transfer
+    from pil.outdir import check_out_dir
     from pil.table_io import load_table
 
     rates, systems = run_options(args, TRANSFER_SYSTEMS, only=TRANSFER_SYSTEMS)
     if args.table is not None:
         load_table(args.table)  # a corrupt or missing file fails here, before anything runs
-    check_output_folder(args.out)
+    check_out_dir(args.out)
     save_first = None if args.table is not None else args.out / "assembly_table.json"
     if save_first is not None:
         args.out.mkdir(parents=True, exist_ok=True)

@@ -49,6 +49,9 @@ def arm_kinematic_model(spec: mujoco.MjSpec, side: Side) -> mujoco.MjModel:
     for joint in list(copy.joints):
         if joint.name not in kept:
             copy.delete(joint)
+    for body in copy.bodies:  # a sleep policy needs a free body; kinematics needs no sleep
+        body.sleep = mujoco.mjtSleepPolicy.mjSLEEP_AUTO
+    copy.option.enableflags &= ~int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     return copy.compile()
 
 

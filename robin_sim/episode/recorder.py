@@ -66,6 +66,7 @@ class VideoRecorder(ClosesOnExit):
         except BaseException:
             self.pool.close()
             raise
+        self._sim = sim
         self.clock = FrameClock(fps, sim.control_dt)
         self._start_time = sim.time
         self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
@@ -95,11 +96,20 @@ class VideoRecorder(ClosesOnExit):
             self.timing.encode_s += waited - started
 
     def close(self) -> None:
-        """Stop recording, write the frames still rendering and finish the MP4 (idempotent)."""
-        if self._remove is not None:
-            self._remove()
-            self._remove = None
+        """Stop recording, write the frames still rendering and finish the MP4 (idempotent).
+
+        A video stopped before its first frame (e.g. Ctrl-C during start-up) gets one frame of
+        the scene as it is, so that every video written plays.
+        """
+        if self._remove is None:
+            return
+        self._remove()
+        self._remove = None
         try:
+            if self.pool.in_flight == 0 and self.timing.frames_written == 0:
+                sim = self._sim
+                info = replace(self.view.info, sim_time=sim.time)
+                self.pool.submit(FrameState.capture(sim.model, sim.data), (info, 1))
             self._write(self.pool.drain())
         finally:
             self.pool.close()

@@ -11,66 +11,33 @@ Ctrl-C leaves a playable MP4, the log of every finished step and a summary marke
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from contextlib import ExitStack
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from tqdm import tqdm
 
-from pil.errors import RobinPilError, check_rate
-from pil.experiments.systems import SYSTEMS, check_system, test_parts
-from pil.task.parts import PERSON_PARAMS, RunParts, check_params, resolve_scenario
+from pil.errors import RobinPilError
+from pil.experiments.systems import SYSTEMS, test_parts
+from pil.outdir import check_out_dir
+from pil.task.parts import PERSON_PARAMS, RunParts
 from pil.task.records import StepRecord
 from pil.task.runner import steps
-from pil.task.scenario import Scenario
 from pil.types import Hand, hand_after
+from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeTask
+from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import StepLog, write_json_atomic
-from robin_sim.episode.reading import split_params, vision_detector
+from robin_sim.episode.reading import vision_detector
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
-from robin_sim.model.scene import SceneLayout
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
-
-
-class EpisodeError(RobinPilError):
-    """The episode cannot go on (e.g. the learner's hand state disagrees with physics)."""
-
-
-@dataclass(frozen=True)
-class EpisodeConfig:
-    """Everything that defines an episode; the defaults are ``robin-pil episode``'s."""
-
-    tables: int | None = None  # None: the scenario file's, but 1 for the default assembly
-    rate: float = 1.0
-    seed: int = 0
-    system: str = "pil"
-    scenario: str | Path | None = None  # an assembly YAML; default scenarios/assembly.yaml
-    out: Path = Path("out")
-    video: bool = True
-    camera: str = "front"
-    width: int = 640
-    height: int = 480
-    fps: int = 30
-    shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
-    render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
-    policy_panel: bool = True
-    verify: bool = True  # off-screen render checks after grasps, handovers and placements
-    progress: bool = True
-    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
-
-    def checked(self) -> EpisodeConfig:
-        """Validate what can be validated before anything runs."""
-        check_rate(self.rate)
-        check_system(self.system)
-        if self.tables is not None and (int(self.tables) != self.tables or self.tables < 1):
-            raise RobinPilError(f"tables must be a whole number >= 1, got {self.tables!r}")
-        return self
+__all__ = ["EpisodeConfig", "EpisodeError", "EpisodeTask", "run_episode"]
 
 
 def _expected_hand(before: Hand, record: StepRecord, physical: Hand) -> Hand:
@@ -103,89 +70,60 @@ def episode_records(
     )
 
 
-@dataclass(frozen=True)
-class EpisodeTask:
-    """What an episode's config resolves to: the scenario, its parameters and the scene layout."""
-
-    scenario: Scenario
-    values: Mapping[str, Any]
-    layout: SceneLayout
-    vision: Mapping[str, Any] | None = None  # camera conditions when the robot reads by eye
-
-    @property
-    def legs_total(self) -> int:
-        """Legs the person is to receive."""
-        return self.scenario.tables * self.scenario.legs_per_table
-
-    @classmethod
-    def of(cls, config: EpisodeConfig) -> EpisodeTask:
-        """Resolve ``config``: its scenario (tables default to 1 for the paper's assembly) and
-        the scene layout (the scenario's ``layout`` section, else the default), checking that
-        the layout has the legs and spots the person will point at."""
-        tables = config.tables
-        if tables is None and config.scenario is None:
-            tables = 1  # the main job assembles one table of the paper's assembly
-        params, vision = split_params(config.params)
-        values = check_params({**params, "tables": tables})
-        scenario = resolve_scenario(config.scenario, values)
-        layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
-        if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
-            raise EpisodeError(
-                f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
-                f"{scenario.legs_per_table} legs per table, but its layout has "
-                f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
-                "layout section or lower spots / legs_per_table"
-            )
-        return cls(scenario, values, layout, vision)
-
-
 def run_episode(config: EpisodeConfig) -> dict[str, Any]:
     """Run one episode, write its files under ``config.out`` and return the summary."""
-    config = config.checked()
+    config = config.checked()  # bad input: refused here, before anything is built or written
     task = EpisodeTask.of(config)
-    out = Path(config.out)
-    out.mkdir(parents=True, exist_ok=True)
     world = PhysicalWorld(task.layout)
-    view = EpisodeView()
-    parts = episode_parts(config, task, world)
-    if config.policy_panel:
-        view.table = parts.learner.table
-    totals = EpisodeTotals(timeout_s=float(task.values["handover_timeout"]))
-    started = time.perf_counter()
-    status, error, recorder = "running", "", None
-    try:
-        with ExitStack() as stack:
-            if config.video:
-                from robin_sim.episode.recorder import (
-                    VideoRecorder,  # renders: needs the GL backend
-                )
+    if config.video:
+        from robin_sim.render.renderer import camera_id, check_frame_size
 
-                recorder = stack.enter_context(
-                    VideoRecorder(
-                        world.sim, view, out / VIDEO_NAME, layout=task.layout,
-                        width=config.width, height=config.height, fps=config.fps,
-                        camera=config.camera, shadows=config.shadows,
-                        render_workers=config.render_workers,
-                    )
+        check_frame_size(world.sim.model, config.width, config.height)
+        camera_id(world.sim.model, config.camera)
+    parts = episode_parts(config, task, world)  # a bad camera condition is refused here
+    with InterruptGuard() as guard:  # Ctrl-C / SIGTERM from here on: acted on between ticks
+        out = check_out_dir(config.out)  # the first thing written: the folder
+        view = EpisodeView(table=parts.learner.table if config.policy_panel else None)
+        totals = EpisodeTotals(timeout_s=float(task.values["handover_timeout"]))
+        started = time.perf_counter()
+        status, error, recorder = "running", "", None
+        try:
+            with ExitStack() as stack:
+                stack.callback(world.sim.add_observer(guard.check))
+                if config.video:
+                    from robin_sim.episode.recorder import VideoRecorder  # needs the GL backend
+
+                    recorder = stack.enter_context(
+                        VideoRecorder(
+                            world.sim, view, out / VIDEO_NAME, layout=task.layout,
+                            width=config.width, height=config.height, fps=config.fps,
+                            camera=config.camera, shadows=config.shadows,
+                            render_workers=config.render_workers,
+                        )
+                    )  # fmt: skip
+                checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
+                log = stack.enter_context(StepLog(out / LOG_NAME))
+                view.update(legs_total=task.legs_total)
+                bar = stack.enter_context(
+                    tqdm(total=task.legs_total, desc="episode", unit="leg",
+                         disable=not config.progress)
                 )  # fmt: skip
-            checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
-            log = stack.enter_context(StepLog(out / LOG_NAME))
-            view.update(legs_total=task.legs_total)
-            bar = stack.enter_context(
-                tqdm(total=task.legs_total, desc="episode", unit="leg", disable=not config.progress)
-            )
-            _play(episode_records(parts, world, view), parts, world, view, checks, log, bar,
-                  totals)  # fmt: skip
-        status = "finished"  # the video and the log are closed by now
-    except KeyboardInterrupt:
-        status = "interrupted"
-        raise
-    except RobinPilError as problem:
-        status, error = "failed", str(problem)
-        raise
-    finally:
-        summary = _summary(config, task, totals, parts, world, started, status, error, recorder)
-        write_json_atomic(out / SUMMARY_NAME, summary)
+                guard.check()  # a signal during start-up
+                _play(episode_records(parts, world, view), parts, world, view, checks, log,
+                      bar, totals)  # fmt: skip
+            status = "finished"  # the video and the log are closed by now
+            guard.check()  # a signal while the video was being finished
+        except KeyboardInterrupt:
+            status = "interrupted"
+            raise
+        except Exception as problem:
+            detail = str(problem) if isinstance(problem, RobinPilError) else repr(problem)
+            status, error = "failed", detail
+            raise
+        finally:
+            summary = _summary(config, task, totals, parts, world, started, status, error,
+                               recorder)  # fmt: skip
+            write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
 
 

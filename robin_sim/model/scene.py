@@ -16,6 +16,7 @@ import mujoco
 import numpy as np
 
 from pil.errors import RobinPilError
+from pil.task.params import MAX_LEGS  # a table's legs: the task's bound, for the scene too
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 
@@ -42,7 +43,6 @@ DEFAULT_HANDOVER: tuple[float, float, float] = (0.60, 0.0, spec.HANDOVER_HEIGHT)
 DEFAULT_BIN: tuple[float, float] = (1.22, -0.20)
 BIN_X_RANGE: tuple[float, float] = (1.15, 1.30)  # bin centre: clear of the table and the person
 BIN_Y_RANGE: tuple[float, float] = (-0.45, 0.45)
-MAX_LEGS = 12
 LEG_CLEARANCE = 0.01  # m between two legs' surfaces at least
 SPOT_CLEARANCE = 0.06  # m from a spot to any leg's axis at least
 LEG_COLORS: tuple[tuple[float, float, float, float], ...] = (
@@ -261,11 +261,29 @@ def _parse_leg(index: int, value: Any) -> LegPose:
     return (x, y, yaw)
 
 
-def build_spec(layout: SceneLayout | None = None) -> mujoco.MjSpec:
+def enable_sleep(model_spec: mujoco.MjSpec) -> None:
+    """Let legs at rest sleep (MuJoCo's island sleeping): their physics is skipped until a
+    moving body touches them.
+
+    Robin's actuated arms never sleep (MuJoCo's automatic policy for actuated trees) and
+    neither does the person's palm, which a weld ties to the moving mocap hand; so a leg held
+    by the hand or lying on the palm stays awake, and the hand sensor reads its contacts. A
+    sleeping leg's contacts are not in ``data.contact``: nothing may rely on them.
+    """
+    model_spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
+    model_spec.body(names.HUMAN_PALM_BODY).sleep = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
+
+
+def build_spec(layout: SceneLayout | None = None, *, sleep: bool = False) -> mujoco.MjSpec:
     """The scene as an editable ``MjSpec`` with the legs and bin of ``layout`` (default: the
-    file's); the legs' bodies come last, so their free joints follow the person's palm joint."""
+    file's); the legs' bodies come last, so their free joints follow the person's palm joint.
+    ``sleep``: resting legs sleep (:func:`enable_sleep`). Off by default: in a closed-loop
+    episode (60 %, seed 1) a held leg's contacts went missing with it and the hand read free
+    while it held the leg, and the hand state must come from contacts."""
     layout = layout or SceneLayout()
     model_spec = mujoco.MjSpec.from_file(str(names.SCENE_XML))
+    if sleep:
+        enable_sleep(model_spec)
     template = model_spec.geom(names.leg_geom(0))
     size, fromto = np.array(template.size), np.array(template.fromto)
     leg_class = model_spec.find_default(template.classname.name)
@@ -293,9 +311,9 @@ def build_spec(layout: SceneLayout | None = None) -> mujoco.MjSpec:
     return model_spec
 
 
-def build_model(layout: SceneLayout | None = None) -> mujoco.MjModel:
+def build_model(layout: SceneLayout | None = None, *, sleep: bool = False) -> mujoco.MjModel:
     """Compile the scene with the legs of ``layout`` (default: the four of ``scene.xml``)."""
-    return build_spec(layout).compile()
+    return build_spec(layout, sleep=sleep).compile()
 
 
 def leg_count(model: mujoco.MjModel) -> int:

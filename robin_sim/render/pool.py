@@ -12,9 +12,10 @@ in submission order, at most ``in_flight_per_worker`` per worker outstanding, as
 arrays over pipes (0.9 MB at 640x480, 1-5 ms). ``workers=0`` renders in-process, same API.
 
 A frame shows the state's own ``qpos`` and is pixel-identical to a warmed-up
-:class:`FrameRenderer`'s render of it, whichever worker renders it. Workers ignore SIGINT:
-on Ctrl-C the main process gets the ``KeyboardInterrupt`` and :meth:`RenderPool.close` ends
-them.
+:class:`FrameRenderer`'s render of it, whichever worker renders it. Workers ignore SIGINT and
+SIGTERM from their first instruction on (they start with both blocked): a Ctrl-C sent to the
+whole process group reaches only the main process, which finishes the frames in flight and
+ends the workers with :meth:`RenderPool.close`.
 """
 
 from __future__ import annotations
@@ -45,8 +46,8 @@ from robin_sim.render.worker import (
     apply_state,
     check_state,
     warmed_renderer,
-    worker_main,
 )
+from robin_sim.render.worker_start import blocked_signals, start_worker
 
 
 def default_workers() -> int:
@@ -123,11 +124,12 @@ class RenderPool(ClosesOnExit):
             for _ in range(workers):
                 parent, child = context.Pipe()
                 process = context.Process(
-                    target=worker_main,
+                    target=start_worker,
                     args=(child, layout, (width, height), camera, shadows, finish, render_threads),
                     daemon=True,
                 )
-                process.start()
+                with blocked_signals():  # the worker starts with Ctrl-C held back
+                    process.start()
                 child.close()
                 self._processes.append(process)
                 self._conns.append(parent)
@@ -242,10 +244,9 @@ class RenderPool(ClosesOnExit):
                 with contextlib.suppress(OSError):
                     conn.send(None)
                 process.join(STOP_TIMEOUT_S)
-            for stop in (process.terminate, process.kill):
-                if process.is_alive():
-                    stop()
-                    process.join(STOP_TIMEOUT_S)
+            if process.is_alive():  # busy, or stuck: it ignores SIGTERM, so kill it
+                process.kill()
+                process.join(STOP_TIMEOUT_S)
         for conn in self._conns:
             conn.close()
         if self._local is not None:

@@ -21,6 +21,7 @@ import numpy as np
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
 from robin_sim.render.renderer import FrameRenderer, RenderError
+from robin_sim.render.worker_signals import SIGNALS
 
 FinishHook = Callable[[np.ndarray, Any], object]  # finish(frame, payload), edits frame in place
 START_TIMEOUT_S = 120.0  # a worker must have its scene and renderer ready by then
@@ -123,7 +124,8 @@ def worker_main(
     render_threads: int | None,
 ) -> None:
     """Worker loop: receive (index, state, payload), reply ("frame", index, pixels) or error."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process handles Ctrl-C
+    for signum in SIGNALS:  # the main process handles Ctrl-C and SIGTERM, and ends us
+        signal.signal(signum, signal.SIG_IGN)  # (already, when started by start_worker)
     if render_threads is not None:  # read by Mesa's llvmpipe when the GL context is made
         os.environ["LP_NUM_THREADS"] = str(render_threads)
     try:

@@ -89,9 +89,10 @@ class PhysicalWorld:
         *,
         speed: float = DEFAULT_SPEED,
         control_dt: float = 0.02,
+        sleep: bool = False,
     ) -> None:
         self.layout = layout or SceneLayout()
-        self.spec = build_spec(self.layout)
+        self.spec = build_spec(self.layout, sleep=sleep)  # sleep: see build_spec
         self.model = self.spec.compile()
         targets = HandTargets(np.array(spec.HAND_OPEN_CTRL), np.array(spec.HAND_CLOSED_CTRL))
         limits = dict(

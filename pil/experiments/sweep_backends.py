@@ -1,0 +1,226 @@
+"""Where a sweep's runs execute: a local process pool or a Dask cluster, behind one interface.
+
+Both back ends are :class:`concurrent.futures.Executor` s (``ProcessPoolExecutor``, and the
+``ClientExecutor`` of a ``distributed.Client``), so :func:`pil.experiments.sweep_exec.execute`
+is the same code for both. A back end also says when it can no longer run anything (a lost
+Dask scheduler) and what runs in flight wait for (a scheduler without workers).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import multiprocessing
+import os
+import signal
+import threading
+import time
+from abc import ABC, abstractmethod
+from concurrent.futures import Executor
+from concurrent.futures.process import ProcessPoolExecutor
+
+from pil.errors import RobinPilError, quote
+from pil.task.params import ParamSpec
+
+DEFAULT_CONNECT_TIMEOUT_S = 10.0
+WORKERS = ParamSpec(
+    "workers", "int", None, "local worker processes", 1, 1024, optional=True, empty="all cores"
+)
+CONNECT_TIMEOUT = ParamSpec(
+    "connect_timeout", "float", DEFAULT_CONNECT_TIMEOUT_S, "seconds to reach the scheduler",
+    0.1, 3600.0,
+)  # fmt: skip
+SCHEMES: tuple[str, ...] = ("tcp", "tls", "ws", "wss")
+_SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it has
+
+
+class SchedulerError(RobinPilError):
+    """A Dask scheduler that cannot be reached or used."""
+
+
+def _init_worker() -> None:
+    """Pool worker initializer: leave Ctrl-C to the parent; exit when orphaned.
+
+    Workers are children of the sweep process, so a changed parent pid means the sweep is
+    gone (e.g. ``kill -9``): stop within half a second instead of idling forever.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="orphan-watch", daemon=True).start()
+
+
+# --- back ends ------------------------------------------------------------------------------
+class Backend(ABC):
+    """An executor that can be rebuilt after a break, with its parallelism."""
+
+    name = "backend"
+
+    @abstractmethod
+    def executor(self) -> Executor:
+        """The executor to submit runs to."""
+
+    @abstractmethod
+    def renew(self) -> None:
+        """Replace a broken executor by a fresh one."""
+
+    @abstractmethod
+    def slots(self) -> int:
+        """How many runs to keep in flight."""
+
+    @abstractmethod
+    def close(self, cancel: bool = False) -> None:
+        """Release the executor; ``cancel`` stops runs in flight instead of waiting."""
+
+    def lost(self) -> str | None:
+        """Why the back end can no longer run anything (a lost cluster), else None."""
+        return None
+
+    def waiting(self) -> str | None:
+        """What runs in flight wait for when none can progress (no workers), else None."""
+        return None
+
+
+class LocalBackend(Backend):
+    """A process pool on this machine (``spawn`` processes: no inherited threads or locks)."""
+
+    name = "local"
+
+    def __init__(self, workers: int | None = None) -> None:
+        self.workers = workers or os.cpu_count() or 1
+        self._pool: ProcessPoolExecutor | None = None
+
+    def executor(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            context = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(
+                self.workers, mp_context=context, initializer=_init_worker
+            )
+        return self._pool
+
+    def renew(self) -> None:
+        self.close(cancel=True)
+
+    def slots(self) -> int:
+        return self.workers
+
+    def close(self, cancel: bool = False) -> None:
+        pool, self._pool = self._pool, None
+        if pool is None:
+            return
+        if not cancel:
+            pool.shutdown(wait=True)
+        elif hasattr(pool, "terminate_workers"):  # Python >= 3.14
+            pool.terminate_workers()
+        else:  # stop runs in flight now, not when they end (the pool's own process table)
+            processes = list((getattr(pool, "_processes", None) or {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in processes:
+                if process.is_alive():
+                    process.terminate()
+            for process in processes:
+                process.join(timeout=5)
+
+
+class DaskBackend(Backend):
+    """A Dask distributed cluster, reached through its scheduler's address."""
+
+    name = "dask"
+
+    def __init__(self, address: str, timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> None:
+        from distributed import Client  # imported here: the CLI must start fast
+
+        self.address = address
+        try:
+            self._client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
+        except (OSError, TimeoutError, ValueError) as error:
+            raise SchedulerError(
+                f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s "
+                f"({type(error).__name__}: {error}); start one with 'dask scheduler' and "
+                "workers with 'dask worker <address>'"
+            ) from None
+        self._executor = self._client.get_executor(pure=False)
+        self._slots, self._slots_checked = 2, -float("inf")
+
+    def executor(self) -> Executor:
+        return self._executor
+
+    def renew(self) -> None:
+        """Nothing to do: Dask replaces lost workers itself."""
+
+    def slots(self) -> int:
+        """Twice the cluster's worker threads (asked again every few seconds: workers come
+        and go), at least 2."""
+        if time.monotonic() - self._slots_checked > _SLOTS_REFRESH_S:
+            self._slots = max(2 * sum(self._client.nthreads().values()), 2)
+            self._slots_checked = time.monotonic()
+        return self._slots
+
+    def lost(self) -> str | None:
+        if self._client.status in ("running", "newly-created"):
+            return None
+        return (
+            f"lost the connection to the Dask scheduler at {self.address!r} "
+            f"(client {self._client.status})"
+        )
+
+    def waiting(self) -> str | None:
+        try:
+            threads = sum(self._client.nthreads().values())
+        except Exception:  # the scheduler is going away: lost() will say so
+            return None
+        if threads:
+            return None
+        return (
+            f"waiting for Dask workers: the scheduler at {self.address!r} has none; start "
+            f"them with 'dask worker {self.address} --nthreads 1'"
+        )
+
+    def close(self, cancel: bool = False) -> None:
+        if self._executor is not None:
+            lost = self.lost() is not None
+            if lost:  # we say what happened; the client's reconnect traceback adds nothing
+                logging.getLogger("distributed.client").setLevel(logging.CRITICAL)
+            with contextlib.suppress(Exception):  # a lost scheduler: nothing left to release
+                self._executor.shutdown(wait=not (cancel or lost))
+            self._executor = None
+            with contextlib.suppress(Exception):
+                self._client.close(timeout=2 if lost else None)
+
+
+def check_address(address: str) -> str:
+    """``address`` if it reads ``SCHEME://HOST:PORT`` (or ``HOST:PORT``), else an error."""
+    scheme, sep, rest = address.rpartition("://") if "://" in address else ("tcp", "", address)
+    host, colon, port = rest.rpartition(":")
+    good = (
+        scheme in SCHEMES
+        and colon
+        and host.strip("[]")
+        and not any(c.isspace() or c == "/" for c in host)
+        and port.isdigit()
+        and 0 < int(port) < 65536
+    )
+    if not good:
+        raise SchedulerError(
+            f"--scheduler must be a Dask scheduler address SCHEME://HOST:PORT (scheme "
+            f"{', '.join(SCHEMES)}), e.g. tcp://127.0.0.1:8786, got {quote(address)}"
+        )
+    return address if sep else f"tcp://{address}"
+
+
+def make_backend(
+    workers: int | None = None,
+    scheduler: str | None = None,
+    timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S,
+) -> Backend:
+    """A Dask back end when ``scheduler`` is given, else a local pool of ``workers``."""
+    if scheduler:
+        return DaskBackend(scheduler, timeout_s)
+    if workers is not None and workers < 1:
+        raise RobinPilError(f"--workers must be at least 1, got {workers}")
+    return LocalBackend(workers)

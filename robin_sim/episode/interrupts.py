@@ -1,0 +1,65 @@
+"""Ctrl-C and SIGTERM during an episode: noted at once, acted on between two control ticks.
+
+A terminal's Ctrl-C sends SIGINT to the whole process group, render workers included, and a
+cluster or a container stopping us sends SIGTERM. Raising ``KeyboardInterrupt`` wherever the
+signal lands can tear the MP4 muxer (inside PyAV) or a pipe to a render worker. Instead,
+:class:`InterruptGuard` only records the signal; :meth:`InterruptGuard.check`, a simulator
+observer, raises ``KeyboardInterrupt`` after the next control tick, where nothing is half
+written, and the episode then closes its video and log normally. A signal that arrives while
+the video is being finished is honoured after the file is complete. Render workers ignore both
+signals (:mod:`robin_sim.render.worker_start`) and are ended by the episode.
+
+The guard installs its handlers only in the main thread of a process whose SIGINT handler is
+Python's default: in a sweep's worker (SIGINT ignored) or a Dask worker thread it does nothing,
+and the sweep's own interrupt handling applies.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from types import FrameType, TracebackType
+from typing import Any
+
+from robin_sim.render.worker_start import SIGNALS
+
+
+class InterruptGuard:
+    """Context manager: while inside, SIGINT/SIGTERM set :attr:`requested` instead of raising."""
+
+    def __init__(self) -> None:
+        self.requested: signal.Signals | None = None
+        self._raised = False
+        self._previous: dict[signal.Signals, Any] = {}
+
+    @property
+    def active(self) -> bool:
+        """Whether the guard's handlers are installed."""
+        return bool(self._previous)
+
+    def _note(self, signum: int, frame: FrameType | None) -> None:
+        if self.requested is None:
+            self.requested = signal.Signals(signum)
+
+    def check(self, *_: object) -> None:
+        """Raise ``KeyboardInterrupt`` once, if a signal came (a simulator observer)."""
+        if self.requested is not None and not self._raised:
+            self._raised = True
+            raise KeyboardInterrupt(f"{self.requested.name} received")
+
+    def __enter__(self) -> InterruptGuard:
+        in_main = threading.current_thread() is threading.main_thread()
+        if in_main and signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            for signum in SIGNALS:
+                self._previous[signum] = signal.signal(signum, self._note)
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        previous, self._previous = self._previous, {}
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
