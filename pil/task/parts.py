@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.exploration import DEFAULT_RULE, check_rule
 from pil.learner import Learner
@@ -49,6 +50,9 @@ PARAMS: dict[str, Any] = {
     "max_actions_per_gesture": MAX_ACTIONS_PER_GESTURE,
     "exploration": DEFAULT_RULE,  # the learner's rule after a not-OK (pil.exploration.RULES)
     "adaptation": "none",  # "halve": a not-OK halves the refused count (pil.learner)
+    "proactive": False,  # act on the likely next state before its gesture (pil.anticipation)
+    "proactive_threshold": DEFAULT_THRESHOLD,  # P(next state | state) needed to act unasked
+    "proactive_min_count": DEFAULT_MIN_COUNT,  # transitions seen before that share counts
     "epsilon": 0.1,  # the bandit baseline's chance of a random action (pil.agents.bandit)
     "step_size": 0.5,  # the TAMER baseline's regression step (pil.agents.tamer)
 }
@@ -195,7 +199,9 @@ def build_parts(
     )
     learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
                       exploration=check_rule(values["exploration"]),
-                      adaptation=values["adaptation"])  # fmt: skip
+                      adaptation=values["adaptation"], proactive=values["proactive"],
+                      proactive_threshold=values["proactive_threshold"],
+                      proactive_min_count=values["proactive_min_count"])  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

@@ -41,6 +41,7 @@ class StepRecord(NamedTuple):
     recovery: bool = False  # an instruction the person added to have a dropped leg picked up
     interrupted: bool = False  # the person stopped the action while it ran (or at its end)
     dropped: int | None = None  # a leg that left the robot's hand during the action
+    proactive: bool = False  # performed before the gesture, on the learnt transitions
 
     @property
     def state_key(self) -> str | None:
