@@ -64,3 +64,24 @@ def test_study_command_compares_proactive_with_pil(tmp_path: Path) -> None:
     text = (out / "summary.md").read_text()
     assert "## Proactive vs reactive PIL" in text and "gestures saved" in text
     assert (out / "proactive.png").stat().st_size > 5000
+
+
+def test_the_overlay_shows_an_anticipation_as_no_gesture() -> None:
+    from pil.task.records import StepRecord
+    from pil.types import Action, Gesture, Hand, State
+    from robin_sim.episode.view import EpisodeView
+    from robin_sim.render.overlay import overlay_lines
+
+    record = StepRecord(
+        t=7, gesture_count=6, table=0, handover=1, handover_type="C", step=2,
+        true_gesture=Gesture.GRASP, detected_gesture=None, intended_action=Action.CLOSE,
+        legs_delivered=1, state=State(Gesture.GRASP, Action.OBJECT, Hand.FREE),
+        action=Action.CLOSE, exploited=True, proactive=True,
+    )  # fmt: skip
+    view = EpisodeView()
+    view.decided(record)
+    lines = overlay_lines(view.info)
+    assert "person:   -" in lines and "detected: -" in lines
+    assert "action:   close (anticipating grasp)" in lines
+    view.decided(record._replace(proactive=False))
+    assert "person:   grasp" in overlay_lines(view.info)
