@@ -6,11 +6,11 @@ states possible now (those with the robot's current previous action and hand) an
 them has at least ``threshold`` of the probability on at least ``min_count`` observed
 transitions, returns it with its best action by eq. 4 (a unique best; no anticipation on a tie).
 
-The robot anticipates only what it can do without being shown where: a close, a handover to
-the person's hand (the palm, or the handover point) and an open on a table spot. An ``object``
-or ``location`` needs the leg or spot the person points at, and an open after ``human`` needs
-the person's palm under the leg (the release gesture brings it there), so for those the robot
-waits for the gesture.
+The robot anticipates only what it can do without being shown anything: a close, and an open
+on a table spot. An ``object`` or ``location`` needs the leg or spot the person points at, and
+``human`` and an open after it need the person's palm (held out by the give-me gesture, brought
+under the leg by the release gesture): a robot arriving before the palm would be in its way, so
+for those it waits for the gesture.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from pil.validity import ALL_STATES
 
 DEFAULT_THRESHOLD = 0.8  # P(next state | state) at least this to act without the gesture
 DEFAULT_MIN_COUNT = 3  # observed transitions from the state before the share is trusted
-_NEEDS_POINTING = frozenset({Action.OBJECT, Action.LOCATION})
+_NEEDS_THE_PERSON = frozenset({Action.OBJECT, Action.LOCATION, Action.HUMAN})
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,7 +57,7 @@ def check_threshold(threshold: float, min_count: int) -> tuple[float, int]:
 
 def can_anticipate(state: State, action: Action) -> bool:
     """True when ``action`` in ``state`` needs nothing shown by the person (module doc)."""
-    if action in _NEEDS_POINTING:
+    if action in _NEEDS_THE_PERSON:
         return False
     return not (action is Action.OPEN and state.previous_action is Action.HUMAN)
 

@@ -72,19 +72,20 @@ def test_too_little_evidence_or_a_tie_anticipates_nothing() -> None:
 def test_only_the_states_possible_now_count() -> None:
     """Transitions to a state of another context neither count nor get anticipated."""
     table = _table(4, 0)
-    other = State(Gesture.GIVE_ME, Action.CLOSE, Hand.OCCUPIED)
-    table.add(other, Action.HUMAN, 3)
+    other = State(Gesture.RELEASE, Action.LOCATION, Hand.OCCUPIED)
+    table.add(other, Action.OPEN, 3)
     table.record_transition(POINT, other, 50)
     guess = anticipate(table, state_id(POINT), AFTER_OBJECT, 0.8, 3)
     assert guess is not None and guess.state == GRASP and guess.evidence == 4
-    after_close = _context(Action.CLOSE, Hand.OCCUPIED)
-    guess = anticipate(table, state_id(POINT), after_close, 0.8, 3)
-    assert guess is not None and guess.state == other and guess.action is Action.HUMAN
+    after_location = _context(Action.LOCATION, Hand.OCCUPIED)
+    guess = anticipate(table, state_id(POINT), after_location, 0.8, 3)
+    assert guess is not None and guess.state == other and guess.action is Action.OPEN
 
 
 def test_actions_that_need_the_person_are_never_anticipated() -> None:
     assert not can_anticipate(GRASP, Action.OBJECT)
     assert not can_anticipate(GRASP, Action.LOCATION)
+    assert not can_anticipate(State(Gesture.GIVE_ME, Action.CLOSE, Hand.OCCUPIED), Action.HUMAN)
     release_on_palm = State(Gesture.RELEASE, Action.HUMAN, Hand.OCCUPIED)
     release_on_spot = State(Gesture.RELEASE, Action.LOCATION, Hand.OCCUPIED)
     assert not can_anticipate(release_on_palm, Action.OPEN)

@@ -206,10 +206,11 @@ def _anticipate(
 ) -> StepRecord:
     """Perform ``guess`` before ``item``'s gesture while the person watches; its record.
 
-    Nothing is pointed at, so the world picks the place (the nearest leg or spot, the palm or
-    the handover point); the person watches it as any action, meaning ``item``'s instruction,
-    and stops it when it is not. The learner receives the feedback after the thumb, for the
-    anticipated state; no gesture is performed or counted (``gesture_count`` stays).
+    Nothing is pointed at (the world gets no target; :mod:`pil.anticipation` offers only a close
+    or an open on a spot, done where the hand is); the person watches it as any action, meaning
+    ``item``'s instruction, and stops it when it is not. The learner receives the feedback
+    after the thumb, for the anticipated state; no gesture is performed or counted
+    (``gesture_count`` stays).
     """
     intent, action, hand = item.intent, guess.action, world.hand()
     base = StepRecord(
