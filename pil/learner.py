@@ -16,6 +16,8 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
+from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD, Anticipation, check_threshold
+from pil.anticipation import anticipate as _anticipate
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.exploration import ALL_TRIED, DEFAULT_RULE, RULES, check_rule
 from pil.table import START, AssociationTable, action_index, approves, state_id
@@ -78,6 +80,9 @@ class Learner:
     ``correction`` False makes an invalid or discarded gesture always ask the person to repeat
     it. ``adaptation`` (:data:`ADAPTATIONS`): "none" is eq. 2; "halve", our option, lets a
     not-OK halve the refused action's count so a changed mapping is taken up sooner.
+    ``proactive`` (ours, the follow-up work): :meth:`anticipate` offers the likely next state's
+    action after an approval (:mod:`pil.anticipation`, ``proactive_threshold`` and
+    ``proactive_min_count``); off, it offers nothing.
     """
 
     def __init__(
@@ -88,6 +93,9 @@ class Learner:
         correction: bool = True,
         exploration: str = DEFAULT_RULE,
         adaptation: str = "none",
+        proactive: bool = False,
+        proactive_threshold: float = DEFAULT_THRESHOLD,
+        proactive_min_count: int = DEFAULT_MIN_COUNT,
     ) -> None:
         self.seed = seed
         if table is not None and not isinstance(table, AssociationTable):
@@ -103,6 +111,10 @@ class Learner:
             raise InvalidChoiceError("adaptation", adaptation, ADAPTATIONS)
         self.adaptation = adaptation
         self._halve = adaptation == "halve"
+        self.proactive = bool(proactive)
+        self.proactive_threshold, self.proactive_min_count = check_threshold(
+            proactive_threshold, proactive_min_count
+        )
         self._rng = random.Random(seed)
         self._tried: dict[int, int] = {}  # state id -> mask of actions tried in this step
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
@@ -170,6 +182,17 @@ class Learner:
                     self.table.forget_id(sid, index, row[index] - row[index] // 2)
             self._tried[sid] = self._tried.get(sid, 0) | 1 << index
             self._last_rejected[sid] = index
+
+    # -- the proactive robot (ours) -----------------------------------------------------------
+    def anticipate(self, previous_action: Action, hand: Hand) -> Anticipation | None:
+        """The action to perform before the next gesture (None: wait for it; always None
+        unless ``proactive``); the robot's previous action and hand are ``previous_action`` and
+        ``hand``."""
+        if not self.proactive:
+            return None
+        candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
+        return _anticipate(self.table, self._last_ok, candidates, self.proactive_threshold,
+                           self.proactive_min_count)  # fmt: skip
 
     # -- section III-B ----------------------------------------------------------------------
     def correct(self, state: State, previous_state: State | None) -> State | None:

@@ -93,5 +93,5 @@ def test_registry_is_one_source() -> None:
     assert set(PAPER_SYSTEMS) < set(SYSTEMS) and {"bandit", "tamer"} <= set(SYSTEMS)
     assert SYSTEMS["tamer"] == SYSTEM_SPECS["tamer"].description
     with pytest.raises(InvalidChoiceError, match="'bandit', 'tamer'"):
-        run_one("proactive", 0.6, seed=0)
+        run_one("clairvoyant", 0.6, seed=0)  # "proactive" is a system now
     assert isinstance(Learner(), Agent)

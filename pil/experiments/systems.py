@@ -5,6 +5,8 @@
 * ``c2``: pre-trained at 100 %, with correction.
 * ``c3``: pre-trained at d, manual repetition (the person repeats a misread gesture).
 * ``c4``: pre-trained at 100 %, manual repetition.
+* ``proactive`` (ours): ``pil`` that acts on the likely next state before its gesture
+  (:mod:`pil.anticipation`); ``pil-halve`` (ours): a not-OK halves the refused count.
 * ``bandit``, ``tamer``: the baselines of :mod:`pil.agents`, from scratch, same person, detector
   and counting (they act on the detected state as it is: no correction).
 
@@ -90,6 +92,10 @@ SYSTEM_SPECS: dict[str, SystemSpec] = {
         "PIL from scratch, a not-OK halves the refused count (ours)",
         params={"adaptation": "halve"},
     ),
+    "proactive": SystemSpec(
+        "PIL from scratch, acting on the likely next state before its gesture (ours)",
+        params={"proactive": True},
+    ),
 }
 PAPER_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
 
@@ -111,7 +117,8 @@ SYSTEMS: Mapping[str, str] = _Descriptions()
 ROW_COLUMNS: tuple[str, ...] = (
     "system", "rate", "seed", "scenario", "legs", "handovers", "gestures", "actions",
     "train_gestures", "train_actions", "total_gestures", "total_actions", "corrections",
-    "repeats", "misdetections", "discarded", "rejected", "exploited", "scripted_gestures",
+    "repeats", "misdetections", "discarded", "rejected", "exploited", "anticipated",
+    "anticipated_ok", "scripted_gestures",
     "train_corrections", "train_repeats", "train_rejected", *PARAMS,
 )  # fmt: skip
 
@@ -255,6 +262,8 @@ def run_system(
         "discarded": stats.discarded,
         "rejected": stats.rejected,
         "exploited": stats.exploited,
+        "anticipated": stats.anticipated,
+        "anticipated_ok": stats.anticipated_ok,
         "scripted_gestures": stats.scripted_gestures,
         "train_corrections": train.corrections,
         "train_repeats": train.repeats,

@@ -34,6 +34,8 @@ class RunStats:
     interrupted: int = 0  # actions the person stopped with a thumb down (physical worlds)
     drops: int = 0  # actions during which a held leg left the robot's hand
     recoveries: int = 0  # instructions the person added to have a dropped leg picked up
+    anticipated: int = 0  # actions performed before the instruction's gesture (proactive)
+    anticipated_ok: int = 0  # of them let happen: a gesture the person did not perform
     _last_step: tuple[int, int, bool] | None = field(default=None, repr=False)
 
     @classmethod
@@ -63,6 +65,9 @@ class RunStats:
         self.exploited += record.exploited
         self.interrupted += record.interrupted
         self.drops += record.dropped is not None
+        if record.proactive:
+            self.anticipated += 1
+            self.anticipated_ok += record.feedback is not Feedback.NOT_OK
 
     def as_dict(self) -> dict[str, int]:
         """The counts by name."""

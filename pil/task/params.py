@@ -19,6 +19,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.errors import InvalidChoiceError, RobinPilError, quote
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
@@ -347,6 +348,23 @@ PARAMS: dict[str, ParamSpec] = {
             "none",
             "how a not-OK changes counts",
             choices=tuple(ADAPTATIONS),
+        ),
+        ParamSpec("proactive", "bool", False, "act on the likely next state before its gesture"),
+        ParamSpec(
+            "proactive_threshold",
+            "float",
+            DEFAULT_THRESHOLD,
+            "P(next state | state) needed to act unasked",
+            0.0,
+            1.0,
+        ),
+        ParamSpec(
+            "proactive_min_count",
+            "int",
+            DEFAULT_MIN_COUNT,
+            "transitions seen before that share counts",
+            1,
+            MAX_COUNT,
         ),
         ParamSpec("epsilon", "float", 0.1, "the bandit baseline's exploration rate", 0.0, 1.0),
         ParamSpec("step_size", "float", 0.5, "the TAMER baseline's regression step", 0.0, 10.0),

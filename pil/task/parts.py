@@ -142,7 +142,9 @@ def build_parts(
     )
     learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
                       exploration=check_rule(values["exploration"]),
-                      adaptation=values["adaptation"])  # fmt: skip
+                      adaptation=values["adaptation"], proactive=values["proactive"],
+                      proactive_threshold=values["proactive_threshold"],
+                      proactive_min_count=values["proactive_min_count"])  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

@@ -42,6 +42,7 @@ class StepRecord(NamedTuple):
     interrupted: bool = False  # the person stopped the action while it ran (or at its end)
     dropped: int | None = None  # a leg that left the robot's hand during the action
     feedback_read: Feedback | None = None  # the thumb as the robot read it (what it learnt)
+    proactive: bool = False  # performed before the gesture, on the learnt transitions
 
     @property
     def state_key(self) -> str | None:

@@ -12,6 +12,13 @@ the state <detected gesture, last approved action, ``world.hand()``>, correcting
 a repeat when it is invalid. The robot acts; on not-OK it tries the next action for the same
 state (a rejected action leaves the last approved action unchanged), until the person
 approves. The decisions depend only on the seeds of the learner, detector and person.
+
+A proactive learner (``Learner(proactive=True)``) may act before an instruction's gesture
+(:func:`_anticipate`): after an approved action, when the learnt transitions make one next
+state likely enough (:mod:`pil.anticipation`), the robot performs that state's best action
+while the person watches. Let happen, it counts as OK and the person moves on without
+performing the gesture; stopped, it counts as not-OK for the anticipated state and the person
+performs the gesture as usual.
 """
 
 from __future__ import annotations
@@ -19,11 +26,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any, Protocol
 
+from pil.anticipation import Anticipation
 from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
 from pil.task.detector import Detector
-from pil.task.person import ScriptedPerson
+from pil.task.person import ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
 from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
@@ -76,6 +84,8 @@ def steps(
     previous, expected = START_ACTION, START_HAND
     gestures = actions = legs = 0
     laid: set[int] = set()
+    anticipate = getattr(learner, "anticipate", None)  # the baselines of pil.agents have none
+    approved = False  # the last action was approved: the robot may anticipate the next one
     while (item := person.next_step(world.hand())) is not None:
         intent = item.intent
         true = intent.gesture
@@ -83,6 +93,24 @@ def steps(
             laid.add(intent.table)
             person.start_table(intent.table)
             world.start_table(intent.table)
+        # --- the proactive robot: act before the gesture (see _anticipate) ---------------------
+        hand = world.hand()
+        guess = anticipate(previous, hand) if approved and anticipate and hand is expected else None
+        approved = False
+        if guess is not None:
+            record = _anticipate(learner, person, detector, world, item, guess, actions + 1,
+                                 gestures, legs, previous, observer)  # fmt: skip
+            actions, legs = record.t, record.legs_delivered
+            yield record
+            if record.feedback_read is not _NOT_OK:  # the robot takes it as approved
+                previous, expected = guess.action, hand_after(guess.action, hand)
+                approved = True
+            if record.feedback is not _NOT_OK:  # and the person lets it stand
+                person.completed(item, guess.action)
+                continue  # no gesture for this instruction
+            if world.hand() is not hand:
+                continue  # the stopped action changed the hand: the person re-plans
+        # --- the instruction's gesture ---------------------------------------------------------
         spent = performed = 0  # actions and performances for this instruction
         done = changed = False
         while not (done or changed):
@@ -156,6 +184,7 @@ def steps(
                 yield record
                 if ok:  # the robot takes the step as approved
                     previous, expected = action, hand_after(action, hand)
+                    approved = True
                 if feedback is not _NOT_OK:  # the person does: on to their next instruction
                     person.completed(item, action)
                     done = True
@@ -168,6 +197,55 @@ def steps(
                     break  # the person performs the gesture again
                 action = learner.choose(state)
                 exploited, reason = learner.last_exploited, learner.last_reason
+
+
+def _anticipate(
+    learner: Learner,
+    person: ScriptedPerson,
+    detector: Detector,
+    world: World,
+    item: ScriptStep,
+    guess: Anticipation,
+    t: int,
+    gestures: int,
+    legs: int,
+    previous: Action,
+    observer: StepObserver | None,
+) -> StepRecord:
+    """Perform ``guess`` before ``item``'s gesture while the person watches; its record.
+
+    Nothing is pointed at (the world gets no target; :mod:`pil.anticipation` offers only a close
+    or an open on a spot, done where the hand is); the person watches it as any action, meaning
+    ``item``'s instruction, and stops it when it is not. The learner receives the feedback
+    after the thumb, for the anticipated state; no gesture is performed or counted
+    (``gesture_count`` stays).
+    """
+    intent, action, hand = item.intent, guess.action, world.hand()
+    base = StepRecord(
+        t=t, gesture_count=gestures, table=intent.table, handover=intent.handover,
+        handover_type=item.handover_type, step=item.step, true_gesture=intent.gesture,
+        detected_gesture=None, intended_action=intent.action, legs_delivered=legs,
+        recovery=item.recovery, state=guess.state, action=action, exploited=True,
+        reason=guess.reason, proactive=True,
+    )  # fmt: skip
+    if observer is not None:
+        observer.decided(base)
+    outcome = world.execute(action, None, person.watch(intent))
+    feedback = person.judge(intent, action, outcome)
+    if observer is not None:
+        observer.answered(base._replace(feedback=feedback))
+    person.show_feedback(feedback)
+    heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
+    person.after_feedback(feedback)
+    ok = heard is not _NOT_OK
+    delivered = ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
+    record = base._replace(
+        feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
+        delivered=delivered, legs_delivered=legs + delivered, interrupted=outcome.interrupted,
+        dropped=outcome.dropped, feedback_read=heard,
+    )  # fmt: skip
+    learner.feedback(guess.state, action, ok)
+    return record
 
 
 def run(

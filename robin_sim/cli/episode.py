@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument("--rate", default=1.0, help="gesture detection rate in [0, 1]")
     parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
-    parser.add_argument("--system", default="pil", help="pil (default) or c1..c4 (pre-trained)")
+    parser.add_argument("--system", default="pil", help=_system_help())
     parser.add_argument("--scenario", default=None, help="assembly YAML to use")
     parser.add_argument(
         "--camera", default="front", help="front, side, head, head_left_eye or head_right_eye"
@@ -52,6 +52,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", type=Path, default=Path("out"), help="output folder")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _system_help() -> str:
+    """The --system help: every system of the study's registry (no MuJoCo imported)."""
+    from pil.experiments.systems import SYSTEM_SPECS
+
+    names = ", ".join(SYSTEM_SPECS)
+    return (
+        f"the learner system (default: %(default)s), one of {names} (proactive: acts before "
+        "the gesture when it expects it)"
+    )
 
 
 def _params(texts: list[str]) -> dict[str, str]:

@@ -100,6 +100,8 @@ class EpisodeTotals:
             "legs_placed": self.legs_placed,
             "physical_failures": self.physical_failures,
             "interrupted_actions": c.interrupted,
+            "anticipated_actions": c.anticipated,  # proactive: performed before the gesture
+            "anticipated_ok": c.anticipated_ok,  # of them let happen (a gesture saved each)
             "drops": c.drops,
             "recovery_gestures": c.recoveries,
             "person_interventions": interventions,

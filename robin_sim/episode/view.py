@@ -47,6 +47,9 @@ class EpisodeView:
     # --- helpers -------------------------------------------------------------------------------
     def _show(self, record: StepRecord, action: str | None) -> None:
         fields = record.to_dict()
+        if record.proactive and record.state is not None:  # no gesture: the robot anticipates
+            fields["true_gesture"] = None
+            action = f"{action} (anticipating {record.state.gesture.value})"
         self.update(
             step=record.t,
             true_gesture=fields["true_gesture"],
