@@ -34,6 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
     parser.add_argument("--no-policy", action="store_true", help="no P(a|s) panel in the video")
     parser.add_argument(
+        "--no-eye-inset", action="store_true", help="no inset of the robot's eye view in the video"
+    )
+    parser.add_argument(
         "--param",
         action="append",
         default=[],
@@ -83,6 +86,7 @@ def run(args: argparse.Namespace) -> int:
         scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
         height=height, fps=args.fps, shadows=args.shadows,
         render_workers=args.render_workers, policy_panel=not args.no_policy,
+        eye_inset=not args.no_eye_inset,
         verify=not args.no_verify, progress=not args.quiet, params=params,
     )  # fmt: skip
     summary = run_episode(config)

@@ -59,6 +59,7 @@ class EpisodeConfig:
     shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
     render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
     policy_panel: bool = True
+    eye_inset: bool = True  # the robot's left-eye view as a small inset in the video
     verify: bool = True  # off-screen render checks after grasps, handovers and placements
     progress: bool = True
     params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
@@ -159,7 +160,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                         world.sim, view, out / VIDEO_NAME, layout=task.layout,
                         width=config.width, height=config.height, fps=config.fps,
                         camera=config.camera, shadows=config.shadows,
-                        render_workers=config.render_workers,
+                        render_workers=config.render_workers, eye_inset=config.eye_inset,
                     )
                 )  # fmt: skip
             checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
