@@ -132,3 +132,22 @@ def test_same_seed_gives_identical_qpos() -> None:
         acted.body.perform(Gesture.GIVE_ME, None)
         runs.append(acted.world.data.qpos.copy())
     assert np.array_equal(runs[0], runs[1])
+
+
+def test_the_vision_detectors_look_at_takes_the_head_over() -> None:
+    from robin_sim.vision.gaze import head_angles, head_qpos, look_at
+
+    world = PhysicalWorld()
+    world.head.attend(world.leg_position(3), "pointed")
+    world.run(0.3)  # the head is turning to leg 3
+    palm = world.human.palm_centre()
+    look_at(world.sim, palm)
+    world.run(0.5)
+    aim = head_angles(world.model, world.data, palm)
+    act = [world.model.actuator(a).id for a in names.HEAD_ACTUATORS]
+    assert np.array_equal(world.data.ctrl[act], aim)  # look_at's targets stand: the gaze let go
+    assert np.abs(head_qpos(world.model, world.data) - aim).max() < 0.02  # rad (gravity sag)
+    world.head.attend_to("robot hand")  # the next attention takes the head back
+    world.run(1.0)
+    site = world.data.site(names.grasp_site(names.ACTIVE_SIDE)).xpos
+    assert eye_angle_deg(world, site) < AIM_TOLERANCE_DEG
