@@ -40,11 +40,14 @@ def raw_step_rate(seconds: float = 2.0) -> float:
     return steps / (time.perf_counter() - start)
 
 
-def one_run(scenario: Path, video: bool, workers: int | None) -> dict[str, float]:
+def one_run(
+    scenario: Path, video: bool, workers: int | None, eye_inset: bool = True
+) -> dict[str, float]:
     """One episode; the timings the summary reports."""
     with tempfile.TemporaryDirectory() as folder:
         config = EpisodeConfig(scenario=scenario, out=Path(folder), video=video, verify=False,
-                               progress=False, render_workers=workers)  # fmt: skip
+                               progress=False, render_workers=workers,
+                               eye_inset=eye_inset)  # fmt: skip
         summary = run_episode(config)
     wall, sim = summary["wall_time_s"], summary["sim_time_s"]
     row = {"wall_s": wall, "sim_s": sim, "rtf": sim / wall, "render_s": 0.0, "encode_s": 0.0}
@@ -61,16 +64,17 @@ def main() -> None:
     parser.add_argument("--scenario", type=Path, default=SCENARIOS_DIR / "one_handover.yaml")
     args = parser.parse_args()
     ceiling = raw_step_rate()
-    cases = {"no video": (False, None), "video, 2 render workers": (True, None),
-             "video, in-process render": (True, 0)}  # fmt: skip
+    cases = {"no video": (False, None, False), "video, 2 render workers": (True, None, True),
+             "video, 2 render workers, --no-eye-inset": (True, None, False),
+             "video, in-process render": (True, 0, True)}  # fmt: skip
     print(f"scenario {args.scenario.name}, median of {args.repeats} runs")
     print(f"raw mj_step of the scene: {ceiling:,.0f} steps/s ({ceiling * 0.002:.1f}x real time)")
     header = ("case", "wall s", "sim s", "x real time", "physics+control s", "render wait s",
               "encode s", "frames/s overall", "encode fps", "physics / raw mj_step")  # fmt: skip
     print("| " + " | ".join(header) + " |")
     print("|" + "---|" * len(header))
-    for name, (video, workers) in cases.items():
-        runs = [one_run(args.scenario, video, workers) for _ in range(args.repeats)]
+    for name, (video, workers, inset) in cases.items():
+        runs = [one_run(args.scenario, video, workers, inset) for _ in range(args.repeats)]
         med = {key: statistics.median(r[key] for r in runs) for key in runs[0]}
         frames = med.get("frames", 0.0)
         overall_fps = frames / med["wall_s"]

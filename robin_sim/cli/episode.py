@@ -43,6 +43,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--param camera_noise=12)",
     )
     parser.add_argument(
+        "--no-eye-inset", action="store_true", help="no inset of the robot's eye view in the video"
+    )
+    parser.add_argument(
         "--param",
         action="append",
         default=[],
@@ -91,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
         scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
         height=height, fps=args.fps, shadows=args.shadows,
         render_workers=args.render_workers, policy_panel=not args.no_policy,
+        eye_inset=not args.no_eye_inset,
         verify=not args.no_verify, progress=not args.quiet, params=params,
     ).checked()  # fmt: skip
     if video or config.verify or params.get("detector") == "vision":

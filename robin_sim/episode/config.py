@@ -78,6 +78,7 @@ class EpisodeConfig:
     shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
     render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
     policy_panel: bool = True
+    eye_inset: bool = True  # the robot's left-eye view as a small inset in the video
     verify: bool = True  # off-screen render checks after grasps, handovers and placements
     progress: bool = True
     params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS

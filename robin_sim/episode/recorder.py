@@ -12,14 +12,18 @@ wall time can be split (physics + control, rendering, encoding).
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
+
+import numpy as np
 
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
 from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
+from robin_sim.render.inset import EyeInset, draw_eye_inset
 from robin_sim.render.overlay import draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.renderer import FrameClock
@@ -57,8 +61,11 @@ class VideoRecorder(ClosesOnExit):
         camera: str = "front",
         shadows: bool = False,
         render_workers: int | None = None,
+        eye_inset: bool = True,
     ) -> None:
         self.view = view
+        self.eye: EyeInset | None = None
+        self._eye_views: deque[np.ndarray] = deque()  # eye views of frames still rendering
         self.timing = VideoTiming()
         self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers)
         try:
@@ -67,6 +74,8 @@ class VideoRecorder(ClosesOnExit):
             self.pool.close()
             raise
         self._sim = sim
+        if eye_inset:
+            self._start_eye_inset(layout, width, height, shadows)
         self.clock = FrameClock(fps, sim.control_dt)
         self._start_time = sim.time
         self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
@@ -77,7 +86,9 @@ class VideoRecorder(ClosesOnExit):
             return
         started = time.perf_counter()
         info = replace(self.view.info, sim_time=sim.time)
-        self.pool.submit(FrameState.capture(sim.model, sim.data), (info, due))
+        state = FrameState.capture(sim.model, sim.data)
+        self._render_eye(state)
+        self.pool.submit(state, (info, due))
         self.timing.render_s += time.perf_counter() - started  # waits only when the pool is full
         self._write(self.pool.ready())
 
@@ -88,12 +99,34 @@ class VideoRecorder(ClosesOnExit):
             self.timing.render_s += started - waited  # waiting for a frame still rendering
             info, due = frame.payload
             draw_overlay(frame.pixels, info)
+            self._draw_eye(frame.pixels)
             for _ in range(due):
                 self.writer.write(frame.pixels)
             self.timing.frames_rendered += 1
             self.timing.frames_written += due
             waited = time.perf_counter()
             self.timing.encode_s += waited - started
+
+    # --- the eye inset (robin_sim.render.inset) -------------------------------------------------
+    def _start_eye_inset(
+        self, layout: SceneLayout | None, width: int, height: int, shadows: bool
+    ) -> None:
+        try:
+            self.eye = EyeInset(layout, width, height, shadows)
+        except BaseException:
+            self.writer.close()
+            self.pool.close()
+            raise
+
+    def _render_eye(self, state: FrameState) -> None:
+        """Render the eye's view of a frame's state (once per video frame, in this process)."""
+        if self.eye is not None:  # its time counts in VideoTiming.render_s (see _on_tick)
+            self._eye_views.append(self.eye.render(state))
+
+    def _draw_eye(self, pixels: np.ndarray) -> None:
+        """Paste the eye view of the frame coming back (frames return in submission order)."""
+        if self.eye is not None:
+            draw_eye_inset(pixels, self._eye_views.popleft())
 
     def close(self) -> None:
         """Stop recording, write the frames still rendering and finish the MP4 (idempotent).
@@ -109,9 +142,13 @@ class VideoRecorder(ClosesOnExit):
             if self.pool.in_flight == 0 and self.timing.frames_written == 0:
                 sim = self._sim
                 info = replace(self.view.info, sim_time=sim.time)
-                self.pool.submit(FrameState.capture(sim.model, sim.data), (info, 1))
+                state = FrameState.capture(sim.model, sim.data)
+                self._render_eye(state)  # every frame submitted has its eye view
+                self.pool.submit(state, (info, 1))
             self._write(self.pool.drain())
         finally:
+            if self.eye is not None:
+                self.eye.close()
             self.pool.close()
             started = time.perf_counter()
             self.writer.close()

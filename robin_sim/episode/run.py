@@ -99,6 +99,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             width=config.width, height=config.height, fps=config.fps,
                             camera=config.camera, shadows=config.shadows,
                             render_workers=config.render_workers,
+                            eye_inset=config.eye_inset,
                         )
                     )  # fmt: skip
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))

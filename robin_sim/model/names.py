@@ -26,6 +26,7 @@ TORSO_BODY = "torso"
 HOME_KEY = "home"
 HEAD_JOINTS: tuple[str, ...] = ("head_pan", "head_tilt")
 HEAD_CAMERAS: tuple[str, ...] = ("head_left_eye", "head_right_eye")
+EYE_CAMERA = HEAD_CAMERAS[0]  # the left eye: the gaze aims it, the video's inset shows it
 ARM_DOF = 7
 
 

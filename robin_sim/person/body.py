@@ -67,6 +67,8 @@ class PhysicalBody:
         """Show ``gesture`` (see the module doc) and hold it so that it can be seen."""
         self.performed_at.append(self.world.time)
         self.display.show(gesture)
+        if gesture is not Gesture.POINTING or target is None:
+            self.world.head.attend_to("person hand")  # the robot watches the gesturing hand
         if gesture is Gesture.POINTING and target is not None:
             self.point_at(target)
             self.world.run(GESTURE_HOLD)
@@ -112,6 +114,7 @@ class PhysicalBody:
         A palm held out for a handover draws back and down first, clear of a held leg."""
         world = self.world
         where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+        world.head.attend(where, "pointed")  # the robot looks where the person points
         return self._move(self.hand.point_at(where, world.time, world.palm_is_out()))
 
     def rest(self) -> float:

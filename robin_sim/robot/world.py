@@ -43,6 +43,7 @@ from robin_sim.robot.actions import (
     leg_offset_in_site,
 )
 from robin_sim.robot.contacts import PersonContacts
+from robin_sim.robot.head import HeadController
 from robin_sim.robot.motion import never
 from robin_sim.robot.targets import (
     check_leg,
@@ -105,6 +106,7 @@ class PhysicalWorld:
         self.human = HumanHand(self.model, self.data)
         self.human.attach(self.sim)
         self.person_contacts = PersonContacts(self.sim)
+        self.head = HeadController(self.sim, self._gaze_sources())  # gaze: head joints only
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)
         self.rng = np.random.default_rng(seed)
         self.speed = speed
@@ -180,6 +182,7 @@ class PhysicalWorld:
         release = self.release if action is Action.OPEN and self.held_leg() is not None else None
         robot_action = self._make(action, target, release)
         robot_action.prepare(self.ctx)  # raises UnreachableTargetError before anything moves
+        self._attend(action, release)
         stop = never if watcher is None else (lambda: watcher.stop_now(None))
         result = robot_action.run(self.ctx, stop)
         if watcher is not None and not result.undone and not result.interrupted:
@@ -214,6 +217,22 @@ class PhysicalWorld:
             self._lay(k)
         self.release = None
         self.sim.run(0.3)
+
+    # --- gaze ----------------------------------------------------------------------------------
+    def _gaze_sources(self) -> dict[str, Callable[[], np.ndarray]]:
+        """The moving points the head may follow (:mod:`robin_sim.robot.head`)."""
+        grasp_site = self.data.site(names.grasp_site(names.ACTIVE_SIDE))
+        return {
+            "person hand": self.human.palm_centre,
+            "palm": self.human.palm_centre,
+            "robot hand": lambda: grasp_site.xpos.copy(),
+        }
+
+    def _attend(self, action: Action, release: ReleasePlace | None) -> None:
+        """The head looks at the palm during a handover (moving to it or opening over it),
+        else at the robot's own hand."""
+        over_palm = release is not None and release.kind == "palm"
+        self.head.attend_to("palm" if action is Action.HUMAN or over_palm else "robot hand")
 
     # --- helpers -------------------------------------------------------------------------------
     def _lay(self, leg: int) -> None:

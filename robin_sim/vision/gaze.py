@@ -20,13 +20,20 @@ SETTLE_TOLERANCE = 0.01  # rad: the head has arrived when both joints are this c
 LOOK_TIMEOUT = 0.8  # s of simulated time a look may take at most
 
 
-def head_angles(model: mujoco.MjModel, data: mujoco.MjData, target: np.ndarray) -> np.ndarray:
+def head_angles(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    target: np.ndarray,
+    origin: np.ndarray | None = None,
+) -> np.ndarray:
     """(pan, tilt) in rad aiming the head's forward axis at ``target``, clipped to the limits.
 
-    Positive tilt looks down (the tilt joint turns about +y). ``data`` must hold a forward
-    pass (the pan joint's anchor is read from it).
+    Positive tilt looks down (the tilt joint turns about +y). The aim is taken from
+    ``origin`` (default: the tilt joint's anchor; an eye camera's position makes that eye's
+    optical axis, parallel to the forward axis, pass through ``target``). ``data`` must hold
+    a forward pass (the anchor is read from it).
     """
-    anchor = data.xpos[int(model.joint(TILT).bodyid[0])]
+    anchor = data.xpos[int(model.joint(TILT).bodyid[0])] if origin is None else origin
     v = np.asarray(target, float) - anchor
     pan_id, tilt_id = model.joint(PAN).id, model.joint(TILT).id
     pan = np.clip(np.arctan2(v[1], v[0]), *model.jnt_range[pan_id])
