@@ -27,6 +27,7 @@ import numpy as np
 
 from pil.task.world import Intent
 from pil.types import Action, Feedback
+from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.robot.targets import target_point
@@ -48,7 +49,10 @@ class PhysicalWatcher:
         self, world: PhysicalWorld, display: GestureDisplay, intent: Intent, reaction: float
     ) -> None:
         self.world, self.display, self.intent, self.reaction = world, display, intent, reaction
-        self.start = world.sim.site_pose().translation()
+        hand = world.sim.hand
+        self._tips = hand.joint_qadr[hand.distal]  # qpos addresses of the two fingertips
+        self._site = world.data.site(names.grasp_site(names.ACTIVE_SIDE)).xpos  # a live view
+        self.start = self._site.copy()
         self.start_fingers = self._fingertips()
         self.start_held = world.held_leg()
         self.highest = float(self.start[2])
@@ -88,8 +92,7 @@ class PhysicalWatcher:
         return True
 
     def _fingertips(self) -> np.ndarray:
-        hand = self.world.sim.hand
-        return self.world.data.qpos[hand.joint_qadr[hand.distal]].copy()
+        return self.world.data.qpos[self._tips]
 
     def _goal(self) -> np.ndarray | None:
         action, target, world = self.intent.action, self.intent.target, self.world
@@ -102,7 +105,7 @@ class PhysicalWatcher:
 
     def _mismatch(self) -> str:
         """Why the motion so far is not the wanted action ("" while it may still be)."""
-        here = self.world.sim.site_pose().translation()
+        here = self._site
         moved = here - self.start
         sideways = float(np.linalg.norm(moved[:2]))
         turned = float(np.abs(self._fingertips() - self.start_fingers).max())
@@ -130,7 +133,7 @@ class PhysicalWatcher:
     def _wrong_result(self) -> str:
         """Why the finished action's result is not the wanted one ("" when it is)."""
         world, wanted = self.world, self.intent.action
-        here = world.sim.site_pose().translation()
+        here = self._site
         if wanted is Action.CLOSE:
             if float(np.linalg.norm(here - self.start)) > ARM_SEEN:
                 return "the hand is not where it was"
