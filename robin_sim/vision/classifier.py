@@ -15,17 +15,11 @@ from pathlib import Path
 import numpy as np
 
 from pil.errors import RobinPilError
+from robin_sim.model.names import HUMAN_VIS_POSES
 
-CLASSES: tuple[str, ...] = (
-    "pointing",
-    "give_me",
-    "grasp",
-    "release",
-    "thumb_up",
-    "thumb_down",
-    "no_gesture",
-)
 NO_GESTURE = "no_gesture"
+# The hand's signs as the model names them (every pose but the relaxed one), then "no gesture".
+CLASSES: tuple[str, ...] = (*(p for p in HUMAN_VIS_POSES if p != "neutral"), NO_GESTURE)
 FORMAT = 2
 SHIPPED = "gesture_model.npz"
 
