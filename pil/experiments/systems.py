@@ -36,6 +36,7 @@ from pil.task.parts import (
     SCENARIO_KEYS,
     RunParts,
     build_parts,
+    cached,
     check_params,
     derive_seeds,
     resolve_scenario,
@@ -183,12 +184,9 @@ def training_for(
         return None
     train_rate = check_rate(rate) if trained_at == "d" else 1.0
     key = ("training", train_rate, int(seed))
-    training = None if cache is None else cache.get(key)
-    if training is None:
-        training = pretrain(scenario, train_rate, derive_seeds(seed), values, cache)
-        if cache is not None:
-            cache[key] = training
-    return training
+    return cached(
+        cache, key, lambda: pretrain(scenario, train_rate, derive_seeds(seed), values, cache)
+    )
 
 
 def test_parts(

@@ -15,10 +15,10 @@ specs of :mod:`pil.task.params`, which :func:`check_params` applies.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, MutableMapping
+from collections.abc import Callable, Mapping, MutableMapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -33,6 +33,7 @@ from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.scenario import Scenario, load_scenario
 from pil.task.watching import ReactionTime
 
+T = TypeVar("T")
 SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY)  # None (the default): the scenario file's
 PARAMS: dict[str, Any] = {name: spec.default for name, spec in PARAM_SPECS.items()}
 # The person's parameters (recorded in an episode's summary).
@@ -91,15 +92,22 @@ def phase_script(
     """The person's script for the training or the test tables (seeded handover order)."""
     if phase not in PHASES:
         raise InvalidChoiceError("phase", phase, PHASES)
-    key = ("script", phase, seeds[f"{phase}_draw"])
-    script = None if cache is None else cache.get(key)
-    if script is None:
+
+    def plan() -> tuple[ScriptStep, ...]:
         tables = scenario.training_tables if phase == "train" else scenario.tables
         types = scenario.draw_types(tables * scenario.legs_per_table, seeds[f"{phase}_draw"])
-        script = plan_script(types, scenario.legs_per_table, scenario.spots)
-        if cache is not None:
-            cache[key] = script
-    return script
+        return plan_script(types, scenario.legs_per_table, scenario.spots)
+
+    return cached(cache, ("script", phase, seeds[f"{phase}_draw"]), plan)
+
+
+def cached(cache: MutableMapping[Any, Any] | None, key: Any, make: Callable[[], T]) -> T:
+    """``cache[key]``, made by ``make()`` and kept the first time; without a cache, ``make()``."""
+    if cache is None:
+        return make()
+    if key not in cache:
+        cache[key] = make()
+    return cache[key]
 
 
 def build_parts(
