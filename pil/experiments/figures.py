@@ -24,6 +24,17 @@ def _pyplot():  # type: ignore[no-untyped-def]
     return plt
 
 
+def _finish(plt: Any, fig: Any, title: str | None, path: str | Path) -> Path:
+    """Title (if given), lay out and write ``fig`` to ``path``, then free it."""
+    if title is not None:
+        fig.suptitle(title)
+    fig.tight_layout()
+    try:
+        return _save(fig, path)
+    finally:
+        plt.close(fig)
+
+
 def _save(fig: Any, path: str | Path) -> Path:
     """Write ``fig`` to ``path`` (PNG, via a temporary file so no half file is left)."""
     path = Path(path)
@@ -75,11 +86,7 @@ def plot_metric(
     ax.set_title(title or f"{metric.replace('_', ' ')} (mean ± sd)")
     ax.legend(title=inner, fontsize="small", ncols=min(5, len(inners)))
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    try:
-        return _save(fig, path)
-    finally:
-        plt.close(fig)
+    return _finish(plt, fig, None, path)
 
 
 def plot_comparison(
@@ -109,12 +116,7 @@ def plot_comparison(
         ax.set_title(quantity)
         ax.grid(axis="y", alpha=0.3)
         ax.legend(fontsize="small")
-    fig.suptitle(title)
-    fig.tight_layout()
-    try:
-        return _save(fig, path)
-    finally:
-        plt.close(fig)
+    return _finish(plt, fig, title, path)
 
 
 def plot_rules(
@@ -146,9 +148,4 @@ def plot_rules(
         ax.set_title(quantity)
         ax.grid(axis="y", alpha=0.3)
         ax.legend(fontsize="small")
-    fig.suptitle(title)
-    fig.tight_layout()
-    try:
-        return _save(fig, path)
-    finally:
-        plt.close(fig)
+    return _finish(plt, fig, title, path)

@@ -86,7 +86,7 @@ def proactive_markdown(figures: Sequence[dict[str, float]]) -> str:
 
 def plot_proactive(figures: Sequence[dict[str, float]], path: str | Path) -> Path:
     """Bars per rate: gestures saved and actions wasted (mean ± sd over repetitions)."""
-    from pil.experiments.figures import _pyplot, _save
+    from pil.experiments.figures import _finish, _pyplot
 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -105,8 +105,4 @@ def plot_proactive(figures: Sequence[dict[str, float]], path: str | Path) -> Pat
     ax.axhline(0.0, color="black", linewidth=0.6)
     ax.set_title("Proactive vs reactive PIL (mean ± sd)")
     ax.legend()
-    fig.tight_layout()
-    try:
-        return _save(fig, path)
-    finally:
-        plt.close(fig)
+    return _finish(plt, fig, None, path)
