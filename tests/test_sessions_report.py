@@ -138,6 +138,12 @@ def test_between_subject_gets_welch(tmp_path: Path) -> None:
     assert test["t"] == pytest.approx(expected.statistic, rel=1e-12)
 
 
+def test_sessions_sort_participants_by_number(tmp_path: Path) -> None:
+    for participant in ("P10", "P2", "P1"):
+        write(tmp_path, summary(participant, "s", "pil", {}))
+    assert [r["participant"] for r in load_sessions(tmp_path)] == ["P1", "P2", "P10"]
+
+
 def test_unfinished_sessions_do_not_make_a_design_within(tmp_path: Path) -> None:
     root = tmp_path / "live"
     write(root, summary("P01", "a", "pil", {}))

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import statistics
 import warnings
 from collections.abc import Mapping, Sequence
@@ -68,8 +69,14 @@ def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
         summary = _read_summary(path)
         if "live" in summary:
             rows.append(session_row(summary, path, folder))
-    rows.sort(key=lambda r: (r["participant"], r["block"] is None, r["block"] or 0, r["session"]))
+    rows.sort(key=lambda r: (_natural(r["participant"]), r["block"] is None, r["block"] or 0,
+                             _natural(r["session"])))  # fmt: skip
     return rows
+
+
+def _natural(text: str) -> list[tuple[int, int | str]]:
+    """Sort key reading digit runs as numbers: P2 before P10."""
+    return [(0, int(part)) if part.isdigit() else (1, part) for part in re.split(r"(\d+)", text)]
 
 
 def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[str, Any]:

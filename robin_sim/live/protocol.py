@@ -26,14 +26,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from pil.errors import RobinPilError, quote
 from pil.task.scenario import (
     SCENARIOS_DIR,
     Scenario,
     find_scenario,
     load_scenario,
+    read_yaml_mapping,
     shipped_scenarios,
 )
 
@@ -179,7 +178,7 @@ def load_protocol(path: str | Path) -> Protocol:
     """Load and check a protocol file (or a shipped protocol's name); ProtocolError if bad."""
     path = find_protocol(path)
     source = str(path)
-    raw = _read_yaml(path)
+    raw = read_yaml_mapping(path, "protocol", ProtocolError, shipped_protocols())
     _reject_unknown(raw, PROTOCOL_KEYS, source)
     name = _text(raw.get("name", path.stem), f"{source}: name")
     description = _text(raw.get("description", ""), f"{source}: description", empty=True)
@@ -324,35 +323,6 @@ def _text(value: Any, where: str, *, empty: bool = False) -> str:
     if not isinstance(value, str) or not (empty or value.strip()):
         raise ProtocolError(f"{where}: expected a non-empty text, got {quote(value)}")
     return value
-
-
-def _read_yaml(path: Path) -> Mapping[str, Any]:
-    """The file's top-level mapping; a missing or malformed file raises ProtocolError."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise ProtocolError(
-            f"{path}: cannot read the protocol: {error.strerror}; a file, or one of the shipped "
-            "protocols: " + ", ".join(shipped_protocols())
-        ) from None
-    except UnicodeDecodeError as error:
-        raise ProtocolError(
-            f"{path}: not UTF-8 text (byte {error.start}); a protocol is a UTF-8 YAML file"
-        ) from None
-    try:
-        raw = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
-        raise ProtocolError(f"{path}: malformed YAML{where}: {problem}") from None
-    except RecursionError:
-        raise ProtocolError(f"{path}: nested too deeply to be a protocol") from None
-    if not isinstance(raw, Mapping):
-        raise ProtocolError(
-            f"{path}: expected a mapping at the top level with keys " + ", ".join(PROTOCOL_KEYS)
-        )
-    return raw
 
 
 def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:
