@@ -256,3 +256,13 @@ def test_study_folders_and_csvs_still_report(tmp_path: Path, capsys: Any) -> Non
     capsys.readouterr()
     err = refused([str(tmp_path / "runs.csv"), "--baseline", "nope"], capsys)
     assert "unknown baseline system 'nope'; valid choices: 'c1', 'pil'" in err
+
+
+def test_one_condition_is_summarised_without_tests(tmp_path: Path, capsys: Any) -> None:
+    write(tmp_path, summary("P01", "a", "pil", {"gestures": 12}))
+    write(tmp_path, summary("P02", "a", "pil", {"gestures": 16}))
+    assert main(["report", str(tmp_path)]) == 0
+    report = (tmp_path / "report" / "report.md").read_text()
+    assert "| pil | 2 | 2 | 14.00 ± 2.83 |" in report
+    assert "No t-tests: the counted sessions hold fewer than two conditions." in report
+    assert (tmp_path / "report" / "sessions.png").read_bytes().startswith(b"\x89PNG")

@@ -261,7 +261,7 @@ def write_sessions_report(
 ) -> list[Path]:
     """Write ``sessions.csv``, ``report.md`` and ``sessions.png`` to ``out``; their paths."""
     from pil.atomic import write_text_atomic
-    from pil.experiments.sessions_figure import plot_sessions
+    from pil.experiments.sessions_figure import Panel, plot_paired
     from pil.experiments.sweep_store import rows_to_csv
 
     out = Path(out)
@@ -275,7 +275,13 @@ def write_sessions_report(
     text = report_markdown(rows, folder)
     written = [write_text_atomic(out / "sessions.csv", rows_to_csv(rows, SESSION_COLUMNS))]
     written.append(write_text_atomic(out / "report.md", text))
-    written.append(plot_sessions(rows, out / "sessions.png"))
+    summary = {s["condition"]: s for s in summarize_sessions(rows)}
+    panels = [
+        Panel(title, participant_means(rows, measure),
+              {c: (s[f"{measure}_mean"], s[f"{measure}_sd"]) for c, s in summary.items()})
+        for measure, title in MEASURES.items()
+    ]  # fmt: skip
+    written.append(plot_paired(list(summary), panels, out / "sessions.png"))
     return written
 
 
