@@ -5,7 +5,8 @@ scripted person (:class:`pil.task.person.ScriptedPerson`) decides, the body make
 the scene, in the order a person does it:
 
 * :meth:`~PhysicalBody.perform` a gesture: show its hand shape; pointing moves the hand above
-  the meant leg or spot, holds it there, then draws the hand back out of the robot's way;
+  the meant leg or spot, holds it there, then draws the hand back out of the robot's way and
+  raises it into Robin's view (where the robot reads it);
   "give me" holds the palm out at the handover point (a little off it each time: a person never
   holds the hand at exactly the same place); "release" brings the palm back under a leg that
   the robot holds where the palm was.
