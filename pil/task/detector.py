@@ -27,6 +27,13 @@ from pil.errors import InvalidChoiceError, RobinPilError, check_rate
 from pil.types import GESTURES, Feedback, Gesture
 
 MODELS: tuple[str, ...] = ("exact", "independent")
+CAMERAS = "vision"  # Robin reads with its eye cameras: physical runs only (robin_sim.vision)
+NO_CAMERAS = (
+    f"{CAMERAS!r} reads with Robin's eye cameras, which only physical runs have (robin-pil "
+    "episode, robin-pil sweep --kind physical); learner-only runs take the cameras' errors as "
+    "measured:FILE, an error model measured by vision episodes or train-gestures (e.g. "
+    "robin_sim/vision/data/measured.json)"
+)
 DEFAULT_DISCARD = 0.5  # share of misses discarded as low-confidence; calibrated, see README
 _INDEX = {g: i for i, g in enumerate(GESTURES)}
 

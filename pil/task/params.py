@@ -24,9 +24,11 @@ from pil.errors import InvalidChoiceError, RobinPilError, quote
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
 from pil.task.detector import (
+    CAMERAS,
     DEFAULT_DISCARD,
     MEASURED_PREFIX,
     MODELS,
+    NO_CAMERAS,
     DetectorError,
     check_confusion,
 )
@@ -234,6 +236,8 @@ def _to_detector(spec: ParamSpec, value: Any) -> Any:
     if not isinstance(value, str):
         return _BAD
     text = value.strip()
+    if text == CAMERAS and text not in spec.choices:
+        raise _InvalidValueError(NO_CAMERAS)
     if text in spec.choices or (text.startswith(MEASURED_PREFIX) and text[len(MEASURED_PREFIX) :]):
         return text
     return _BAD

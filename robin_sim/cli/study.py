@@ -20,7 +20,7 @@ DEFAULT_OUT = Path("out/study")
 
 def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
     """The rates to run: ``--rates``, or for a measured detector its file's measured rate."""
-    from pil.task.detector import MEASURED_PREFIX, MODELS, load_measured
+    from pil.task.detector import CAMERAS, MEASURED_PREFIX, MODELS, NO_CAMERAS, load_measured
 
     if detector.startswith(MEASURED_PREFIX):
         errors = load_measured(detector[len(MEASURED_PREFIX) :])  # fails here, before any run
@@ -30,6 +30,8 @@ def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
                 f"detection rate (measured d = {errors.rate:.3f}); drop --rates"
             )
         return (round(errors.rate, 4),)
+    if detector == CAMERAS:
+        raise RobinPilError(f"--detector {CAMERAS}: {NO_CAMERAS}")
     if detector not in MODELS:
         raise RobinPilError(
             f"--detector: unknown detection model {detector!r}; choose exact, independent "

@@ -44,8 +44,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     grid.add_argument(
         "--rates",
-        default=rates_text(),
-        help="comma-separated detection rates in [0, 1] (default: %(default)s)",
+        default=None,
+        help=f"comma-separated detection rates in [0, 1] (default: {rates_text()}; 1.0 with "
+        "--detector vision, whose cameras measure the rate)",
     )
     grid.add_argument(
         "--reps", default=PAPER_REPS, help="repetitions per cell (default: %(default)s)"
@@ -61,6 +62,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=[],
         metavar="NAME=V1,V2",
         help="sweep a parameter over values (repeatable), e.g. discard=0,0.3",
+    )
+    grid.add_argument(
+        "--detector",
+        default=None,
+        help="how the runs read the person (as --param detector=...): exact (default), "
+        "independent, measured:FILE, or vision (physical runs only: Robin's eye cameras; "
+        "sweep their conditions with e.g. --param lighting=1,0.25 --param camera_noise=0,12)",
     )
     grid.add_argument(
         "--seed",
@@ -123,9 +131,11 @@ def run(args: argparse.Namespace) -> int:
     if args.scheduler is not None:
         check_address(args.scheduler)
     target = load_target(args.kind, args.run_function)
-    rates = [RATE.parse(text, "--rates") for text in split_list(args.rates, "--rates")]
+    params = _with_detector(args.param, args.detector)
+    rates_given = _rates_text(args.rates, params)
+    rates = [RATE.parse(text, "--rates") for text in split_list(rates_given, "--rates")]
     tables = args.tables
-    if tables is None and not any(p.strip().startswith("tables=") for p in args.param):
+    if tables is None and not any(p.strip().startswith("tables=") for p in params):
         spec = target.params.get("tables")  # the kind's default; None: the function's
         tables = 10 if spec is None else spec.default
     grid = build_grid(
@@ -133,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
         systems=DEFAULT_SYSTEMS if args.systems is None else split_list(args.systems, "--systems"),
         rates=rates,
         reps=args.reps,
-        params=args.param,
+        params=params,
         tables=tables,
         base_seed=args.seed,
     )
@@ -207,6 +217,37 @@ def run(args: argparse.Namespace) -> int:
         except RobinPilError as error:  # the runs are done and kept; only the report is not
             _say(f"no report: {error}; see 'robin-pil report --help'")
     return 1 if tally.failed else 0
+
+
+def _with_detector(params: list[str], detector: str | None) -> list[str]:
+    """The ``--param`` texts with ``--detector`` added as ``detector=...``."""
+    if detector is None:
+        return list(params)
+    if any(p.partition("=")[0].strip() == "detector" for p in params):
+        raise RobinPilError("give the detector either with --detector or --param detector=...")
+    return [*params, f"detector={detector}"]
+
+
+def _rates_text(rates: str | None, params: list[str]) -> str:
+    """``--rates``, or its default: the paper's rates, or 1.0 when every run reads with the eye
+    cameras (whose rate is measured, not drawn: several rates would only repeat the runs)."""
+    from pil.task.detector import CAMERAS
+
+    detectors = [
+        [value.strip() for value in p.partition("=")[2].split(",")]
+        for p in params
+        if p.partition("=")[0].strip() == "detector"
+    ]
+    cameras_only = bool(detectors) and detectors[0] == [CAMERAS]
+    if rates is None:
+        return "1.0" if cameras_only else rates_text()
+    if cameras_only and len(rates.split(",")) > 1:
+        raise RobinPilError(
+            f"--rates {rates}: with --detector {CAMERAS} the eye cameras measure the detection "
+            "rate and the runs draw none; give one rate (or none) and sweep the camera "
+            "conditions instead, e.g. --param lighting=1,0.25 --param camera_noise=0,12"
+        )
+    return rates
 
 
 def _progress(total: int, initial: int, quiet: bool) -> Any:

@@ -2,24 +2,36 @@
 
 A run is an episode without video (:func:`robin_sim.episode.run.run_episode`), its step log and
 summary written to a temporary folder that is removed afterwards; the row is the summary's
-flat fields plus the fraction of legs delivered.
+flat fields plus the fraction of legs delivered. With ``detector=vision`` Robin reads every
+gesture and thumb with its eye cameras under the camera conditions ``lighting`` and
+``camera_noise`` (sweepable parameters); the row then carries the summary's ``vision`` block's
+numbers as ``vision_*`` columns (``vision_detection_rate``: the measured d).
 """
 
 from __future__ import annotations
 
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from pil.experiments.systems import run_one
-from pil.task.params import ASSEMBLY, ParamSpec
+from pil.task.detector import CAMERAS, MODELS
+from pil.task.params import ASSEMBLY, PARAMS, ParamSpec
 from robin_sim.episode.config import EpisodeConfig, EpisodeTask
 from robin_sim.episode.run import run_episode
+from robin_sim.vision.condition_params import CONDITION_PARAMS
 
 PHYSICAL_PARAMS: dict[str, ParamSpec] = {
     "tables": ASSEMBLY["tables"],
     "verify": ParamSpec("verify", "bool", False, "render checks after grasps and deliveries"),
+    # a physical run may read with the eye cameras, under camera conditions
+    "detector": replace(
+        PARAMS["detector"], choices=(*MODELS, CAMERAS), doc="detection model or the eye cameras"
+    ),
+    **CONDITION_PARAMS,
 }
+VISION_PREFIX = "vision_"  # the vision block's numbers in a results row
 
 
 def _config(
@@ -55,6 +67,8 @@ def expected_cost(system: str, rate: float, seed: int, **params: Any) -> float:
     counts predict the physical run's length.
     """
     options = {k: v for k, v in params.items() if k not in PHYSICAL_PARAMS}
+    if params.get("detector") not in (None, CAMERAS):
+        options["detector"] = params["detector"]  # the eye cameras' twin: the exact detector
     tables = PHYSICAL_PARAMS["tables"].parse(params.get("tables"), "tables")
     if tables is None and options.get("scenario") is None:
         tables = 1  # as the episode: one table of the paper's assembly
@@ -69,9 +83,17 @@ def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str
     ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.parts.PARAMS`; the step log
     and summary go to a temporary folder that is removed afterwards.
     """
+    config = _config(system, rate, seed, Path("."), params)
+    if str(params.get("detector", "")) == CAMERAS:
+        from robin_sim.render.gl_backend import ensure_gl_backend
+
+        ensure_gl_backend()  # the eye cameras render
     with tempfile.TemporaryDirectory(prefix="robin-physical-") as folder:
-        summary = run_episode(_config(system, rate, seed, Path(folder), params))
+        summary = run_episode(replace(config, out=Path(folder)))
     row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
     row.pop("system_name", None)
     row["legs_delivered_fraction"] = summary["legs_delivered"] / summary["legs_total"]
+    for key, value in summary.get("vision", {}).items():
+        if not isinstance(value, dict):
+            row[VISION_PREFIX + key] = value
     return row

@@ -14,9 +14,10 @@ from typing import Any
 
 from pil.errors import RobinPilError
 from pil.task.parts import derive_seeds
+from robin_sim.vision.condition_params import CONDITION_PARAMS
 
 VISION = "vision"
-VISION_PARAMS: tuple[str, ...] = ("lighting", "camera_noise")  # robin_sim.vision.detector's
+VISION_PARAMS: tuple[str, ...] = tuple(CONDITION_PARAMS)  # the camera conditions' names
 
 
 def split_params(params: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any] | None]:

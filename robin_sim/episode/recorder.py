@@ -6,7 +6,9 @@ asks the :class:`~robin_sim.render.renderer.FrameClock` whether a frame is due i
 and
 only then hands the state to the render pool; finished frames get the overlay and are encoded.
 The time waited on rendering and the time spent encoding are kept apart so that the episode's
-wall time can be split (physics + control, rendering, encoding).
+wall time can be split (physics + control, rendering, encoding). With ``readings`` (the vision
+detector of ``--detector vision``) the eye inset shows, for a moment after each reading, what
+the robot read: its eye's view with the hand's box and the reading, instead of the live eye.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 
@@ -23,11 +26,23 @@ from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
 from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
-from robin_sim.render.inset import EyeInset, draw_eye_inset
+from robin_sim.render.inset import INSET_LABEL, EyeInset, draw_eye_inset
 from robin_sim.render.overlay import draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.renderer import FrameClock
 from robin_sim.render.video import Mp4Writer
+
+
+@dataclass
+class ReadingInsets(Protocol):
+    """What the eye inset shows instead of the live eye at a time (the vision detector)."""
+
+    def inset_at(self, time: float, size: tuple[int, int]) -> np.ndarray | None:
+        """The picture of a reading made shortly before ``time``, at ``size``; else None."""
+        ...
+
+
+READING_LABEL = "robot's left eye: reading"
 
 
 @dataclass
@@ -62,10 +77,13 @@ class VideoRecorder(ClosesOnExit):
         shadows: bool = False,
         render_workers: int | None = None,
         eye_inset: bool = True,
+        readings: ReadingInsets | None = None,
     ) -> None:
         self.view = view
         self.eye: EyeInset | None = None
-        self._eye_views: deque[np.ndarray] = deque()  # eye views of frames still rendering
+        self.readings = readings
+        # eye views (and their labels) of frames still rendering
+        self._eye_views: deque[tuple[np.ndarray, str]] = deque()
         self.timing = VideoTiming()
         self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers)
         try:
@@ -119,14 +137,21 @@ class VideoRecorder(ClosesOnExit):
             raise
 
     def _render_eye(self, state: FrameState) -> None:
-        """Render the eye's view of a frame's state (once per video frame, in this process)."""
-        if self.eye is not None:  # its time counts in VideoTiming.render_s (see _on_tick)
-            self._eye_views.append(self.eye.render(state))
+        """Render the eye's view of a frame's state (once per video frame, in this process), or
+        take the picture of a reading just made."""
+        if self.eye is None:  # its time counts in VideoTiming.render_s (see _on_tick)
+            return
+        if self.readings is not None:
+            picture = self.readings.inset_at(self._sim.time, self.eye.size)
+            if picture is not None:
+                self._eye_views.append((picture, READING_LABEL))
+                return
+        self._eye_views.append((self.eye.render(state), INSET_LABEL))
 
     def _draw_eye(self, pixels: np.ndarray) -> None:
         """Paste the eye view of the frame coming back (frames return in submission order)."""
         if self.eye is not None:
-            draw_eye_inset(pixels, self._eye_views.popleft())
+            draw_eye_inset(pixels, *self._eye_views.popleft())
 
     def close(self) -> None:
         """Stop recording, write the frames still rendering and finish the MP4 (idempotent).

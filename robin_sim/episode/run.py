@@ -100,6 +100,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             camera=config.camera, shadows=config.shadows,
                             render_workers=config.render_workers,
                             eye_inset=config.eye_inset,
+                            readings=parts.detector if task.vision is not None else None,
                         )
                     )  # fmt: skip
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))

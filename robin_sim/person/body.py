@@ -5,7 +5,8 @@ scripted person (:class:`pil.task.person.ScriptedPerson`) decides, the body make
 the scene, in the order a person does it:
 
 * :meth:`~PhysicalBody.perform` a gesture: show its hand shape; pointing moves the hand above
-  the meant leg or spot, holds it there, then draws the hand back out of the robot's way;
+  the meant leg or spot, holds it there, then draws the hand back out of the robot's way and
+  raises it into Robin's view (where the robot reads it);
   "give me" holds the palm out at the handover point (a little off it each time: a person never
   holds the hand at exactly the same place); "release" brings the palm back under a leg that
   the robot holds where the palm was.
@@ -37,6 +38,9 @@ from robin_sim.robot.world import HANDOVER_TOLERANCE, PALM_OUT_RADIUS, PhysicalW
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
 FEEDBACK_HOLD = 0.4  # s the thumb stays up or down
 PERSON_CLEAR_X = 0.95  # m: the pointing hand draws back this far, out of the robot's way
+# m the drawn-back pointing hand is then raised: held up into Robin's view, above its own left
+# upper arm, which hides a hand held lower above the left spots and legs from both eyes
+POINT_RAISE = 0.20
 # m, largest offset (per axis) of the held-out palm from the handover point: within what the
 # robot counts as a palm held out there.
 PALM_JITTER = PALM_OUT_RADIUS / 2
@@ -72,7 +76,7 @@ class PhysicalBody:
         if gesture is Gesture.POINTING and target is not None:
             self.point_at(target)
             self.world.run(GESTURE_HOLD)
-            self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time))
+            self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
             return
         if gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
             jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)

@@ -110,15 +110,20 @@ class HumanHand:
         low = goal.translation() + np.array([0.0, 0.0, -0.04])
         return self.follow([pose(low + np.array([0.2, 0.0, 0.0])), pose(low), goal], now)
 
-    def withdraw(self, clear_x: float, now: float) -> float:
+    def withdraw(self, clear_x: float, now: float, raise_by: float = 0.0) -> float:
         """Draw the hand straight back (+x, towards the person) to ``clear_x``, out of the
-        robot's way; returns the duration (0 if it is there already)."""
+        robot's way, then raise it ``raise_by`` m; returns the duration (0 if it is there
+        already)."""
         here = self.pose()
         if here.translation()[0] >= clear_x - 1e-6:
             return 0.0
         back = here.translation().copy()
         back[0] = clear_x
-        return self.follow([mink.SE3.from_rotation_and_translation(here.rotation(), back)], now)
+        waypoints = [mink.SE3.from_rotation_and_translation(here.rotation(), back)]
+        if raise_by > 0.0:
+            up = back + np.array([0.0, 0.0, raise_by])
+            waypoints.append(mink.SE3.from_rotation_and_translation(here.rotation(), up))
+        return self.follow(waypoints, now)
 
     def take_away(self, bin_position: np.ndarray, now: float) -> float:
         """Carry what lies on the palm to the bin, tip it in, and go back to rest.

@@ -21,7 +21,6 @@ from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-import cv2
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
@@ -31,15 +30,18 @@ from robin_sim.model import names
 from robin_sim.person.gestures import GestureDisplay, pose_for
 from robin_sim.person.hand_poses import Performance
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, load_shipped
+from robin_sim.vision.condition_params import CONDITION_PARAMS
 from robin_sim.vision.eyes import Condition, EyeCameras
 from robin_sim.vision.gaze import look_at
+from robin_sim.vision.picture import reading_picture
 from robin_sim.vision.reader import Reading, read_views, see
 from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
 
-VISION_PARAMS: dict[str, float] = {"lighting": 1.0, "camera_noise": 0.0}  # name -> default
+VISION_PARAMS: dict[str, float] = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
 FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
 DISCARDED = "discarded"
+READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 
 
 @dataclass(frozen=True, slots=True)
@@ -139,20 +141,22 @@ class VisionDetector:
         self.last_reading, self.last_view = reading, views[0].rgb
         return reading
 
-    def inset(self) -> np.ndarray | None:
-        """The left eye's last view with the hand's box and the reading (for a video inset)."""
+    def inset(self, size: tuple[int, int] | None = None) -> np.ndarray | None:
+        """The left eye's last view with the hand's box and the reading, at ``size`` (width,
+        height; default the eye's), for a video inset (:mod:`robin_sim.vision.picture`)."""
         if self.last_view is None or not self.records:
             return None
-        image = cv2.cvtColor(self.last_view, cv2.COLOR_RGB2BGR)
         record = self.records[-1]
         box = record.boxes[0] if record.boxes else None
-        colour = (0, 0, 255) if record.discarded else (0, 200, 0)
-        if box is not None:
-            x, y, w, h = box
-            cv2.rectangle(image, (x, y), (x + w, y + h), colour, 1)
         text = f"{record.read} {record.confidence:.2f}"
-        cv2.putText(image, text, (2, 10), cv2.FONT_HERSHEY_PLAIN, 0.7, colour, 1, cv2.LINE_AA)
-        return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
+        return reading_picture(self.last_view, box, text, record.discarded, size)
+
+    def inset_at(self, time: float, size: tuple[int, int]) -> np.ndarray | None:
+        """:meth:`inset` while the last reading is at most :data:`READING_SHOWN` s old at
+        simulated ``time``, else None (the video's eye inset then shows the live eye)."""
+        if not self.records or not 0.0 <= time - self.records[-1].sim_time <= READING_SHOWN:
+            return None
+        return self.inset(size)
 
     def _show(self, pose: str) -> None:
         if self.display is not None:

@@ -20,6 +20,7 @@ from pil.errors import RobinPilError
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model import names
 from robin_sim.render.renderer import check_frame_size
+from robin_sim.vision.condition_params import CONDITION_PARAMS
 
 FOVEAL_FOVY = 20.0  # degrees
 EYE_SIZE = 112  # pixels, square eye images
@@ -41,9 +42,10 @@ class Condition:
     blur: float = 0.0  # sd of the Gaussian blur, pixels (0: none)
 
     def __post_init__(self) -> None:
+        lighting, noise = CONDITION_PARAMS["lighting"], CONDITION_PARAMS["camera_noise"]
         for name, value, low, high in (
-            ("lighting", self.lighting, 0.0, 5.0),
-            ("camera_noise", self.camera_noise, 0.0, 128.0),
+            ("lighting", self.lighting, lighting.low, lighting.high),
+            ("camera_noise", self.camera_noise, noise.low, noise.high),
             ("blur", self.blur, 0.0, 10.0),
         ):
             if not np.isfinite(value) or not low <= value <= high:
