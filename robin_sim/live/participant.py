@@ -120,6 +120,16 @@ class LiveParticipant:
             else:
                 self.ended = True
 
+    @property
+    def instruction(self) -> tuple[int, int]:
+        """(handover, step): the leg being handed over and its instructions let stand so far."""
+        return self.legs_delivered, self._step if self._handover == self.legs_delivered else 0
+
+    @property
+    def gesture_pending(self) -> bool:
+        """A gesture has arrived that the loop has not taken yet."""
+        return self._gesture is not None
+
     def _tick(self) -> None:
         self.body.world.sim.tick()
 
