@@ -64,6 +64,7 @@ class LiveSession:
         self._thread: threading.Thread | None = None
         self._participant: LiveParticipant | None = None
         self._picker: Any = None
+        self._pacer: Any = None
         self._files: SessionFiles | None = None
 
     # --- the contract --------------------------------------------------------------------------
@@ -107,9 +108,10 @@ class LiveSession:
 
     def status(self) -> dict[str, Any]:
         """Where the session stands, JSON-ready (thread-safe)."""
-        participant = self._participant
-        summary = self._summary
-        return self.view.status(participant, None if summary is None else summary["status"])
+        participant, summary, pacer = self._participant, self._summary, self._pacer
+        status = self.view.status(participant, None if summary is None else summary["status"])
+        status["behind_s"] = None if pacer is None else round(pacer.behind_s, 3)  # lost pace
+        return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
         """End the session between two ticks and save everything; the summary (idempotent:
@@ -180,6 +182,7 @@ class LiveSession:
             run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
             with run:
                 self._participant, self._picker = run.participant, run.picker
+                self._pacer = run.pacer
                 self.view.table = getattr(run.parts.learner, "table", None)
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
