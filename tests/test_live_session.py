@@ -74,6 +74,16 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     # the learner learnt: the last state decided in now prefers the approved "open"
     status = session.status()
     assert status["phase"] == "done" and status["status"] == "finished"
+    assert status["task"] == {
+        "handover": 0,
+        "handover_type": "A",
+        "handover_steps": [
+            "pointing -> object",
+            "grasp -> close",
+            "give me -> human",
+            "release -> open",
+        ],
+    }
     policy = status["policy"]
     assert policy["state"] == "release / human / occupied"
     assert max(policy["actions"], key=policy["actions"].get) == "open"

@@ -125,6 +125,13 @@ class LiveParticipant:
         """(handover, step): the leg being handed over and its instructions let stand so far."""
         return self.legs_delivered, self._step if self._handover == self.legs_delivered else 0
 
+    def task(self) -> dict[str, object]:
+        """The handover now asked for: its index, type and the type's steps (for the page)."""
+        handover = min(self.legs_delivered, self.legs_total - 1)
+        kind = self.types[handover]
+        steps = [f"{s.gesture.value} -> {s.action.value}" for s in kind.steps]
+        return {"handover": handover, "handover_type": kind.name, "handover_steps": steps}
+
     @property
     def gesture_pending(self) -> bool:
         """A gesture has arrived that the loop has not taken yet."""

@@ -71,8 +71,8 @@ class LiveSession:
     def start(self) -> None:
         """Make the session's folder and start the physics thread."""
         with self._lock:
-            if self._thread is not None:
-                raise RobinPilError(f"session {self.out_dir} has been started already")
+            if self._thread is not None or self.done.is_set():
+                raise RobinPilError(f"session {self.out_dir} has been started or stopped already")
             self._files = SessionFiles(self.out_dir, self.config)  # the folder: new, or refused
             self._thread = threading.Thread(target=self._run, name="live-physics", daemon=True)
             self._thread.start()

@@ -111,6 +111,9 @@ class LiveStatus:
             "message": message,
             **counts,
             "legs_total": None if participant is None else participant.legs_total,
+            # the handover now asked for, e.g. {"handover": 0, "handover_type": "A",
+            # "handover_steps": ["pointing -> object", ...]} (None before the scene is built)
+            "task": None if participant is None else participant.task(),
             "sim_time": None if world is None else round(world.time, 3),
             "system": self.config.system,
             "participant": self.config.participant,
