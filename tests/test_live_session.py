@@ -215,3 +215,19 @@ def test_a_session_stopped_before_it_started_writes_nothing(tmp_path: Path) -> N
     assert not (tmp_path / "P01").exists()
     with pytest.raises(LiveInputError, match="the session has ended"):
         session.submit(LiveInput("end"))
+
+
+def test_end_during_a_move_gives_the_robot_no_verdict(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
+    session.start()
+    driver = Driver(session)
+    try:
+        driver.my_turn()
+        driver.point_at_leg(0)
+        driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        session.receive({"type": "end"})
+        assert session.done.wait(60)
+    finally:
+        summary = session.stop()
+    assert summary["status"] == "ended"
+    assert summary["actions"] == 0 and read_step_log(session.out_dir / "log.jsonl") == []

@@ -171,8 +171,12 @@ class LiveSession:
     def _on_tick(self, _: object) -> None:
         if self._stop_status is not None:
             raise SessionStopped(self._stop_status)
-        if self._participant is not None:
-            self._participant.poll()
+        participant = self._participant
+        if participant is not None:
+            participant.poll()
+            if participant.ended and participant.phase != "waiting_for_gesture":
+                # "end" while the robot acts or waits for a thumb: no verdict is made up
+                raise SessionStopped("ended")
 
     def _run(self) -> None:
         files = self._files
