@@ -31,7 +31,7 @@ from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
 from pil.task.detector import Detector
-from pil.task.person import ScriptedPerson, ScriptStep
+from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
 from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
@@ -65,7 +65,7 @@ class StepObserver(Protocol):
 
 def steps(
     learner: Learner,
-    person: ScriptedPerson,
+    person: Person,
     detector: Detector,
     world: World,
     *,
@@ -108,8 +108,11 @@ def steps(
             if record.feedback is not _NOT_OK:  # and the person lets it stand
                 person.completed(item, guess.action)
                 continue  # no gesture for this instruction
-            if world.hand() is not hand:
-                continue  # the stopped action changed the hand: the person re-plans
+            if world.hand() is not hand or not approved:
+                # The stopped action changed the hand, or the robot saw the stop: the person
+                # re-plans (a scripted person's next instruction is this one again; a live
+                # participant, asked for it only now, makes the gesture).
+                continue
         # --- the instruction's gesture ---------------------------------------------------------
         spent = performed = 0  # actions and performances for this instruction
         done = changed = False
@@ -201,7 +204,7 @@ def steps(
 
 def _anticipate(
     learner: Learner,
-    person: ScriptedPerson,
+    person: Person,
     detector: Detector,
     world: World,
     item: ScriptStep,
