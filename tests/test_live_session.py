@@ -165,6 +165,34 @@ def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
     assert float(decoded[-1].std()) > 20.0
 
 
+def test_thumb_down_after_a_move_takes_the_finished_action_back(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
+    session.start()
+    driver = Driver(session)
+    try:
+        driver.my_turn()
+        hand = session._participant.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
+        start = hand.copy()
+        driver.point_at_leg(1)
+        driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        ended = driver.wait(lambda s: s["phase"] == "waiting_for_thumb", "the move's end")
+        assert ended["last_action"] == "human"
+        moved = hand.copy()  # the finished move: at the person's palm, far from the start
+        session.receive({"type": "thumb", "value": "down"})
+        driver.wait(lambda s: s["actions"] >= 1, "the rejected action to be logged")
+        undone_to = hand.copy()
+    finally:
+        session.stop()
+    first = read_step_log(session.out_dir / "log.jsonl")[0]
+    assert first["action"] == "human" and first["interrupted"]
+    assert first["feedback"] == "not ok" and first["feedback_read"] == "not ok"
+    assert "rejected at its end" in first["detail"], first["detail"]
+    # the robot took the finished move back: its hand went at least 10 cm and came back to
+    # within 2 cm of where it started
+    assert np.linalg.norm(moved - start) > 0.10, (start, moved)
+    assert np.linalg.norm(undone_to - start) < 0.02, (start, undone_to)
+
+
 def test_an_existing_session_folder_is_refused(tmp_path: Path) -> None:
     (tmp_path / "P01" / "s1").mkdir(parents=True)
     with pytest.raises(SessionExistsError, match="exists already"):

@@ -64,3 +64,7 @@ class InstantWatcher:
     def result_window(self, shown: Action | None) -> float:
         """Nothing left to judge: an unwanted action was stopped at once."""
         return 0.0
+
+    def settled(self) -> bool:
+        """Never asked: there is no result window."""
+        return False

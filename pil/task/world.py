@@ -65,6 +65,11 @@ class Watcher(Protocol):
         asking :meth:`stop_now` before the result stands (0: the person lets it stand)."""
         ...
 
+    def settled(self) -> bool:
+        """Asked with :meth:`stop_now` during the result window: True once the person has let
+        the result stand (a thumb up), which ends the window early without a take-back."""
+        ...
+
 
 class World(Protocol):
     """Executes the robot's actions; symbolic in the study, MuJoCo in an episode.

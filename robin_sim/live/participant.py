@@ -58,11 +58,24 @@ class ThumbWatcher:
         if not self.stopped and self.participant.thumb is Feedback.NOT_OK:
             self.stopped = True
             self.participant.body.display.show(Feedback.NOT_OK)
+            self.participant._set("robot_acting", "Thumb down: the robot takes its action back.")
         return self.stopped
 
     def result_window(self, shown: Action | None) -> float:
-        """0: the verdict on a finished action is :meth:`LiveParticipant.judge`'s."""
-        return 0.0
+        """The feedback window, unless a thumb came during the move: a thumb down in it makes
+        the robot take the finished action back (physics runs while the participant decides)."""
+        participant = self.participant
+        if participant.thumb is not None:
+            return 0.0
+        participant._set("waiting_for_thumb", "Thumb up or down? (no thumb counts as OK)")
+        return participant.feedback_window
+
+    def settled(self) -> bool:
+        """The result stands: a thumb up, a next gesture instead (silence) or the session's end."""
+        participant = self.participant
+        return (
+            participant.thumb is Feedback.OK or participant.gesture_pending or participant.ended
+        )
 
 
 class LiveParticipant:
@@ -211,18 +224,11 @@ class LiveParticipant:
         return ThumbWatcher(self)
 
     def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
-        """The participant's thumb: given during the move, else awaited for the feedback
-        window (physics running); none, or a next gesture instead, is silence (OK)."""
+        """The participant's thumb, given during the move or in the feedback window the world
+        waited after it (:meth:`ThumbWatcher.result_window`); a thumb down took the action
+        back (``outcome.interrupted``); none, or a next gesture instead, is silence (OK)."""
         if outcome.interrupted:
             return Feedback.NOT_OK
-        if self.thumb is None:
-            self._set("waiting_for_thumb", "Thumb up or down? (no thumb counts as OK)")
-            world = self.body.world
-            deadline = world.time + self.feedback_window
-            while self.thumb is None and world.time < deadline - 1e-9:
-                if self._gesture is not None or self.ended:
-                    break
-                self._tick()
         return Feedback.NONE if self.thumb is None else self.thumb
 
     def show_feedback(self, feedback: Feedback) -> None:

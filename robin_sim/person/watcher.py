@@ -82,6 +82,10 @@ class PhysicalWatcher:
         due = self.recognized_at + self.reaction
         return max(0.0, due - now) + 2 * self.world.sim.control_dt
 
+    def settled(self) -> bool:
+        """False: the scripted person only opens a window for a result they will reject."""
+        return False
+
     # --- perception ----------------------------------------------------------------------------
     def _thumb_down(self, now: float) -> bool:
         if self.recognized_at is None or now < self.recognized_at + self.reaction - 1e-9:

@@ -187,7 +187,7 @@ class PhysicalWorld:
         result = robot_action.run(self.ctx, stop)
         if watcher is not None and not result.undone and not result.interrupted:
             window = watcher.result_window(None)
-            if window > 0.0 and self.sim.step_until(lambda _: stop(), window):
+            if window > 0.0 and self._rejected_in(window, watcher):
                 result = robot_action.undo(self.ctx, result)
         if result.succeeded and not result.interrupted:
             if action is Action.OPEN:
@@ -200,6 +200,13 @@ class PhysicalWorld:
         self.last_result = result
         self.history.append(result)
         return result.outcome()
+
+    def _rejected_in(self, window: float, watcher: Watcher) -> bool:
+        """Let up to ``window`` s pass while ``watcher`` judges the result: True when the thumb
+        went down (the robot takes the action back), False when it ran out or the person let
+        the result stand."""
+        ended = self.sim.step_until(lambda _: watcher.stop_now(None) or watcher.settled(), window)
+        return ended and not watcher.settled()
 
     def start_table(self, table: int) -> None:
         """Lay out table ``table``'s legs at the layout poses; the arm goes home first."""
