@@ -73,9 +73,7 @@ class ThumbWatcher:
     def settled(self) -> bool:
         """The result stands: a thumb up, a next gesture instead (silence) or the session's end."""
         participant = self.participant
-        return (
-            participant.thumb is Feedback.OK or participant.gesture_pending or participant.ended
-        )
+        return participant.thumb is Feedback.OK or participant.gesture_pending or participant.ended
 
 
 class LiveParticipant:
