@@ -9,16 +9,11 @@ Ctrl-C / SIGTERM (saved ``interrupted``, exit code 130).
 from __future__ import annotations
 
 import argparse
-import errno
-import ipaddress
-import socket
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
-
-LOOPBACK_NAMES = ("localhost",)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -74,39 +69,6 @@ def parse_speed(text: str) -> float:
             from None  # fmt: skip
 
 
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` is reachable only from this machine."""
-    if host in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
-
-
-def bind(host: str, port: int) -> socket.socket:
-    """A listening socket on ``host``:``port``, or one clear error."""
-    try:
-        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
-    except socket.gaierror as problem:
-        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
-                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
-    family, _, _, _, address = infos[0]
-    sock = socket.socket(family, socket.SOCK_STREAM)
-    try:
-        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        sock.bind(address)
-        sock.listen(64)
-    except OSError as problem:
-        sock.close()
-        if problem.errno == errno.EADDRINUSE:
-            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
-                                "(or --port 0 for any free one)") from None  # fmt: skip
-        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
-    sock.setblocking(False)
-    return sock
-
-
 def session_configs(args: argparse.Namespace) -> list[Any]:
     """The run's checked sessions: one, or one per protocol block of the participant."""
     from robin_sim.live.session import LiveConfig
@@ -145,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
 
     ensure_gl_backend()  # before MuJoCo is imported
     from robin_sim.live.conductor import Conductor
-    from robin_sim.live.server import LiveServer, new_token
+    from robin_sim.live.server import LiveServer, bind, is_loopback, new_token
 
     conductor = Conductor(session_configs(args))  # every session validated here
     token = None if is_loopback(host) else new_token()

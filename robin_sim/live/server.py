@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import errno
+import ipaddress
 import json
 import logging
 import secrets
@@ -32,11 +34,13 @@ from urllib.parse import urlsplit
 
 from aiohttp import WSMsgType, web
 
+from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
 from robin_sim.live.inputs import LiveInput, LiveInputError, parse_input
 from robin_sim.live.session import Frame
 
 LOG = logging.getLogger(__name__)
+LOOPBACK_NAMES = ("localhost",)
 STATIC_DIR = Path(__file__).with_name("static")
 STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /static/ serves
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
@@ -49,6 +53,39 @@ SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "Cache-Control": "no-store",
 }
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is reachable only from this machine."""
+    if host in LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening socket on ``host``:``port``, or one clear error."""
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as problem:
+        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
+                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
+    family, _, _, _, address = infos[0]
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind(address)
+        sock.listen(64)
+    except OSError as problem:
+        sock.close()
+        if problem.errno == errno.EADDRINUSE:
+            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
+                                "(or --port 0 for any free one)") from None  # fmt: skip
+        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
+    sock.setblocking(False)
+    return sock
 
 
 def new_token() -> str:
@@ -240,11 +277,13 @@ class LiveServer:
         signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
-        runner = web.AppRunner(self.app, handle_signals=False, access_log=None)
+        runner = web.AppRunner(
+            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0
+        )
         await runner.setup()
         status_task = None
         try:
-            await web.SockSite(runner, sock, shutdown_timeout=1.0).start()
+            await web.SockSite(runner, sock).start()
             status_task = asyncio.create_task(self._status_loop())
             outcome = await self.conductor.finished()
             self.push_status()  # the last status reaches every tab before the sockets close

@@ -1,0 +1,59 @@
+"""``robin-pil live``: every bad option is one clear message and exit code 2, before anything
+starts (no server, no session folder)."""
+
+from __future__ import annotations
+
+import socket
+from pathlib import Path
+
+import pytest
+
+from robin_sim.cli.main import main
+
+
+def refused(argv: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> str:
+    out = tmp_path / "live"
+    code = main(["live", "--no-browser", "--out", str(out), *argv])
+    captured = capsys.readouterr()
+    assert code == 2, captured
+    assert not out.exists(), "a refused command wrote its folder"
+    lines = [line for line in captured.err.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("robin-pil live: error: "), captured.err
+    assert "serving" not in captured.out
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("argv", "named"),
+    [
+        (["--port", "http"], "--port"),
+        (["--port", "70000"], "65535"),
+        (["--port", "-1"], "65535"),
+        (["--speed", "fast"], "--speed"),
+        (["--system", "nope"], "pil"),
+        (["--participant", "P 01; rm"], "participant"),
+        (["--participant", ""], "participant"),
+        (["--scenario", "no_such_scenario"], "scenario"),
+    ],
+)
+def test_bad_option(argv: list[str], named: str, tmp_path: Path, capsys) -> None:
+    message = refused(argv, tmp_path, capsys)
+    assert named in message
+
+
+def test_port_in_use(tmp_path: Path, capsys) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        message = refused(["--port", str(port)], tmp_path, capsys)
+    assert f"--port {port} is in use" in message and "--port 0" in message
+
+
+@pytest.mark.parametrize("content", [None, "blocks: [\n", "\xff\xfe not text"])
+def test_unreadable_protocol(content: str | None, tmp_path: Path, capsys) -> None:
+    path = tmp_path / "protocol.yaml"
+    if content is not None:
+        path.write_bytes(content.encode("latin-1"))
+    message = refused(["--protocol", str(path)], tmp_path, capsys)
+    assert "protocol" in message.lower()
