@@ -232,13 +232,13 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     :func:`shipped_scenarios`), so an installed package runs without the repository.
     """
     path = find_scenario(path)
-    raw = _read_yaml(path)
+    raw = read_yaml_mapping(path)
     _reject_unknown(raw, ASSEMBLY_KEYS, str(path))
     types_raw = raw.get("types", str(DEFAULT_TYPES))
     types_source = str(path)
     if isinstance(types_raw, str):  # a file name, relative to this file
         types_path = (path.parent / types_raw).resolve()
-        types_file = _read_yaml(types_path)
+        types_file = read_yaml_mapping(types_path)
         _reject_unknown(types_file, ("types",), str(types_path))
         types_raw, types_source = types_file.get("types"), str(types_path)
     types = build_types(types_raw, types_source)
@@ -297,30 +297,40 @@ def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
     return values
 
 
-def _read_yaml(path: Path) -> Mapping[str, Any]:
-    """A YAML file's top-level mapping; a missing or malformed file raises ScenarioError."""
+def read_yaml_mapping(
+    path: Path,
+    kind: str = "scenario",
+    error: type[RobinPilError] = ScenarioError,
+    shipped: Sequence[str] | None = None,
+) -> Mapping[str, Any]:
+    """A YAML file's top-level mapping; a missing or malformed file raises ``error``.
+
+    ``kind`` names the file in the messages ("scenario", "protocol"); ``shipped``: the names
+    listed when the file cannot be read (default: the shipped scenarios).
+    """
     try:
         text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise ScenarioError(
-            f"{path}: cannot read the scenario: {error.strerror}; a file, or one of the shipped "
-            "scenarios: " + ", ".join(shipped_scenarios())
+    except OSError as problem:
+        names = shipped_scenarios() if shipped is None else shipped
+        raise error(
+            f"{path}: cannot read the {kind}: {problem.strerror}; a file, or one of the shipped "
+            f"{kind}s: " + ", ".join(names)
         ) from None
-    except UnicodeDecodeError as error:
-        raise ScenarioError(
-            f"{path}: not UTF-8 text (byte {error.start}); a scenario is a UTF-8 YAML file"
+    except UnicodeDecodeError as problem:
+        raise error(
+            f"{path}: not UTF-8 text (byte {problem.start}); a {kind} is a UTF-8 YAML file"
         ) from None
     try:
         raw = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
+    except yaml.YAMLError as problem:
+        mark = getattr(problem, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
-        raise ScenarioError(f"{path}: malformed YAML{where}: {problem}") from None
+        what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
+        raise error(f"{path}: malformed YAML{where}: {what}") from None
     except RecursionError:
-        raise ScenarioError(f"{path}: nested too deeply to be a scenario") from None
+        raise error(f"{path}: nested too deeply to be a {kind}") from None
     if not isinstance(raw, Mapping):
-        raise ScenarioError(f"{path}: expected a mapping at the top level")
+        raise error(f"{path}: expected a mapping at the top level")
     return raw
 
 

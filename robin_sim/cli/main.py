@@ -18,7 +18,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "study": ("robin_sim.cli.study", "the paper's simulation study (learner only)"),
     "episode": ("robin_sim.cli.episode", "one physical episode rendered headless to MP4"),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
-    "report": ("robin_sim.cli.report", "summary, t-tests and figures for a results CSV"),
+    "report": ("robin_sim.cli.report", "summary, t-tests, figures: a results CSV or live sessions"),
     "model-path": ("robin_sim.cli.model_path", "print where the MJCF model files are installed"),
     "adapt": ("robin_sim.cli.adapt", "a gesture's meaning changes mid-task (learner only)"),
     "transfer": ("robin_sim.cli.transfer", "a second task from scratch vs from saved tables"),

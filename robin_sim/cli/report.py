@@ -5,6 +5,11 @@ run: detection rate plus every parameter the sweep varied (the columns a sweep w
 ``rate`` and ``rep``). Failed runs are counted and left out of the statistics. For physical
 runs (a ``legs_delivered`` column) the report adds the share of legs delivered (in %) and the
 physical failures per rate.
+
+Given a folder instead, the report looks at what it holds: live sessions
+(``<participant>/<session>/summary.json`` with a ``"live"`` block, from ``robin-pil live``) get
+the sessions report (:mod:`pil.experiments.sessions_report`); a study or sweep folder is
+reported from its ``runs.csv`` / ``results.csv``; anything else is refused naming both.
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from typing import Any
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions", "gestures", "actions")
 PHYSICAL_METRICS: tuple[str, ...] = ("legs_delivered_percent", "physical_failures")
 BASELINE = "pil"
+RESULTS_FILES: tuple[str, ...] = ("results.csv", "runs.csv")  # a sweep's, a study's
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,14 +31,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "results",
         type=Path,
-        metavar="RESULTS_CSV",
-        help="a results CSV (a sweep's results.csv or a study CSV)",
+        metavar="RESULTS",
+        help="a results CSV (a sweep's results.csv or a study's runs.csv), a sweep or study "
+        "folder, or a folder of live sessions (e.g. out/live)",
     )
     parser.add_argument(
         "--out",
         type=Path,
         default=None,
-        help="output directory (default: 'report' next to the CSV)",
+        help="output directory (default: 'report' next to the CSV, or inside the folder)",
     )
     parser.add_argument(
         "--metrics",
@@ -43,8 +50,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--baseline",
-        default=BASELINE,
-        help="system every other system is t-tested against (default: pil)",
+        default=None,
+        help="system every other system is t-tested against (default: pil; results CSVs only)",
     )
 
 
@@ -53,14 +60,44 @@ def run(args: argparse.Namespace) -> int:
     from pil.errors import InvalidChoiceError
     from pil.experiments.report import load_rows
 
+    if args.results.is_dir():
+        return run_folder(args)
     metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
+    baseline = BASELINE if args.baseline is None else args.baseline
     systems = sorted({str(row.get("system")) for row in load_rows(args.results)})
-    if args.baseline not in systems:  # asked for by name: an unknown one is an error
-        raise InvalidChoiceError("baseline system", args.baseline, systems)
+    if baseline not in systems:  # asked for by name: an unknown one is an error
+        raise InvalidChoiceError("baseline system", baseline, systems)
     out = args.out if args.out is not None else args.results.parent / "report"
-    for path in write_report(args.results, out, metrics=metrics, baseline=args.baseline):
+    for path in write_report(args.results, out, metrics=metrics, baseline=baseline):
         print(path)
     return 0
+
+
+def run_folder(args: argparse.Namespace) -> int:
+    """A folder: live sessions, else a study or sweep folder's results, else an error."""
+    from pil.errors import RobinPilError
+    from pil.experiments.sessions_report import EXPECTED, load_sessions, write_sessions_report
+
+    folder = args.results
+    rows = load_sessions(folder)  # a corrupt summary.json raises here, before anything is written
+    if rows:
+        if args.metrics is not None or args.baseline is not None:
+            raise RobinPilError(
+                "--metrics and --baseline are for a results CSV; a sessions folder is reported "
+                "on all its measures, every pair of conditions compared"
+            )
+        out = args.out if args.out is not None else folder / "report"
+        for path in write_sessions_report(rows, folder, out):
+            print(path)
+        return 0
+    for name in RESULTS_FILES:
+        if (folder / name).is_file():
+            args.results = folder / name
+            return run(args)
+    raise RobinPilError(
+        f"{folder}: nothing to report; expected {EXPECTED}, or a study or sweep folder (with "
+        f"{' or '.join(RESULTS_FILES)}), or a results CSV"
+    )
 
 
 def grid_axes(rows: Sequence[Mapping[str, Any]]) -> list[str]:

@@ -1,0 +1,330 @@
+"""The live page's sessions, summarised per condition like the study: mean ± sd and t-tests.
+
+A sessions folder holds ``<participant>/<session>/summary.json`` files written by
+``robin-pil live``; only summaries with a ``"live"`` block count as sessions. One row per
+session (:data:`SESSION_COLUMNS`); sessions whose status is ``finished`` are *counted*, the rest
+(ended early, closed, interrupted, failed) are listed and left out of the means and tests.
+Tests compare participants, not sessions: a participant's value in a condition is the mean of
+their counted sessions (repeated blocks) in it. Within-subject designs (some participant did more
+than one condition) get paired t-tests over the participants who did both conditions of a pair;
+between-subject designs get Welch's t-test. Pure Python, numpy and scipy: no MuJoCo.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import statistics
+import warnings
+from collections.abc import Mapping, Sequence
+from itertools import combinations
+from pathlib import Path
+from typing import Any
+
+from pil.experiments.report import ReportError, markdown_table, mean_sd
+
+SUMMARY_NAME = "summary.json"
+COUNTED_STATUS = "finished"
+# measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
+MEASURES: dict[str, str] = {
+    "gestures": "instruction gestures",
+    "actions": "robot actions",
+    "rejected": "rejected actions",
+    "interrupted_actions": "interrupted actions",
+    "sim_time_s": "session time (sim s)",
+    "mean_handover_s": "mean handover time (s)",
+    "legs_delivered": "legs delivered",
+}
+NULLABLE: tuple[str, ...] = ("mean_handover_s",)  # null when no leg was delivered
+LIVE_REQUIRED: tuple[str, ...] = ("participant", "session", "condition")
+LIVE_OPTIONAL: tuple[str, ...] = (
+    "block", "protocol", "handover_types", "inputs", "inputs_rejected", "frames_streamed",
+    "stream_fps", "started_utc",
+)  # fmt: skip
+SESSION_COLUMNS: tuple[str, ...] = (
+    "participant", "session", "condition", "block", "protocol", "status", "counted",
+    *MEASURES, "legs_total", *LIVE_OPTIONAL[2:], "summary",
+)  # fmt: skip
+EXPECTED = (
+    f"a folder of live sessions (<participant>/<session>/{SUMMARY_NAME} files whose summary "
+    'has a "live" block, as robin-pil live writes them under out/live)'
+)
+
+
+class SessionsError(ReportError):
+    """A sessions folder or a summary in it that cannot be reported."""
+
+
+def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
+    """One row per live session under ``folder`` (``[]`` when it holds none).
+
+    Every ``summary.json`` is read; one that is not a JSON object raises naming it, and so
+    does a live summary that lacks a field the report needs. Summaries without a ``"live"``
+    block (episodes) are skipped. Rows are sorted by participant, block and session.
+    """
+    folder = Path(folder)
+    rows = []
+    for path in sorted(folder.rglob(SUMMARY_NAME)):
+        summary = _read_summary(path)
+        if "live" in summary:
+            rows.append(session_row(summary, path, folder))
+    rows.sort(key=lambda r: (_natural(r["participant"]), r["block"] is None, r["block"] or 0,
+                             _natural(r["session"])))  # fmt: skip
+    return rows
+
+
+def _natural(text: str) -> list[tuple[int, int | str]]:
+    """Sort key reading digit runs as numbers: P2 before P10."""
+    return [(0, int(part)) if part.isdigit() else (1, part) for part in re.split(r"(\d+)", text)]
+
+
+def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[str, Any]:
+    """The sessions.csv row of one live ``summary`` (read from ``path``); checked."""
+    live = summary["live"]
+    if not isinstance(live, Mapping):
+        raise SessionsError(f'{path}: the "live" block is not a mapping')
+    row: dict[str, Any] = {}
+    for key in LIVE_REQUIRED:
+        value = live.get(key)
+        if not isinstance(value, str) or not value:
+            raise SessionsError(f"{path}: live.{key}: expected a non-empty text, got {value!r}")
+        row[key] = value
+    block = live.get("block")
+    if block is not None and (isinstance(block, bool) or not isinstance(block, int)):
+        raise SessionsError(f"{path}: live.block: expected a whole number or null, got {block!r}")
+    row["block"] = block
+    row["protocol"] = live.get("protocol")
+    status = summary.get("status")
+    if not isinstance(status, str) or not status:
+        raise SessionsError(f"{path}: status: expected a text (e.g. 'finished'), got {status!r}")
+    row["status"], row["counted"] = status, status == COUNTED_STATUS
+    for key in MEASURES:
+        if key not in summary:
+            raise SessionsError(f"{path}: missing field {key!r}; a live summary has "
+                                + ", ".join(MEASURES))  # fmt: skip
+        row[key] = _number(summary[key], key, path, nullable=key in NULLABLE)
+    row["legs_total"] = summary.get("legs_total")
+    for key in LIVE_OPTIONAL[2:]:
+        value = live.get(key)
+        row[key] = " ".join(map(str, value)) if isinstance(value, list) else value
+    row["summary"] = path.relative_to(folder).as_posix()
+    return row
+
+
+def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The conditions in registry order (pil, c1, ..., proactive), unknown ones after, by name."""
+    from pil.experiments.systems import SYSTEM_SPECS
+
+    known = list(SYSTEM_SPECS)
+    names = {str(r["condition"]) for r in rows}
+    return sorted(names, key=lambda n: (known.index(n) if n in known else len(known), n))
+
+
+def participant_means(
+    rows: Sequence[Mapping[str, Any]], measure: str
+) -> dict[str, dict[str, float]]:
+    """condition -> participant -> the mean of their counted sessions' ``measure`` values."""
+    values: dict[str, dict[str, list[float]]] = {}
+    for row in rows:
+        if row["counted"] and row[measure] is not None and not math.isnan(row[measure]):
+            by = values.setdefault(row["condition"], {})
+            by.setdefault(row["participant"], []).append(float(row[measure]))
+    return {c: {p: statistics.fmean(v) for p, v in by.items()} for c, by in values.items()}
+
+
+def is_within(rows: Sequence[Mapping[str, Any]]) -> bool:
+    """True when some participant has counted sessions in more than one condition."""
+    seen: dict[str, set[str]] = {}
+    for row in rows:
+        if row["counted"]:
+            seen.setdefault(row["participant"], set()).add(row["condition"])
+    return any(len(c) > 1 for c in seen.values())
+
+
+def summarize_sessions(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Per condition: ``n`` counted sessions, participants and ``<measure>_mean``/``_sd``."""
+    out = []
+    counted = [r for r in rows if r["counted"]]
+    for condition in conditions_of(counted):
+        members = [r for r in counted if r["condition"] == condition]
+        people = len({r["participant"] for r in members})
+        entry: dict[str, Any] = {"condition": condition, "n": len(members), "participants": people}
+        for measure in MEASURES:
+            values = [float(r[measure]) for r in members if r[measure] is not None]
+            entry[f"{measure}_mean"], entry[f"{measure}_sd"] = mean_sd(values)
+            entry[f"{measure}_n"] = len(values)
+        out.append(entry)
+    return out
+
+
+def session_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Per pair of conditions and measure: a paired t-test (within-subject) or Welch's.
+
+    Each result: ``test`` ("paired" | "welch"), ``measure``, ``a``, ``b``, ``n`` (pairs, or
+    "n_a/n_b"), both means over participants, ``t`` and ``p`` (NaN when too few participants
+    or no variation: paired differences all equal, or both groups constant).
+    """
+    from scipy.stats import ttest_ind, ttest_rel  # imported here: scipy is slow to import
+
+    within = is_within(rows)
+    results = []
+    for a, b in combinations(conditions_of([r for r in rows if r["counted"]]), 2):
+        for measure in MEASURES:
+            means = participant_means(rows, measure)
+            in_a, in_b = means.get(a, {}), means.get(b, {})
+            if within:
+                both = sorted(set(in_a) & set(in_b))
+                xs, ys = [in_a[p] for p in both], [in_b[p] for p in both]
+                varied = len({x - y for x, y in zip(xs, ys, strict=True)}) > 1
+                n: Any = len(both)
+            else:
+                xs, ys = list(in_a.values()), list(in_b.values())
+                varied = len(set(xs)) > 1 or len(set(ys)) > 1
+                n = f"{len(xs)}/{len(ys)}"
+            t = p = math.nan
+            if len(xs) > 1 and len(ys) > 1 and varied:
+                with warnings.catch_warnings():  # nearly constant groups: p is still valid
+                    warnings.filterwarnings("ignore", "Precision loss", RuntimeWarning)
+                    test = ttest_rel(xs, ys) if within else ttest_ind(xs, ys, equal_var=False)
+                t, p = float(test.statistic), float(test.pvalue)
+            results.append({
+                "test": "paired" if within else "welch", "measure": measure, "a": a, "b": b,
+                "n": n, "mean_a": statistics.fmean(xs) if xs else math.nan,
+                "mean_b": statistics.fmean(ys) if ys else math.nan, "t": t, "p": p,
+            })  # fmt: skip
+    return results
+
+
+def report_markdown(rows: Sequence[Mapping[str, Any]], folder: str | Path) -> str:
+    """``report.md``: the counting rule, the per-condition table, the tests, the left-out."""
+    counted = [r for r in rows if r["counted"]]
+    left_out = [r for r in rows if not r["counted"]]
+    within = is_within(rows)
+    lines = [
+        f"# Live sessions: {Path(folder).name}",
+        "",
+        f"{len(rows)} sessions of {len({r['participant'] for r in rows})} participants; "
+        f"{len(counted)} counted, {len(left_out)} left out.",
+        "",
+        f"**Which sessions count:** those with status `{COUNTED_STATUS}` (every leg of the block "
+        "handed over). Sessions ended early, closed, interrupted or failed are listed below and "
+        "left out of the means and the tests; all sessions are in `sessions.csv` (`counted`).",
+        "",
+        "## Per condition (mean ± sd over counted sessions)",
+        "",
+    ]
+    summary = summarize_sessions(rows)
+    header = ["condition", "sessions", "participants", *MEASURES.values()]
+    body = [
+        [s["condition"], s["n"], s["participants"]]
+        + [_mean_sd_text(s, m) for m in MEASURES]
+        for s in summary
+    ]  # fmt: skip
+    lines += [markdown_table(header, body), ""]
+    tests = session_tests(rows)
+    if not tests:
+        lines += ["No t-tests: the counted sessions hold fewer than two conditions.", ""]
+    elif within:
+        lines += [
+            "## Paired t-tests (within-subject)",
+            "",
+            "Some participants did more than one condition, so each pair of conditions is "
+            "compared over the participants who did both (`scipy.stats.ttest_rel`; a "
+            "participant's value is the mean of their counted sessions in that condition; "
+            "n = participants; p < 0.05 marked *).",
+            "",
+            _tests_table(tests),
+            "",
+        ]
+    else:
+        lines += [
+            "## Welch t-tests (between-subject)",
+            "",
+            "Every participant did one condition, so the conditions are compared as independent "
+            "groups of participants (`scipy.stats.ttest_ind(equal_var=False)` on each "
+            "participant's mean; n = participants per condition; p < 0.05 marked *).",
+            "",
+            _tests_table(tests),
+            "",
+        ]
+    if left_out:
+        lines += ["## Left out (not finished)", "",
+                  markdown_table(["participant", "session", "condition", "status", "summary"],
+                                 [[r["participant"], r["session"], r["condition"], r["status"],
+                                   f"`{r['summary']}`"] for r in left_out]), ""]  # fmt: skip
+    return "\n".join(lines)
+
+
+def write_sessions_report(
+    rows: Sequence[Mapping[str, Any]], folder: str | Path, out: str | Path
+) -> list[Path]:
+    """Write ``sessions.csv``, ``report.md`` and ``sessions.png`` to ``out``; their paths."""
+    from pil.atomic import write_text_atomic
+    from pil.experiments.sessions_figure import Panel, plot_paired
+    from pil.experiments.sweep_store import rows_to_csv
+
+    out = Path(out)
+    if not any(r["counted"] for r in rows):
+        raise SessionsError(f"{folder}: none of the {len(rows)} sessions is {COUNTED_STATUS!r}; "
+                            "nothing to summarise")  # fmt: skip
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise SessionsError(f"--out {out}: cannot make the folder: {error.strerror}") from None
+    text = report_markdown(rows, folder)
+    written = [write_text_atomic(out / "sessions.csv", rows_to_csv(rows, SESSION_COLUMNS))]
+    written.append(write_text_atomic(out / "report.md", text))
+    summary = {s["condition"]: s for s in summarize_sessions(rows)}
+    panels = [
+        Panel(title, participant_means(rows, measure),
+              {c: (s[f"{measure}_mean"], s[f"{measure}_sd"]) for c, s in summary.items()})
+        for measure, title in MEASURES.items()
+    ]  # fmt: skip
+    written.append(plot_paired(list(summary), panels, out / "sessions.png"))
+    return written
+
+
+def _tests_table(tests: Sequence[Mapping[str, Any]]) -> str:
+    header = ["measure", "a", "b", "n", "mean (a)", "mean (b)", "t", "p"]
+    body = []
+    for r in tests:
+        p_text = "n/a" if math.isnan(r["p"]) else f"{r['p']:.3g}{' *' if r['p'] < 0.05 else ''}"
+        t_text = "n/a" if math.isnan(r["t"]) else f"{r['t']:.2f}"
+        body.append([MEASURES[r["measure"]], r["a"], r["b"], r["n"], f"{r['mean_a']:.2f}",
+                     f"{r['mean_b']:.2f}", t_text, p_text])  # fmt: skip
+    return markdown_table(header, body)
+
+
+def _mean_sd_text(entry: Mapping[str, Any], measure: str) -> str:
+    mean, sd = entry[f"{measure}_mean"], entry[f"{measure}_sd"]
+    if math.isnan(mean):
+        return "n/a"
+    missing = "" if entry[f"{measure}_n"] == entry["n"] else f" (n={entry[f'{measure}_n']})"
+    return f"{mean:.2f} ± {sd:.2f}{missing}"
+
+
+def _number(value: Any, key: str, path: Path, *, nullable: bool) -> float | None:
+    if value is None and nullable:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        kind = "a number or null" if nullable else "a number"
+        raise SessionsError(f"{path}: {key}: expected {kind}, got {value!r}")
+    return value
+
+
+def _read_summary(path: Path) -> Mapping[str, Any]:
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise SessionsError(f"{path}: cannot read the summary: {error.strerror}") from None
+    except UnicodeDecodeError as error:
+        raise SessionsError(f"{path}: not UTF-8 text (byte {error.start})") from None
+    except (json.JSONDecodeError, RecursionError) as error:
+        where = getattr(error, "lineno", None)
+        at = f" at line {where}" if where else ""
+        raise SessionsError(f"{path}: not a JSON summary{at}; the file is corrupt or cut "
+                            "short (remove it or rerun the session)") from None  # fmt: skip
+    if not isinstance(summary, Mapping):
+        raise SessionsError(f"{path}: expected a JSON object (a session's summary)")
+    return summary

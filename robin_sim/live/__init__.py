@@ -1,0 +1,1 @@
+"""The live page: a person in the loop through a browser (issue 11)."""
