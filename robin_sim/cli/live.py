@@ -31,9 +31,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "(default: %(default)s)")  # fmt: skip
     parser.add_argument(
         "--protocol",
-        type=Path,
         default=None,
-        help="study protocol YAML: the participant's blocks, one after another",
+        help="study protocol: a YAML file or a shipped protocol's name (reactive_vs_proactive); "
+        "the participant's blocks run one after another",
     )
     parser.add_argument("--out", type=Path, default=Path("out/live"),
                         help="sessions folder (default: %(default)s)")  # fmt: skip

@@ -14,7 +14,7 @@ import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from robin_sim.live.inputs import LiveInput, LiveInputError
+from robin_sim.live.inputs import LiveInputError, parse_input
 from robin_sim.live.session import Frame, LiveConfig, LiveSession
 
 LOG = logging.getLogger(__name__)
@@ -98,24 +98,22 @@ class Conductor:
         assert self._loop is not None
         self._loop.create_task(self._end("interrupted"))
 
-    async def submit(self, item: LiveInput) -> None:
-        """A valid message from the participant: start a block, or pass it to the session."""
-        if item.kind == "start":
-            if self.phase != "instructions":
-                raise LiveInputError("'start' leaves an instruction screen, and none is shown")
+    async def receive(self, raw: str | bytes) -> None:
+        """One message from the participant's tab, checked by
+        :func:`~robin_sim.live.inputs.parse_input`: a running session takes it (and logs it,
+        refused or not, in ``inputs.jsonl``); else only ``start`` on an instruction screen is
+        valid. :class:`LiveInputError` says what was wrong."""
+        if self.phase == "running":
+            self.session.receive(raw)  # parse_input, then submit; both logged
+            return
+        item = parse_input(raw, self.width, self.height)
+        if item.kind == "start" and self.phase == "instructions":
             await self._start()
-        elif self.phase == "running":
-            self.session.submit(item)
+        elif item.kind == "start":
+            raise LiveInputError("start: no instruction screen is shown")
         else:
             shown = "the instructions: press Start" if self.phase == "instructions" else "none"
-            raise LiveInputError(f"no session is running (showing {shown})")
-
-    def rejected(self, raw: str | bytes, error: str) -> None:
-        """A message refused before reaching the session: logged by it, if it runs."""
-        if self.phase == "running":
-            record = getattr(self.session, "record_rejected", None)
-            if record is not None:
-                record(raw, error)
+            raise LiveInputError(f"{item.kind}: no session is running (showing {shown})")
 
     async def finished(self) -> str:
         """Wait for the end of the run; its final status."""

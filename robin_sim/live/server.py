@@ -36,7 +36,7 @@ from aiohttp import WSMsgType, web
 
 from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
-from robin_sim.live.inputs import LiveInput, LiveInputError, parse_input
+from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
 
 LOG = logging.getLogger(__name__)
@@ -219,10 +219,8 @@ class LiveServer:
             tab.send(_error("this tab watches read-only; the first tab opened controls"))
             return
         try:
-            item: LiveInput = parse_input(data, self.conductor.width, self.conductor.height)
-            await self.conductor.submit(item)
+            await self.conductor.receive(data)  # checked with parse_input, then acted on
         except LiveInputError as problem:
-            self.conductor.rejected(data, str(problem))
             tab.send(_error(str(problem)))
 
     async def _sender(self, tab: Tab) -> None:

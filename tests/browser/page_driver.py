@@ -1,0 +1,74 @@
+"""Driving the live page in headless chromium as a participant would: keys, clicks, thumbs.
+
+Shared by the browser tests and bench/bench_live.py. Everything goes through the page (real
+key presses and mouse clicks on the displayed, possibly scaled, canvas); what the page shows is
+read from ``window.robinLive``, the page's own record of what it received and drew.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pil.task.parts import resolve_scenario
+from robin_sim.live.picking import Picker
+from robin_sim.model import names
+
+# The keys the page documents on its buttons.
+KEY_OF = {"give_me": "g", "grasp": "r", "release": "l", "up": "ArrowUp", "down": "ArrowDown"}
+
+
+def status(page: Any) -> dict[str, Any]:
+    return page.evaluate("() => window.robinLive.status")
+
+
+def wait_status(page: Any, condition: str, timeout_s: float = 60.0) -> dict[str, Any]:
+    """Wait until the page's last status satisfies the JS expression ``condition`` (on ``s``)."""
+    page.wait_for_function(
+        f"() => {{ const s = window.robinLive.status; return !!s && ({condition}); }}",
+        timeout=timeout_s * 1000,
+        polling=50,
+    )
+    return status(page)
+
+
+def leg_pixels(
+    scenario: str | None, width: int = 640, height: int = 480
+) -> list[tuple[float, float]]:
+    """Each leg's centre as a frame pixel, projected with the engine's picking camera model
+    from the scene as it is laid out at the start of a session."""
+    from robin_sim.episode.config import EpisodeConfig, EpisodeTask
+
+    task = EpisodeTask.of(EpisodeConfig(scenario=scenario, video=False))
+    picker = Picker(task.layout, width, height)
+    return [
+        picker.project(picker.data.xpos[picker.model.body(names.leg_body(k)).id])
+        for k in range(len(task.layout.legs))
+    ]
+
+
+def click_frame_pixel(page: Any, x: float, y: float, width: int = 640, height: int = 480) -> None:
+    """Click the displayed canvas where frame pixel (x, y) is shown (whatever its scale)."""
+    box = page.locator("#scene").bounding_box()
+    page.mouse.click(box["x"] + (x + 0.5) * box["width"] / width,
+                     box["y"] + (y + 0.5) * box["height"] / height)  # fmt: skip
+
+
+def canvas_pixels(page: Any) -> np.ndarray:
+    """The canvas as an (h, w, 4) uint8 array."""
+    data = page.evaluate(
+        "() => { const c = document.getElementById('scene');"
+        " return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data); }"
+    )
+    return np.array(data, dtype=np.uint8).reshape(480, 640, 4)
+
+
+def read_jsonl(path: Path) -> list[dict[str, Any]]:
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+
+
+def scenario_types(scenario: str) -> list[str]:
+    return [t.name for t in resolve_scenario(scenario, {}).types]
