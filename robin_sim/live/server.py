@@ -45,7 +45,7 @@ STATIC_DIR = Path(__file__).with_name("static")
 STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /static/ serves
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
-MAX_MESSAGE_BYTES = 16 * 1024  # a larger message from a tab closes its socket (code 1009)
+MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
 SECURITY_HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; "

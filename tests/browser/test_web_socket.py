@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import asyncio
+import base64
 import json
+import os
+import socket
 import struct
 import time
 from typing import Any
@@ -32,6 +35,7 @@ JUNK: list[Any] = [
     '{"type": "start"}',  # no instruction screen is shown
     b"\xff\xfe\x00binary",
     "x" * 5000,
+    "{" * 100_000,  # 100 kB: refused by parse_input, the socket stays open
 ]
 
 
@@ -120,3 +124,63 @@ def test_junk_floods_and_watchers_get_errors_and_the_server_goes_on(live_server)
     assert sum(not e["accepted"] for e in inputs) >= len(JUNK) - 1  # the refused ones logged
     assert inputs[-1]["raw"] == {"type": "gesture", "gesture": "give_me"}
     assert inputs[-1]["accepted"]
+
+
+def stalled_socket(port: int) -> socket.socket:
+    """A WebSocket that completes the handshake and then never reads (a tiny receive buffer,
+    so the server's writes back up at once)."""
+    sock = socket.socket()
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    sock.connect(("127.0.0.1", port))
+    key = base64.b64encode(os.urandom(16)).decode()
+    sock.sendall(
+        f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
+        f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n"
+        .encode()
+    )  # fmt: skip
+    assert sock.recv(12) == b"HTTP/1.1 101"
+    return sock
+
+
+async def watch_frames(url: str, seconds: float) -> tuple[list[int], list[float]]:
+    """Frame seqs and status sim times a reading client sees for ``seconds``."""
+    seqs: list[int] = []
+    sim_times: list[float] = []
+    async with aiohttp.ClientSession() as http, http.ws_connect(url) as ws:
+        end = time.monotonic() + seconds
+        while (left := end - time.monotonic()) > 0:
+            try:
+                message = await ws.receive(timeout=left)
+            except TimeoutError:
+                break
+            if message.type == aiohttp.WSMsgType.BINARY:
+                (length,) = struct.unpack(">I", message.data[:4])
+                seqs.append(json.loads(message.data[4 : 4 + length])["seq"])
+            elif message.type == aiohttp.WSMsgType.TEXT:
+                data = json.loads(message.data)
+                if data["type"] == "status" and data.get("sim_time") is not None:
+                    sim_times.append(data["sim_time"])
+    return seqs, sim_times
+
+
+def test_a_stalled_tab_loses_old_frames_and_holds_up_nothing(live_server) -> None:
+    speed, seconds = 2.0, 6.0
+    served = live_server(scenario="one_handover", speed=speed, video=False)
+    stalled = stalled_socket(served.port)  # the controlling tab, frozen
+    try:
+        url = served.url("/ws").replace("http://", "ws://")
+        started = time.monotonic()
+        while served.conductor.phase != "running" or served.conductor.latest_frame() is None:
+            assert time.monotonic() - started < 60, "the session did not start"
+            time.sleep(0.05)
+        seqs, sim_times = asyncio.run(watch_frames(url, seconds))
+        tab = next(t for t in served.server.tabs if t.role == "control")
+        assert tab.frames_dropped > 0  # the stalled tab's old frames were dropped
+    finally:
+        stalled.close()
+    # The watcher got (nearly) every frame, at the stream's rate, and physics kept its pace.
+    fps = served.conductor.configs[0].fps
+    assert len(seqs) >= 0.7 * fps * seconds, (len(seqs), fps)
+    assert seqs == sorted(seqs) and max(b - a for a, b in zip(seqs, seqs[1:])) <= 3
+    paced = (sim_times[-1] - sim_times[0]) / speed  # wall seconds of physics seen
+    assert paced >= 0.7 * (seconds - 1.0), (sim_times[0], sim_times[-1])
