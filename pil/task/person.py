@@ -110,6 +110,47 @@ class PersonBody(Protocol):
         ...
 
 
+class Person(Protocol):
+    """What the step loop (:func:`pil.task.runner.steps`) needs of the person: a
+    :class:`ScriptedPerson`, or a live participant (``robin_sim.live.participant``)."""
+
+    def next_step(self, hand: Hand) -> ScriptStep | None:
+        """The next instruction given the robot's ``hand`` (None: done)."""
+        ...
+
+    def completed(self, item: ScriptStep, action: Action) -> None:
+        """``item``'s instruction got an approved ``action``."""
+        ...
+
+    def start_table(self, table: int) -> None:
+        """A new table begins."""
+        ...
+
+    def perform(self, intent: Intent) -> None:
+        """Perform ``intent``'s gesture."""
+        ...
+
+    def watch(self, intent: Intent) -> Watcher:
+        """How the person watches the robot's next action."""
+        ...
+
+    def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
+        """The person's verdict on the action."""
+        ...
+
+    def show_feedback(self, feedback: Feedback) -> None:
+        """Give the thumb before the learner receives it."""
+        ...
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        """What follows the thumb."""
+        ...
+
+    def loses_patience(self, rejections: int) -> bool:
+        """True when ``rejections`` in a row make the person perform the gesture again."""
+        ...
+
+
 class ScriptedPerson:
     """Performs a script, watches the robot and gives feedback (own seeded RNGs).
 

@@ -31,7 +31,7 @@ from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
 from pil.task.detector import Detector
-from pil.task.person import ScriptedPerson, ScriptStep
+from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
 from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
@@ -65,7 +65,7 @@ class StepObserver(Protocol):
 
 def steps(
     learner: Learner,
-    person: ScriptedPerson,
+    person: Person,
     detector: Detector,
     world: World,
     *,
@@ -201,7 +201,7 @@ def steps(
 
 def _anticipate(
     learner: Learner,
-    person: ScriptedPerson,
+    person: Person,
     detector: Detector,
     world: World,
     item: ScriptStep,

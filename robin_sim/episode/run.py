@@ -110,8 +110,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                          disable=not config.progress)
                 )  # fmt: skip
                 guard.check()  # a signal during start-up
-                _play(episode_records(parts, world, view), parts, world, view, checks, log,
-                      bar, totals)  # fmt: skip
+                book = StepBook(parts, world, log, totals, checks)
+                _play(episode_records(parts, world, view), book, view, bar)
             status = "finished"  # the video and the log are closed by now
             guard.check()  # a signal while the video was being finished
         except KeyboardInterrupt:
@@ -130,40 +130,67 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
 
 def _play(
     records: Iterator[StepRecord],
-    parts: RunParts,
-    world: PhysicalWorld,
+    book: StepBook,
     view: EpisodeView,
-    checks: RenderChecks,
-    log: StepLog,
     bar: tqdm,
-    totals: EpisodeTotals,
 ) -> None:
-    """Check, log and count every step; stop at a hand-state mismatch."""
-    hand = Hand.FREE
-    readings = getattr(parts.detector, "records", None)  # the eye cameras' readings, if any
-    logged = 0
+    """Check, log and count every step (:class:`StepBook`); stop at a hand-state mismatch."""
     for record in records:
         view.finished(record)
         if record.action is None:
             view.asked_to_repeat(record)
+        book.add(record)
+        bar.update(record.legs_delivered - bar.n)
+        bar.set_postfix(step=record.t, sim=f"{book.world.time:.0f}s")
+
+
+class StepBook:
+    """Logs and counts each step of a physical run and checks the learner's hand state against
+    physics (shared by the episode and the live session)."""
+
+    def __init__(
+        self,
+        parts: RunParts,
+        world: PhysicalWorld,
+        log: StepLog,
+        totals: EpisodeTotals,
+        checks: RenderChecks | None = None,
+        *,
+        strict: bool = True,
+    ) -> None:
+        self.parts, self.world, self.log, self.totals, self.checks = (
+            parts, world, log, totals, checks
+        )  # fmt: skip
+        self.strict = strict  # False: a mismatch is logged and physics taken as it is
+        self.hand = Hand.FREE  # what the learner's approved actions imply
+        self._readings = getattr(parts.detector, "records", None)  # the eyes' readings, if any
+        self._logged = 0
+
+    def add(self, record: StepRecord) -> dict[str, Any]:
+        """Log and count ``record``; its log entry. :class:`EpisodeError` when the learner's
+        hand state and physics disagree (not ``strict``: ``hand_mismatch`` in the entry)."""
+        world = self.world
         physical = world.hand()
-        hand = _expected_hand(hand, record, physical)
-        entry = _log_entry(record, world, checks.take(), physical)
-        if readings is not None:
-            entry["vision"] = [reading.as_dict() for reading in readings[logged:]]
-            logged = len(readings)
-        log.write(entry)
-        body = parts.person.body
+        self.hand = _expected_hand(self.hand, record, physical)
+        check = None if self.checks is None else self.checks.take()
+        entry = _log_entry(record, world, check, physical)
+        if physical is not self.hand and not self.strict:
+            entry["hand_mismatch"] = self.hand.value  # what the approvals implied
+            self.hand = physical
+        if self._readings is not None:
+            entry["vision"] = [reading.as_dict() for reading in self._readings[self._logged :]]
+            self._logged = len(self._readings)
+        self.log.write(entry)
+        body = self.parts.person.body
         assert isinstance(body, PhysicalBody)
         ended = world.time if world.last_result is None else world.last_result.ended
-        totals.add(record, entry, body.performed_at[record.gesture_count - 1], ended)
-        bar.update(record.legs_delivered - bar.n)
-        bar.set_postfix(step=record.t, sim=f"{world.time:.0f}s")
-        if physical is not hand:
+        self.totals.add(record, entry, body.performed_at[record.gesture_count - 1], ended)
+        if physical is not self.hand:
             raise EpisodeError(
-                f"step {record.t}: the learner's hand state is {hand.value} but physics "
+                f"step {record.t}: the learner's hand state is {self.hand.value} but physics "
                 f"reads {physical.value} ({record.detail or 'no detail'})"
             )
+        return entry
 
 
 def _log_entry(
@@ -190,25 +217,8 @@ def _summary(
     error: str,
     recorder: Any,
 ) -> dict[str, Any]:
-    wall = time.perf_counter() - started
-    summary: dict[str, Any] = {
-        "status": status,
-        "error": error,
-        "system": config.system,
-        "system_name": SYSTEMS[config.system],
-        "rate": config.rate,
-        "seed": config.seed,
-        "scenario": task.scenario.name,
-        "tables": task.scenario.tables,
-        "legs_total": task.legs_total,
-        **totals.as_summary(world.person_contacts.events, parts.person.interventions, world.time),
-        "person": {name: task.values[name] for name in PERSON_PARAMS},
-        "sim_time_s": round(world.time, 3),
-        "wall_time_s": round(wall, 3),
-        "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
-    }
-    if task.vision is not None:
-        summary["vision"] = parts.detector.summary()  # type: ignore[attr-defined]
+    summary = run_summary(config.system, config.rate, config.seed, task, totals, parts, world,
+                          time.perf_counter() - started, status, error)  # fmt: skip
     if recorder is not None:
         timing = recorder.timing
         summary["video"] = {
@@ -220,4 +230,38 @@ def _summary(
             "render_s": round(timing.render_s, 3),
             "encode_s": round(timing.encode_s, 3),
         }
+    return summary
+
+
+def run_summary(
+    system: str,
+    rate: float,
+    seed: int,
+    task: EpisodeTask,
+    totals: EpisodeTotals,
+    parts: RunParts,
+    world: PhysicalWorld,
+    wall: float,
+    status: str,
+    error: str,
+) -> dict[str, Any]:
+    """The summary fields of a physical run (the episode's and the live session's)."""
+    summary: dict[str, Any] = {
+        "status": status,
+        "error": error,
+        "system": system,
+        "system_name": SYSTEMS[system],
+        "rate": rate,
+        "seed": seed,
+        "scenario": task.scenario.name,
+        "tables": task.scenario.tables,
+        "legs_total": task.legs_total,
+        **totals.as_summary(world.person_contacts.events, parts.person.interventions, world.time),
+        "person": {name: task.values[name] for name in PERSON_PARAMS},
+        "sim_time_s": round(world.time, 3),
+        "wall_time_s": round(wall, 3),
+        "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
+    }
+    if task.vision is not None:
+        summary["vision"] = parts.detector.summary()  # type: ignore[attr-defined]
     return summary

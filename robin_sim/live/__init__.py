@@ -1,1 +1,1 @@
-"""The live page: a person in the loop through a browser (issue 11)."""
+"""A live participant in the loop: the session engine, its inputs, picking and pacing."""

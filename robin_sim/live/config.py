@@ -1,0 +1,131 @@
+"""What defines a live session (:class:`LiveConfig`) and its checks, before anything is built.
+
+Every value is checked by :meth:`LiveConfig.checked`: one :class:`~pil.errors.RobinPilError`
+naming the value and the valid choices. The scenario (a shipped name or a YAML path) and the
+block's handover types are loaded and checked there too, so a bad protocol block fails before
+its session starts.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from pil.errors import RobinPilError
+from pil.experiments.systems import check_system
+from pil.task.params import SEED
+from pil.task.parts import resolve_scenario
+from pil.task.scenario import Scenario
+
+NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
+MAX_SIZE = 1920  # px: the scene's off-screen buffer is checked when the scene is built
+SPEEDS = (0.1, 10.0)  # sim seconds per wall second
+FPS_RANGE = (1, 60)
+FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
+DEFAULT_TABLES = 1  # the default assembly: one table, as the episode
+
+
+@dataclass(frozen=True)
+class LiveConfig:
+    """Everything that defines one live session (the live page's contract)."""
+
+    participant: str = "P01"
+    system: str = "pil"  # a key of pil.experiments.systems
+    scenario: str | Path | None = None  # a shipped scenario name or a YAML path
+    handover_types: tuple[str, ...] | None = None  # the block's types (None: the scenario's)
+    out_root: Path = Path("out/live")
+    session: str | None = None  # folder under out_root/participant (None: from the UTC time)
+    width: int = 640
+    height: int = 480
+    fps: float = 15.0
+    eye_inset: bool = True
+    video: bool = True
+    speed: float = 1.0  # sim seconds per wall second
+    feedback_window: float = 4.0  # s of sim time to wait for a thumb after an action
+    seed: int = 0
+    block: int | None = None
+    protocol: str | None = None
+    instructions: str = ""
+    render_workers: int = 0  # 0: render in the physics thread (measured faster, see README)
+
+    def checked(self) -> LiveConfig:
+        """This config with every value checked (nothing is built or written)."""
+        _name(self.participant, "participant")
+        if self.session is not None:
+            _name(self.session, "session")
+        check_system(self.system)
+        width, height = (_whole(v, f"frame {n}", 2, MAX_SIZE) for v, n in
+                         ((self.width, "width"), (self.height, "height")))  # fmt: skip
+        if width % 2 or height % 2:
+            raise RobinPilError(f"frame size must be even for H.264, got {width}x{height}; "
+                                f"use e.g. {width + width % 2}x{height + height % 2}")  # fmt: skip
+        fps = _number(self.fps, "fps", *FPS_RANGE)
+        if fps != int(fps):
+            raise RobinPilError(f"fps must be a whole number of frames per second, got {fps}")
+        if not isinstance(self.out_root, str | Path) or not str(self.out_root).strip():
+            raise RobinPilError(f"out_root must be a folder path, got {self.out_root!r:.60}")
+        if self.block is not None:
+            _whole(self.block, "block", 0, 10_000)
+        for name in ("protocol", "instructions"):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, str):
+                raise RobinPilError(f"{name} must be text, got {type(value).__name__}")
+        for name in ("eye_inset", "video"):
+            if not isinstance(getattr(self, name), bool):
+                raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        scenario = self.scenario_of()
+        types = self.handover_types
+        if types is not None:
+            if isinstance(types, str) or not types:
+                valid = ", ".join(t.name for t in scenario.types)
+                raise RobinPilError(
+                    f"handover_types must be a non-empty list of type names; valid: {valid}"
+                )
+            for name in types:
+                scenario.type_named(str(name))  # names the valid types
+        return replace(
+            self,
+            width=width,
+            height=height,
+            fps=float(fps),
+            speed=_number(self.speed, "speed", *SPEEDS),
+            feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
+            seed=SEED.parse(self.seed, "seed"),
+            out_root=Path(self.out_root),
+            handover_types=None if types is None else tuple(str(t) for t in types),
+            render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+        )
+
+    def scenario_of(self) -> Scenario:
+        """The session's scenario: the block's handover types drawn in the scenario's way."""
+        tables = DEFAULT_TABLES if self.scenario is None else None
+        scenario = resolve_scenario(self.scenario, {"tables": tables})
+        if self.handover_types:
+            scenario = replace(scenario, sequence=tuple(self.handover_types))
+        return scenario
+
+
+def _name(value: object, what: str) -> str:
+    if not isinstance(value, str) or not NAME_PATTERN.fullmatch(value):
+        raise RobinPilError(
+            f"{what} {value!r:.60} is not a valid name; use 1-32 letters, digits, '_' or '-'"
+        )
+    return value
+
+
+def _whole(value: object, what: str, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise RobinPilError(
+            f"{what} must be a whole number from {low} to {high}, got {value!r:.40}"
+        )
+    return value
+
+
+def _number(value: object, what: str, low: float, high: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise RobinPilError(f"{what} must be a number from {low} to {high}, got {value!r:.40}")
+    if not low <= value <= high:
+        raise RobinPilError(f"{what} must lie in [{low}, {high}], got {value}")
+    return float(value)

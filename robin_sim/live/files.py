@@ -1,0 +1,147 @@
+"""A live session's folder and files: ``inputs.jsonl`` as messages come, ``summary.json`` last.
+
+The folder is ``out_root/<participant>/<session>``; an existing one is refused (a session never
+overwrites another). ``inputs.jsonl`` gets one line per message from the controlling client,
+flushed at once: wall-clock and monotonic time, the simulated time, the raw message, whether it
+was accepted and, if not, why. ``summary.json`` holds the episode summary's fields
+(:func:`robin_sim.episode.run.run_summary`) and a ``"live"`` block; the step log and the MP4
+are written by :class:`robin_sim.live.run.LiveRun`.
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from pil.errors import RobinPilError, quote
+from robin_sim.episode.log import write_json_atomic
+from robin_sim.live.config import LiveConfig
+
+if TYPE_CHECKING:
+    from robin_sim.live.run import LiveRun
+
+INPUTS_NAME, SUMMARY_NAME = "inputs.jsonl", "summary.json"
+MAX_RAW_CHARS = 2000  # a raw message longer than this is logged cut (the server limits them)
+
+
+class SessionExistsError(RobinPilError):
+    """A session folder that exists already (sessions are never overwritten)."""
+
+
+def session_folder(config: LiveConfig) -> Path:
+    """Where ``config``'s session goes; refuses a named session whose folder exists, and
+    makes a new name from the UTC time (with -2, -3, ... if taken) when none is given."""
+    base = Path(config.out_root) / config.participant
+    if config.session is not None:
+        folder = base / config.session
+        if folder.exists():
+            raise SessionExistsError(
+                f"session folder {quote(str(folder))} exists already; a session is never "
+                "overwritten: choose another session name or participant"
+            )
+        return folder
+    stamp = datetime.now(UTC).strftime("%Y%m%d-%H%M%S")
+    folder, n = base / stamp, 1
+    while folder.exists():
+        n += 1
+        folder = base / f"{stamp}-{n}"
+    return folder
+
+
+class SessionFiles:
+    """The session's folder (made here, never reused), its inputs log and its summary."""
+
+    def __init__(self, out_dir: Path, config: LiveConfig) -> None:
+        self.out_dir, self.config = Path(out_dir), config
+        try:
+            self.out_dir.parent.mkdir(parents=True, exist_ok=True)
+            self.out_dir.mkdir()
+        except FileExistsError:
+            raise SessionExistsError(
+                f"session folder {quote(str(self.out_dir))} exists already; a session is never "
+                "overwritten: choose another session name or participant"
+            ) from None
+        except OSError as error:
+            raise RobinPilError(f"cannot make the session folder {quote(str(self.out_dir))}: "
+                                f"{error.strerror or error}") from None  # fmt: skip
+        self.started_utc = datetime.now(UTC).isoformat(timespec="seconds")
+        self.started = time.perf_counter()
+        self._lock = threading.Lock()
+        self._inputs = (self.out_dir / INPUTS_NAME).open("w", encoding="utf-8")
+        self.inputs = self.rejected = 0
+
+    def log_input(self, raw: object, error: str, sim_time: float | None) -> None:
+        """One line of ``inputs.jsonl`` (thread-safe, flushed)."""
+        if isinstance(raw, bytes | bytearray):
+            raw = raw.decode("utf-8", "replace")
+        if isinstance(raw, str) and len(raw) > MAX_RAW_CHARS:
+            raw = raw[:MAX_RAW_CHARS] + "..."
+        entry = {"wall": time.time(), "monotonic": time.monotonic(), "sim_time": sim_time,
+                 "raw": raw, "accepted": not error, "error": error}  # fmt: skip
+        with self._lock:
+            if self._inputs.closed:
+                return
+            self._inputs.write(json.dumps(entry, default=str) + "\n")
+            self._inputs.flush()
+            self.inputs += 1
+            self.rejected += bool(error)
+
+    def save(self, status: str, error: str, run: LiveRun | None) -> dict[str, Any]:
+        """Close the inputs log and write ``summary.json``; the summary."""
+        from robin_sim.episode.run import run_summary  # imports MuJoCo
+
+        with self._lock:
+            self._inputs.close()
+        config, wall = self.config, time.perf_counter() - self.started
+        if run is None:  # it failed before the world was built
+            summary: dict[str, Any] = {
+                "status": status,
+                "error": error,
+                "system": config.system,
+                "seed": config.seed,
+                "wall_time_s": round(wall, 3),
+            }
+        else:
+            summary = run_summary(config.system, 1.0, config.seed, run.task, run.totals,
+                                  run.parts, run.world, wall, status, error)  # fmt: skip
+        summary["live"] = self._live_block(run)
+        stream = None if run is None else run.stream
+        if stream is not None and stream.writer is not None:
+            summary["video"] = {"path": str(stream.writer.path), "fps": int(config.fps),
+                                "size": [config.width, config.height],
+                                "frames": stream.stats.video_frames}  # fmt: skip
+        write_json_atomic(self.out_dir / SUMMARY_NAME, summary)
+        return summary
+
+    def _live_block(self, run: LiveRun | None) -> dict[str, Any]:
+        config = self.config
+        stats = None if run is None or run.stream is None else run.stream.stats
+        pacer = None if run is None else run.pacer
+        fps = None if stats is None else stats.fps
+        types = config.handover_types
+        if run is not None:
+            types = tuple(t.name for t in run.participant.types)
+        return {
+            "participant": config.participant,
+            "session": self.out_dir.name,
+            "condition": config.system,
+            "block": config.block,
+            "protocol": config.protocol,
+            "handover_types": None if types is None else list(types),
+            "inputs": self.inputs,
+            "inputs_rejected": self.rejected,
+            "frames_streamed": 0 if stats is None else stats.frames,
+            "stream_fps": None if fps is None else round(fps, 2),
+            "started_utc": self.started_utc,
+            "speed": config.speed,
+            "feedback_window_s": config.feedback_window,
+            "latency_ms": None
+            if stats is None
+            else {"median": stats.latency_ms(0.5), "p95": stats.latency_ms(0.95)},
+            "behind_s": None if pacer is None else round(pacer.behind_s, 3),
+            "instructions": config.instructions,
+        }

@@ -1,0 +1,202 @@
+"""The live stream's frames: rendered from the physics state, JPEG-encoded, published, recorded.
+
+:class:`FrameStream` renders the scene camera (no shadows) through a
+:class:`~robin_sim.render.pool.RenderPool` (``render_workers=0``: in the physics thread; N:
+worker processes), pastes the robot's eye inset (:mod:`robin_sim.render.inset`) and rings
+marking the table spots, encodes each frame as JPEG (``cv2.imencode``) and hands it to every
+subscriber as a :class:`Frame`; the same pixels go into the MP4 (:class:`Mp4Writer`: fragmented,
+so it plays however the session stops). Build and use it in the physics thread: its OpenGL
+contexts belong to the thread that made them.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cv2
+import mujoco
+import numpy as np
+
+from robin_sim.closing import ClosesOnExit
+from robin_sim.model.names import DEFAULT_CAMERA
+from robin_sim.model.scene import SceneLayout
+from robin_sim.render.inset import EyeInset, draw_eye_inset
+from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
+from robin_sim.render.video import Mp4Writer
+
+JPEG_QUALITY = 80
+SPOT_COLOUR = (255, 214, 90)  # RGB of the rings marking the table spots
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """One streamed frame."""
+
+    seq: int  # 1, 2, 3, ... per session
+    jpeg: bytes  # the scene frame with the eye inset, JPEG
+    sim_time: float  # the physics time it shows
+    captured: float  # time.monotonic() when that physics state was captured
+
+
+@dataclass
+class StreamStats:
+    """What the stream did: frames, their latency from capture to publication, time spent."""
+
+    frames: int = 0
+    video_frames: int = 0
+    latency_s: list[float] = field(default_factory=list)  # per frame, capture to publication
+    render_s: float = 0.0
+    encode_s: float = 0.0  # JPEG and MP4
+    first_at: float | None = None  # time.monotonic() of the first and the last publication
+    last_at: float | None = None
+
+    @property
+    def fps(self) -> float | None:
+        """Frames published per wall second, first to last (None before the second)."""
+        if self.first_at is None or self.last_at is None or self.last_at <= self.first_at:
+            return None
+        return (self.frames - 1) / (self.last_at - self.first_at)
+
+    def latency_ms(self, quantile: float) -> float | None:
+        """A quantile of the latencies in ms (None before the first frame)."""
+        if not self.latency_s:
+            return None
+        return round(float(np.quantile(self.latency_s, quantile)) * 1000, 1)
+
+
+class FrameHub:
+    """Subscribers and the latest frame; thread-safe."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._subscribers: list[Callable[[Frame], None]] = []
+        self.latest: Frame | None = None
+
+    def subscribe(self, callback: Callable[[Frame], None]) -> Callable[[], None]:
+        """Call ``callback(frame)`` for every new frame; returns the unsubscribe function."""
+        with self._lock:
+            self._subscribers.append(callback)
+
+        def unsubscribe() -> None:
+            with self._lock:
+                if callback in self._subscribers:
+                    self._subscribers.remove(callback)
+
+        return unsubscribe
+
+    def publish(self, frame: Frame) -> None:
+        """Make ``frame`` the latest and hand it to every subscriber."""
+        with self._lock:
+            self.latest = frame
+            callbacks = tuple(self._subscribers)
+        for callback in callbacks:
+            callback(frame)
+
+
+def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None:
+    """Rings with their numbers where the table spots are, in place."""
+    scale = frame.shape[0] / 480
+    for k, (x, y) in enumerate(pixels):
+        centre = (round(x), round(y))
+        axes = (max(3, round(9 * scale)), max(2, round(4 * scale)))  # the table seen at a slant
+        cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_COLOUR, 1, cv2.LINE_AA)
+        cv2.putText(frame, str(k), (centre[0] - 3, centre[1] + 3), cv2.FONT_HERSHEY_SIMPLEX,
+                    0.3 * scale, SPOT_COLOUR, 1, cv2.LINE_AA)  # fmt: skip
+
+
+class FrameStream(ClosesOnExit):
+    """Renders, encodes, publishes and records frames of ``layout``'s scene (see module doc)."""
+
+    def __init__(
+        self,
+        layout: SceneLayout,
+        hub: FrameHub,
+        width: int,
+        height: int,
+        *,
+        video: Path | None,
+        video_fps: int,
+        eye_inset: bool = True,
+        render_workers: int = 0,
+        spots: Iterable[tuple[float, float]] = (),
+        on_state: Callable[[FrameState], None] | None = None,
+    ) -> None:
+        self.hub, self.stats = hub, StreamStats()
+        self.spots = tuple(spots)
+        self.on_state = on_state  # e.g. the picker follows the frames
+        self._waiting: deque[tuple[FrameState, np.ndarray | None]] = deque()  # still rendering
+        self._closed = False
+        self.pool = RenderPool(layout, width, height, DEFAULT_CAMERA, False,
+                               workers=render_workers)  # fmt: skip
+        self.eye: EyeInset | None = None
+        self.writer: Mp4Writer | None = None
+        try:
+            if eye_inset:
+                self.eye = EyeInset(layout, width, height, False)
+            if video is not None:
+                self.writer = Mp4Writer(video, width, height, video_fps)
+        except BaseException:
+            self.close()
+            raise
+
+    def capture(self, model: mujoco.MjModel, data: mujoco.MjData, copies: int = 1) -> None:
+        """Render the state now (``copies``: how many video frames it stands for)."""
+        started = time.perf_counter()
+        captured = time.monotonic()
+        state = FrameState.capture(model, data)
+        self._waiting.append((state, None if self.eye is None else self.eye.render(state)))
+        self.pool.submit(state, (captured, copies))
+        self.stats.render_s += time.perf_counter() - started
+        self._finish(self.pool.ready())
+
+    def _finish(self, frames: Iterable[RenderedFrame]) -> None:
+        for rendered in frames:
+            started = time.perf_counter()
+            captured, copies = rendered.payload
+            pixels = rendered.pixels
+            state, eye = self._waiting.popleft()  # frames come back in submission order
+            if eye is not None:
+                draw_eye_inset(pixels, eye)
+            draw_spots(pixels, self.spots)
+            ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
+                                    [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
+            if not ok:  # pragma: no cover - OpenCV fails only on a bad image
+                raise RuntimeError("JPEG encoding of a live frame failed")
+            if self.on_state is not None:
+                self.on_state(state)
+            self.stats.frames += 1
+            frame = Frame(self.stats.frames, jpeg.tobytes(), float(state.time), captured)
+            self.hub.publish(frame)
+            published = time.monotonic()
+            self.stats.latency_s.append(published - captured)
+            if self.stats.first_at is None:
+                self.stats.first_at = published
+            self.stats.last_at = published
+            if self.writer is not None:
+                for _ in range(copies):
+                    self.writer.write(pixels)
+                self.stats.video_frames += copies
+            self.stats.encode_s += time.perf_counter() - started
+
+    def close(self) -> None:
+        """Publish the frames still rendering, finish the MP4 and free the renderers
+        (idempotent). A video without frames gets one black frame, so that it plays."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self._finish(self.pool.drain())
+            if self.writer is not None and self.stats.video_frames == 0:
+                self.writer.write(np.zeros((self.writer.height, self.writer.width, 3), np.uint8))
+                self.stats.video_frames += 1
+        finally:
+            if self.eye is not None:
+                self.eye.close()
+            self.pool.close()
+            if self.writer is not None:
+                self.writer.close()

@@ -1,0 +1,155 @@
+"""The participant's messages from the browser, checked before anything acts on them.
+
+:func:`parse_input` turns one raw message (JSON text, bytes or an already decoded dict) into a
+:class:`LiveInput`, or raises one :class:`LiveInputError` that names the problem and the valid
+choices. Valid messages (the live page's contract)::
+
+    {"type": "point", "x": 312, "y": 207}          a click at a pixel of the scene frame
+    {"type": "gesture", "gesture": "give_me"}      give_me | grasp | release
+    {"type": "thumb", "value": "up"}               up | down
+    {"type": "end"}                                the participant ends the session
+    {"type": "start"}                              leave a protocol block's instructions
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from pil.errors import RobinPilError
+from pil.types import Feedback, Gesture
+
+INPUT_KINDS: tuple[str, ...] = ("point", "gesture", "thumb", "end", "start")
+GESTURE_KEYS: tuple[str, ...] = ("give_me", "grasp", "release")  # pointing is the click
+THUMB_VALUES: tuple[str, ...] = ("up", "down")
+MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes
+# The fields each kind takes besides "type".
+FIELDS: dict[str, tuple[str, ...]] = {
+    "point": ("x", "y"),
+    "gesture": ("gesture",),
+    "thumb": ("value",),
+    "end": (),
+    "start": (),
+}
+GESTURES: dict[str, Gesture] = {
+    "give_me": Gesture.GIVE_ME,
+    "grasp": Gesture.GRASP,
+    "release": Gesture.RELEASE,
+}
+THUMBS: dict[str, Feedback] = {"up": Feedback.OK, "down": Feedback.NOT_OK}
+
+
+class LiveInputError(RobinPilError):
+    """A message from the participant's page that cannot be acted on (says why and what works)."""
+
+
+@dataclass(frozen=True, slots=True)
+class LiveInput:
+    """One checked message; fields a kind does not use are None."""
+
+    kind: str  # one of INPUT_KINDS
+    x: float | None = None
+    y: float | None = None
+    gesture: str | None = None  # one of GESTURE_KEYS
+    thumb: str | None = None  # one of THUMB_VALUES
+
+    def as_dict(self) -> dict[str, Any]:
+        """The message as the page sends it."""
+        if self.kind == "point":
+            return {"type": "point", "x": self.x, "y": self.y}
+        if self.kind == "gesture":
+            return {"type": "gesture", "gesture": self.gesture}
+        if self.kind == "thumb":
+            return {"type": "thumb", "value": self.thumb}
+        return {"type": self.kind}
+
+
+def _choices(values: tuple[str, ...]) -> str:
+    return ", ".join(repr(v) for v in values)
+
+
+def _decode(raw: str | bytes | Mapping[str, Any]) -> Mapping[str, Any]:
+    """The message as a JSON object, or the error saying what it is instead."""
+    if isinstance(raw, Mapping):
+        message: Any = raw
+    elif isinstance(raw, str | bytes | bytearray):
+        if len(raw) > MAX_MESSAGE_BYTES:
+            raise LiveInputError(
+                f"message of {len(raw)} bytes is too long (at most {MAX_MESSAGE_BYTES}); send "
+                'one JSON object such as {"type": "thumb", "value": "up"}'
+            )
+        try:
+            message = json.loads(raw)
+        except (ValueError, UnicodeDecodeError):
+            raise LiveInputError(
+                'message is not JSON; send one JSON object such as {"type": "thumb", '
+                f'"value": "up"}} with "type" one of {_choices(INPUT_KINDS)}'
+            ) from None
+    else:
+        raise LiveInputError(f"message must be JSON text, got {type(raw).__name__}")
+    if not isinstance(message, Mapping):
+        raise LiveInputError(
+            f'message must be a JSON object with a "type" ({_choices(INPUT_KINDS)}), '
+            f"got a JSON {type(message).__name__}"
+        )
+    return message
+
+
+def _coordinate(message: Mapping[str, Any], name: str, size: int) -> float:
+    value = message[name]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise LiveInputError(
+            f"point: {name} must be a number of pixels in [0, {size}), got {value!r:.40}"
+        )
+    if not math.isfinite(value) or not 0 <= value < size:
+        raise LiveInputError(
+            f"point: {name} = {value!r} lies outside the {size}-pixel frame; valid: 0 <= {name} "
+            f"< {size}"
+        )
+    return float(value)
+
+
+def _choice(message: Mapping[str, Any], kind: str, name: str, valid: tuple[str, ...]) -> str:
+    value = message[name]
+    if not isinstance(value, str) or value not in valid:
+        raise LiveInputError(
+            f"{kind}: unknown {name} {value!r:.40}; valid choices: {_choices(valid)}"
+        )
+    return value
+
+
+def parse_input(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> LiveInput:
+    """Check one message against the contract; ``width`` x ``height`` is the scene frame."""
+    message = _decode(raw)
+    kind = message.get("type")
+    if not isinstance(kind, str) or kind not in FIELDS:
+        shown = "missing" if "type" not in message else f"{kind!r:.40}"
+        raise LiveInputError(f"message type {shown} is unknown; valid choices: "
+                             f"{_choices(INPUT_KINDS)}")  # fmt: skip
+    wanted = FIELDS[kind]
+    keys = [str(k) for k in message if k != "type"]
+    extra = [k for k in keys if k not in wanted]
+    missing = [k for k in wanted if k not in message]
+    if extra or missing:
+        what = "; ".join(
+            part
+            for part in (
+                f"unknown field(s) {', '.join(repr(k[:40]) for k in extra)}" if extra else "",
+                f"missing field(s) {', '.join(repr(k) for k in missing)}" if missing else "",
+            )
+            if part
+        )
+        takes = _choices(wanted) if wanted else "no fields besides 'type'"
+        raise LiveInputError(f"{kind}: {what}; the {kind} message takes {takes}")
+    if kind == "point":
+        return LiveInput(
+            kind, x=_coordinate(message, "x", width), y=_coordinate(message, "y", height)
+        )
+    if kind == "gesture":
+        return LiveInput(kind, gesture=_choice(message, kind, "gesture", GESTURE_KEYS))
+    if kind == "thumb":
+        return LiveInput(kind, thumb=_choice(message, kind, "value", THUMB_VALUES))
+    return LiveInput(kind)

@@ -1,0 +1,73 @@
+"""Physics paced to the wall clock, with frames at the stream's rate.
+
+:class:`Pacer` is a :class:`~robin_sim.control.simulator.Simulator` observer. After every control
+tick it first runs the session's own hook (stop requests, the participant's inputs), then hands
+a frame to the :class:`~robin_sim.live.frames.FrameStream` when one is due, then sleeps until the
+wall clock has caught up with ``speed`` x the simulated time: physics never runs ahead of it.
+When physics falls behind (a slow frame, a busy machine) the pacer does not race to catch up
+(which would show the participant a burst of fast motion): once it is more than
+:data:`MAX_LAG_S` behind it moves its reference forward and counts the time lost
+(:attr:`Pacer.behind_s`, :attr:`Pacer.slips`).
+
+Frames are due on simulated time, one every ``speed / fps`` s, so at pace the stream runs at
+``fps`` frames per wall second, and each frame stands for one frame of the MP4.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from robin_sim.control.simulator import Simulator
+from robin_sim.live.frames import FrameStream
+from robin_sim.render.renderer import FrameClock
+
+MAX_LAG_S = 0.25  # s of wall time physics may fall behind before the pacer lets it go
+
+
+class Pacer:
+    """Keeps ``sim`` at ``speed`` x wall time and renders frames at ``fps`` (see module doc)."""
+
+    def __init__(
+        self,
+        sim: Simulator,
+        speed: float,
+        fps: float,
+        stream: FrameStream | None = None,
+        hook: Callable[[Simulator], None] | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.sim, self.speed, self.stream, self.hook, self._clock = sim, speed, stream, hook, clock
+        self.frames = FrameClock(fps / speed, sim.control_dt)
+        self._sim0 = sim.time
+        self._wall0 = clock()
+        self.behind_s = 0.0  # wall time lost to falling behind
+        self.slips = 0  # times physics fell more than MAX_LAG_S behind
+        self.slept_s = 0.0
+        self._remove: Callable[[], None] | None = sim.add_observer(self)
+
+    def __call__(self, sim: Simulator) -> None:
+        if self.hook is not None:
+            self.hook(sim)
+        due = self.frames.frames_due(sim.time - self._sim0)
+        if due and self.stream is not None:
+            self.stream.capture(sim.model, sim.data, due)
+        ahead = self._wall0 + (sim.time - self._sim0) / self.speed - self._clock()
+        if ahead > 0:
+            time.sleep(ahead)
+            self.slept_s += ahead
+        elif -ahead > MAX_LAG_S:
+            self.slips += 1
+            self.behind_s += -ahead
+            self._wall0 -= ahead  # from here on, pace from where physics is now
+
+    @property
+    def lag_s(self) -> float:
+        """How far (wall s) physics is behind its pace now (negative: ahead, sleeping)."""
+        return self._clock() - (self._wall0 + (self.sim.time - self._sim0) / self.speed)
+
+    def close(self) -> None:
+        """Stop pacing (idempotent)."""
+        if self._remove is not None:
+            self._remove()
+            self._remove = None

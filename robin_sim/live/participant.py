@@ -1,0 +1,211 @@
+"""A real participant in the scripted person's place (:class:`pil.task.person.Person`).
+
+:class:`LiveParticipant` is driven by the step loop (:func:`pil.task.runner.steps`) in the
+physics thread and by the participant's messages from any thread (:meth:`offer`; the session
+checks them first). While it waits for the participant, physics keeps running (paced, frames
+streaming): every wait is a loop of control ticks, and the session's tick hook hands the
+messages that arrived to :meth:`poll`.
+
+* :meth:`next_step` waits for the next instruction gesture (a click resolved to a leg or spot,
+  or give me / grasp / release) and returns it as a :class:`~pil.task.person.ScriptStep`: the
+  handover is the next undelivered leg, and as intended action (for the record only: the robot
+  never sees it) the correct action of the state the gesture makes under the block's handover
+  types, which have exactly one correct action per state.
+* :meth:`watch` returns a watcher that stops the robot once a thumb down arrived during its move;
+  :meth:`judge` is the participant's thumb (up during or after the move: OK; down: not OK; none
+  within ``feedback_window`` s of simulated time, or a next gesture instead: silence, OK).
+* The simulated hand (:class:`~robin_sim.person.body.PhysicalBody`) makes every act visible: it
+  points at what was clicked, shapes the gesture, shows the thumb, holds out the palm and
+  carries delivered legs to the bin.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from pil.task.person import ScriptStep
+from pil.task.scenario import HandoverType
+from pil.task.world import Intent, Outcome, Target
+from pil.types import Action, Feedback, Gesture, Hand, State
+from robin_sim.person.body import PhysicalBody
+
+# The action a gesture means in a state the block's types do not use (for the record only).
+_PLAIN_MEANING = {Gesture.GRASP: Action.CLOSE, Gesture.GIVE_ME: Action.HUMAN,
+                  Gesture.RELEASE: Action.OPEN}  # fmt: skip
+PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
+
+
+@dataclass(frozen=True, slots=True)
+class Gesturing:
+    """An instruction gesture from the participant (pointing carries what was clicked)."""
+
+    gesture: Gesture
+    target: Target | None = None
+
+
+class ThumbWatcher:
+    """The participant's eyes on one action: stop once a thumb down came during it."""
+
+    def __init__(self, participant: LiveParticipant) -> None:
+        self.participant = participant
+        self.stopped = False
+
+    def stop_now(self, shown: Action | None) -> bool:
+        """True once the participant's thumb down has arrived (shown on the simulated hand)."""
+        if not self.stopped and self.participant.thumb is Feedback.NOT_OK:
+            self.stopped = True
+            self.participant.body.display.show(Feedback.NOT_OK)
+        return self.stopped
+
+    def result_window(self, shown: Action | None) -> float:
+        """0: the verdict on a finished action is :meth:`LiveParticipant.judge`'s."""
+        return 0.0
+
+
+class LiveParticipant:
+    """The person of a live session (see the module doc)."""
+
+    def __init__(
+        self,
+        body: PhysicalBody,
+        types: Sequence[HandoverType],
+        legs_per_table: int,
+        feedback_window: float,
+    ) -> None:
+        self.body, self.types = body, tuple(types)
+        self.legs_per_table, self.feedback_window = legs_per_table, feedback_window
+        self.legs_total = len(self.types)
+        self.correct = {step.state: step.action for t in self.types for step in t.steps}
+        self._lock = threading.Lock()
+        self._inbox: deque[Gesturing | Feedback | str] = deque()
+        self.phase = "robot_acting"  # until the loop asks for the first gesture
+        self.message = "The robot gets ready."
+        self.legs_delivered = 0
+        self.thumb: Feedback | None = None  # the thumb given since the current action began
+        self.ended = False
+        self.judging = False  # an action is watched or awaits its thumb: a thumb is taken
+        self.interventions = 0
+        self._gesture: Gesturing | None = None
+        self._previous = Action.OPEN  # the last action the participant approved
+        self._holding: int | None = None
+        self._pointed: int | None = None
+        self._handover, self._step = -1, 0
+
+    # --- from the session (any thread, then the physics thread) ---------------------------------
+    def offer(self, item: Gesturing | Feedback | str) -> None:
+        """A checked gesture, thumb or "end" from the participant (thread-safe)."""
+        with self._lock:
+            self._inbox.append(item)
+
+    def poll(self) -> None:
+        """Take the messages that arrived (physics thread, between ticks)."""
+        with self._lock:
+            items, self._inbox = list(self._inbox), deque()
+        for item in items:
+            if isinstance(item, Gesturing):
+                self._gesture = item
+            elif isinstance(item, Feedback):
+                if self.judging and self.thumb is None:
+                    self.thumb = item
+            else:
+                self.ended = True
+
+    def _tick(self) -> None:
+        self.body.world.sim.tick()
+
+    # --- the Person protocol -------------------------------------------------------------------
+    def next_step(self, hand: Hand) -> ScriptStep | None:
+        """The participant's next instruction (None: all legs delivered, or the session ended)."""
+        if self.legs_delivered >= self.legs_total or self.ended:
+            return None
+        if self._holding is not None and hand is Hand.FREE:  # the robot dropped the leg
+            leg, self._holding = self._holding, None
+            self.interventions += self.body.recover(leg)
+        self.thumb = None
+        self._set("waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture.")
+        while self._gesture is None:
+            if self.ended:
+                return None
+            self._tick()
+        gesturing, self._gesture = self._gesture, None
+        handover = self.legs_delivered
+        if handover != self._handover:
+            self._handover, self._step = handover, 0
+        table, leg = divmod(handover, self.legs_per_table)
+        action = self._intended(gesturing, hand)
+        intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
+        item = ScriptStep(intent, self.types[handover].name, self._step, leg == 0)
+        self._step += 1
+        self._set("robot_acting", "The robot reads your gesture.")
+        return item
+
+    def _intended(self, gesturing: Gesturing, hand: Hand) -> Action:
+        correct = self.correct.get(State(gesturing.gesture, self._previous, hand))
+        if correct is not None:
+            return correct
+        if gesturing.gesture is Gesture.POINTING:
+            target = gesturing.target
+            leg = target is not None and target.kind == "leg"
+            return Action.OBJECT if leg and hand is Hand.FREE else Action.LOCATION
+        return _PLAIN_MEANING[gesturing.gesture]
+
+    def completed(self, item: ScriptStep, action: Action) -> None:
+        """The participant let ``action`` stand for ``item``."""
+        self._previous = action
+        target = item.intent.target
+        if action is Action.OBJECT:
+            self._pointed = None if target is None or target.kind != "leg" else target.index
+        elif action is Action.CLOSE:
+            self._holding = self._pointed
+        elif action is Action.OPEN:
+            self._holding = None
+
+    def start_table(self, table: int) -> None:
+        """A new table's legs are laid out: the hand rests first."""
+        self.body.start_table(table)
+
+    def perform(self, intent: Intent) -> None:
+        """The simulated hand makes the participant's gesture (pointing at what was clicked)."""
+        self.body.perform(intent.gesture, intent.target)
+
+    def watch(self, intent: Intent) -> ThumbWatcher:
+        """Watch the robot's next action: a thumb down from now on stops it."""
+        self.thumb, self.judging = None, True
+        self._set("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
+        return ThumbWatcher(self)
+
+    def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
+        """The participant's thumb: given during the move, else awaited for the feedback
+        window (physics running); none, or a next gesture instead, is silence (OK)."""
+        if outcome.interrupted:
+            return Feedback.NOT_OK
+        if self.thumb is None:
+            self._set("waiting_for_thumb", "Thumb up or down? (no thumb counts as OK)")
+            world = self.body.world
+            deadline = world.time + self.feedback_window
+            while self.thumb is None and world.time < deadline - 1e-9:
+                if self._gesture is not None or self.ended:
+                    break
+                self._tick()
+        return Feedback.NONE if self.thumb is None else self.thumb
+
+    def show_feedback(self, feedback: Feedback) -> None:
+        """The simulated hand shows the thumb (nothing for silence)."""
+        self.judging = False
+        self._set("robot_acting", "Thank you: the robot takes in your thumb.")
+        self.body.show_feedback(feedback)
+
+    def after_feedback(self, feedback: Feedback) -> None:
+        """After an approval, a leg on the palm goes to the bin."""
+        self.body.after_feedback(feedback)
+
+    def loses_patience(self, rejections: int) -> bool:
+        """Never: the participant gestures again when they want to."""
+        return False
+
+    # --- what the session shows ----------------------------------------------------------------
+    def _set(self, phase: str, message: str) -> None:
+        self.phase, self.message = phase, message

@@ -1,0 +1,97 @@
+"""The parts of one live session, built in its physics thread like an episode's.
+
+:class:`LiveRun` resolves the scenario and layout (:class:`~robin_sim.episode.config.EpisodeTask`),
+builds the world, the simulated hand, the system's learner and the exact detector
+(:func:`pil.experiments.systems.test_parts`, as the episode does), the participant in the
+scripted person's place, the picker, the frame stream (MP4 included), the pacer and the step log.
+Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+
+from pil.experiments.systems import test_parts
+from pil.task.parts import RunParts
+from robin_sim.closing import ClosesOnExit
+from robin_sim.control.simulator import Simulator
+from robin_sim.episode.config import EpisodeConfig, EpisodeTask
+from robin_sim.episode.log import StepLog
+from robin_sim.episode.run import StepBook
+from robin_sim.episode.summary import EpisodeTotals
+from robin_sim.live.config import LiveConfig
+from robin_sim.live.frames import FrameHub, FrameStream
+from robin_sim.live.pacing import Pacer
+from robin_sim.live.participant import LiveParticipant
+from robin_sim.live.picking import Picker
+from robin_sim.person.body import PhysicalBody
+from robin_sim.render.renderer import check_frame_size
+from robin_sim.robot.world import PhysicalWorld
+
+LOG_NAME, VIDEO_NAME = "log.jsonl", "episode.mp4"
+EXACT_RATE = 1.0  # the detector reads every click and button as what it is
+
+
+class LiveRun(ClosesOnExit):
+    """World, parts, participant, picker, stream, pacer and log of a session (module doc)."""
+
+    def __init__(
+        self,
+        config: LiveConfig,
+        out_dir: Path,
+        hub: FrameHub,
+        hook: Callable[[Simulator], None],
+    ) -> None:
+        self.config = config
+        episode = EpisodeConfig(system=config.system, rate=EXACT_RATE, seed=config.seed,
+                                scenario=config.scenario, video=False, out=out_dir)  # fmt: skip
+        task = EpisodeTask.of(episode)
+        self.task = replace(task, scenario=config.scenario_of())
+        self.world = PhysicalWorld(self.task.layout)
+        check_frame_size(self.world.model, config.width, config.height)
+        self.body = PhysicalBody(self.world, seed=config.seed)
+        scripted = test_parts(config.system, EXACT_RATE, config.seed, self.task.scenario,
+                              self.task.values, body=self.body)  # fmt: skip
+        scenario = self.task.scenario
+        types, seen = [], set()
+        for step in scripted.person.script:  # the block's handovers, in the scenario's order
+            if step.intent.handover not in seen:
+                seen.add(step.intent.handover)
+                types.append(scenario.type_named(step.handover_type))
+        self.participant = LiveParticipant(self.body, types, scenario.legs_per_table,
+                                           config.feedback_window)  # fmt: skip
+        # The participant in the scripted person's place (pil.task.person.Person).
+        self.parts: RunParts = replace(scripted, person=self.participant)  # type: ignore[arg-type]
+        self.totals = EpisodeTotals(timeout_s=float(self.task.values["handover_timeout"]))
+        self.stream: FrameStream | None = None
+        self.pacer: Pacer | None = None
+        self.log: StepLog | None = None
+        try:
+            self.picker = Picker(self.task.layout, config.width, config.height)
+            self.stream = FrameStream(
+                self.task.layout, hub, config.width, config.height,
+                video=out_dir / VIDEO_NAME if config.video else None, video_fps=int(config.fps),
+                eye_inset=config.eye_inset, render_workers=config.render_workers,
+                spots=self.picker.spot_pixels(), on_state=self.picker.show,
+            )  # fmt: skip
+            self.log = StepLog(out_dir / LOG_NAME)
+            # A participant may approve an action that failed: the hand is then what physics says
+            # (the loop does the same), and the log notes the mismatch.
+            self.book = StepBook(self.parts, self.world, self.log, self.totals, strict=False)
+            self.pacer = Pacer(self.world.sim, config.speed, config.fps, self.stream, hook)
+        except BaseException:
+            self.close()
+            raise
+
+    def close(self) -> None:
+        """Stop pacing, finish the stream and the MP4, close the log (idempotent)."""
+        if self.pacer is not None:
+            self.pacer.close()
+        try:
+            if self.stream is not None:
+                self.stream.close()
+        finally:
+            if self.log is not None:
+                self.log.close()

@@ -1,0 +1,204 @@
+"""One live session: a participant in the loop, physics paced, frames streamed, logged.
+
+:class:`LiveSession` builds the run's parts as an episode does (the system's learner, the exact
+detector: a click is what it is; the scenario and the block's handover types; the seed) with a
+:class:`~robin_sim.live.participant.LiveParticipant` in the scripted person's place, and runs
+:func:`pil.task.runner.steps` in a physics thread, paced by :class:`~robin_sim.live.pacing.Pacer`
+with frames from :class:`~robin_sim.live.frames.FrameStream`. Each step is logged and counted
+by the episode's own :class:`~robin_sim.episode.run.StepBook`. Messages come from any thread
+(:meth:`LiveSession.receive` / :meth:`LiveSession.submit`) and are written to ``inputs.jsonl``;
+:meth:`LiveSession.stop` ends the session between two ticks and saves everything
+(:mod:`robin_sim.live.files`).
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Mapping
+from typing import Any
+
+from pil.errors import RobinPilError
+from pil.task.records import StepRecord
+from pil.task.runner import steps
+from pil.types import Gesture
+from robin_sim.live.config import LiveConfig
+from robin_sim.live.files import SessionFiles, session_folder
+from robin_sim.live.frames import Frame, FrameHub
+from robin_sim.live.inputs import (
+    GESTURES,
+    THUMBS,
+    LiveInput,
+    LiveInputError,
+    parse_input,
+)
+from robin_sim.live.participant import Gesturing, LiveParticipant
+from robin_sim.live.run import LiveRun
+from robin_sim.live.status import LiveStatus
+
+__all__ = ["Frame", "LiveConfig", "LiveSession"]
+STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
+STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
+
+
+class SessionStopped(BaseException):
+    """Raised in the physics thread between two ticks to end the session (not an error)."""
+
+    def __init__(self, status: str) -> None:
+        super().__init__(status)
+        self.status = status
+
+
+class LiveSession:
+    """A live session (see the module doc and the live page's contract)."""
+
+    def __init__(self, config: LiveConfig) -> None:
+        self.config = config.checked()
+        self.out_dir = session_folder(self.config)  # refuses an existing folder
+        self.done = threading.Event()
+        self.hub = FrameHub()
+        self.view = LiveStatus(self.config)
+        self.view.session = self.out_dir.name
+        self._lock = threading.Lock()
+        self._stop_status: str | None = None
+        self._summary: dict[str, Any] | None = None
+        self._thread: threading.Thread | None = None
+        self._participant: LiveParticipant | None = None
+        self._picker: Any = None
+        self._files: SessionFiles | None = None
+
+    # --- the contract --------------------------------------------------------------------------
+    def start(self) -> None:
+        """Make the session's folder and start the physics thread."""
+        with self._lock:
+            if self._thread is not None:
+                raise RobinPilError(f"session {self.out_dir} has been started already")
+            self._files = SessionFiles(self.out_dir, self.config)  # the folder: new, or refused
+            self._thread = threading.Thread(target=self._run, name="live-physics", daemon=True)
+            self._thread.start()
+
+    def receive(self, raw: str | bytes | Mapping[str, Any]) -> LiveInput:
+        """Check and act on a raw message from the page (logged either way); its input.
+        :class:`LiveInputError` says what was wrong."""
+        try:
+            item = parse_input(raw, self.config.width, self.config.height)
+        except LiveInputError as error:
+            self._log_input(raw, str(error))
+            raise
+        self.submit(item)
+        return item
+
+    def submit(self, item: LiveInput) -> None:
+        """Act on a checked message (thread-safe; logged with wall time).
+        :class:`LiveInputError` when it cannot be acted on now (says why)."""
+        try:
+            self._act(item)
+        except LiveInputError as error:
+            self._log_input(item.as_dict(), str(error))
+            raise
+        self._log_input(item.as_dict(), "")
+
+    def subscribe(self, callback: Callable[[Frame], None]) -> Callable[[], None]:
+        """Call ``callback`` (in the physics thread) for each new frame; returns unsubscribe."""
+        return self.hub.subscribe(callback)
+
+    def latest_frame(self) -> Frame | None:
+        """The last frame streamed (None before the first)."""
+        return self.hub.latest
+
+    def status(self) -> dict[str, Any]:
+        """Where the session stands, JSON-ready (thread-safe)."""
+        participant = self._participant
+        summary = self._summary
+        return self.view.status(participant, None if summary is None else summary["status"])
+
+    def stop(self, status: str = "ended") -> dict[str, Any]:
+        """End the session between two ticks and save everything; the summary (idempotent:
+        the first status given stands)."""
+        if status not in STATUSES:
+            raise RobinPilError(f"unknown session status {status!r}; valid: {', '.join(STATUSES)}")
+        with self._lock:
+            if self._stop_status is None:
+                self._stop_status = status
+            thread = self._thread
+            if thread is None:  # never started: nothing to save
+                self.done.set()
+                self._summary = {"status": self._stop_status, "error": "", "started": False}
+                return self._summary
+        if thread is threading.current_thread():
+            return {"status": self._stop_status, "saving": True}  # saved when the tick returns
+        self.done.wait(STOP_WAIT_S)
+        return dict(self._summary or {"status": self._stop_status, "saving": True})
+
+    # --- messages ------------------------------------------------------------------------------
+    def _act(self, item: LiveInput) -> None:
+        participant = self._participant
+        if self.done.is_set():
+            raise LiveInputError("the session has ended; nothing more is taken")
+        if participant is None:
+            raise LiveInputError("the session is still starting; wait for the first frame")
+        phase = participant.phase
+        if item.kind == "end":
+            participant.offer("end")
+        elif item.kind == "start":
+            raise LiveInputError("start: this session runs already; 'start' leaves a "
+                                 "protocol block's instructions")  # fmt: skip
+        elif item.kind == "thumb":
+            if not participant.judging:
+                raise LiveInputError("thumb: there is no robot action to judge now; give a "
+                                     "thumb while the robot acts or right after")  # fmt: skip
+            participant.offer(THUMBS[str(item.thumb)])
+        else:
+            if phase not in ("waiting_for_gesture", "waiting_for_thumb"):
+                raise LiveInputError(
+                    f"{item.kind}: not your turn (the robot is acting); gesture once it waits "
+                    "for you, or give thumb down to stop it"
+                )
+            if item.kind == "point":
+                target = self._picker.pick(float(item.x), float(item.y))  # type: ignore[arg-type]
+                participant.offer(Gesturing(Gesture.POINTING, target))
+            else:
+                participant.offer(Gesturing(GESTURES[str(item.gesture)]))
+
+    def _log_input(self, raw: object, error: str) -> None:
+        files, participant = self._files, self._participant
+        sim_time = None if participant is None else round(participant.body.world.time, 4)
+        if files is not None:
+            files.log_input(raw, error, sim_time)
+
+    # --- the physics thread --------------------------------------------------------------------
+    def _on_tick(self, _: object) -> None:
+        if self._stop_status is not None:
+            raise SessionStopped(self._stop_status)
+        if self._participant is not None:
+            self._participant.poll()
+
+    def _run(self) -> None:
+        files = self._files
+        assert files is not None
+        status, error, run = "failed", "", None
+        try:
+            run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
+            with run:
+                self._participant, self._picker = run.participant, run.picker
+                self.view.table = getattr(run.parts.learner, "table", None)
+                self._on_tick(None)  # a stop during start-up
+                parts = run.parts
+                for record in steps(parts.learner, run.participant, parts.detector, run.world,
+                                    observer=self.view, **parts.options):  # fmt: skip
+                    self._book(run, record)
+            done = run.participant.legs_delivered >= run.participant.legs_total
+            status = "finished" if done else "ended"
+        except SessionStopped as stopped:
+            status = stopped.status
+        except Exception as problem:  # saved as failed, with the error
+            error = str(problem) if isinstance(problem, RobinPilError) else repr(problem)
+        finally:
+            if run is not None:
+                run.close()  # the MP4 is complete from here on
+            self._summary = files.save(status, error, run)
+            self.done.set()
+
+    def _book(self, run: LiveRun, record: StepRecord) -> None:
+        run.book.add(record)
+        run.participant.legs_delivered = record.legs_delivered
+        self.view.finished(record, run.totals)

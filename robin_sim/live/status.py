@@ -1,0 +1,115 @@
+"""What the live page shows: the phase, whose turn it is, what the robot does, counts, P(a|s).
+
+:class:`LiveStatus` is the step loop's :class:`~pil.task.runner.StepObserver` (it only records
+what it is told) and builds :meth:`~robin_sim.live.session.LiveSession.status`'s dict from it
+and from the participant's phase.
+"""
+
+from __future__ import annotations
+
+import threading
+from typing import TYPE_CHECKING, Any
+
+from pil.task.records import StepRecord
+from robin_sim.episode.summary import EpisodeTotals
+from robin_sim.live.config import LiveConfig
+
+if TYPE_CHECKING:
+    from robin_sim.live.participant import LiveParticipant
+
+DOING = {"object": "moving to {target}", "location": "moving to {target}",
+         "human": "bringing the leg to your hand", "close": "closing the hand",
+         "open": "opening the hand"}  # fmt: skip
+TURN = {"waiting_for_gesture": "participant", "waiting_for_thumb": "participant"}
+
+
+def _target_text(record: StepRecord) -> str:
+    target = record.target
+    if target is None:
+        return "the nearest leg" if record.action is not None and record.action.value == "object" \
+            else "the nearest spot"  # fmt: skip
+    return f"{target.kind} {target.index}"
+
+
+class LiveStatus:
+    """The session's status, kept current from the step loop (thread-safe)."""
+
+    def __init__(self, config: LiveConfig) -> None:
+        self.config = config
+        self.table: Any = None  # the learner's association table, once built
+        self._lock = threading.Lock()
+        self._doing = ""
+        self._action: str | None = None
+        self._last: str | None = None  # the action last decided (the one being judged)
+        self._policy: dict[str, Any] | None = None
+        self._counts = {"gestures": 0, "actions": 0, "rejected": 0, "legs_delivered": 0}
+        self.session = ""
+
+    # --- the StepObserver protocol -------------------------------------------------------------
+    def decided(self, record: StepRecord) -> None:
+        """The robot is about to act on ``record``."""
+        action = "" if record.action is None else record.action.value
+        doing = DOING.get(action, action).format(target=_target_text(record))
+        if record.proactive:
+            doing += " (anticipating)"
+        policy = None
+        if self.table is not None and record.state is not None:
+            p = self.table.probabilities(record.state)
+            state = record.state
+            policy = {
+                "state": f"{state.gesture.value} / {state.previous_action.value} / "
+                f"{state.hand.value}",
+                "actions": {a.value: round(float(v), 4) for a, v in p.items()},
+            }
+        with self._lock:
+            self._doing, self._action = doing, action or None
+            self._last = self._action
+            if policy is not None:
+                self._policy = policy
+
+    def answered(self, record: StepRecord) -> None:
+        """The participant's verdict is in."""
+        with self._lock:
+            self._doing, self._action = "", None
+
+    def finished(self, record: StepRecord, totals: EpisodeTotals) -> None:
+        """A step is logged: the counts."""
+        counts = totals.counts
+        with self._lock:
+            self._counts = {"gestures": counts.gestures, "actions": counts.actions,
+                            "rejected": counts.rejected, "legs_delivered": counts.legs}  # fmt: skip
+
+    # --- the page's view -----------------------------------------------------------------------
+    def status(self, participant: LiveParticipant | None, final: str | None) -> dict[str, Any]:
+        """The contract's status dict."""
+        with self._lock:
+            counts, doing, policy = dict(self._counts), self._doing, self._policy
+            action, last = self._action, self._last
+        if final is not None:
+            phase, message = "done", f"The session is over ({final})."
+        elif participant is None:
+            phase, message = "robot_acting", "The scene is being set up."
+        else:
+            phase, message = participant.phase, participant.message
+        if phase != "robot_acting":
+            doing, action = "", None
+        elif not doing:
+            doing = "watching you" if participant is not None else "setting up"
+        world = None if participant is None else participant.body.world
+        return {
+            "phase": phase,
+            "turn": TURN.get(phase, "robot"),
+            "robot_doing": doing,
+            "action": action,  # the action the robot runs now (None: none)
+            "last_action": last,  # the action last decided: the one a thumb judges
+            "message": message,
+            **counts,
+            "legs_total": None if participant is None else participant.legs_total,
+            "sim_time": None if world is None else round(world.time, 3),
+            "system": self.config.system,
+            "participant": self.config.participant,
+            "session": self.session,
+            "block": self.config.block,
+            "policy": policy,
+            "status": final or "running",
+        }

@@ -1,0 +1,149 @@
+"""Live sessions with real physics and rendering, driven from the test thread.
+
+Speeds of 3x real time keep the tests short (the pacing never runs ahead; a busy machine only
+makes them slower); frames at 10 per wall second at that speed.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import av
+import cv2
+import numpy as np
+import pytest
+from live_driver import Driver
+
+from robin_sim.episode.log import read_step_log
+from robin_sim.live.config import LiveConfig
+from robin_sim.live.files import SessionExistsError
+from robin_sim.live.inputs import LiveInputError
+from robin_sim.live.session import LiveSession
+from robin_sim.model.names import ACTIVE_SIDE, grasp_site
+
+pytestmark = pytest.mark.slow
+SPEED, FPS = 3.0, 10
+TYPE_A = (("point", "object"), ("grasp", "close"), ("give_me", "human"), ("release", "open"))
+
+
+def _config(tmp_path: Path, **changes: object) -> LiveConfig:
+    values = dict(scenario="one_handover", out_root=tmp_path, session="s1", speed=SPEED, fps=FPS,
+                  feedback_window=1.0)  # fmt: skip
+    return LiveConfig(**{**values, **changes})  # type: ignore[arg-type]
+
+
+def _frames(session: LiveSession) -> list:
+    frames: list = []
+    session.subscribe(frames.append)
+    return frames
+
+
+def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path))
+    frames = _frames(session)
+    session.start()
+    driver = Driver(session)
+    seen: dict[str, list[str]] = {}
+    try:
+        for gesture, wanted in TYPE_A:
+            driver.my_turn()
+            if gesture == "point":
+                driver.point_at_leg(0)
+            else:
+                driver.gesture(gesture)
+            # the last action is approved by silence: no thumb within the feedback window
+            seen[gesture] = driver.judge(wanted, silent=gesture == "release")
+        assert session.done.wait(120), session.status()
+    finally:
+        summary = session.stop()
+    out = session.out_dir
+    assert summary["status"] == "finished", summary
+    assert summary["legs_delivered"] == 1 and summary["legs_to_person"] == 1
+    steps = read_step_log(out / "log.jsonl")
+    assert [s["action"] for s in steps] == [a for actions in seen.values() for a in actions]
+    assert summary["actions"] == len(steps) and summary["gestures"] == 4
+    assert summary["rejected"] == sum(len(a) - 1 for a in seen.values())
+    approved = [s for s in steps if s["feedback"] != "not ok"]
+    assert [s["action"] for s in approved] == [a for _, a in TYPE_A]
+    assert approved[-1]["feedback"] == "none" and approved[-1]["delivered"]  # silence is OK
+    assert approved[0]["target"] == {"kind": "leg", "index": 0}
+    assert [s["intended_action"] for s in approved] == [a for _, a in TYPE_A]
+    # the learner learnt: the last state decided in now prefers the approved "open"
+    status = session.status()
+    assert status["phase"] == "done" and status["status"] == "finished"
+    policy = status["policy"]
+    assert policy["state"] == "release / human / occupied"
+    assert max(policy["actions"], key=policy["actions"].get) == "open"
+    assert policy["actions"]["open"] > 0.2  # more than the uniform prior of 5 actions
+    inputs = [json.loads(line) for line in (out / "inputs.jsonl").read_text().splitlines()]
+    thumbs = sum(len(a) for a in seen.values()) - 1  # the silent one had none
+    assert len(inputs) == 4 + thumbs and all(i["accepted"] for i in inputs)
+    assert inputs[0]["raw"]["type"] == "point" and inputs[0]["sim_time"] > 0
+    assert all(i["wall"] > 1e9 and i["error"] == "" for i in inputs)
+    saved = json.loads((out / "summary.json").read_text())
+    live = saved["live"]
+    assert live["participant"] == "P01" and live["condition"] == "pil"
+    assert live["handover_types"] == ["A"] and live["inputs"] == len(inputs)
+    assert live["frames_streamed"] == len(frames) == frames[-1].seq
+    # frames are due every SPEED / FPS s of sim time, and show the scene (not blank)
+    gaps = np.diff([f.sim_time for f in frames])
+    assert np.median(gaps) == pytest.approx(SPEED / FPS, abs=0.021)  # one control tick
+    assert gaps.max() <= SPEED / FPS + 0.021
+    for frame in frames[:: max(1, len(frames) // 5)]:
+        image = cv2.imdecode(np.frombuffer(frame.jpeg, np.uint8), cv2.IMREAD_COLOR)
+        assert image.shape == (480, 640, 3) and float(image.std()) > 20.0
+    with av.open(str(out / "episode.mp4")) as video:
+        decoded = sum(1 for _ in video.decode(video=0))
+    assert decoded == saved["video"]["frames"] >= len(frames)
+
+
+def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
+    tmp_path: Path,
+) -> None:
+    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
+    session.start()
+    driver = Driver(session)
+    try:
+        driver.my_turn()
+        hand = session._participant.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
+        start = hand.copy()
+        driver.point_at_leg(1)
+        moving = driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        session.receive({"type": "thumb", "value": "down"})
+        driver.wait(lambda s: s["actions"] >= 1, "the stopped action to be logged")
+        undone_to = hand.copy()
+        driver.my_turn()
+        with pytest.raises(LiveInputError, match="no robot action to judge"):
+            session.receive({"type": "thumb", "value": "up"})
+        driver.point_at_leg(1)
+        driver.wait(lambda s: s["action"] is not None, "the robot to act again")
+        with pytest.raises(LiveInputError, match="not your turn"):
+            session.receive({"type": "gesture", "gesture": "grasp"})
+        summary = session.stop("interrupted")
+    finally:
+        session.stop()
+    out = session.out_dir
+    first = read_step_log(out / "log.jsonl")[0]
+    assert first["action"] == moving["action"] and first["interrupted"]
+    assert first["feedback"] == "not ok" and first["feedback_read"] == "not ok"
+    assert first["hand_physics"] == "free"
+    assert "stopped" in first["detail"], first["detail"]
+    # the robot took the move back: its hand is within 2 cm of where it started
+    assert np.linalg.norm(undone_to - start) < 0.02, (start, undone_to)
+    assert summary["status"] == "interrupted" and summary["interrupted_actions"] == 1
+    assert summary == json.loads((out / "summary.json").read_text())
+    assert session.stop("failed") == summary  # idempotent: the first status stands
+    inputs = [json.loads(line) for line in (out / "inputs.jsonl").read_text().splitlines()]
+    assert [i["accepted"] for i in inputs] == [True, True, False, True, False]
+    with av.open(str(out / "episode.mp4")) as video:
+        decoded = [f.to_ndarray(format="rgb24") for f in video.decode(video=0)]
+    assert len(decoded) == summary["video"]["frames"] > 10
+    assert float(decoded[-1].std()) > 20.0
+
+
+def test_an_existing_session_folder_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "P01" / "s1").mkdir(parents=True)
+    with pytest.raises(SessionExistsError, match="exists already"):
+        LiveSession(_config(tmp_path))
+    assert not any((tmp_path / "P01" / "s1").iterdir())  # nothing written into it
