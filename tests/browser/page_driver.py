@@ -7,6 +7,7 @@ read from ``window.robinLive``, the page's own record of what it received and dr
 
 from __future__ import annotations
 
+import base64
 import json
 from pathlib import Path
 from typing import Any
@@ -58,12 +59,13 @@ def click_frame_pixel(page: Any, x: float, y: float, width: int = 640, height: i
 
 
 def canvas_pixels(page: Any) -> np.ndarray:
-    """The canvas as an (h, w, 4) uint8 array."""
-    data = page.evaluate(
-        "() => { const c = document.getElementById('scene');"
-        " return Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data); }"
-    )
-    return np.array(data, dtype=np.uint8).reshape(480, 640, 4)
+    """What the canvas shows, as an (h, w, 3) RGB uint8 array (read back as a PNG)."""
+    import cv2
+
+    url = page.evaluate("() => document.getElementById('scene').toDataURL('image/png')")
+    png = base64.b64decode(url.split(",", 1)[1])
+    bgr = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
+    return bgr[:, :, ::-1]
 
 
 def read_jsonl(path: Path) -> list[dict[str, Any]]:
