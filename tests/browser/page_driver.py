@@ -20,6 +20,8 @@ from robin_sim.model import names
 
 # The keys the page documents on its buttons.
 KEY_OF = {"give_me": "g", "grasp": "r", "release": "l", "up": "ArrowUp", "down": "ArrowDown"}
+# Handover type A: each gesture and the action the participant means by it.
+TYPE_A = [("point", "object"), ("grasp", "close"), ("give_me", "human"), ("release", "open")]
 
 
 def status(page: Any) -> dict[str, Any]:
@@ -74,3 +76,43 @@ def read_jsonl(path: Path) -> list[dict[str, Any]]:
 
 def scenario_types(scenario: str) -> list[str]:
     return [t.name for t in resolve_scenario(scenario, {}).types]
+
+
+def play_steps(
+    page: Any, steps: list[tuple[str, str]], leg: tuple[float, float], until: int | None = None
+) -> tuple[int, int]:
+    """Be the participant for ``steps`` (gesture, meant action): make each gesture (a click on
+    frame pixel ``leg`` for pointing, else its key), stop a wrong move with thumb down at once,
+    approve the meant action with thumb up. Returns (steps approved, thumbs down) once
+    ``until`` (default: all) steps are approved."""
+    until = len(steps) if until is None else until
+    step, judged, downs = 0, set(), 0
+    for _ in range(400):  # each pass waits for the page to show something new
+        s = wait_status(page, "s.phase === 'waiting_for_gesture' || s.phase === 'done' || "
+                        "s.phase === 'waiting_for_thumb' || (s.phase === 'robot_acting' && "
+                        "!!s.action)", timeout_s=90)  # fmt: skip
+        if s["phase"] == "done" or step >= until:
+            break
+        gesture, meant = steps[step]
+        key = (s["actions"], s["gestures"], s.get("action") or s.get("last_action"))
+        if s["phase"] == "waiting_for_gesture":
+            if gesture == "point":
+                click_frame_pixel(page, *leg)
+            else:
+                page.keyboard.press(KEY_OF[gesture])
+            wait_status(page, "s.phase !== 'waiting_for_gesture'")
+        elif key in judged:
+            page.wait_for_timeout(50)
+        elif s["phase"] == "robot_acting" and s["action"] != meant:
+            page.keyboard.press(KEY_OF["down"])  # stop the wrong move at once
+            judged.add(key)
+            downs += 1
+        elif s["phase"] == "waiting_for_thumb":
+            right = s["last_action"] == meant
+            page.keyboard.press(KEY_OF["up" if right else "down"])
+            judged.add(key)
+            downs += not right
+            step += right
+        else:
+            page.wait_for_timeout(50)
+    return step, downs

@@ -13,10 +13,11 @@ import json
 import numpy as np
 import pytest
 from page_driver import (
-    KEY_OF,
+    TYPE_A,
     canvas_pixels,
     click_frame_pixel,
     leg_pixels,
+    play_steps,
     read_jsonl,
     status,
     wait_status,
@@ -28,7 +29,6 @@ pytestmark = pytest.mark.slow
 SPEED = 3.0
 VIEWPORT = {"width": 1100, "height": 820}  # the canvas is shown at about 700x525, not 640x480
 HAND_TOLERANCE = 0.03  # m: the hand's xy from the leg's xy + the pointing offset
-TYPE_A = [("point", "object"), ("grasp", "close"), ("give_me", "human"), ("release", "open")]
 
 
 def open_page(browser, served, **options):
@@ -84,35 +84,7 @@ def test_keys_perform_a_type_a_handover_with_thumbs(browser, live_server) -> Non
     served = live_server(scenario="one_handover", speed=SPEED, video=False)
     page = open_page(browser, served)
     legs = leg_pixels("one_handover")
-    step, judged, downs = 0, set(), 0
-    for _ in range(400):  # each pass waits for the page to show something new
-        s = wait_status(page, "s.phase === 'waiting_for_gesture' || s.phase === 'done' || "
-                        "s.phase === 'waiting_for_thumb' || (s.phase === 'robot_acting' && "
-                        "!!s.action)", timeout_s=90)  # fmt: skip
-        if s["phase"] == "done" or step == len(TYPE_A):
-            break  # all four approved: the leg is delivered, the session finishes
-        gesture, meant = TYPE_A[step]
-        key = (s["actions"], s["gestures"], s.get("action") or s.get("last_action"))
-        if s["phase"] == "waiting_for_gesture":
-            if gesture == "point":
-                click_frame_pixel(page, *legs[0])
-            else:
-                page.keyboard.press(KEY_OF[gesture])
-            wait_status(page, "s.phase !== 'waiting_for_gesture'")
-        elif key in judged:
-            page.wait_for_timeout(50)
-        elif s["phase"] == "robot_acting" and s["action"] != meant:
-            page.keyboard.press(KEY_OF["down"])  # stop the wrong move at once
-            judged.add(key)
-            downs += 1
-        elif s["phase"] == "waiting_for_thumb":
-            right = s["last_action"] == meant
-            page.keyboard.press(KEY_OF["up" if right else "down"])
-            judged.add(key)
-            downs += not right
-            step += right
-        else:
-            page.wait_for_timeout(50)
+    step, downs = play_steps(page, TYPE_A, legs[0])
     final = wait_status(page, "s.phase === 'done'")
     assert final["status"] == "finished", final
     assert step == len(TYPE_A)

@@ -147,9 +147,10 @@
     $("policy-state").textContent = `state: ${policy.state}`;
     const entries = Object.entries(policy.actions);
     const best = Math.max(...entries.map(([, p]) => p));
+    const unique = entries.filter(([, p]) => p === best).length === 1; // a clear favourite
     box.replaceChildren(...entries.map(([action, p]) => {
       const row = document.createElement("div");
-      row.className = p === best ? "row best" : "row";
+      row.className = unique && p === best ? "row best" : "row";
       row.dataset.action = action;
       const name = document.createElement("span");
       name.textContent = action;
