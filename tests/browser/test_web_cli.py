@@ -30,6 +30,7 @@ def refused(argv: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str])
         (["--port", "70000"], "65535"),
         (["--port", "-1"], "65535"),
         (["--speed", "fast"], "--speed"),
+        (["--speed", "50"], "speed"),
         (["--system", "nope"], "pil"),
         (["--participant", "P 01; rm"], "participant"),
         (["--participant", ""], "participant"),
@@ -57,3 +58,24 @@ def test_unreadable_protocol(content: str | None, tmp_path: Path, capsys) -> Non
         path.write_bytes(content.encode("latin-1"))
     message = refused(["--protocol", str(path)], tmp_path, capsys)
     assert "protocol" in message.lower()
+
+
+def test_protocol_needs_a_numbered_participant(tmp_path: Path, capsys) -> None:
+    message = refused(["--protocol", "reactive_vs_proactive", "--participant", "Alice"],
+                      tmp_path, capsys)  # fmt: skip
+    assert "Alice" in message
+
+
+def test_an_existing_session_folder_is_never_overwritten(tmp_path: Path, capsys) -> None:
+    from robin_sim.live.protocol import load_protocol
+
+    first = load_protocol("reactive_vs_proactive").blocks_for("P01")[0]
+    kept = tmp_path / "live" / "P01" / f"block1-{first.condition}"
+    kept.mkdir(parents=True)
+    (kept / "summary.json").write_text('{"status": "finished"}')
+    code = main(["live", "--no-browser", "--out", str(tmp_path / "live"), "--protocol",
+                 "reactive_vs_proactive", "--participant", "P01"])  # fmt: skip
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith("robin-pil live: error: "), err
+    assert (kept / "summary.json").read_text() == '{"status": "finished"}'
+    assert sorted(p.name for p in (tmp_path / "live" / "P01").iterdir()) == [kept.name]
