@@ -46,6 +46,7 @@ STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /st
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
+SEND_BUFFER_BYTES = 128 * 1024  # kernel send buffer of a tab's socket: a few frames, not seconds
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
 SECURITY_HEADERS = {
     "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; "
@@ -185,6 +186,9 @@ class LiveServer:
     async def _websocket(self, request: web.Request) -> web.WebSocketResponse:
         ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE_BYTES, heartbeat=20.0)
         await ws.prepare(request)
+        sock = request.transport.get_extra_info("socket") if request.transport else None
+        if sock is not None:  # a lagging tab backs up within a few frames, then gets the newest
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
         tab = Tab(ws, "watch" if self._controller_seen else "control")
         self._controller_seen = True
         self.tabs.append(tab)

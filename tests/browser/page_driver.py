@@ -116,3 +116,26 @@ def play_steps(
         else:
             page.wait_for_timeout(50)
     return step, downs
+
+
+def run_async(coroutine: Any) -> Any:
+    """``asyncio.run(coroutine)`` in a thread of its own: Playwright's sync API keeps an event
+    loop running in the main thread once a browser is up."""
+    import asyncio
+    import threading
+
+    result: list[Any] = []
+    failure: list[BaseException] = []
+
+    def main() -> None:
+        try:
+            result.append(asyncio.run(coroutine))
+        except BaseException as problem:
+            failure.append(problem)
+
+    thread = threading.Thread(target=main, name="test-client")
+    thread.start()
+    thread.join()
+    if failure:
+        raise failure[0]
+    return result[0]

@@ -4,7 +4,6 @@ process exits with 130."""
 
 from __future__ import annotations
 
-import asyncio
 import json
 import os
 import re
@@ -16,6 +15,7 @@ from pathlib import Path
 import aiohttp
 import av
 import pytest
+from page_driver import run_async
 
 pytestmark = pytest.mark.slow
 
@@ -51,7 +51,7 @@ def test_signal_saves_the_session(signum: signal.Signals, tmp_path: Path) -> Non
         assert match, (line, process.stderr.read() if process.poll() is not None else "")
         url = match.group(1).replace("http://", "ws://") + "ws"
 
-        assert asyncio.run(connect_then_signal(url, process.pid, signum)) >= 20
+        assert run_async(connect_then_signal(url, process.pid, signum)) >= 20
         stdout, stderr = process.communicate(timeout=90)
     finally:
         if process.poll() is None:

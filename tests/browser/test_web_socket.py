@@ -14,7 +14,7 @@ from typing import Any
 
 import aiohttp
 import pytest
-from page_driver import read_jsonl
+from page_driver import read_jsonl, run_async
 
 from robin_sim.live.server import RATE_LIMIT
 
@@ -106,7 +106,7 @@ async def exercise(url: str) -> dict[str, Any]:
 
 def test_junk_floods_and_watchers_get_errors_and_the_server_goes_on(live_server) -> None:
     served = live_server(scenario="one_handover", speed=3.0, video=False)
-    seen = asyncio.run(exercise(served.url("/ws").replace("http://", "ws://")))
+    seen = run_async(exercise(served.url("/ws").replace("http://", "ws://")))
     header, magic = seen["frame"]
     assert magic == b"\xff\xd8\xff" and header["seq"] >= 1  # a JPEG with its seq
     assert abs(header["captured_ms"] - time.time() * 1000) < 60_000
@@ -174,7 +174,7 @@ def test_a_stalled_tab_loses_old_frames_and_holds_up_nothing(live_server) -> Non
         while served.conductor.phase != "running" or served.conductor.latest_frame() is None:
             assert time.monotonic() - started < 60, "the session did not start"
             time.sleep(0.05)
-        seqs, sim_times = asyncio.run(watch_frames(url, seconds))
+        seqs, sim_times = run_async(watch_frames(url, seconds))
         tab = next(t for t in served.server.tabs if t.role == "control")
         assert tab.frames_dropped > 0  # the stalled tab's old frames were dropped
     finally:
