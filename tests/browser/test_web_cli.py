@@ -79,3 +79,14 @@ def test_an_existing_session_folder_is_never_overwritten(tmp_path: Path, capsys)
     assert code == 2 and len(err) == 1 and err[0].startswith("robin-pil live: error: "), err
     assert (kept / "summary.json").read_text() == '{"status": "finished"}'
     assert sorted(p.name for p in (tmp_path / "live" / "P01").iterdir()) == [kept.name]
+
+
+@pytest.mark.parametrize(
+    ("host", "loopback"),
+    [("127.0.0.1", True), ("127.0.0.2", True), ("::1", True), ("localhost", True),
+     ("0.0.0.0", False), ("::", False), ("192.168.1.5", False), ("robin.lab", False)],
+)  # fmt: skip
+def test_only_loopback_goes_without_a_token(host: str, loopback: bool) -> None:
+    from robin_sim.live.server import is_loopback
+
+    assert is_loopback(host) is loopback
