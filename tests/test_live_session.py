@@ -18,7 +18,7 @@ from live_driver import Driver
 from robin_sim.episode.log import read_step_log
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionExistsError
-from robin_sim.live.inputs import LiveInputError
+from robin_sim.live.inputs import LiveInput, LiveInputError
 from robin_sim.live.session import LiveSession
 from robin_sim.model.names import ACTIVE_SIDE, grasp_site
 
@@ -147,3 +147,48 @@ def test_an_existing_session_folder_is_refused(tmp_path: Path) -> None:
     with pytest.raises(SessionExistsError, match="exists already"):
         LiveSession(_config(tmp_path))
     assert not any((tmp_path / "P01" / "s1").iterdir())  # nothing written into it
+
+
+def test_end_saves_the_session_as_ended_and_nothing_more_is_taken(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path))
+    session.start()
+    try:
+        Driver(session).my_turn()
+        session.receive('{"type": "end"}')
+        assert session.done.wait(60)
+        with pytest.raises(LiveInputError, match="the session has ended"):
+            session.receive({"type": "gesture", "gesture": "grasp"})
+    finally:
+        summary = session.stop()
+    assert summary["status"] == "ended" and summary["actions"] == 0
+    assert session.status()["phase"] == "done" and session.status()["status"] == "ended"
+    saved = json.loads((session.out_dir / "summary.json").read_text())
+    # inputs.jsonl holds the session's messages; the one after it was saved is only refused
+    assert saved["live"]["inputs"] == 1 and saved["live"]["inputs_rejected"] == 0
+
+
+def test_an_error_in_the_physics_thread_saves_the_session_as_failed(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path))
+    seen: list = []
+
+    def breaks(frame: object) -> None:
+        seen.append(frame)
+        if len(seen) == 5:
+            raise RuntimeError("the page's socket broke")
+
+    session.subscribe(breaks)
+    session.start()
+    assert session.done.wait(60)
+    summary = session.stop()
+    assert summary["status"] == "failed" and "the page's socket broke" in summary["error"]
+    assert json.loads((session.out_dir / "summary.json").read_text()) == summary
+    with av.open(str(session.out_dir / "episode.mp4")) as video:
+        assert sum(1 for _ in video.decode(video=0)) == summary["video"]["frames"] >= 4
+
+
+def test_a_session_stopped_before_it_started_writes_nothing(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path))
+    assert session.stop("closed")["status"] == "closed" and session.done.is_set()
+    assert not (tmp_path / "P01").exists()
+    with pytest.raises(LiveInputError, match="the session has ended"):
+        session.submit(LiveInput("end"))

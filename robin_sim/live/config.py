@@ -48,7 +48,9 @@ class LiveConfig:
     block: int | None = None
     protocol: str | None = None
     instructions: str = ""
-    render_workers: int = 0  # 0: render in the physics thread (measured faster, see README)
+    render_workers: int = 0  # scene render processes; 0: in the physics thread (see README)
+    eye_worker: bool = False  # the eye inset rendered in a process of its own, meanwhile
+    reflections: bool = False  # the floor's reflection (an extra render pass)
 
     def checked(self) -> LiveConfig:
         """This config with every value checked (nothing is built or written)."""
@@ -72,7 +74,7 @@ class LiveConfig:
             value = getattr(self, name)
             if value is not None and not isinstance(value, str):
                 raise RobinPilError(f"{name} must be text, got {type(value).__name__}")
-        for name in ("eye_inset", "video"):
+        for name in ("eye_inset", "video", "eye_worker", "reflections"):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
         scenario = self.scenario_of()

@@ -143,5 +143,9 @@ class SessionFiles:
             if stats is None
             else {"median": stats.latency_ms(0.5), "p95": stats.latency_ms(0.95)},
             "behind_s": None if pacer is None else round(pacer.behind_s, 3),
+            # wall ms the physics thread spends on a frame (render, inset, JPEG, MP4)
+            "frame_ms": None
+            if not stats or not stats.frames
+            else round((stats.render_s + stats.encode_s) / stats.frames * 1000, 1),
             "instructions": config.instructions,
         }

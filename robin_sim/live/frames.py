@@ -1,6 +1,7 @@
 """The live stream's frames: rendered from the physics state, JPEG-encoded, published, recorded.
 
-:class:`FrameStream` renders the scene camera (no shadows) through a
+:class:`FrameStream` renders the scene camera (no shadows; by default no floor reflection
+either, which saves a third of the render time, see the README) through a
 :class:`~robin_sim.render.pool.RenderPool` (``render_workers=0``: in the physics thread; N:
 worker processes), pastes the robot's eye inset (:mod:`robin_sim.render.inset`) and rings
 marking the table spots, encodes each frame as JPEG (``cv2.imencode``) and hands it to every
@@ -23,9 +24,9 @@ import mujoco
 import numpy as np
 
 from robin_sim.closing import ClosesOnExit
-from robin_sim.model.names import DEFAULT_CAMERA
+from robin_sim.model.names import DEFAULT_CAMERA, EYE_CAMERA
 from robin_sim.model.scene import SceneLayout
-from robin_sim.render.inset import EyeInset, draw_eye_inset
+from robin_sim.render.inset import EyeInset, draw_eye_inset, inset_size
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.video import Mp4Writer
 
@@ -123,21 +124,28 @@ class FrameStream(ClosesOnExit):
         video_fps: int,
         eye_inset: bool = True,
         render_workers: int = 0,
+        eye_worker: bool = False,
+        reflections: bool = False,
         spots: Iterable[tuple[float, float]] = (),
         on_state: Callable[[FrameState], None] | None = None,
     ) -> None:
         self.hub, self.stats = hub, StreamStats()
         self.spots = tuple(spots)
         self.on_state = on_state  # e.g. the picker follows the frames
-        self._waiting: deque[tuple[FrameState, np.ndarray | None]] = deque()  # still rendering
+        self._waiting: deque[FrameState] = deque()  # frames still rendering
+        self._eyes: deque[np.ndarray] = deque()  # eye views rendered in this process
         self._closed = False
         self.pool = RenderPool(layout, width, height, DEFAULT_CAMERA, False,
-                               workers=render_workers)  # fmt: skip
+                               workers=render_workers, reflections=reflections)  # fmt: skip
         self.eye: EyeInset | None = None
+        self.eye_pool: RenderPool | None = None  # the eye rendered in a worker process
         self.writer: Mp4Writer | None = None
         try:
-            if eye_inset:
-                self.eye = EyeInset(layout, width, height, False)
+            if eye_inset and eye_worker:
+                self.eye_pool = RenderPool(layout, *inset_size(width, height), EYE_CAMERA, False,
+                                           workers=1, reflections=reflections)  # fmt: skip
+            elif eye_inset:
+                self.eye = EyeInset(layout, width, height, False, reflections)
             if video is not None:
                 self.writer = Mp4Writer(video, width, height, video_fps)
         except BaseException:
@@ -149,7 +157,11 @@ class FrameStream(ClosesOnExit):
         started = time.perf_counter()
         captured = time.monotonic()
         state = FrameState.capture(model, data)
-        self._waiting.append((state, None if self.eye is None else self.eye.render(state)))
+        self._waiting.append(state)
+        if self.eye_pool is not None:  # renders while this process renders the scene
+            self.eye_pool.submit(state)
+        elif self.eye is not None:
+            self._eyes.append(self.eye.render(state))
         self.pool.submit(state, (captured, copies))
         self.stats.render_s += time.perf_counter() - started
         self._finish(self.pool.ready())
@@ -159,7 +171,8 @@ class FrameStream(ClosesOnExit):
             started = time.perf_counter()
             captured, copies = rendered.payload
             pixels = rendered.pixels
-            state, eye = self._waiting.popleft()  # frames come back in submission order
+            state = self._waiting.popleft()  # frames come back in submission order
+            eye = self._next_eye()
             if eye is not None:
                 draw_eye_inset(pixels, eye)
             draw_spots(pixels, self.spots)
@@ -183,6 +196,12 @@ class FrameStream(ClosesOnExit):
                 self.stats.video_frames += copies
             self.stats.encode_s += time.perf_counter() - started
 
+    def _next_eye(self) -> np.ndarray | None:
+        """The eye view of the oldest frame (waiting for the eye's worker if need be)."""
+        if self.eye_pool is not None:
+            return next(self.eye_pool.drain()).pixels
+        return self._eyes.popleft() if self._eyes else None
+
     def close(self) -> None:
         """Publish the frames still rendering, finish the MP4 and free the renderers
         (idempotent). A video without frames gets one black frame, so that it plays."""
@@ -197,6 +216,8 @@ class FrameStream(ClosesOnExit):
         finally:
             if self.eye is not None:
                 self.eye.close()
+            if self.eye_pool is not None:
+                self.eye_pool.close()
             self.pool.close()
             if self.writer is not None:
                 self.writer.close()

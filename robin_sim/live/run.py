@@ -74,6 +74,7 @@ class LiveRun(ClosesOnExit):
                 self.task.layout, hub, config.width, config.height,
                 video=out_dir / VIDEO_NAME if config.video else None, video_fps=int(config.fps),
                 eye_inset=config.eye_inset, render_workers=config.render_workers,
+                eye_worker=config.eye_worker, reflections=config.reflections,
                 spots=self.picker.spot_pixels(), on_state=self.picker.show,
             )  # fmt: skip
             self.log = StepLog(out_dir / LOG_NAME)

@@ -52,15 +52,7 @@ class LiveStatus:
         doing = DOING.get(action, action).format(target=_target_text(record))
         if record.proactive:
             doing += " (anticipating)"
-        policy = None
-        if self.table is not None and record.state is not None:
-            p = self.table.probabilities(record.state)
-            state = record.state
-            policy = {
-                "state": f"{state.gesture.value} / {state.previous_action.value} / "
-                f"{state.hand.value}",
-                "actions": {a.value: round(float(v), 4) for a, v in p.items()},
-            }
+        policy = self._policy_of(record)
         with self._lock:
             self._doing, self._action = doing, action or None
             self._last = self._action
@@ -73,11 +65,25 @@ class LiveStatus:
             self._doing, self._action = "", None
 
     def finished(self, record: StepRecord, totals: EpisodeTotals) -> None:
-        """A step is logged: the counts."""
+        """A step is logged (the learner has its feedback): the counts and P(a|s) now."""
         counts = totals.counts
+        policy = self._policy_of(record)
         with self._lock:
+            if policy is not None:
+                self._policy = policy
             self._counts = {"gestures": counts.gestures, "actions": counts.actions,
                             "rejected": counts.rejected, "legs_delivered": counts.legs}  # fmt: skip
+
+    def _policy_of(self, record: StepRecord) -> dict[str, Any] | None:
+        """P(a|s) of the learner's table for the record's state (None without either)."""
+        state = record.state
+        if self.table is None or state is None:
+            return None
+        p = self.table.probabilities(state)
+        return {
+            "state": f"{state.gesture.value} / {state.previous_action.value} / {state.hand.value}",
+            "actions": {a.value: round(float(v), 4) for a, v in p.items()},
+        }
 
     # --- the page's view -----------------------------------------------------------------------
     def status(self, participant: LiveParticipant | None, final: str | None) -> dict[str, Any]:

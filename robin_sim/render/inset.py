@@ -61,12 +61,17 @@ class EyeInset(ClosesOnExit):
     """Renders the left eye's view of frame states of ``layout``'s scene for the inset."""
 
     def __init__(
-        self, layout: SceneLayout | None, width: int, height: int, shadows: bool = False
+        self,
+        layout: SceneLayout | None,
+        width: int,
+        height: int,
+        shadows: bool = False,
+        reflections: bool = True,
     ) -> None:
         self.size = inset_size(width, height)
         self._model = build_model(layout)
         self._data = mujoco.MjData(self._model)
-        self._renderer = warmed_renderer(self._model, self.size, EYE_CAMERA, shadows)
+        self._renderer = warmed_renderer(self._model, self.size, EYE_CAMERA, shadows, reflections)
 
     def render(self, state: FrameState) -> np.ndarray:
         """The left eye's view of ``state``, (h, w, 3) uint8."""

@@ -91,6 +91,7 @@ class RenderPool(ClosesOnExit):
         in_flight_per_worker: int = 2,
         finish: FinishHook | None = None,
         render_threads: int | None = None,
+        reflections: bool = True,
     ) -> None:
         workers = default_workers() if workers is None else workers
         for name, value, least in (
@@ -110,7 +111,9 @@ class RenderPool(ClosesOnExit):
         camera_id(self._model, camera)
         self._local: FrameRenderer | None = None
         if workers == 0:
-            self._local = warmed_renderer(self._model, (width, height), camera, shadows)
+            self._local = warmed_renderer(
+                self._model, (width, height), camera, shadows, reflections
+            )
         self._pending: deque[_Pending] = deque()
         self._ready: deque[RenderedFrame] = deque()
         self._submitted = 0
@@ -125,7 +128,16 @@ class RenderPool(ClosesOnExit):
                 parent, child = context.Pipe()
                 process = context.Process(
                     target=start_worker,
-                    args=(child, layout, (width, height), camera, shadows, finish, render_threads),
+                    args=(
+                        child,
+                        layout,
+                        (width, height),
+                        camera,
+                        shadows,
+                        finish,
+                        render_threads,
+                        reflections,
+                    ),
                     daemon=True,
                 )
                 with blocked_signals():  # the worker starts with Ctrl-C held back

@@ -86,7 +86,11 @@ def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -
 
 
 def warmed_renderer(
-    model: mujoco.MjModel, size: tuple[int, int], camera: str, shadows: bool
+    model: mujoco.MjModel,
+    size: tuple[int, int],
+    camera: str,
+    shadows: bool,
+    reflections: bool = True,
 ) -> FrameRenderer:
     """A :class:`FrameRenderer` that has rendered one frame already.
 
@@ -94,7 +98,7 @@ def warmed_renderer(
     levels in some pixels (llvmpipe); after one warm-up render, frames depend only on the state,
     so a video is the same whichever worker renders which frame.
     """
-    renderer = FrameRenderer(model, size[0], size[1], camera, shadows=shadows)
+    renderer = FrameRenderer(model, size[0], size[1], camera, shadows, reflections)
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     renderer.render(data)
@@ -122,6 +126,7 @@ def worker_main(
     shadows: bool,
     finish: FinishHook | None,
     render_threads: int | None,
+    reflections: bool = True,
 ) -> None:
     """Worker loop: receive (index, state, payload), reply ("frame", index, pixels) or error."""
     for signum in SIGNALS:  # the main process handles Ctrl-C and SIGTERM, and ends us
@@ -132,7 +137,7 @@ def worker_main(
         ensure_gl_backend()
         model = build_model(layout)
         data = mujoco.MjData(model)
-        renderer = warmed_renderer(model, size, camera, shadows)
+        renderer = warmed_renderer(model, size, camera, shadows, reflections)
     except Exception as exc:
         conn.send(("error", -1, f"{type(exc).__name__}: {exc}", traceback.format_exc()))
         return
