@@ -206,6 +206,14 @@ def test_a_folder_that_is_neither_is_refused(tmp_path: Path, capsys: Any) -> Non
     assert f"{tmp_path}: nothing to report; expected a folder of live sessions" in err
     assert '"live" block' in err and "results.csv or runs.csv" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
+    err = refused([str(tmp_path / "no_such_folder")], capsys)
+    assert "no_such_folder: no such file or folder; expected a results CSV, a study" in err
+
+
+def test_an_out_path_that_is_a_file_is_refused(within_folder: Path, capsys: Any) -> None:
+    (within_folder.parent / "taken").write_text("x")
+    err = refused([str(within_folder), "--out", str(within_folder.parent / "taken")], capsys)
+    assert "taken: cannot make the folder" in err
 
 
 @pytest.mark.parametrize(

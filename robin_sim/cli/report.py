@@ -58,10 +58,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Write the report and list its files."""
     from pil.errors import InvalidChoiceError
-    from pil.experiments.report import load_rows
+    from pil.experiments.report import ReportError, load_rows
 
     if args.results.is_dir():
         return run_folder(args)
+    if not args.results.exists() and args.results.suffix != ".csv":
+        from pil.experiments.sessions_report import EXPECTED
+
+        raise ReportError(f"{args.results}: no such file or folder; expected a results CSV, a "
+                          f"study or sweep folder, or {EXPECTED}")  # fmt: skip
     metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
     baseline = BASELINE if args.baseline is None else args.baseline
     systems = sorted({str(row.get("system")) for row in load_rows(args.results)})
