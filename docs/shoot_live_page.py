@@ -1,9 +1,9 @@
 """Take docs/live_page.png: the live page in headless chromium during a real session.
 
 Run: ``python docs/shoot_live_page.py [docs/live_page.png]``. A session of the default scenario
-at 1x real time; the participant (driven through the page as in tests/browser) points at leg 1,
-stops wrong moves with thumb down and approves grasp, then says "give me" and stops wrong moves
-until the learner's P(a|s) for that state has moved; the shot is taken while the robot acts.
+at 1x real time; the participant (driven through the page as in tests/browser) hands over leg 1
+as type A (pointing, grasp, give me, release; thumb down on every wrong move, thumb up on the
+meant one) and points at leg 2; the shot is taken while Robin acts on what it has learnt.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 ensure_gl_backend()
 
 from conftest import CHROMIUM, start_server  # noqa: E402
-from page_driver import TYPE_A, leg_pixels, play_steps, wait_status  # noqa: E402
+from page_driver import TYPE_A, click_frame_pixel, leg_pixels, play_steps, wait_status  # noqa: E402
 from playwright.sync_api import sync_playwright  # noqa: E402
 
 from robin_sim.live.session import LiveConfig  # noqa: E402
@@ -34,16 +34,11 @@ def main() -> int:
         page = browser.new_page(viewport={"width": 1200, "height": 740})
         try:
             page.goto(served.url("/"))
-            play_steps(page, TYPE_A, leg_pixels(None)[1], until=2)
-            wait_status(page, "s.phase === 'waiting_for_gesture'")
-            page.keyboard.press("g")  # give me: the robot should bring the leg
-            for _ in range(10):  # thumb down on wrong moves until P(a|s) shows learning
-                s = wait_status(page, "s.phase === 'robot_acting' && !!s.action")
-                spread = s["policy"] and max(s["policy"]["actions"].values()) > 0.21
-                if s["action"] == "human" or spread:
-                    break
-                page.keyboard.press("ArrowDown")
-                wait_status(page, f"s.actions > {s['actions']}")
+            legs = leg_pixels(None)
+            play_steps(page, TYPE_A, legs[1])  # hand over leg 1 as type A, teaching Robin
+            wait_status(page, "s.legs_delivered === 1 && s.phase === 'waiting_for_gesture'")
+            click_frame_pixel(page, *legs[2])  # point at the next leg: learnt, not guessed
+            wait_status(page, "s.phase === 'robot_acting' && !!s.action")
             page.wait_for_timeout(1200)
             page.screenshot(path=str(target))
         finally:
