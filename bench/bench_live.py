@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import os
 import statistics
 import sys
 import tempfile
@@ -138,8 +139,10 @@ def main() -> int:
                   file=sys.stderr)  # fmt: skip
         browser.close()
     median = {key: statistics.median(row[key] for row in rows) for key in rows[0]}
+    load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
     print(f"\nlive stream, 640x480 at 15 frames/s, speed {args.speed:g}x, "
-          f"{args.runs} runs of {args.seconds:g} s (median)\n")  # fmt: skip
+          f"{args.runs} runs of {args.seconds:g} s (median); load average {load} on "
+          f"{os.cpu_count()} CPUs\n")  # fmt: skip
     print(f"| {'figure':<34} | {'median':>8} | {'runs':<24} |")
     print(f"|{'-' * 36}|{'-' * 10}|{'-' * 26}|")
     for key, value in median.items():

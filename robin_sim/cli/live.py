@@ -25,7 +25,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="address to listen on (default: %(default)s); any other than loopback needs the "
         "access token printed in the URL",
     )  # fmt: skip
-    parser.add_argument("--system", default="pil", help=_system_help())
+    parser.add_argument("--system", default="pil", help=_system_help() + " (with --protocol: "
+                        "each block's condition)")  # fmt: skip
     parser.add_argument("--scenario", default=None, help="assembly YAML or shipped scenario name")
     parser.add_argument("--participant", default="P01", help="participant id, [A-Za-z0-9_-]{1,32} "
                         "(default: %(default)s)")  # fmt: skip
@@ -61,12 +62,12 @@ def parse_port(text: str) -> int:
 
 
 def parse_speed(text: str) -> float:
-    """``--speed`` as a positive number (the engine bounds it further)."""
+    """``--speed`` as a number (its range is the engine's: :class:`LiveConfig` checks it)."""
     try:
         return float(text)
     except ValueError:
-        raise RobinPilError(f"--speed must be a number > 0 (1 = real time), got {quote(text)}")\
-            from None  # fmt: skip
+        raise RobinPilError(f"--speed must be a number from 0.1 to 10 (1 = real time), got "
+                            f"{quote(text)}") from None  # fmt: skip
 
 
 def session_configs(args: argparse.Namespace) -> list[Any]:
