@@ -241,6 +241,12 @@
     ACTIONS[name]();
   });
 
+  // Closing or reloading the controlling tab ends the session (saved as "closed"): ask first.
+  window.addEventListener("beforeunload", (event) => {
+    const phase = live.status ? live.status.phase : "done";
+    if (live.role === "control" && live.connected && phase !== "done") event.preventDefault();
+  });
+
   // A click points: the pixel in the frame's coordinates, whatever size the canvas is shown at.
   canvas.addEventListener("click", (event) => {
     if (live.role !== "control") {
