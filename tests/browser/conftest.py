@@ -83,15 +83,20 @@ def live_server(tmp_path: Path) -> Iterator[Any]:
         assert not served.thread.is_alive(), "the live server did not stop"
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser() -> Iterator[Any]:
-    """Headless chromium from Debian's package."""
+    """Headless chromium from Debian's package, for one test module. Playwright's sync API
+    runs an event loop in the main thread while it is open, so it is closed after the module
+    and asyncio's state reset: other modules' tests (Dask, asyncio.run) see a clean thread."""
     from playwright.sync_api import sync_playwright
 
     assert CHROMIUM.exists(), f"{CHROMIUM} is missing: apt-get install chromium (see .ci/run)"
-    with sync_playwright() as playwright:
-        chromium = playwright.chromium.launch(
-            executable_path=str(CHROMIUM), headless=True, args=["--no-sandbox"]
-        )
-        yield chromium
-        chromium.close()
+    try:
+        with sync_playwright() as playwright:
+            chromium = playwright.chromium.launch(
+                executable_path=str(CHROMIUM), headless=True, args=["--no-sandbox"]
+            )
+            yield chromium
+            chromium.close()
+    finally:
+        asyncio.set_event_loop_policy(None)  # a fresh policy: no loop left set to None
