@@ -14,6 +14,9 @@ JPEG (median and 95th percentile), and the wall time physics fell behind its pac
   (:class:`robin_sim.render.pool.RenderPool`)
 * the baseline, measured in the same run: the scene alone, in-process, without the eye inset
 
+Before the rounds, the cost of each part of a frame is timed in this process (median of 20):
+the scene and the eye inset with and without the floor's reflection, JPEG and H.264.
+
 "ms a frame" is the wall time the physics thread spends on one frame (rendering, inset, JPEG,
 MP4): 1000 / it is the frame rate the stream could reach. Figures are medians of ``--repeats``
 runs (the cases take turns in each round, so load from other processes hits all alike),
@@ -35,9 +38,16 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+import cv2  # noqa: E402
+import mujoco  # noqa: E402
 from live_driver import Driver  # noqa: E402
 
 from robin_sim.live.session import LiveConfig, LiveSession  # noqa: E402
+from robin_sim.model.names import DEFAULT_CAMERA, EYE_CAMERA  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.render.inset import inset_size  # noqa: E402
+from robin_sim.render.renderer import FrameRenderer  # noqa: E402
+from robin_sim.render.video import Mp4Writer  # noqa: E402
 
 CASES: dict[str, dict[str, object]] = {
     "scene + eye in-process, no reflection (shipped)": {},
@@ -64,12 +74,48 @@ def one_run(root: Path, name: str, seconds: float, fps: int, **options: object) 
     return summary["live"] | {"real_time_factor": summary["real_time_factor"]}
 
 
+def part_costs(frames: int = 20) -> dict[str, float]:
+    """Median ms of each part of a frame, timed one after the other in this process."""
+    model = build_model()
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    costs: dict[str, float] = {}
+
+    def timed(name: str, work) -> object:
+        times, out = [], None
+        for _ in range(frames):
+            started = time.perf_counter()
+            out = work()
+            times.append(time.perf_counter() - started)
+        costs[name] = statistics.median(times) * 1000
+        return out
+
+    pixels = None
+    for reflections in (True, False):
+        what = "with" if reflections else "without"
+        for camera, size in ((DEFAULT_CAMERA, (640, 480)), (EYE_CAMERA, inset_size(640, 480))):
+            with FrameRenderer(model, *size, camera, False, reflections) as renderer:
+                renderer.render(data)  # warm-up
+                label = "scene 640x480" if camera == DEFAULT_CAMERA else "eye inset 160x120"
+                image = timed(f"{label}, {what} reflection", lambda r=renderer: r.render(data))
+                pixels = image if camera == DEFAULT_CAMERA else pixels
+    bgr = cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR)
+    timed("JPEG (cv2.imencode, quality 80)", lambda: cv2.imencode(".jpg", bgr))
+    with tempfile.TemporaryDirectory() as tmp, Mp4Writer(Path(tmp) / "v.mp4", 640, 480, 15) as mp4:
+        timed("H.264 (libx264, one frame)", lambda: mp4.write(pixels))
+    return costs
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=8.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--fps", type=int, default=15)
     args = parser.parse_args()
+    costs = part_costs()
+    print("| part of a frame | ms |\n|---|---|")
+    for name, ms in costs.items():
+        print(f"| {name} | {ms:.1f} |")
     results: dict[str, list[dict]] = {case: [] for case in CASES}
     with tempfile.TemporaryDirectory() as tmp:
         for round_ in range(args.repeats):

@@ -7,6 +7,7 @@ makes them slower); frames at 10 per wall second at that speed.
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import av
@@ -19,6 +20,7 @@ from robin_sim.episode.log import read_step_log
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionExistsError
 from robin_sim.live.inputs import LiveInput, LiveInputError
+from robin_sim.live.pacing import MAX_LAG_S
 from robin_sim.live.session import LiveSession
 from robin_sim.model.names import ACTIVE_SIDE, grasp_site
 
@@ -29,13 +31,13 @@ TYPE_A = (("point", "object"), ("grasp", "close"), ("give_me", "human"), ("relea
 
 def _config(tmp_path: Path, **changes: object) -> LiveConfig:
     values = dict(scenario="one_handover", out_root=tmp_path, session="s1", speed=SPEED, fps=FPS,
-                  feedback_window=1.0)  # fmt: skip
+                  feedback_window=3.0)  # fmt: skip
     return LiveConfig(**{**values, **changes})  # type: ignore[arg-type]
 
 
 def _frames(session: LiveSession) -> list:
     frames: list = []
-    session.subscribe(frames.append)
+    session.subscribe(lambda frame: frames.append((frame, time.monotonic())))
     return frames
 
 
@@ -72,6 +74,16 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     # the learner learnt: the last state decided in now prefers the approved "open"
     status = session.status()
     assert status["phase"] == "done" and status["status"] == "finished"
+    assert status["task"] == {
+        "handover": 0,
+        "handover_type": "A",
+        "handover_steps": [
+            "pointing -> object",
+            "grasp -> close",
+            "give me -> human",
+            "release -> open",
+        ],
+    }
     policy = status["policy"]
     assert policy["state"] == "release / human / occupied"
     assert max(policy["actions"], key=policy["actions"].get) == "open"
@@ -85,7 +97,18 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     live = saved["live"]
     assert live["participant"] == "P01" and live["condition"] == "pil"
     assert live["handover_types"] == ["A"] and live["inputs"] == len(inputs)
+    arrived = np.array([at for _, at in frames])
+    frames = [frame for frame, _ in frames]
     assert live["frames_streamed"] == len(frames) == frames[-1].seq
+    assert [f.seq for f in frames] == list(range(1, len(frames) + 1))
+    # paced: physics never runs ahead of SPEED x the wall clock. The pace's reference only moves
+    # forward; a frame is captured at most one tick (20 ms sim) before its pace and physics lags
+    # it by at most MAX_LAG_S, so from the first frame on this holds (10 ms for the clock):
+    sim = np.array([f.sim_time for f in frames])
+    captured = np.array([f.captured for f in frames])
+    slack = MAX_LAG_S + 0.02 / SPEED + 0.01
+    assert np.all((sim - sim[0]) / SPEED <= captured - captured[0] + slack)
+    assert all(f.captured <= at for f, at in zip(frames, arrived, strict=True))
     # frames are due every SPEED / FPS s of sim time, and show the scene (not blank)
     gaps = np.diff([f.sim_time for f in frames])
     assert np.median(gaps) == pytest.approx(SPEED / FPS, abs=0.021)  # one control tick
@@ -192,3 +215,19 @@ def test_a_session_stopped_before_it_started_writes_nothing(tmp_path: Path) -> N
     assert not (tmp_path / "P01").exists()
     with pytest.raises(LiveInputError, match="the session has ended"):
         session.submit(LiveInput("end"))
+
+
+def test_end_during_a_move_gives_the_robot_no_verdict(tmp_path: Path) -> None:
+    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
+    session.start()
+    driver = Driver(session)
+    try:
+        driver.my_turn()
+        driver.point_at_leg(0)
+        driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        session.receive({"type": "end"})
+        assert session.done.wait(60)
+    finally:
+        summary = session.stop()
+    assert summary["status"] == "ended"
+    assert summary["actions"] == 0 and read_step_log(session.out_dir / "log.jsonl") == []

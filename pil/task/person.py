@@ -80,6 +80,29 @@ def plan_script(
     return tuple(script)
 
 
+@dataclass(slots=True)
+class LegsSeen:
+    """Which leg the person saw the robot take, from the actions they approved: an "object"
+    points at a leg, a close takes the leg pointed at, an open lets it go."""
+
+    holding: int | None = None  # the leg the person saw the robot grasp
+    pointed: int | None = None  # the leg of the last approved "object"
+
+    def approved(self, action: Action, target: Target | None) -> None:
+        """``action`` on ``target`` was let stand."""
+        if action is Action.OBJECT:
+            self.pointed = None if target is None or target.kind != "leg" else target.index
+        elif action is Action.CLOSE:
+            self.holding = self.pointed
+        elif action is Action.OPEN:
+            self.holding = None
+
+    def lost(self) -> int | None:
+        """The leg the robot held, now gone from its hand (forgotten here)."""
+        leg, self.holding = self.holding, None
+        return leg
+
+
 class PersonBody(Protocol):
     """What the person's body does in a world where it can be seen (a physical episode)."""
 
@@ -179,8 +202,7 @@ class ScriptedPerson:
         self._rng = random.Random(seed)
         self._reaction_rng = random.Random(f"reaction:{seed}")  # apart: the study draws none
         self._todo: deque[ScriptStep] = deque(self.script)
-        self._holding: int | None = None  # the leg the person saw the robot grasp (approved)
-        self._pointed: int | None = None  # the leg of the last approved "object"
+        self._legs = LegsSeen()
         self.interventions = 0  # legs the person put back on the table themselves
 
     @classmethod
@@ -200,8 +222,8 @@ class ScriptedPerson:
         if not self._todo:
             return None
         head = self._todo[0]
-        if self._holding is not None and hand is Hand.FREE:
-            leg, self._holding = self._holding, None
+        if self._legs.holding is not None and hand is Hand.FREE:
+            leg = self._legs.lost()
             if self.body is not None and self.body.recover(leg):
                 self.interventions += 1
             where = head.intent
@@ -212,7 +234,11 @@ class ScriptedPerson:
                 recovery = ScriptStep(intent, head.handover_type, head.step, False, recovery=True)
                 self._todo.appendleft(recovery)
             head = self._todo[0]
-        elif self._holding is None and hand is Hand.OCCUPIED and head.intent.action is Action.CLOSE:
+        elif (
+            self._legs.holding is None
+            and hand is Hand.OCCUPIED
+            and head.intent.action is Action.CLOSE
+        ):
             self.completed(head, Action.CLOSE)  # the leg is in the hand already
             return self.next_step(hand)
         return head
@@ -221,13 +247,7 @@ class ScriptedPerson:
         """``item``'s instruction got an approved ``action``: on to the next one."""
         if self._todo and self._todo[0] is item:
             self._todo.popleft()
-        target = item.intent.target
-        if action is Action.OBJECT:
-            self._pointed = None if target is None or target.kind != "leg" else target.index
-        elif action is Action.CLOSE:
-            self._holding = self._pointed
-        elif action is Action.OPEN:
-            self._holding = None
+        self._legs.approved(action, item.intent.target)
 
     # --- one action ----------------------------------------------------------------------------
     def start_table(self, table: int) -> None:

@@ -108,8 +108,11 @@ def steps(
             if record.feedback is not _NOT_OK:  # and the person lets it stand
                 person.completed(item, guess.action)
                 continue  # no gesture for this instruction
-            if world.hand() is not hand:
-                continue  # the stopped action changed the hand: the person re-plans
+            if world.hand() is not hand or not approved:
+                # The stopped action changed the hand, or the robot saw the stop: the person
+                # re-plans (a scripted person's next instruction is this one again; a live
+                # participant, asked for it only now, makes the gesture).
+                continue
         # --- the instruction's gesture ---------------------------------------------------------
         spent = performed = 0  # actions and performances for this instruction
         done = changed = False

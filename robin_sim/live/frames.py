@@ -3,11 +3,12 @@
 :class:`FrameStream` renders the scene camera (no shadows; by default no floor reflection
 either, which saves a third of the render time, see the README) through a
 :class:`~robin_sim.render.pool.RenderPool` (``render_workers=0``: in the physics thread; N:
-worker processes), pastes the robot's eye inset (:mod:`robin_sim.render.inset`) and rings
-marking the table spots, encodes each frame as JPEG (``cv2.imencode``) and hands it to every
-subscriber as a :class:`Frame`; the same pixels go into the MP4 (:class:`Mp4Writer`: fragmented,
-so it plays however the session stops). Build and use it in the physics thread: its OpenGL
-contexts belong to the thread that made them.
+worker processes; the bench measured in-process best), pastes the robot's eye inset
+(:mod:`robin_sim.render.inset`; ``eye_worker``: rendered meanwhile in a process of its own)
+and rings marking the table spots, encodes each frame as JPEG (``cv2.imencode``) and hands it
+to every subscriber as a :class:`Frame`; the same pixels go into the MP4 (:class:`Mp4Writer`:
+fragmented, so it plays however the session stops). Build and use it in the physics thread:
+its OpenGL contexts belong to the thread that made them.
 """
 
 from __future__ import annotations

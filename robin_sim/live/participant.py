@@ -23,13 +23,13 @@ from __future__ import annotations
 
 import threading
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from pil.task.person import ScriptStep
+from pil.task.person import LegsSeen, ScriptStep
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome, Target
-from pil.types import Action, Feedback, Gesture, Hand, State
+from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
 from robin_sim.person.body import PhysicalBody
 
 # The action a gesture means in a state the block's types do not use (for the record only).
@@ -74,6 +74,7 @@ class LiveParticipant:
         types: Sequence[HandoverType],
         legs_per_table: int,
         feedback_window: float,
+        robot_anticipates: Callable[[Action, Hand], bool] | None = None,
     ) -> None:
         self.body, self.types = body, tuple(types)
         self.legs_per_table, self.feedback_window = legs_per_table, feedback_window
@@ -90,9 +91,15 @@ class LiveParticipant:
         self.interventions = 0
         self._gesture: Gesturing | None = None
         self._previous = Action.OPEN  # the last action the participant approved
-        self._holding: int | None = None
-        self._pointed: int | None = None
-        self._handover, self._step = -1, 0
+        self._legs = LegsSeen()
+        self._handover, self._step = -1, 0  # the handover and its approved instructions
+        # A proactive robot acts before the next gesture after an approved action, when its
+        # learnt transitions make one next state likely (pil.anticipation): then the loop gets
+        # the participant's next instruction at once, without waiting for a gesture.
+        self.robot_anticipates = robot_anticipates
+        self._approved = False  # the last action was let stand
+        self._expected = Hand.FREE  # the hand that approved action leaves
+        self._hand_before = Hand.FREE  # the hand when the current action began
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -113,6 +120,23 @@ class LiveParticipant:
             else:
                 self.ended = True
 
+    @property
+    def instruction(self) -> tuple[int, int]:
+        """(handover, step): the leg being handed over and its instructions let stand so far."""
+        return self.legs_delivered, self._step if self._handover == self.legs_delivered else 0
+
+    def task(self) -> dict[str, object]:
+        """The handover now asked for: its index, type and the type's steps (for the page)."""
+        handover = min(self.legs_delivered, self.legs_total - 1)
+        kind = self.types[handover]
+        steps = [f"{s.gesture.value} -> {s.action.value}" for s in kind.steps]
+        return {"handover": handover, "handover_type": kind.name, "handover_steps": steps}
+
+    @property
+    def gesture_pending(self) -> bool:
+        """A gesture has arrived that the loop has not taken yet."""
+        return self._gesture is not None
+
     def _tick(self) -> None:
         self.body.world.sim.tick()
 
@@ -121,26 +145,39 @@ class LiveParticipant:
         """The participant's next instruction (None: all legs delivered, or the session ended)."""
         if self.legs_delivered >= self.legs_total or self.ended:
             return None
-        if self._holding is not None and hand is Hand.FREE:  # the robot dropped the leg
-            leg, self._holding = self._holding, None
+        if self._legs.holding is not None and hand is Hand.FREE:  # the robot dropped the leg
+            leg = self._legs.lost()
+            assert leg is not None
             self.interventions += self.body.recover(leg)
         self.thumb = None
+        handover = self.legs_delivered
+        if handover != self._handover:
+            self._handover, self._step = handover, 0
+        table, leg = divmod(handover, self.legs_per_table)
+        first = leg == 0 and self._step == 0
+        kind = self.types[handover]
+        if self._robot_goes_first(hand):  # for the record: the type's next instruction
+            step = kind.steps[min(self._step, len(kind.steps) - 1)]
+            intent = Intent(step.gesture, step.action, None, handover, table)
+            self._set("robot_acting", "The robot anticipates your next instruction.")
+            return ScriptStep(intent, kind.name, self._step, first)
         self._set("waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture.")
         while self._gesture is None:
             if self.ended:
                 return None
             self._tick()
         gesturing, self._gesture = self._gesture, None
-        handover = self.legs_delivered
-        if handover != self._handover:
-            self._handover, self._step = handover, 0
-        table, leg = divmod(handover, self.legs_per_table)
         action = self._intended(gesturing, hand)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
-        item = ScriptStep(intent, self.types[handover].name, self._step, leg == 0)
-        self._step += 1
         self._set("robot_acting", "The robot reads your gesture.")
-        return item
+        return ScriptStep(intent, kind.name, self._step, first)
+
+    def _robot_goes_first(self, hand: Hand) -> bool:
+        """Whether the robot will act before the next gesture (the loop's own condition)."""
+        anticipates = self.robot_anticipates
+        if anticipates is None or not self._approved or hand is not self._expected:
+            return False
+        return bool(anticipates(self._previous, hand))
 
     def _intended(self, gesturing: Gesturing, hand: Hand) -> Action:
         correct = self.correct.get(State(gesturing.gesture, self._previous, hand))
@@ -154,14 +191,9 @@ class LiveParticipant:
 
     def completed(self, item: ScriptStep, action: Action) -> None:
         """The participant let ``action`` stand for ``item``."""
-        self._previous = action
-        target = item.intent.target
-        if action is Action.OBJECT:
-            self._pointed = None if target is None or target.kind != "leg" else target.index
-        elif action is Action.CLOSE:
-            self._holding = self._pointed
-        elif action is Action.OPEN:
-            self._holding = None
+        self._previous, self._step = action, self._step + 1
+        self._approved, self._expected = True, hand_after(action, self._hand_before)
+        self._legs.approved(action, item.intent.target)
 
     def start_table(self, table: int) -> None:
         """A new table's legs are laid out: the hand rests first."""
@@ -174,6 +206,7 @@ class LiveParticipant:
     def watch(self, intent: Intent) -> ThumbWatcher:
         """Watch the robot's next action: a thumb down from now on stops it."""
         self.thumb, self.judging = None, True
+        self._approved, self._hand_before = False, self.body.world.hand()
         self._set("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
         return ThumbWatcher(self)
 

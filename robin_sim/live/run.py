@@ -15,6 +15,7 @@ from pathlib import Path
 
 from pil.experiments.systems import test_parts
 from pil.task.parts import RunParts
+from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
 from robin_sim.episode.config import EpisodeConfig, EpisodeTask
@@ -60,8 +61,13 @@ class LiveRun(ClosesOnExit):
             if step.intent.handover not in seen:
                 seen.add(step.intent.handover)
                 types.append(scenario.type_named(step.handover_type))
+        anticipate = getattr(scripted.learner, "anticipate", None)  # baselines have none
+
+        def robot_anticipates(previous: Action, hand: Hand) -> bool:
+            return anticipate is not None and anticipate(previous, hand) is not None
+
         self.participant = LiveParticipant(self.body, types, scenario.legs_per_table,
-                                           config.feedback_window)  # fmt: skip
+                                           config.feedback_window, robot_anticipates)  # fmt: skip
         # The participant in the scripted person's place (pil.task.person.Person).
         self.parts: RunParts = replace(scripted, person=self.participant)  # type: ignore[arg-type]
         self.totals = EpisodeTotals(timeout_s=float(self.task.values["handover_timeout"]))

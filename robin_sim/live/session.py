@@ -64,14 +64,15 @@ class LiveSession:
         self._thread: threading.Thread | None = None
         self._participant: LiveParticipant | None = None
         self._picker: Any = None
+        self._pacer: Any = None
         self._files: SessionFiles | None = None
 
     # --- the contract --------------------------------------------------------------------------
     def start(self) -> None:
         """Make the session's folder and start the physics thread."""
         with self._lock:
-            if self._thread is not None:
-                raise RobinPilError(f"session {self.out_dir} has been started already")
+            if self._thread is not None or self.done.is_set():
+                raise RobinPilError(f"session {self.out_dir} has been started or stopped already")
             self._files = SessionFiles(self.out_dir, self.config)  # the folder: new, or refused
             self._thread = threading.Thread(target=self._run, name="live-physics", daemon=True)
             self._thread.start()
@@ -107,9 +108,10 @@ class LiveSession:
 
     def status(self) -> dict[str, Any]:
         """Where the session stands, JSON-ready (thread-safe)."""
-        participant = self._participant
-        summary = self._summary
-        return self.view.status(participant, None if summary is None else summary["status"])
+        participant, summary, pacer = self._participant, self._summary, self._pacer
+        status = self.view.status(participant, None if summary is None else summary["status"])
+        status["behind_s"] = None if pacer is None else round(pacer.behind_s, 3)  # lost pace
+        return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
         """End the session between two ticks and save everything; the summary (idempotent:
@@ -169,8 +171,12 @@ class LiveSession:
     def _on_tick(self, _: object) -> None:
         if self._stop_status is not None:
             raise SessionStopped(self._stop_status)
-        if self._participant is not None:
-            self._participant.poll()
+        participant = self._participant
+        if participant is not None:
+            participant.poll()
+            if participant.ended and participant.phase != "waiting_for_gesture":
+                # "end" while the robot acts or waits for a thumb: no verdict is made up
+                raise SessionStopped("ended")
 
     def _run(self) -> None:
         files = self._files
@@ -180,6 +186,7 @@ class LiveSession:
             run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
             with run:
                 self._participant, self._picker = run.participant, run.picker
+                self._pacer = run.pacer
                 self.view.table = getattr(run.parts.learner, "table", None)
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts

@@ -42,7 +42,7 @@ class LiveStatus:
         self._action: str | None = None
         self._last: str | None = None  # the action last decided (the one being judged)
         self._policy: dict[str, Any] | None = None
-        self._counts = {"gestures": 0, "actions": 0, "rejected": 0, "legs_delivered": 0}
+        self._tally = {"gestures": 0, "actions": 0, "rejected": 0, "legs_delivered": 0}
         self.session = ""
 
     # --- the StepObserver protocol -------------------------------------------------------------
@@ -71,7 +71,7 @@ class LiveStatus:
         with self._lock:
             if policy is not None:
                 self._policy = policy
-            self._counts = {"gestures": counts.gestures, "actions": counts.actions,
+            self._tally = {"gestures": counts.gestures, "actions": counts.actions,
                             "rejected": counts.rejected, "legs_delivered": counts.legs}  # fmt: skip
 
     def _policy_of(self, record: StepRecord) -> dict[str, Any] | None:
@@ -89,7 +89,7 @@ class LiveStatus:
     def status(self, participant: LiveParticipant | None, final: str | None) -> dict[str, Any]:
         """The contract's status dict."""
         with self._lock:
-            counts, doing, policy = dict(self._counts), self._doing, self._policy
+            counts, doing, policy = dict(self._tally), self._doing, self._policy
             action, last = self._action, self._last
         if final is not None:
             phase, message = "done", f"The session is over ({final})."
@@ -111,6 +111,9 @@ class LiveStatus:
             "message": message,
             **counts,
             "legs_total": None if participant is None else participant.legs_total,
+            # the handover now asked for, e.g. {"handover": 0, "handover_type": "A",
+            # "handover_steps": ["pointing -> object", ...]} (None before the scene is built)
+            "task": None if participant is None else participant.task(),
             "sim_time": None if world is None else round(world.time, 3),
             "system": self.config.system,
             "participant": self.config.participant,
