@@ -31,6 +31,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "robin_sim.cli.vision_conditions",
         "measured detection rate per camera condition (light x noise) and PIL's costs",
     ),
+    "live": ("robin_sim.cli.live", "a browser page: a live person gestures, Robin learns"),
 }
 
 

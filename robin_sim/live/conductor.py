@@ -1,0 +1,192 @@
+"""The run behind the live page: one session, or a protocol's blocks one after another.
+
+A session starts when the participant's (controlling) tab connects; a protocol block first shows
+its instruction screen (phase ``instructions``) and starts on the tab's ``start`` message. When a
+session ends by itself (``finished``, or ``ended`` by the participant), the next block's screen
+follows; after the last one the run is over. A closed controlling tab stops the running session
+as ``closed``, a signal as ``interrupted``, and either ends the run: the server then stops.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from robin_sim.live.inputs import LiveInputError, parse_input
+from robin_sim.live.session import Frame, LiveConfig, LiveSession
+
+LOG = logging.getLogger(__name__)
+POLL_S = 0.1  # how often the end of a running session is looked for
+
+FrameSink = Callable[[Frame], None]
+
+
+class Conductor:
+    """The sessions of one run, in order (each validated when the conductor is made)."""
+
+    def __init__(self, configs: Sequence[LiveConfig]) -> None:
+        if not configs:
+            raise ValueError("a live run needs at least one session")
+        self.configs = tuple(config.checked() for config in configs)
+        self.sessions = tuple(LiveSession(config) for config in self.configs)
+        self.width, self.height = self.configs[0].width, self.configs[0].height
+        self.index = 0
+        self.phase = "waiting"  # waiting | instructions | starting | running | done
+        self.results: list[dict[str, Any]] = []  # each ended session's final status
+        self.outcome: str | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._on_frame: FrameSink | None = None
+        self._unsubscribe: Callable[[], None] | None = None
+        self._over: asyncio.Event | None = None
+        self._watcher: asyncio.Task[None] | None = None
+        self._lock: asyncio.Lock | None = None
+
+    @property
+    def session(self) -> LiveSession:
+        return self.sessions[self.index]
+
+    def attach(self, loop: asyncio.AbstractEventLoop, on_frame: FrameSink) -> None:
+        """Bind to the server's event loop; ``on_frame`` gets every frame (physics thread)."""
+        self._loop, self._on_frame = loop, on_frame
+        self._over, self._lock = asyncio.Event(), asyncio.Lock()
+
+    # --- what the page shows ----------------------------------------------------------------
+    def status(self) -> dict[str, Any]:
+        """The running session's status, or the screen before / between / after sessions."""
+        config = self.configs[self.index]
+        extra = {"blocks": len(self.configs), "block_number": self.index + 1,
+                 "out_dir": str(self.session.out_dir)}  # fmt: skip
+        if self.phase == "running":
+            return {**self.session.status(), **extra}
+        if self.phase == "done" and self.results:
+            return {**self.results[-1], **extra, "phase": "done", "status": self.outcome}
+        message = {
+            "waiting": "waiting for the participant's tab",
+            "instructions": "read the instructions, then press Start",
+            "starting": "starting the session...",
+            "done": f"the run has ended ({self.outcome})",
+        }.get(self.phase, "")
+        return {
+            "phase": "done" if self.phase == "done" else "instructions",
+            "turn": "participant", "robot_doing": "", "message": message,
+            "instructions": config.instructions, "legs_delivered": 0, "legs_total": None,
+            "gestures": 0, "actions": 0, "rejected": 0, "sim_time": 0.0,
+            "system": config.system, "participant": config.participant,
+            "session": config.session, "block": config.block, "policy": None,
+            "status": self.outcome if self.phase == "done" else "running",
+            "starting": self.phase == "starting", **extra,
+        }  # fmt: skip
+
+    def latest_frame(self) -> Frame | None:
+        """The running session's newest frame (for a tab that has just connected)."""
+        return self.session.latest_frame() if self.phase == "running" else None
+
+    # --- events from the tabs and the server ------------------------------------------------
+    async def participant_arrived(self) -> None:
+        """The controlling tab connected: show the first screen or start the session."""
+        if self.phase == "waiting":
+            await self._enter(0)
+
+    async def participant_left(self) -> None:
+        """The controlling tab closed: save what runs as ``closed``; the run is over."""
+        await self._end("closed")
+
+    def interrupt(self) -> None:
+        """SIGINT / SIGTERM: save what runs as ``interrupted`` (from the event loop)."""
+        assert self._loop is not None
+        self._loop.create_task(self._end("interrupted"))
+
+    async def receive(self, raw: str | bytes) -> None:
+        """One message from the participant's tab, checked by
+        :func:`~robin_sim.live.inputs.parse_input`: a running session takes it (and logs it,
+        refused or not, in ``inputs.jsonl``); else only ``start`` on an instruction screen is
+        valid. :class:`LiveInputError` says what was wrong."""
+        if self.phase == "running":
+            self.session.receive(raw)  # parse_input, then submit; both logged
+            return
+        item = parse_input(raw, self.width, self.height)
+        if item.kind == "start" and self.phase == "instructions":
+            await self._start()
+        elif item.kind == "start":
+            raise LiveInputError("start: no instruction screen is shown")
+        else:
+            shown = "the instructions: press Start" if self.phase == "instructions" else "none"
+            raise LiveInputError(f"{item.kind}: no session is running (showing {shown})")
+
+    async def finished(self) -> str:
+        """Wait for the end of the run; its final status."""
+        assert self._over is not None
+        await self._over.wait()
+        assert self.outcome is not None
+        return self.outcome
+
+    # --- the sequence -----------------------------------------------------------------------
+    async def _enter(self, index: int) -> None:
+        self.index = index
+        if self.configs[index].protocol is not None:
+            self.phase = "instructions"
+        else:
+            await self._start()
+
+    async def _start(self) -> None:
+        assert self._lock is not None and self._loop is not None
+        async with self._lock:
+            if self.phase in ("starting", "running", "done"):
+                return
+            self.phase = "starting"
+            session = self.session
+            await self._loop.run_in_executor(None, session.start)
+            if self.phase == "done":  # ended while starting: stop it at once
+                await self._loop.run_in_executor(None, session.stop, self.outcome)
+                return
+            assert self._on_frame is not None
+            self._unsubscribe = session.subscribe(self._on_frame)
+            self.phase = "running"
+            self._watcher = self._loop.create_task(self._watch(session))
+
+    async def _watch(self, session: LiveSession) -> None:
+        """Wait for ``session`` to end by itself; then the next block or the end."""
+        while not session.done.is_set():
+            await asyncio.sleep(POLL_S)
+        assert self._lock is not None
+        async with self._lock:
+            if self.phase != "running" or session is not self.session:
+                return
+            self._close(session)
+            if self.index + 1 < len(self.sessions):
+                await self._enter(self.index + 1)
+            else:
+                self._over_with(self.results[-1]["status"])
+
+    def _close(self, session: LiveSession) -> None:
+        if self._unsubscribe is not None:
+            self._unsubscribe()
+            self._unsubscribe = None
+        self.results.append(session.status())
+
+    async def _end(self, status: str) -> None:
+        """Stop the running session with ``status`` (saved) and end the run."""
+        assert self._lock is not None and self._loop is not None
+        if self.phase == "done":
+            return
+        if self.phase == "starting":  # _start stops it when session.start returns
+            self._over_with(status)
+            return
+        async with self._lock:
+            if self.phase == "done":
+                return
+            if self.phase == "running":
+                session = self.session
+                try:
+                    await self._loop.run_in_executor(None, session.stop, status)
+                except Exception:  # the run still ends; the session's own summary says more
+                    LOG.exception("saving the session as %s failed", status)
+                self._close(session)
+            self._over_with(status)
+
+    def _over_with(self, status: str) -> None:
+        self.phase, self.outcome = "done", status
+        assert self._over is not None
+        self._over.set()

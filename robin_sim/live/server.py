@@ -1,0 +1,314 @@
+"""The live page's web server (aiohttp): the page, its own static files and a WebSocket per tab.
+
+``GET /`` serves the page, ``GET /static/NAME`` one of the page's files (a fixed list: no path
+from a request ever reaches the file system), ``GET /ws`` the WebSocket. The first tab that
+connects controls the session; later tabs watch read-only. To every tab the server pushes each
+new frame as one binary message (a 4-byte big-endian header length, a JSON header with ``seq``,
+``sim_time``, ``captured_ms`` = the wall-clock time in ms when physics was rendered, and the
+JPEG) and the session's status as JSON a few times a second. A lagging tab gets the newest frame
+when it is ready again; older ones are dropped, and physics never waits for a socket.
+
+The run (:class:`robin_sim.live.conductor.Conductor`) is one session, or a protocol's blocks one
+after another, each behind an instruction screen. A closed controlling tab saves the session as
+``closed`` and stops the server; so do SIGINT and SIGTERM, with ``interrupted``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import errno
+import ipaddress
+import json
+import logging
+import secrets
+import signal
+import socket
+import struct
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+from urllib.parse import urlsplit
+
+from aiohttp import WSMsgType, web
+
+from pil.errors import RobinPilError, quote
+from robin_sim.live.conductor import Conductor
+from robin_sim.live.inputs import LiveInputError
+from robin_sim.live.session import Frame
+
+LOG = logging.getLogger(__name__)
+LOOPBACK_NAMES = ("localhost",)
+STATIC_DIR = Path(__file__).with_name("static")
+STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /static/ serves
+RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
+STATUS_HZ = 5.0  # status messages per second
+MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
+SEND_BUFFER_BYTES = 128 * 1024  # kernel send buffer of a tab's socket: a few frames, not seconds
+QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
+SECURITY_HEADERS = {
+    "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; "
+    "connect-src 'self'; style-src 'self'; script-src 'self'",
+    "X-Content-Type-Options": "nosniff",
+    "Cache-Control": "no-store",
+}
+
+
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is reachable only from this machine."""
+    if host in LOOPBACK_NAMES:
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening socket on ``host``:``port``, or one clear error."""
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as problem:
+        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
+                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
+    family, _, _, _, address = infos[0]
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind(address)
+        sock.listen(64)
+    except OSError as problem:
+        sock.close()
+        if problem.errno == errno.EADDRINUSE:
+            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
+                                "(or --port 0 for any free one)") from None  # fmt: skip
+        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
+    sock.setblocking(False)
+    return sock
+
+
+def new_token() -> str:
+    """A fresh access token for a server reachable from other machines."""
+    return secrets.token_urlsafe(16)
+
+
+def frame_message(seq: int, sim_time: float, captured: float, jpeg: bytes) -> bytes:
+    """One frame as the page reads it; ``captured`` is a ``time.monotonic()`` reading."""
+    now_ms = time.time() * 1000.0
+    captured_ms = now_ms - (time.monotonic() - captured) * 1000.0
+    header = json.dumps(
+        {"seq": seq, "sim_time": round(sim_time, 4), "captured_ms": round(captured_ms, 2),
+         "sent_ms": round(now_ms, 2)}
+    ).encode()  # fmt: skip
+    return struct.pack(">I", len(header)) + header + jpeg
+
+
+@dataclass(eq=False)
+class Tab:
+    """One connected tab: its socket, role, what waits to be sent, and its recent inputs."""
+
+    ws: web.WebSocketResponse
+    role: str  # "control" | "watch"
+    frame: bytes | None = None  # the newest frame not yet sent (older ones are dropped)
+    status: dict[str, Any] | None = None  # the newest status not yet sent
+    texts: deque[dict[str, Any]] = field(default_factory=lambda: deque(maxlen=QUEUED_TEXTS))
+    wake: asyncio.Event = field(default_factory=asyncio.Event)
+    recent: deque[float] = field(default_factory=deque)  # monotonic times of the last second
+    frames_dropped: int = 0
+
+    def send(self, message: dict[str, Any]) -> None:
+        self.texts.append(message)
+        self.wake.set()
+
+    def over_rate(self, now: float) -> bool:
+        """Count one message; True when it is over :data:`RATE_LIMIT` in the last second."""
+        while self.recent and now - self.recent[0] >= 1.0:
+            self.recent.popleft()
+        if len(self.recent) >= RATE_LIMIT:
+            return True
+        self.recent.append(now)
+        return False
+
+
+class LiveServer:
+    """The aiohttp application of one run; :meth:`serve` returns the run's final status."""
+
+    def __init__(self, conductor: Conductor, *, token: str | None = None) -> None:
+        self.conductor = conductor
+        self.token = token
+        self.tabs: list[Tab] = []
+        self.app = web.Application(middlewares=[self._guard], client_max_size=64 * 1024)
+        self.app.router.add_get("/", self._index)
+        self.app.router.add_get("/static/{name}", self._static)
+        self.app.router.add_get("/ws", self._websocket)
+        self.app.router.add_get("/favicon.ico", self._no_icon)
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._controller_seen = False
+
+    # --- HTTP -------------------------------------------------------------------------------
+    @web.middleware
+    async def _guard(self, request: web.Request, handler: Any) -> web.StreamResponse:
+        """403 without the token (when one is required) or from another site's page."""
+        if self.token is not None:
+            given = request.query.get("token", "")
+            if not secrets.compare_digest(given.encode(), self.token.encode()):
+                return web.Response(status=403, text="403: this server needs ?token=... "
+                                    "(the URL printed when it started)\n")  # fmt: skip
+        origin = request.headers.get("Origin")
+        if origin is not None and urlsplit(origin).netloc != request.host:
+            return web.Response(status=403, text="403: requests from other sites' pages\n")
+        response = await handler(request)
+        if not isinstance(response, web.WebSocketResponse):
+            response.headers.update(SECURITY_HEADERS)
+        return response
+
+    def _query(self) -> str:
+        return "" if self.token is None else f"?token={self.token}"
+
+    async def _index(self, request: web.Request) -> web.Response:
+        page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
+        return web.Response(text=page.replace("{{QUERY}}", self._query()),
+                            content_type="text/html")  # fmt: skip
+
+    async def _no_icon(self, request: web.Request) -> web.Response:
+        return web.Response(status=204)
+
+    async def _static(self, request: web.Request) -> web.Response:
+        name = request.match_info["name"]
+        if name not in STATIC_TYPES:  # only the page's own files, by exact name
+            raise web.HTTPNotFound(text="404: not one of the page's files\n")
+        body = (STATIC_DIR / name).read_bytes()
+        return web.Response(body=body, content_type=STATIC_TYPES[name], charset="utf-8")
+
+    # --- WebSocket --------------------------------------------------------------------------
+    async def _websocket(self, request: web.Request) -> web.WebSocketResponse:
+        ws = web.WebSocketResponse(max_msg_size=MAX_MESSAGE_BYTES, heartbeat=20.0)
+        await ws.prepare(request)
+        sock = request.transport.get_extra_info("socket") if request.transport else None
+        if sock is not None:  # a lagging tab backs up within a few frames, then gets the newest
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
+        tab = Tab(ws, "watch" if self._controller_seen else "control")
+        self._controller_seen = True
+        self.tabs.append(tab)
+        tab.send({"type": "role", "role": tab.role})
+        tab.status = self.conductor.status()
+        latest = self.conductor.latest_frame()
+        if latest is not None:
+            tab.frame = frame_message(latest.seq, latest.sim_time, latest.captured, latest.jpeg)
+        sender = asyncio.create_task(self._sender(tab))
+        try:
+            if tab.role == "control":
+                await self.conductor.participant_arrived()
+            async for message in ws:
+                if message.type in (WSMsgType.TEXT, WSMsgType.BINARY):
+                    await self._received(tab, message.data)
+        finally:
+            self.tabs.remove(tab)
+            sender.cancel()
+            if tab.role == "control":
+                await self.conductor.participant_left()
+        return ws
+
+    async def _received(self, tab: Tab, data: str | bytes) -> None:
+        """Validate one message and act on it; anything wrong gets an error reply."""
+        if tab.over_rate(time.monotonic()):
+            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role,
+                        RATE_LIMIT)  # fmt: skip
+            tab.send(_error(f"too many messages: at most {RATE_LIMIT} per second; this one "
+                            "was dropped"))  # fmt: skip
+            return
+        if tab.role != "control":
+            tab.send(_error("this tab watches read-only; the first tab opened controls"))
+            return
+        try:
+            await self.conductor.receive(data)  # checked with parse_input, then acted on
+        except LiveInputError as problem:
+            tab.send(_error(str(problem)))
+
+    async def _sender(self, tab: Tab) -> None:
+        """Send what waits for ``tab``: texts, the newest status, the newest frame."""
+        with contextlib.suppress(ConnectionError, RuntimeError, asyncio.CancelledError):
+            while not tab.ws.closed:
+                await tab.wake.wait()
+                tab.wake.clear()
+                while tab.texts:
+                    await tab.ws.send_json(tab.texts.popleft())
+                if tab.status is not None:
+                    status, tab.status = tab.status, None
+                    await tab.ws.send_json({"type": "status", **status})
+                if tab.frame is not None:
+                    frame, tab.frame = tab.frame, None
+                    await tab.ws.send_bytes(frame)
+
+    # --- frames and status ------------------------------------------------------------------
+    def frame_from_physics(self, frame: Frame) -> None:
+        """Called on the physics thread for every new frame: hand it to the event loop."""
+        loop = self._loop
+        if loop is None or loop.is_closed():
+            return
+        message = frame_message(frame.seq, frame.sim_time, frame.captured, frame.jpeg)
+        with contextlib.suppress(RuntimeError):  # the loop closed in between
+            loop.call_soon_threadsafe(self._deliver, message)
+
+    def _deliver(self, message: bytes) -> None:
+        for tab in self.tabs:
+            if tab.frame is not None:
+                tab.frames_dropped += 1
+            tab.frame = message
+            tab.wake.set()
+
+    def push_status(self) -> None:
+        status = self.conductor.status()
+        for tab in self.tabs:
+            tab.status = status
+            tab.wake.set()
+
+    async def _status_loop(self) -> None:
+        while True:
+            self.push_status()
+            await asyncio.sleep(1.0 / STATUS_HZ)
+
+    # --- the run ----------------------------------------------------------------------------
+    async def serve(self, sock: socket.socket, *, handle_signals: bool = True) -> str:
+        """Serve on the listening ``sock`` until the run ends; return its final status.
+        ``handle_signals``: SIGINT / SIGTERM save the session (main thread only)."""
+        loop = self._loop = asyncio.get_running_loop()
+        self.conductor.attach(loop, self.frame_from_physics)
+        signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
+        for signum in signals:
+            loop.add_signal_handler(signum, self._signalled, signum)
+        runner = web.AppRunner(
+            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0
+        )
+        await runner.setup()
+        status_task = None
+        try:
+            await web.SockSite(runner, sock).start()
+            status_task = asyncio.create_task(self._status_loop())
+            outcome = await self.conductor.finished()
+            self.push_status()  # the last status reaches every tab before the sockets close
+            await asyncio.sleep(0.3)
+        finally:
+            if status_task is not None:
+                status_task.cancel()
+            for tab in list(self.tabs):
+                await tab.ws.close(code=1001, message=b"the session has ended")
+            await runner.cleanup()
+            for signum in signals:
+                loop.remove_signal_handler(signum)
+        return outcome
+
+    def stop_soon(self) -> None:
+        """From any thread: end the run as if signalled (the session saved ``interrupted``)."""
+        if self._loop is not None and not self._loop.is_closed():
+            self._loop.call_soon_threadsafe(self.conductor.interrupt)
+
+    def _signalled(self, signum: int) -> None:
+        LOG.warning("%s: saving the session", signal.Signals(signum).name)
+        self.conductor.interrupt()
+
+
+def _error(message: str) -> dict[str, str]:
+    return {"type": "error", "message": message}

@@ -1,0 +1,265 @@
+// The live page: draws the frames the server pushes, shows the session's status and sends the
+// participant's clicks, buttons and keys. No framework, no network beyond this page's server.
+"use strict";
+
+(() => {
+  const canvas = document.getElementById("scene");
+  const context = canvas.getContext("2d");
+  const $ = (id) => document.getElementById(id);
+  const KEEP = 3000; // latencies kept for the bench and the tests
+
+  // What the page measured; the browser tests and bench/bench_live.py read it.
+  const live = {
+    role: null, status: null, errors: [], connected: false, closed: null,
+    received: 0, drawn: 0, lastSeq: 0, latencies: [], receivedAt: [], drawnAt: [],
+    sent: [],
+  };
+  window.robinLive = live;
+
+  // --- the WebSocket -----------------------------------------------------------------------
+  const scheme = location.protocol === "https:" ? "wss:" : "ws:";
+  const socket = new WebSocket(`${scheme}//${location.host}/ws${location.search}`);
+  socket.binaryType = "arraybuffer";
+  socket.onopen = () => { live.connected = true; };
+  socket.onclose = (event) => {
+    live.connected = false;
+    live.closed = { code: event.code, reason: event.reason };
+    setRole(live.role, true);
+    if (!live.status || live.status.phase !== "done") {
+      showError("the connection to the server is closed");
+    }
+    updateControls();
+  };
+  socket.onmessage = (event) => {
+    if (typeof event.data === "string") {
+      textMessage(JSON.parse(event.data));
+    } else {
+      frameMessage(event.data);
+    }
+  };
+
+  function send(message) {
+    if (socket.readyState !== WebSocket.OPEN) return false;
+    socket.send(JSON.stringify(message));
+    live.sent.push(message);
+    return true;
+  }
+  live.send = send;
+
+  function textMessage(message) {
+    if (message.type === "status") {
+      live.status = message;
+      showStatus(message);
+    } else if (message.type === "error") {
+      live.errors.push(message.message);
+      showError(message.message);
+    } else if (message.type === "role") {
+      setRole(message.role, false);
+    }
+  }
+
+  // --- frames: [4-byte header length][JSON header][JPEG] ------------------------------------
+  let pending = null;
+  let drawScheduled = false;
+
+  function frameMessage(buffer) {
+    const length = new DataView(buffer).getUint32(0);
+    const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, length)));
+    const blob = new Blob([new Uint8Array(buffer, 4 + length)], { type: "image/jpeg" });
+    live.received += 1;
+    live.receivedAt.push(performance.now());
+    createImageBitmap(blob).then((bitmap) => {
+      if (header.seq <= live.lastSeq || (pending && header.seq <= pending.header.seq)) {
+        bitmap.close(); // an older frame decoded late: the newer one is shown
+        return;
+      }
+      if (pending) pending.bitmap.close();
+      pending = { bitmap, header };
+      if (!drawScheduled) {
+        drawScheduled = true;
+        requestAnimationFrame(draw);
+      }
+    }, () => showError("a frame could not be decoded"));
+  }
+
+  function draw() {
+    drawScheduled = false;
+    if (!pending) return;
+    const { bitmap, header } = pending;
+    pending = null;
+    context.drawImage(bitmap, 0, 0, canvas.width, canvas.height);
+    bitmap.close();
+    live.drawn += 1;
+    live.lastSeq = header.seq;
+    live.drawnAt.push(performance.now());
+    live.latencies.push(Date.now() - header.captured_ms); // same clock: server and page
+    if (live.latencies.length > KEEP) live.latencies.splice(0, live.latencies.length - KEEP);
+  }
+
+  // --- frame rate and latency, once a second -----------------------------------------------
+  function perSecond(times, now) {
+    while (times.length && now - times[0] > 2000) times.shift();
+    return times.length / 2;
+  }
+  function quantile(values, q) {
+    if (!values.length) return NaN;
+    const sorted = [...values].sort((a, b) => a - b);
+    return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
+  }
+  setInterval(() => {
+    const now = performance.now();
+    $("fps-in").textContent = perSecond(live.receivedAt, now).toFixed(1);
+    $("fps-drawn").textContent = perSecond(live.drawnAt, now).toFixed(1);
+    const recent = live.latencies.slice(-60);
+    $("latency").textContent = recent.length
+      ? `${quantile(recent, 0.5).toFixed(0)} / ${quantile(recent, 0.95).toFixed(0)} ms` : "—";
+  }, 1000);
+
+  // --- the status ----------------------------------------------------------------------------
+  function showStatus(status) {
+    const turn = $("turn");
+    const done = status.phase === "done";
+    turn.className = `turn ${done ? "" : status.turn}`;
+    turn.textContent = done ? `Session over (${status.status})`
+      : status.phase === "instructions" ? "Instructions"
+      : status.turn === "robot" ? "Robin's turn" : "Your turn";
+    $("doing").textContent = status.robot_doing || "—";
+    $("message").textContent = status.message || "";
+    $("legs").textContent = status.legs_total == null ? "—"
+      : `${status.legs_delivered} / ${status.legs_total}`;
+    $("gestures").textContent = status.gestures;
+    $("actions").textContent = status.actions;
+    $("simtime").textContent = `${Number(status.sim_time || 0).toFixed(1)} s`;
+    $("who").textContent = `participant ${status.participant}` +
+      (status.blocks > 1 ? ` · block ${status.block_number} of ${status.blocks}` : "");
+    showPolicy(status.policy);
+    showScreen(status);
+    updateControls();
+  }
+
+  function showPolicy(policy) {
+    const box = $("policy");
+    if (!policy || !policy.actions) {
+      $("policy-state").textContent = "no decision yet";
+      box.replaceChildren();
+      return;
+    }
+    $("policy-state").textContent = `state: ${policy.state}`;
+    const entries = Object.entries(policy.actions);
+    const best = Math.max(...entries.map(([, p]) => p));
+    const unique = entries.filter(([, p]) => p === best).length === 1; // a clear favourite
+    box.replaceChildren(...entries.map(([action, p]) => {
+      const row = document.createElement("div");
+      row.className = unique && p === best ? "row best" : "row";
+      row.dataset.action = action;
+      const name = document.createElement("span");
+      name.textContent = action;
+      const bar = document.createElement("div");
+      bar.className = "bar";
+      const fill = document.createElement("div");
+      fill.className = "fill";
+      fill.style.width = `${Math.max(0, Math.min(1, p)) * 100}%`;
+      bar.append(fill);
+      const value = document.createElement("span");
+      value.className = "p";
+      value.textContent = p.toFixed(2);
+      row.append(name, bar, value);
+      return row;
+    }));
+  }
+
+  function showScreen(status) {
+    const screen = $("screen");
+    if (status.phase === "instructions") {
+      screen.hidden = false;
+      $("screen-title").textContent = status.blocks > 1
+        ? `Block ${status.block_number} of ${status.blocks}` : "Instructions";
+      $("screen-text").textContent = status.starting ? "Starting…"
+        : status.instructions || status.message || "";
+      $("start").hidden = live.role !== "control" || !!status.starting;
+    } else if (status.phase === "done") {
+      screen.hidden = false;
+      $("screen-title").textContent = `Session saved (${status.status})`;
+      $("screen-text").textContent =
+        `${status.legs_delivered} of ${status.legs_total ?? "?"} legs delivered. ` +
+        "You can close this tab.";
+      $("start").hidden = true;
+    } else {
+      screen.hidden = true;
+    }
+  }
+
+  function setRole(role, closed) {
+    live.role = role;
+    const badge = $("role");
+    badge.className = `badge ${closed ? "closed" : role}`;
+    badge.textContent = closed ? "disconnected"
+      : role === "control" ? "you control this session" : "watching (read-only)";
+    updateControls();
+  }
+
+  function updateControls() {
+    const running = live.status && !["instructions", "done"].includes(live.status.phase);
+    const usable = live.connected && live.role === "control";
+    for (const button of document.querySelectorAll("#controls button")) {
+      button.disabled = !(usable && running);
+    }
+  }
+
+  let errorTimer = null;
+  function showError(text) {
+    $("error").textContent = text;
+    clearTimeout(errorTimer);
+    errorTimer = setTimeout(() => { $("error").textContent = ""; }, 6000);
+  }
+
+  // --- the participant's inputs --------------------------------------------------------------
+  const ACTIONS = {
+    give_me: () => send({ type: "gesture", gesture: "give_me" }),
+    grasp: () => send({ type: "gesture", gesture: "grasp" }),
+    release: () => send({ type: "gesture", gesture: "release" }),
+    up: () => send({ type: "thumb", value: "up" }),
+    down: () => send({ type: "thumb", value: "down" }),
+    end: () => confirm("End this session? It is saved as it stands.") && send({ type: "end" }),
+    start: () => send({ type: "start" }),
+  };
+  const KEYS = {
+    g: "give_me", r: "grasp", l: "release", u: "up", ArrowUp: "up", d: "down",
+    ArrowDown: "down", e: "end", Enter: "start", s: "start",
+  };
+
+  for (const button of document.querySelectorAll("button[data-send]")) {
+    button.addEventListener("click", () => ACTIONS[button.dataset.send]());
+  }
+  document.addEventListener("keydown", (event) => {
+    if (event.ctrlKey || event.altKey || event.metaKey || event.repeat) return;
+    const name = KEYS[event.key.length === 1 ? event.key.toLowerCase() : event.key];
+    if (!name || live.role !== "control") return;
+    const phase = live.status ? live.status.phase : null;
+    if ((name === "start") !== (phase === "instructions")) return;
+    event.preventDefault();
+    ACTIONS[name]();
+  });
+
+  // Closing or reloading the controlling tab ends the session (saved as "closed"): ask first.
+  window.addEventListener("beforeunload", (event) => {
+    const phase = live.status ? live.status.phase : "done";
+    if (live.role === "control" && live.connected && phase !== "done") event.preventDefault();
+  });
+
+  // A click points: the pixel in the frame's coordinates, whatever size the canvas is shown at.
+  canvas.addEventListener("click", (event) => {
+    if (live.role !== "control") {
+      showError("this tab watches read-only");
+      return;
+    }
+    const box = canvas.getBoundingClientRect();
+    const x = Math.floor(((event.clientX - box.left) / box.width) * canvas.width);
+    const y = Math.floor(((event.clientY - box.top) / box.height) * canvas.height);
+    send({
+      type: "point",
+      x: Math.min(canvas.width - 1, Math.max(0, x)),
+      y: Math.min(canvas.height - 1, Math.max(0, y)),
+    });
+  });
+})();
