@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from live_driver import Driver
 
+from pil.experiments.sessions_report import load_sessions, write_sessions_report
 from robin_sim.episode.log import read_step_log
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionExistsError
@@ -119,6 +120,14 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     with av.open(str(out / "episode.mp4")) as video:
         decoded = sum(1 for _ in video.decode(video=0))
     assert decoded == saved["video"]["frames"] >= len(frames)
+    # the session is a dataset the sessions report reads (robin-pil report DIR)
+    (row,) = load_sessions(tmp_path)
+    assert (row["participant"], row["session"], row["condition"]) == ("P01", "s1", "pil")
+    assert row["counted"] and row["status"] == "finished"
+    for measure in ("gestures", "actions", "rejected", "legs_delivered"):
+        assert row[measure] == saved[measure], measure
+    written = write_sessions_report([row], tmp_path, tmp_path / "report")
+    assert {p.name for p in written} == {"sessions.csv", "report.md", "sessions.png"}
 
 
 def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
