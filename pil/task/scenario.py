@@ -265,18 +265,29 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     )
 
 
+def shipped_in(folder: Path) -> tuple[str, ...]:
+    """Names of the YAML files shipped in ``folder`` (scenarios, protocols), sorted."""
+    return tuple(sorted(p.stem for p in folder.glob("*.yaml")))
+
+
+def find_shipped(path: str | Path, folder: Path) -> Path:
+    """``path`` if it names a file; else the file of that name shipped in ``folder``; else
+    ``path`` (whose reading then fails with the caller's message)."""
+    path = Path(path)
+    if path.exists() or path.suffix or len(path.parts) != 1:
+        return path
+    shipped = folder / f"{path.name}.yaml"
+    return shipped if shipped.is_file() else path
+
+
 def shipped_scenarios() -> tuple[str, ...]:
     """Names of the scenarios that ship with the package (``load_scenario(name)`` loads one)."""
-    return tuple(sorted(p.stem for p in SCENARIOS_DIR.glob("*.yaml")))
+    return shipped_in(SCENARIOS_DIR)
 
 
 def find_scenario(path: str | Path) -> Path:
     """``path`` if it names a file; else the shipped scenario of that name; else ``path``."""
-    path = Path(path)
-    if path.exists() or path.suffix or len(path.parts) != 1:
-        return path
-    shipped = SCENARIOS_DIR / f"{path.name}.yaml"
-    return shipped if shipped.is_file() else path
+    return find_shipped(path, SCENARIOS_DIR)
 
 
 def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:

@@ -31,8 +31,10 @@ from pil.task.scenario import (
     SCENARIOS_DIR,
     Scenario,
     find_scenario,
+    find_shipped,
     load_scenario,
     read_yaml_mapping,
+    shipped_in,
     shipped_scenarios,
 )
 
@@ -162,16 +164,12 @@ def order_rows(count: int, order: str) -> list[list[int]]:
 
 def shipped_protocols() -> tuple[str, ...]:
     """Names of the protocols that ship with the package (``load_protocol(name)`` loads one)."""
-    return tuple(sorted(p.stem for p in PROTOCOLS_DIR.glob("*.yaml")))
+    return shipped_in(PROTOCOLS_DIR)
 
 
 def find_protocol(path: str | Path) -> Path:
     """``path`` if it names a file; else the shipped protocol of that name; else ``path``."""
-    path = Path(path)
-    if path.exists() or path.suffix or len(path.parts) != 1:
-        return path
-    shipped = PROTOCOLS_DIR / f"{path.name}.yaml"
-    return shipped if shipped.is_file() else path
+    return find_shipped(path, PROTOCOLS_DIR)
 
 
 def load_protocol(path: str | Path) -> Protocol:
