@@ -18,10 +18,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, TypeVar
 
-import yaml
-
 from pil.errors import RobinPilError
 from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
+from pil.task.yaml_files import find_shipped, read_yaml_mapping, shipped_in
 from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -232,13 +231,13 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     :func:`shipped_scenarios`), so an installed package runs without the repository.
     """
     path = find_scenario(path)
-    raw = read_yaml_mapping(path)
+    raw = read_yaml_mapping(path, "scenario", ScenarioError, shipped_scenarios())
     _reject_unknown(raw, ASSEMBLY_KEYS, str(path))
     types_raw = raw.get("types", str(DEFAULT_TYPES))
     types_source = str(path)
     if isinstance(types_raw, str):  # a file name, relative to this file
         types_path = (path.parent / types_raw).resolve()
-        types_file = read_yaml_mapping(types_path)
+        types_file = read_yaml_mapping(types_path, "scenario", ScenarioError, shipped_scenarios())
         _reject_unknown(types_file, ("types",), str(types_path))
         types_raw, types_source = types_file.get("types"), str(types_path)
     types = build_types(types_raw, types_source)
@@ -263,21 +262,6 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
         source=str(path),
         **_check_assembly(raw, str(path)),
     )
-
-
-def shipped_in(folder: Path) -> tuple[str, ...]:
-    """Names of the YAML files shipped in ``folder`` (scenarios, protocols), sorted."""
-    return tuple(sorted(p.stem for p in folder.glob("*.yaml")))
-
-
-def find_shipped(path: str | Path, folder: Path) -> Path:
-    """``path`` if it names a file; else the file of that name shipped in ``folder``; else
-    ``path`` (whose reading then fails with the caller's message)."""
-    path = Path(path)
-    if path.exists() or path.suffix or len(path.parts) != 1:
-        return path
-    shipped = folder / f"{path.name}.yaml"
-    return shipped if shipped.is_file() else path
 
 
 def shipped_scenarios() -> tuple[str, ...]:
@@ -306,43 +290,6 @@ def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
         except ParamError as error:
             raise ScenarioError(str(error)) from None
     return values
-
-
-def read_yaml_mapping(
-    path: Path,
-    kind: str = "scenario",
-    error: type[RobinPilError] = ScenarioError,
-    shipped: Sequence[str] | None = None,
-) -> Mapping[str, Any]:
-    """A YAML file's top-level mapping; a missing or malformed file raises ``error``.
-
-    ``kind`` names the file in the messages ("scenario", "protocol"); ``shipped``: the names
-    listed when the file cannot be read (default: the shipped scenarios).
-    """
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as problem:
-        names = shipped_scenarios() if shipped is None else shipped
-        raise error(
-            f"{path}: cannot read the {kind}: {problem.strerror}; a file, or one of the shipped "
-            f"{kind}s: " + ", ".join(names)
-        ) from None
-    except UnicodeDecodeError as problem:
-        raise error(
-            f"{path}: not UTF-8 text (byte {problem.start}); a {kind} is a UTF-8 YAML file"
-        ) from None
-    try:
-        raw = yaml.safe_load(text)
-    except yaml.YAMLError as problem:
-        mark = getattr(problem, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
-        raise error(f"{path}: malformed YAML{where}: {what}") from None
-    except RecursionError:
-        raise error(f"{path}: nested too deeply to be a {kind}") from None
-    if not isinstance(raw, Mapping):
-        raise error(f"{path}: expected a mapping at the top level")
-    return raw
 
 
 def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:

@@ -31,12 +31,10 @@ from pil.task.scenario import (
     SCENARIOS_DIR,
     Scenario,
     find_scenario,
-    find_shipped,
     load_scenario,
-    read_yaml_mapping,
-    shipped_in,
     shipped_scenarios,
 )
+from pil.task.yaml_files import find_shipped, read_yaml_mapping, shipped_in
 
 PROTOCOLS_DIR = SCENARIOS_DIR / "protocols"
 PROTOCOL_KEYS: tuple[str, ...] = (

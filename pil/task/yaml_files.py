@@ -1,0 +1,63 @@
+"""YAML files of the task (scenarios, study protocols): finding shipped ones by name, reading
+a file's top-level mapping with one clear error for every way it can be broken."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from pil.errors import RobinPilError
+
+
+def shipped_in(folder: Path) -> tuple[str, ...]:
+    """Names of the YAML files shipped in ``folder`` (scenarios, protocols), sorted."""
+    return tuple(sorted(p.stem for p in folder.glob("*.yaml")))
+
+
+def find_shipped(path: str | Path, folder: Path) -> Path:
+    """``path`` if it names a file; else the file of that name shipped in ``folder``; else
+    ``path`` (whose reading then fails with the caller's message)."""
+    path = Path(path)
+    if path.exists() or path.suffix or len(path.parts) != 1:
+        return path
+    shipped = folder / f"{path.name}.yaml"
+    return shipped if shipped.is_file() else path
+
+
+def read_yaml_mapping(
+    path: Path,
+    kind: str,
+    error: type[RobinPilError],
+    shipped: Sequence[str],
+) -> Mapping[str, Any]:
+    """A YAML file's top-level mapping; a missing or malformed file raises ``error``.
+
+    ``kind`` names the file in the messages ("scenario", "protocol"); ``shipped``: the names
+    listed when the file cannot be read.
+    """
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as problem:
+        raise error(
+            f"{path}: cannot read the {kind}: {problem.strerror}; a file, or one of the shipped "
+            f"{kind}s: " + ", ".join(shipped)
+        ) from None
+    except UnicodeDecodeError as problem:
+        raise error(
+            f"{path}: not UTF-8 text (byte {problem.start}); a {kind} is a UTF-8 YAML file"
+        ) from None
+    try:
+        raw = yaml.safe_load(text)
+    except yaml.YAMLError as problem:
+        mark = getattr(problem, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
+        raise error(f"{path}: malformed YAML{where}: {what}") from None
+    except RecursionError:
+        raise error(f"{path}: nested too deeply to be a {kind}") from None
+    if not isinstance(raw, Mapping):
+        raise error(f"{path}: expected a mapping at the top level")
+    return raw
