@@ -45,7 +45,7 @@ class Driver:
         )
 
     def pixel_of_leg(self, leg: int) -> tuple[float, float]:
-        picker = self.session._picker
+        picker = self.session.picker
         return picker.project(picker.data.body(names.leg_body(leg)).xpos)
 
     def point_at_leg(self, leg: int) -> None:

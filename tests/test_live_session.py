@@ -138,7 +138,7 @@ def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
     driver = Driver(session)
     try:
         driver.my_turn()
-        hand = session._participant.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
+        hand = session.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
         start = hand.copy()
         driver.point_at_leg(1)
         moving = driver.wait(lambda s: s["action"] is not None, "the robot to act")
@@ -180,7 +180,7 @@ def test_thumb_down_after_a_move_takes_the_finished_action_back(tmp_path: Path) 
     driver = Driver(session)
     try:
         driver.my_turn()
-        hand = session._participant.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
+        hand = session.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
         start = hand.copy()
         driver.point_at_leg(1)
         driver.wait(lambda s: s["action"] is not None, "the robot to act")

@@ -32,8 +32,10 @@ from robin_sim.live.inputs import (
     parse_input,
 )
 from robin_sim.live.participant import Gesturing, LiveParticipant
+from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun
 from robin_sim.live.status import LiveStatus
+from robin_sim.person.body import PhysicalBody
 
 __all__ = ["Frame", "LiveConfig", "LiveSession"]
 STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
@@ -63,7 +65,7 @@ class LiveSession:
         self._summary: dict[str, Any] | None = None
         self._thread: threading.Thread | None = None
         self._participant: LiveParticipant | None = None
-        self._picker: Any = None
+        self._picker: Picker | None = None
         self._pacer: Any = None
         self._files: SessionFiles | None = None
 
@@ -105,6 +107,19 @@ class LiveSession:
     def latest_frame(self) -> Frame | None:
         """The last frame streamed (None before the first)."""
         return self.hub.latest
+
+    @property
+    def body(self) -> PhysicalBody | None:
+        """The participant's simulated body once the scene is built (None before): its hand
+        (``body.hand``) and the world (``body.world``), to read physics, not to drive it."""
+        participant = self._participant
+        return None if participant is None else participant.body
+
+    @property
+    def picker(self) -> Picker | None:
+        """What resolves clicks (None before the scene is built); its ``project`` maps a world
+        point to the frame pixel where it is seen."""
+        return self._picker
 
     def status(self) -> dict[str, Any]:
         """Where the session stands, JSON-ready (thread-safe)."""

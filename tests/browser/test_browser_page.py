@@ -40,8 +40,8 @@ def open_page(browser, served, **options):
 
 def hand_position(served) -> np.ndarray:
     """The person's hand in physics (the running session's simulated body)."""
-    participant = served.conductor.session._participant  # the engine exposes no public view
-    return np.asarray(participant.body.hand.pose().translation(), float)
+    body = served.conductor.session.body
+    return np.asarray(body.hand.pose().translation(), float)
 
 
 def test_frames_arrive_and_a_click_points_the_hand_at_the_leg(browser, live_server) -> None:
@@ -62,7 +62,7 @@ def test_frames_arrive_and_a_click_points_the_hand_at_the_leg(browser, live_serv
     legs = leg_pixels("one_handover")
     x, y = legs[0]
     click_frame_pixel(page, x, y)
-    leg = served.conductor.session._participant.body.world.leg_position(0)
+    leg = served.conductor.session.body.world.leg_position(0)
     goal = np.asarray(leg, float) + POINT_OFFSET
     page.wait_for_function("() => window.robinLive.status.phase !== 'waiting_for_gesture'",
                            timeout=20_000)  # fmt: skip
