@@ -13,8 +13,9 @@ from pil.types import Action, Hand
 from robin_sim.control.trajectory import pose, through
 from robin_sim.model import names
 from robin_sim.robot.actions import CloseAction, MoveAction, OpenAction, leg_offset_in_site
+from robin_sim.robot.planning import CLEARANCE_Z
 from robin_sim.robot.targets import UnreachableTargetError, grasp_goal, release_goal
-from robin_sim.robot.world import CLEARANCE_Z, PhysicalWorld
+from robin_sim.robot.world import PhysicalWorld
 
 SLIP_LIMIT = 0.005  # m, leg displacement in the hand frame while carried at the default speed
 RETURN_LIMIT = 0.005  # m, grasp site after an undo vs before the action

@@ -211,7 +211,7 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
 
     from pil.task.world import Target
     from pil.types import Action
-    from robin_sim.robot.world import PLACEMENT_TOLERANCE
+    from robin_sim.robot.planning import PLACEMENT_TOLERANCE
 
     acted = Acted(seed=1)
     world = acted.world

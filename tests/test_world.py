@@ -17,7 +17,8 @@ from pil.types import Action, Hand
 from robin_sim.control.trajectory import pose
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.body import PERSON_CLEAR_X
-from robin_sim.robot.world import HANDOVER_TOLERANCE, PLACEMENT_TOLERANCE, PhysicalWorld
+from robin_sim.robot.planning import HANDOVER_TOLERANCE, PLACEMENT_TOLERANCE
+from robin_sim.robot.world import PhysicalWorld
 
 
 def _in_bin(world: PhysicalWorld, position: np.ndarray) -> bool:

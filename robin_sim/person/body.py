@@ -32,8 +32,9 @@ from pil.types import Feedback, Gesture
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
+from robin_sim.robot.planning import HANDOVER_TOLERANCE, PALM_OUT_RADIUS
 from robin_sim.robot.targets import target_point
-from robin_sim.robot.world import HANDOVER_TOLERANCE, PALM_OUT_RADIUS, PhysicalWorld
+from robin_sim.robot.world import PhysicalWorld
 
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
 FEEDBACK_HOLD = 0.4  # s the thumb stays up or down

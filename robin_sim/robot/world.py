@@ -16,10 +16,7 @@ during an action) and the arm returns home.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Literal
 
-import mink
 import mujoco
 import numpy as np
 
@@ -28,56 +25,24 @@ from pil.task.world import Outcome, Target, Watcher
 from pil.types import Action, Hand
 from robin_sim.control.hand_state import HandSensor
 from robin_sim.control.simulator import HandTargets, Simulator
-from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, pose
+from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
 from robin_sim.person.hand import HumanHand
 from robin_sim.robot.actions import (
     ActionResult,
-    CloseAction,
     Context,
     MoveAction,
-    OpenAction,
     RobotAction,
-    leg_offset_in_site,
 )
 from robin_sim.robot.contacts import PersonContacts
 from robin_sim.robot.head import HeadController
 from robin_sim.robot.motion import never
+from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace, make_action
 from robin_sim.robot.targets import (
-    check_leg,
-    grasp_goal,
-    location_surface,
     reach_text,
-    release_goal,
-    target_point,
 )
-
-CLEARANCE_Z = 0.95  # m: grasp-site height of traverses (a held leg clears legs and the palm)
-DROP_GAP = 0.012  # m between a released leg's underside and what it lands on
-FREE_HAND_ABOVE = 0.10  # m above the palm / spot an empty hand goes to
-PALM_OUT_RADIUS = 0.02  # m: a palm this close to the handover point counts as held out
-HANDOVER_TOLERANCE = 0.03  # m, leg centre to palm centre, horizontally
-PLACEMENT_TOLERANCE = 0.02  # m, leg centre to the pointed spot, horizontally
-
-
-@dataclass(frozen=True, slots=True)
-class ReleasePlace:
-    """Where an "open" would let the held leg go: the person's palm or a table spot."""
-
-    point: np.ndarray  # the surface point below the held leg, m (world frame)
-    kind: Literal["palm", "spot"]
-
-    @property
-    def tolerance(self) -> float:
-        """How far (m, horizontally) the released leg's centre may come to rest from ``point``."""
-        return HANDOVER_TOLERANCE if self.kind == "palm" else PLACEMENT_TOLERANCE
-
-    @property
-    def name(self) -> str:
-        """How messages name the place."""
-        return "the palm centre" if self.kind == "palm" else "the spot"
 
 
 class PhysicalWorld:
@@ -180,7 +145,7 @@ class PhysicalWorld:
         """
         action = Action.parse(action)
         release = self.release if action is Action.OPEN and self.held_leg() is not None else None
-        robot_action = self._make(action, target, release)
+        robot_action = make_action(self, action, target, release)
         robot_action.prepare(self.ctx)  # raises UnreachableTargetError before anything moves
         self._attend(action, release)
         stop = never if watcher is None else (lambda: watcher.stop_now(None))
@@ -275,7 +240,7 @@ class PhysicalWorld:
         self._lay(leg)
         self.sim.run(0.3)
 
-    def _grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
+    def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axis of ``leg`` where it lies; off the table: its layout place."""
         if self._on_table(leg):
             axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
@@ -287,55 +252,7 @@ class PhysicalWorld:
         """The leg on the table nearest the hand (any leg's layout place if none is left)."""
         pool = [k for k in range(self.leg_count) if self._on_table(k)] or range(self.leg_count)
         site = self.sim.site_pose().translation()
-        return min(pool, key=lambda k: float(np.linalg.norm(self._grasp_place(k)[0] - site)))
-
-    def _make(
-        self, action: Action, target: Target | None, release: ReleasePlace | None
-    ) -> RobotAction:
-        """The robot action for ``action`` (an open lets go at ``release``); changes nothing."""
-        if action is Action.CLOSE:
-            return CloseAction()
-        if action is Action.OPEN:
-            if release is None:
-                return OpenAction()
-            return OpenAction(
-                release.point, release.tolerance, place=release.name, rest_height=spec.LEG_RADIUS
-            )
-        current = self.sim.commanded_site_pose()
-        held = self.held_leg()
-        if action is Action.OBJECT:
-            if target is not None and target.kind != "leg":  # a spot: keep the wrist's yaw
-                where = target_point(target, self.layout, self.leg_position, self.nearest_leg)
-                axis, name = current.rotation().as_matrix()[:, 1], "the pointed spot"
-            else:
-                leg = (
-                    self.nearest_leg()
-                    if target is None
-                    else check_leg(target.index, self.leg_count)
-                )
-                (where, axis), name = self._grasp_place(leg), f"leg {leg}"
-            height = 0.0 if held is None else FREE_HAND_ABOVE
-            goal = grasp_goal(where, axis, current, height)
-            return MoveAction(Action.OBJECT, name, goal, CLEARANCE_Z, self.speed)
-        if action is Action.HUMAN:
-            surface = self.human.palm_centre() if self.palm_is_out() else self.layout.handover
-            surface = np.asarray(surface, float)
-            name = "the person's palm"
-        else:
-            near = self.sim.site_pose().translation()
-            if target is not None and target.kind == "leg":
-                near = target_point(target, self.layout, self.leg_position, self.nearest_leg)
-            surface = location_surface(target, self.layout, near)
-            name = "the pointed spot"
-        goal = self._release_goal(surface, held, current)
-        return MoveAction(action, name, goal, CLEARANCE_Z, self.speed, release_point=surface)
-
-    def _release_goal(self, surface: np.ndarray, held: int | None, current: mink.SE3) -> mink.SE3:
-        """Site pose above ``surface``: a held leg just above it, an empty hand higher."""
-        if held is None:
-            return pose(surface + np.array([0.0, 0.0, FREE_HAND_ABOVE]), current.rotation().wxyz)
-        centre = surface + np.array([0.0, 0.0, spec.LEG_RADIUS + DROP_GAP])
-        return release_goal(centre, leg_offset_in_site(self.ctx, held), current.rotation())
+        return min(pool, key=lambda k: float(np.linalg.norm(self.grasp_place(k)[0] - site)))
 
     def _after(
         self,
