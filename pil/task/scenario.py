@@ -20,7 +20,7 @@ from typing import Any, TypeVar
 
 from pil.errors import RobinPilError
 from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
-from pil.task.yaml_files import find_shipped, read_yaml_mapping, shipped_in
+from pil.task.yaml_files import find_shipped, read_yaml_mapping, reject_unknown, shipped_in
 from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -293,7 +293,5 @@ def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
 
 
 def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:
-    """Raise on the first key of ``raw`` that is not in ``valid``."""
-    for key in raw:
-        if key not in valid:
-            raise ScenarioError(f"{where}: unknown key {key!r}; valid choices: " + ", ".join(valid))
+    """Raise :class:`ScenarioError` on the first key of ``raw`` that is not in ``valid``."""
+    reject_unknown(raw, valid, where, ScenarioError)

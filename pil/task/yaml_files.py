@@ -9,7 +9,7 @@ from typing import Any
 
 import yaml
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, quote
 
 
 def shipped_in(folder: Path) -> tuple[str, ...]:
@@ -61,3 +61,12 @@ def read_yaml_mapping(
     if not isinstance(raw, Mapping):
         raise error(f"{path}: expected a mapping at the top level")
     return raw
+
+
+def reject_unknown(
+    raw: Mapping[str, Any], valid: Sequence[str], where: str, error: type[RobinPilError]
+) -> None:
+    """Raise ``error`` on the first key of ``raw`` that is not in ``valid``, naming them all."""
+    for key in raw:
+        if key not in valid:
+            raise error(f"{where}: unknown key {quote(key)}; valid choices: " + ", ".join(valid))

@@ -34,7 +34,7 @@ from pil.task.scenario import (
     load_scenario,
     shipped_scenarios,
 )
-from pil.task.yaml_files import find_shipped, read_yaml_mapping, shipped_in
+from pil.task.yaml_files import find_shipped, read_yaml_mapping, reject_unknown, shipped_in
 
 PROTOCOLS_DIR = SCENARIOS_DIR / "protocols"
 PROTOCOL_KEYS: tuple[str, ...] = (
@@ -322,7 +322,4 @@ def _text(value: Any, where: str, *, empty: bool = False) -> str:
 
 
 def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:
-    for key in raw:
-        if key not in valid:
-            raise ProtocolError(f"{where}: unknown key {quote(key)}; valid choices: "
-                                + ", ".join(valid))  # fmt: skip
+    reject_unknown(raw, valid, where, ProtocolError)
