@@ -12,9 +12,7 @@ between-subject designs get Welch's t-test. Pure Python, numpy and scipy: no MuJ
 
 from __future__ import annotations
 
-import json
 import math
-import re
 import statistics
 import warnings
 from collections.abc import Mapping, Sequence
@@ -22,94 +20,21 @@ from itertools import combinations
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.report import ReportError, markdown_table, mean_sd
-
-SUMMARY_NAME = "summary.json"
-COUNTED_STATUS = "finished"
-# measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
-MEASURES: dict[str, str] = {
-    "gestures": "instruction gestures",
-    "actions": "robot actions",
-    "rejected": "rejected actions",
-    "interrupted_actions": "interrupted actions",
-    "sim_time_s": "session time (sim s)",
-    "mean_handover_s": "mean handover time (s)",
-    "legs_delivered": "legs delivered",
-}
-NULLABLE: tuple[str, ...] = ("mean_handover_s",)  # null when no leg was delivered
-LIVE_REQUIRED: tuple[str, ...] = ("participant", "session", "condition")
-LIVE_OPTIONAL: tuple[str, ...] = (
-    "block", "protocol", "handover_types", "inputs", "inputs_rejected", "frames_streamed",
-    "stream_fps", "started_utc",
-)  # fmt: skip
-SESSION_COLUMNS: tuple[str, ...] = (
-    "participant", "session", "condition", "block", "protocol", "status", "counted",
-    *MEASURES, "legs_total", *LIVE_OPTIONAL[2:], "summary",
-)  # fmt: skip
-EXPECTED = (
-    f"a folder of live sessions (<participant>/<session>/{SUMMARY_NAME} files whose summary "
-    'has a "live" block, as robin-pil live writes them under out/live)'
+from pil.experiments.report import markdown_table, mean_sd
+from pil.experiments.sessions_load import (
+    COUNTED_STATUS,
+    EXPECTED,
+    MEASURES,
+    SESSION_COLUMNS,
+    SessionsError,
+    load_sessions,
 )
 
-
-class SessionsError(ReportError):
-    """A sessions folder or a summary in it that cannot be reported."""
-
-
-def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
-    """One row per live session under ``folder`` (``[]`` when it holds none).
-
-    Every ``summary.json`` is read; one that is not a JSON object raises naming it, and so
-    does a live summary that lacks a field the report needs. Summaries without a ``"live"``
-    block (episodes) are skipped. Rows are sorted by participant, block and session.
-    """
-    folder = Path(folder)
-    rows = []
-    for path in sorted(folder.rglob(SUMMARY_NAME)):
-        summary = _read_summary(path)
-        if "live" in summary:
-            rows.append(session_row(summary, path, folder))
-    rows.sort(key=lambda r: (_natural(r["participant"]), r["block"] is None, r["block"] or 0,
-                             _natural(r["session"])))  # fmt: skip
-    return rows
-
-
-def _natural(text: str) -> list[tuple[int, int | str]]:
-    """Sort key reading digit runs as numbers: P2 before P10."""
-    return [(0, int(part)) if part.isdigit() else (1, part) for part in re.split(r"(\d+)", text)]
-
-
-def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[str, Any]:
-    """The sessions.csv row of one live ``summary`` (read from ``path``); checked."""
-    live = summary["live"]
-    if not isinstance(live, Mapping):
-        raise SessionsError(f'{path}: the "live" block is not a mapping')
-    row: dict[str, Any] = {}
-    for key in LIVE_REQUIRED:
-        value = live.get(key)
-        if not isinstance(value, str) or not value:
-            raise SessionsError(f"{path}: live.{key}: expected a non-empty text, got {value!r}")
-        row[key] = value
-    block = live.get("block")
-    if block is not None and (isinstance(block, bool) or not isinstance(block, int)):
-        raise SessionsError(f"{path}: live.block: expected a whole number or null, got {block!r}")
-    row["block"] = block
-    row["protocol"] = live.get("protocol")
-    status = summary.get("status")
-    if not isinstance(status, str) or not status:
-        raise SessionsError(f"{path}: status: expected a text (e.g. 'finished'), got {status!r}")
-    row["status"], row["counted"] = status, status == COUNTED_STATUS
-    for key in MEASURES:
-        if key not in summary:
-            raise SessionsError(f"{path}: missing field {key!r}; a live summary has "
-                                + ", ".join(MEASURES))  # fmt: skip
-        row[key] = _number(summary[key], key, path, nullable=key in NULLABLE)
-    row["legs_total"] = summary.get("legs_total")
-    for key in LIVE_OPTIONAL[2:]:
-        value = live.get(key)
-        row[key] = " ".join(map(str, value)) if isinstance(value, list) else value
-    row["summary"] = path.relative_to(folder).as_posix()
-    return row
+__all__ = [  # the reading is re-exported: the report's callers import from here only
+    "COUNTED_STATUS", "EXPECTED", "MEASURES", "SESSION_COLUMNS", "SessionsError",
+    "conditions_of", "is_within", "load_sessions", "participant_means", "report_markdown",
+    "session_tests", "summarize_sessions", "write_sessions_report",
+]  # fmt: skip
 
 
 def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
@@ -302,29 +227,3 @@ def _mean_sd_text(entry: Mapping[str, Any], measure: str) -> str:
         return "n/a"
     missing = "" if entry[f"{measure}_n"] == entry["n"] else f" (n={entry[f'{measure}_n']})"
     return f"{mean:.2f} ± {sd:.2f}{missing}"
-
-
-def _number(value: Any, key: str, path: Path, *, nullable: bool) -> float | None:
-    if value is None and nullable:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        kind = "a number or null" if nullable else "a number"
-        raise SessionsError(f"{path}: {key}: expected {kind}, got {value!r}")
-    return value
-
-
-def _read_summary(path: Path) -> Mapping[str, Any]:
-    try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise SessionsError(f"{path}: cannot read the summary: {error.strerror}") from None
-    except UnicodeDecodeError as error:
-        raise SessionsError(f"{path}: not UTF-8 text (byte {error.start})") from None
-    except (json.JSONDecodeError, RecursionError) as error:
-        where = getattr(error, "lineno", None)
-        at = f" at line {where}" if where else ""
-        raise SessionsError(f"{path}: not a JSON summary{at}; the file is corrupt or cut "
-                            "short (remove it or rerun the session)") from None  # fmt: skip
-    if not isinstance(summary, Mapping):
-        raise SessionsError(f"{path}: expected a JSON object (a session's summary)")
-    return summary
