@@ -129,5 +129,6 @@ def run(args: argparse.Namespace) -> int:
             f"{result.get('legs_delivered')}/{result.get('legs_total')} legs",
             flush=True,
         )
-    print(f"robin-pil live: run {outcome}; saved under {args.out}", file=sys.stderr, flush=True)
+    saved = f"saved under {args.out}" if conductor.results else "no session had started"
+    print(f"robin-pil live: run {outcome}; {saved}", file=sys.stderr, flush=True)
     return 130 if outcome == "interrupted" else 0
