@@ -7,6 +7,7 @@ the run functions of ``tests/sweep_test_runs.py`` end their worker process or fa
 
 from __future__ import annotations
 
+import gc
 import socket
 from pathlib import Path
 
@@ -145,6 +146,10 @@ def cluster():
 
     patch = pytest.MonkeyPatch()
     patch.setenv("PYTHONPATH", TESTS_DIR)  # workers import sweep_test_runs
+    # Clients other tests left for the garbage collector (a failed connect leaves a half-built
+    # one) are collected now: collected inside the new cluster's event-loop thread as it starts,
+    # a client's __del__ blocks that thread on distributed's loop lock for its 10 s start limit.
+    gc.collect()
     with (
         dask.config.set(
             {

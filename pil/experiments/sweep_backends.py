@@ -9,6 +9,7 @@ Dask scheduler) and what runs in flight wait for (a scheduler without workers).
 from __future__ import annotations
 
 import contextlib
+import gc
 import logging
 import multiprocessing
 import os
@@ -139,11 +140,19 @@ class DaskBackend(Backend):
         try:
             self._client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
         except (OSError, TimeoutError, ValueError) as error:
+            problem = f"{type(error).__name__}: {error}"
+        else:
+            problem = ""
+        if problem:
+            # The half-built client is garbage now: collect it here. Left to a later, random
+            # collection, its __del__ may run inside another Dask event-loop thread while that
+            # thread starts, and block it on distributed's loop lock (seen as "loop is None").
+            gc.collect()
             raise SchedulerError(
                 f"cannot reach the Dask scheduler at {address!r} within {timeout_s:g} s "
-                f"({type(error).__name__}: {error}); start one with 'dask scheduler' and "
-                "workers with 'dask worker <address>'"
-            ) from None
+                f"({problem}); start one with 'dask scheduler' and workers with "
+                "'dask worker <address>'"
+            )
         self._executor = self._client.get_executor(pure=False)
         self._slots, self._slots_checked = 2, -float("inf")
 
