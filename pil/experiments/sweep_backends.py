@@ -128,6 +128,33 @@ class LocalBackend(Backend):
                 process.join(timeout=5)
 
 
+_DASK_LOGGERS = ("distributed", "distributed.client", "tornado", "tornado.application")
+
+
+class _OneLineRecords(logging.Filter):
+    """Dask's and tornado's log records without their tracebacks, one line each, and without
+    tornado's "Exception in callback" for a discarded internal future (a closed comm): when the
+    scheduler goes away, the sweep says so itself (:meth:`DaskBackend.lost`); the comm stack
+    of the library's internals adds nothing for the user."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.name == "tornado.application" and str(record.msg).startswith(
+            "Exception in callback"
+        ):
+            return False
+        record.exc_info, record.exc_text, record.stack_info = None, None, None
+        record.msg, record.args = record.getMessage().splitlines()[0] if record.msg else "", ()
+        return True
+
+
+def _one_line_dask_logs() -> None:
+    """Put :class:`_OneLineRecords` on the handlers Dask configures (once per handler)."""
+    for name in _DASK_LOGGERS:
+        for handler in logging.getLogger(name).handlers:
+            if not any(isinstance(f, _OneLineRecords) for f in handler.filters):
+                handler.addFilter(_OneLineRecords())
+
+
 class DaskBackend(Backend):
     """A Dask distributed cluster, reached through its scheduler's address."""
 
@@ -136,6 +163,7 @@ class DaskBackend(Backend):
     def __init__(self, address: str, timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> None:
         from distributed import Client  # imported here: the CLI must start fast
 
+        _one_line_dask_logs()
         self.address = address
         try:
             self._client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
