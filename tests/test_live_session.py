@@ -130,18 +130,28 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     assert {p.name for p in written} == {"sessions.csv", "report.md", "sessions.png"}
 
 
+def _started(tmp_path: Path) -> tuple[LiveSession, Driver]:
+    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
+    session.start()
+    return session, Driver(session)
+
+
+def _first_move(session: LiveSession, driver: Driver) -> tuple[np.ndarray, np.ndarray, dict]:
+    """Point at leg 1 and wait until the robot acts: the grasp site (a live view), where it
+    started, and the status then."""
+    driver.my_turn()
+    hand = session.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
+    start = hand.copy()
+    driver.point_at_leg(1)
+    return hand, start, driver.wait(lambda s: s["action"] is not None, "the robot to act")
+
+
 def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
     tmp_path: Path,
 ) -> None:
-    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
-    session.start()
-    driver = Driver(session)
+    session, driver = _started(tmp_path)
     try:
-        driver.my_turn()
-        hand = session.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
-        start = hand.copy()
-        driver.point_at_leg(1)
-        moving = driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        hand, start, moving = _first_move(session, driver)
         session.receive({"type": "thumb", "value": "down"})
         driver.wait(lambda s: s["actions"] >= 1, "the stopped action to be logged")
         undone_to = hand.copy()
@@ -175,15 +185,9 @@ def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
 
 
 def test_thumb_down_after_a_move_takes_the_finished_action_back(tmp_path: Path) -> None:
-    session = LiveSession(_config(tmp_path, seed=1))  # seed 1: the first action is "human"
-    session.start()
-    driver = Driver(session)
+    session, driver = _started(tmp_path)
     try:
-        driver.my_turn()
-        hand = session.body.world.data.site(grasp_site(ACTIVE_SIDE)).xpos
-        start = hand.copy()
-        driver.point_at_leg(1)
-        driver.wait(lambda s: s["action"] is not None, "the robot to act")
+        hand, start, _ = _first_move(session, driver)
         ended = driver.wait(lambda s: s["phase"] == "waiting_for_thumb", "the move's end")
         assert ended["last_action"] == "human"
         moved = hand.copy()  # the finished move: at the person's palm, far from the start

@@ -175,9 +175,9 @@ def run_adaptation_study(
                 rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
-    order = {s: i for i, s in enumerate(systems)}
-    rows.sort(key=lambda r: (r["rate"], order[r["system"]], r["rep"]))
-    return rows
+    from pil.experiments.outputs import sort_runs  # with the other outputs: loaded late
+
+    return sort_runs(rows, systems)
 
 
 def adapted_markdown(rows: Sequence[Mapping[str, Any]]) -> str:

@@ -11,6 +11,18 @@ from pil.experiments.report import Row, summary_markdown, ttests_markdown, welch
 from pil.experiments.study import csv_text
 
 
+def sort_runs(
+    rows: list[Row], systems: Sequence[str], column: str = "", values: Sequence[str] = ()
+) -> list[Row]:
+    """``rows`` in the studies' order (in place): rate, the given system order, then
+    ``column`` in the order of ``values`` (e.g. the mode or start), then repetition."""
+    order = {s: i for i, s in enumerate(systems)}
+    rank = {v: i for i, v in enumerate(values)}
+    rows.sort(key=lambda r: (r["rate"], order[r["system"]], rank[r[column]] if column else 0,
+                             r["rep"]))  # fmt: skip
+    return rows
+
+
 def rep_rows_text(rows: Sequence[Row]) -> str:
     """The rows as CSV text in their own column order (byte-reproducible)."""
     return csv_text(rows, list(rows[0]))

@@ -136,9 +136,9 @@ def run_people_study(
                     rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
-    order = {s: i for i, s in enumerate(systems)}
-    rows.sort(key=lambda r: (r["rate"], order[r["system"]], MODES.index(r["mode"]), r["rep"]))
-    return rows
+    from pil.experiments.outputs import sort_runs  # with the other outputs: loaded late
+
+    return sort_runs(rows, systems, "mode", MODES)
 
 
 def write_people(rows: Sequence[Mapping[str, Any]], out: Any) -> list:

@@ -107,9 +107,9 @@ def run_transfer_study(
                     rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
-    order = {s: i for i, s in enumerate(systems)}
-    rows.sort(key=lambda r: (r["rate"], order[r["system"]], STARTS.index(r["start"]), r["rep"]))
-    return rows
+    from pil.experiments.outputs import sort_runs  # with the other outputs: loaded late
+
+    return sort_runs(rows, systems, "start", STARTS)
 
 
 def write_transfer(rows: Sequence[Mapping[str, Any]], out: Any, source: str) -> list:
