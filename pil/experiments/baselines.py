@@ -145,8 +145,9 @@ def run_baselines(
 
 
 def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Each baseline variant against every PIL variant, per rate and measure (paired by rep;
-    ``mean_diff`` = baseline - PIL); Holm over each test and measure across the table."""
+    """Each baseline variant against every PIL variant, and each baseline's tuned setting
+    against its default, per rate and measure (paired by rep; ``mean_diff`` = baseline - PIL,
+    tuned - default); Holm over each test and measure across the table."""
     variants = list(dict.fromkeys(str(r["variant"]) for r in rows))
     pil = [v for v in variants if v.startswith("pil:")]
     results: list[dict[str, Any]] = []
@@ -156,6 +157,12 @@ def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         subset = [r for r in rows if r["variant"] in (variant, *pil)]
         results += compare(subset, variant, compare_by="variant", within=("rate",),
                            metrics=METRICS, pair_by=("rep",))  # fmt: skip
+    for learner in BASELINES:
+        pair = (f"{learner}:tuned", f"{learner}:default")
+        subset = [r for r in rows if r["variant"] in pair]
+        if {str(r["variant"]) for r in subset} == set(pair):
+            results += compare(subset, pair[0], compare_by="variant", within=("rate",),
+                               metrics=METRICS, pair_by=("rep",))  # fmt: skip
     families: dict[tuple[str, str], list[int]] = {}
     for i, r in enumerate(results):
         families.setdefault((r["test"], r["measure"]), []).append(i)
@@ -202,7 +209,8 @@ def _matrix(tests: Sequence[Mapping[str, Any]], measure: str, rates: Sequence[fl
         if r["measure"] == measure and r["test"] == "paired t":
             cells.setdefault((r["system_a"], r["system_b"]), {})[float(r["rate"])] = _cell(r)
     body = [[a, b, *(row.get(rate, "") for rate in rates)] for (a, b), row in cells.items()]
-    return markdown_table(["baseline", "PIL", *(f"{rate:g}" for rate in rates)], body)
+    return markdown_table(["a (baseline)", "b (PIL; last rows: default)",
+                           *(f"{rate:g}" for rate in rates)], body)  # fmt: skip
 
 
 def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence[Any]) -> str:
@@ -243,8 +251,8 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "## Paired tests against PIL",
         "",
         describe_tests(tests) + " Holm's family here: each test and measure over the whole "
-        "table. Cells: baseline − PIL (negative: the baseline needs fewer), 95 % CI, "
-        "Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
+        "table. Cells: a − b (baseline − PIL, negative: the baseline needs fewer; the last "
+        "rows: tuned − default), 95 % CI, Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
         "",
         "### Total actions",
         "",
