@@ -250,9 +250,10 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "",
         "## Paired tests against PIL",
         "",
-        describe_tests(tests) + " Holm's family here: each test and measure over the whole "
-        "table. Cells: a − b (baseline − PIL, negative: the baseline needs fewer; the last "
-        "rows: tuned − default), 95 % CI, Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
+        describe_tests(tests) + " (In this table Holm's family is each test and measure "
+        "over the whole table.) Cells: a − b (baseline − PIL, negative: the baseline needs "
+        "fewer; the last rows: tuned − default), 95 % CI, Holm-adjusted paired-t p; Wilcoxon "
+        "in `tests.csv`.",
         "",
         "### Total actions",
         "",
