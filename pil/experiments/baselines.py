@@ -145,8 +145,9 @@ def run_baselines(
 
 
 def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Each baseline variant against every PIL variant, and each baseline's tuned setting
-    against its default, per rate and measure (paired by rep; ``mean_diff`` = baseline - PIL,
+    """Each baseline variant against every PIL variant, then PIL with the memory against
+    PIL without it (same rule), and each baseline's tuned setting against its default, per
+    rate and measure (paired by rep; ``mean_diff`` = baseline - PIL, with - without memory,
     tuned - default); Holm over each test and measure across the table."""
     variants = list(dict.fromkeys(str(r["variant"]) for r in rows))
     pil = [v for v in variants if v.startswith("pil:")]
@@ -157,8 +158,9 @@ def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         subset = [r for r in rows if r["variant"] in (variant, *pil)]
         results += compare(subset, variant, compare_by="variant", within=("rate",),
                            metrics=METRICS, pair_by=("rep",))  # fmt: skip
-    for learner in BASELINES:
-        pair = (f"{learner}:tuned", f"{learner}:default")
+    pairs = [(f"{v}+memory", v) for v in pil if f"{v}+memory" in pil]  # what the memory does
+    pairs += [(f"{learner}:tuned", f"{learner}:default") for learner in BASELINES]
+    for pair in pairs:
         subset = [r for r in rows if r["variant"] in pair]
         if {str(r["variant"]) for r in subset} == set(pair):
             results += compare(subset, pair[0], compare_by="variant", within=("rate",),
@@ -209,7 +211,7 @@ def _matrix(tests: Sequence[Mapping[str, Any]], measure: str, rates: Sequence[fl
         if r["measure"] == measure and r["test"] == "paired t":
             cells.setdefault((r["system_a"], r["system_b"]), {})[float(r["rate"])] = _cell(r)
     body = [[a, b, *(row.get(rate, "") for rate in rates)] for (a, b), row in cells.items()]
-    return markdown_table(["a (baseline)", "b (PIL; last rows: default)",
+    return markdown_table(["a", "b",
                            *(f"{rate:g}" for rate in rates)], body)  # fmt: skip
 
 
@@ -252,8 +254,8 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "",
         describe_tests(tests) + " (In this table Holm's family is each test and measure "
         "over the whole table.) Cells: a − b (baseline − PIL, negative: the baseline needs "
-        "fewer; the last rows: tuned − default), 95 % CI, Holm-adjusted paired-t p; Wilcoxon "
-        "in `tests.csv`.",
+        "fewer; the last rows: with − without the memory, tuned − default), 95 % CI, "
+        "Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
         "",
         "### Total actions",
         "",
