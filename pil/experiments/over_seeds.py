@@ -136,3 +136,27 @@ def over_seeds_markdown(rows: Sequence[Mapping[str, Any]], within: Sequence[str]
              interval(r["mean_diff"], r["ci_low"], r["ci_high"]), r["seeds_a_more"],
              r["seeds_a_less"]] for r in rows]  # fmt: skip
     return markdown_table(header, body)
+
+
+def write_tests_over_seeds(
+    out: Path, seeds: Sequence[int], within: Sequence[str], title: str
+) -> list[Path]:
+    """``seeds_tests.csv`` and ``seeds.md`` under ``out`` from each seed folder's
+    ``tests.csv`` (a small study's headline over seeds); their paths."""
+    from pil.experiments.study import csv_text
+
+    tests_by_seed = {s: load_rows(seed_folder(out, s) / "tests.csv") for s in seeds}
+    over = tests_over_seeds(tests_by_seed, within)
+    text = "\n".join([
+        f"# {title} over {len(seeds)} seeds", "",
+        f"Master seeds {seeds[0]}-{seeds[-1]}, each the whole study in `seed_<n>/` (its own "
+        "CSV, summary and tests.csv). Per comparison: the seeds' paired-t mean differences "
+        "a - b, their mean with a 95 % t-interval over seeds (the seeds are independent "
+        "studies), and the seeds where a is significantly above / below b (Holm-adjusted "
+        "p < 0.05 within the seed).", "",
+        over_seeds_markdown(over, within), "",
+    ])  # fmt: skip
+    return [
+        write_text_atomic(out / "seeds_tests.csv", csv_text(over, over_seeds_columns(within))),
+        write_text_atomic(out / "seeds.md", text),
+    ]
