@@ -13,6 +13,8 @@ from pil.experiments.stats import PAIRED_T, WILCOXON, csv_columns
 from pil.experiments.study_tests import READINGS, claim_markdown, claim_verdicts, study_tests
 from robin_sim.cli.main import main
 
+pytestmark = pytest.mark.slow  # a real study of 130 short runs
+
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory: pytest.TempPathFactory) -> Path:
