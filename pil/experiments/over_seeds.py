@@ -64,12 +64,12 @@ def run_seeds(
     run_one: Callable[[int], list[dict[str, Any]]],
     write_one: Callable[[int, list[dict[str, Any]], Path], object],
     skipped: Callable[[int], None] | None = None,
-) -> dict[int, list[Row]]:
+) -> dict[int, Sequence[Row]]:
     """Each seed's rows: read back from ``seed_<n>/<rows_file>`` where that folder holds a
     finished run with ``settings`` (``skipped(seed)`` is told), else run (``run_one(seed)``)
     and written there (``write_one(seed, rows, folder)``, then the settings file)."""
     check_seed_folders(out, seeds, settings)
-    found: dict[int, list[Row]] = {}
+    found: dict[int, Sequence[Row]] = {}
     for seed in seeds:
         folder = seed_folder(out, seed)
         if (folder / SETTINGS_FILE).is_file() and (folder / rows_file).is_file():

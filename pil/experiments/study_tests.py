@@ -110,7 +110,7 @@ def claim_markdown(tests: Sequence[Mapping[str, Any]], discarded: str = "") -> s
     body = []
     for (reading, rate, measure, other), found in pairs.items():
         t, w = found.get(PAIRED_T), found.get(WILCOXON)
-        ref = t or w
+        ref = t if t is not None else w
         assert ref is not None
         yes = t is not None and w is not None and _costlier(t) and _costlier(w)
         body.append([

@@ -120,7 +120,7 @@ def study_costs(
                        pil_actions_sd=None)  # fmt: skip
             continue
         g, gs, a, asd = pil_means(round(d, 4), f"measured:{row['measured_file']}",
-                                  tag(float(row["lighting"]), float(row["camera_noise"])))
+                                  tag(float(str(row["lighting"])), float(str(row["camera_noise"]))))
         row.update(pil_gestures=round(g, 1), pil_gestures_sd=round(gs, 1),
                    pil_actions=round(a, 1), pil_actions_sd=round(asd, 1))  # fmt: skip
     dice = []
