@@ -25,6 +25,7 @@ SETTINGS_FILE = "settings.json"  # written last: a seed folder with it holds a f
 MAX_SEEDS = 1000
 OVER_SEEDS_COLUMNS: tuple[str, ...] = (
     "test", "seeds", "mean_diff", "ci_low", "ci_high", "seeds_a_more", "seeds_a_less",
+    "seeds_untestable",
 )  # fmt: skip
 
 
@@ -89,7 +90,8 @@ def tests_over_seeds(
 ) -> list[dict[str, Any]]:
     """One row per comparison (measure, reading, ``within``, system_a, system_b) of the
     seeds' paired t-tests (Welch where unpaired): the mean difference a - b over seeds with
-    its 95 % interval, and the seeds where a needs significantly more / less."""
+    its 95 % interval, the seeds where a needs significantly more / less, and those where
+    the test had no spread to work on (``seeds_untestable``)."""
     rows = [dict(t) for tests in tests_by_seed.values() for t in tests
             if t["test"] in (PAIRED_T, WELCH)]  # fmt: skip
     if not rows:
@@ -110,6 +112,7 @@ def tests_over_seeds(
             "test": "/".join(sorted({str(m["test"]) for m in members})), "seeds": len(members),
             "mean_diff": mean, "ci_low": low, "ci_high": high,
             "seeds_a_more": significant(1), "seeds_a_less": significant(-1),
+            "seeds_untestable": sum(1 for m in members if math.isnan(number(m["p_holm"]))),
         })  # fmt: skip
     return out
 
@@ -130,11 +133,12 @@ def over_seeds_markdown(rows: Sequence[Mapping[str, Any]], within: Sequence[str]
                         ) -> str:  # fmt: skip
     """A table of :func:`tests_over_seeds` rows."""
     header = ["measure", "reading", *within, "a", "b", "test", "seeds",
-              "a − b over seeds [95 % CI]", "seeds a more (Holm p < 0.05)", "seeds a less"]
+              "a − b over seeds [95 % CI]", "seeds a more (Holm p < 0.05)", "seeds a less",
+              "seeds untestable"]
     body = [[r["measure"], r["reading"] or "-", *(r[c] for c in within), r["system_a"],
              r["system_b"], r["test"], r["seeds"],
              interval(r["mean_diff"], r["ci_low"], r["ci_high"]), r["seeds_a_more"],
-             r["seeds_a_less"]] for r in rows]  # fmt: skip
+             r["seeds_a_less"], r["seeds_untestable"]] for r in rows]  # fmt: skip
     return markdown_table(header, body)
 
 
