@@ -143,9 +143,12 @@ def _proactive_markdown(by_seed: Mapping[int, Sequence[Row]],
         for name in ("saved", "wasted", "pil_gestures", "gestures"):
             cells.append(interval(*mean_ci([e[f"{name}_mean"] for e in per])))
         cells.append(f"{sum(1 for e in per if e['p_gestures'] < 0.05)} of {len(per)}")
+        cells.append(interval(*mean_ci([e["pil_actions_mean"] - e["actions_mean"] for e in per])))
+        cells.append(f"{sum(1 for e in per if e['p_actions'] < 0.05)} of {len(per)}")
         body.append(cells)
     table = markdown_table(["rate", "gestures saved", "actions wasted", "gestures pil",
-                            "gestures proactive", "seeds: gestures differ (Holm p < 0.05)"],
+                            "gestures proactive", "seeds: gestures differ (Holm p < 0.05)",
+                            "actions pil − proactive", "seeds: actions differ"],
                            body)  # fmt: skip
     return ["", "## Proactive vs reactive PIL over seeds", "",
             "Each seed's mean per run (test tables), then the mean over seeds [95 % CI].", "",
