@@ -39,6 +39,7 @@ from pil.experiments.study_tests import (
     TEST_TABLES,
     TRAINING_INCLUDED,
     claim_markdown,
+    claim_rows,
     discard_reading,
     study_tests,
 )
@@ -195,8 +196,9 @@ def summary_text(
             "",
             rules_markdown(by_rule, str(values["exploration"])),
         ]
-    claim = claim_markdown(tests, discard_reading(values["repeat_discarded"]))
-    if not claim.startswith("("):
+    ran = discard_reading(values["repeat_discarded"])
+    if claim_rows(tests):
+        rerun = any(";" in str(t["reading"]) for t in tests)
         parts += [
             "",
             "## The paper's claim",
@@ -206,13 +208,13 @@ def summary_text(
             "PIL − condition per repetition, Holm-adjusted p of the paired t-test and of the "
             "Wilcoxon signed-rank test; a comparison counts when both are < 0.05 and PIL "
             "needs more. Readings: training included (the paper's figures) or the test "
-            "tables only, each with a discarded gesture repeated by the person (the "
-            "project's reading, `--discarded repeated`) or corrected as an invalid state (the "
-            "paper's section I, `--discarded corrected`); this study ran "
-            f"`{discard_reading(values['repeat_discarded'])}`, the other reading re-ran pil, "
-            "c1 and c2 on the same seeds (`claim_runs.csv`).",
+            "tables only; a discarded gesture repeated by the person (the project's reading, "
+            "`--discarded repeated`) or corrected as an invalid state (the paper's section I, "
+            f"`--discarded corrected`). This study ran `{ran}`"
+            + (", the other reading re-ran pil, c1 and c2 on the same seeds "
+               "(`claim_runs.csv`)." if rerun else "."),
             "",
-            claim,
+            claim_markdown(tests, ran),
         ]
     main = [t for t in tests if t["reading"] in (TRAINING_INCLUDED, TEST_TABLES)]
     if main:
