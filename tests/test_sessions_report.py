@@ -260,7 +260,8 @@ def test_study_folders_and_csvs_still_report(tmp_path: Path, capsys: Any) -> Non
     assert main(["report", str(tmp_path)]) == 0
     assert (tmp_path / "report" / "summary.md").is_file()
     assert main(["report", str(tmp_path / "runs.csv"), "--out", str(tmp_path / "r2")]) == 0
-    assert (tmp_path / "r2" / "ttests.csv").is_file()
+    assert (tmp_path / "r2" / "tests.csv").is_file()  # paired by rep (no seed column)
+    assert ",rep," in (tmp_path / "r2" / "tests.csv").read_text()
     capsys.readouterr()
     err = refused([str(tmp_path / "runs.csv"), "--baseline", "nope"], capsys)
     assert "unknown baseline system 'nope'; valid choices: 'c1', 'pil'" in err
