@@ -99,6 +99,7 @@ class LiveParticipant:
         self.thumb: Feedback | None = None  # the thumb given since the current action began
         self.ended = False
         self.judging = False  # an action is watched or awaits its thumb: a thumb is taken
+        self.verdict_pending = False  # judged, not yet received by the learner (session clears)
         self.interventions = 0
         self._gesture: Gesturing | None = None
         self._previous = Action.OPEN  # the last action the participant approved
@@ -225,6 +226,7 @@ class LiveParticipant:
         """The participant's thumb, given during the move or in the feedback window the world
         waited after it (:meth:`ThumbWatcher.result_window`); a thumb down took the action
         back (``outcome.interrupted``); none, or a next gesture instead, is silence (OK)."""
+        self.verdict_pending = True
         if outcome.interrupted:
             return Feedback.NOT_OK
         return Feedback.NONE if self.thumb is None else self.thumb

@@ -184,12 +184,15 @@ class LiveSession:
 
     # --- the physics thread --------------------------------------------------------------------
     def _on_tick(self, _: object) -> None:
-        if self._stop_status is not None:
-            raise SessionStopped(self._stop_status)
         participant = self._participant
+        # A verdict given but not yet received by the learner (the thumb being shown): the stop
+        # waits the moment until the step is logged, so no approved step is ever lost.
+        holding = participant is not None and participant.verdict_pending
+        if self._stop_status is not None and not holding:
+            raise SessionStopped(self._stop_status)
         if participant is not None:
             participant.poll()
-            if participant.ended and participant.phase != "waiting_for_gesture":
+            if participant.ended and not holding and participant.phase != "waiting_for_gesture":
                 # "end" while the robot acts or waits for a thumb: no verdict is made up
                 raise SessionStopped("ended")
 
@@ -205,9 +208,11 @@ class LiveSession:
                 self.view.table = getattr(run.parts.learner, "table", None)
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
+                observer = _Booking(self, run)
                 for record in steps(parts.learner, run.participant, parts.detector, run.world,
-                                    observer=self.view, **parts.options):  # fmt: skip
-                    self._book(run, record)
+                                    observer=observer, **parts.options):  # fmt: skip
+                    if record is not observer.last:  # a repeat request: no feedback to receive
+                        self._book(run, record)
             done = run.participant.legs_delivered >= run.participant.legs_total
             status = "finished" if done else "ended"
         except SessionStopped as stopped:
@@ -224,3 +229,23 @@ class LiveSession:
         run.book.add(record)
         run.participant.legs_delivered = record.legs_delivered
         self.view.finished(record, run.totals)
+
+
+class _Booking:
+    """The step loop's observer: the page's view, and each step logged and counted as soon as
+    the learner has its feedback (before the participant carries a delivered leg away)."""
+
+    def __init__(self, session: LiveSession, run: LiveRun) -> None:
+        self.session, self.run = session, run
+        self.last: StepRecord | None = None  # the record booked last
+
+    def decided(self, record: StepRecord) -> None:
+        self.session.view.decided(record)
+
+    def answered(self, record: StepRecord) -> None:
+        self.session.view.answered(record)
+
+    def received(self, record: StepRecord) -> None:
+        self.last = record
+        self.run.participant.verdict_pending = False
+        self.session._book(self.run, record)
