@@ -126,6 +126,9 @@ class LiveSession:
         participant, summary, pacer = self._participant, self._summary, self._pacer
         status = self.view.status(participant, None if summary is None else summary["status"])
         status["behind_s"] = None if pacer is None else round(pacer.behind_s, 3)  # lost pace
+        files = self._files
+        # inputs taken so far: the page clears a shown error once this grows
+        status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected
         return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
@@ -161,17 +164,18 @@ class LiveSession:
                                  "protocol block's instructions")  # fmt: skip
         elif item.kind == "thumb":
             if not participant.judging:
-                raise LiveInputError("thumb: there is no robot action to judge now; give a "
-                                     "thumb while the robot acts or right after")  # fmt: skip
+                raise LiveInputError("There is no robot action to judge now: give a thumb "
+                                     "while Robin moves or just after.")  # fmt: skip
             participant.offer(THUMBS[str(item.thumb)])
         else:
             if phase not in ("waiting_for_gesture", "waiting_for_thumb"):
                 raise LiveInputError(
-                    f"{item.kind}: not your turn (the robot is acting); gesture once it waits "
-                    "for you, or give thumb down to stop it"
+                    "It is not your turn yet: Robin is still acting. Wait until it asks for "
+                    "your gesture, or give thumb down to stop it."
                 )
             if item.kind == "point":
                 target = self._picker.pick(float(item.x), float(item.y))  # type: ignore[arg-type]
+                self.view.clicked(target, float(item.x), float(item.y))  # type: ignore[arg-type]
                 participant.offer(Gesturing(Gesture.POINTING, target))
             else:
                 participant.offer(Gesturing(GESTURES[str(item.gesture)]))
@@ -247,5 +251,5 @@ class _Booking:
 
     def received(self, record: StepRecord) -> None:
         self.last = record
-        self.run.participant.verdict_pending = False
+        self.run.participant.received(record)
         self.session._book(self.run, record)
