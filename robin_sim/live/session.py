@@ -14,6 +14,8 @@ by the episode's own :class:`~robin_sim.episode.run.StepBook`. Messages come fro
 from __future__ import annotations
 
 import threading
+import time
+from collections import deque
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -40,6 +42,11 @@ from robin_sim.person.body import PhysicalBody
 __all__ = ["Frame", "LiveConfig", "LiveSession"]
 STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
 STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
+LOG_TAIL = 40  # steps kept for the experimenter's view
+TAIL_KEYS = ("t", "handover", "step", "true_gesture", "action", "target", "feedback",
+             "delivered", "legs_delivered", "sim_time", "reason")  # fmt: skip
+PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
+PAUSED_MESSAGE = "Paused by the experimenter: please wait."
 
 
 class SessionStopped(BaseException):
@@ -67,7 +74,10 @@ class LiveSession:
         self._participant: LiveParticipant | None = None
         self._picker: Picker | None = None
         self._pacer: Any = None
+        self._run_parts: LiveRun | None = None
         self._files: SessionFiles | None = None
+        self._paused = threading.Event()  # the experimenter paused physics
+        self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
 
     # --- the contract --------------------------------------------------------------------------
     def start(self) -> None:
@@ -129,6 +139,9 @@ class LiveSession:
         files = self._files
         # inputs taken so far: the page clears a shown error once this grows
         status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected
+        status["paused"] = self.paused
+        if self.paused and status["phase"] != "done":
+            status["message"] = PAUSED_MESSAGE
         return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
@@ -148,6 +161,48 @@ class LiveSession:
             return {"status": self._stop_status, "saving": True}  # saved when the tick returns
         self.done.wait(STOP_WAIT_S)
         return dict(self._summary or {"status": self._stop_status, "saving": True})
+
+    # --- the experimenter ----------------------------------------------------------------------
+    def pause(self, paused: bool) -> None:
+        """Hold physics (and the stream) between two ticks, or let it run on (thread-safe)."""
+        if paused:
+            self._paused.set()
+        else:
+            self._paused.clear()
+
+    @property
+    def paused(self) -> bool:
+        return self._paused.is_set()
+
+    def note(self, text: str) -> dict[str, Any]:
+        """Save an experimenter's note with its time in the session folder; the entry."""
+        files, participant = self._files, self._participant
+        if files is None:
+            raise LiveInputError("note: this block has not started, so it has no folder yet; "
+                                 "write the note once it runs")  # fmt: skip
+        sim_time = None if participant is None else round(participant.body.world.time, 4)
+        return files.log_note(text, sim_time)
+
+    def pacing(self) -> dict[str, Any]:
+        """The stream's and the pacer's figures now (for the experimenter)."""
+        run = self._run_parts
+        stream = None if run is None else run.stream
+        pacer = None if run is None else run.pacer
+        stats = None if stream is None else stream.stats
+        frames = 0 if stats is None else stats.frames
+        return {
+            "frames": frames,
+            "stream_fps": None if stats is None or stats.fps is None else round(stats.fps, 2),
+            "latency_ms": None if not frames else {"median": stats.latency_ms(0.5),
+                                                   "p95": stats.latency_ms(0.95)},
+            "frame_ms": None if not frames
+            else round((stats.render_s + stats.encode_s) / frames * 1000, 1),
+            "behind_s": None if pacer is None else round(pacer.behind_s, 3),
+            "slips": None if pacer is None else pacer.slips,
+            "lag_s": None if pacer is None else round(pacer.lag_s, 3),
+            "speed": self.config.speed,
+            "paused": self.paused,
+        }  # fmt: skip
 
     # --- messages ------------------------------------------------------------------------------
     def _act(self, item: LiveInput) -> None:
@@ -194,11 +249,23 @@ class LiveSession:
         holding = participant is not None and participant.verdict_pending
         if self._stop_status is not None and not holding:
             raise SessionStopped(self._stop_status)
+        if self._paused.is_set() and not holding:
+            self._hold()
         if participant is not None:
             participant.poll()
             if participant.ended and not holding and participant.phase != "waiting_for_gesture":
                 # "end" while the robot acts or waits for a thumb: no verdict is made up
                 raise SessionStopped("ended")
+
+    def _hold(self) -> None:
+        """Wait while paused (a stop still ends the session); the pacer skips the pause."""
+        started = time.monotonic()
+        while self._paused.is_set() and self._stop_status is None:
+            time.sleep(PAUSE_POLL_S)
+        if self._pacer is not None:
+            self._pacer.skip(time.monotonic() - started)
+        if self._stop_status is not None:
+            raise SessionStopped(self._stop_status)
 
     def _run(self) -> None:
         files = self._files
@@ -208,7 +275,7 @@ class LiveSession:
             run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
             with run:
                 self._participant, self._picker = run.participant, run.picker
-                self._pacer = run.pacer
+                self._pacer, self._run_parts = run.pacer, run
                 self.view.table = getattr(run.parts.learner, "table", None)
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
@@ -230,7 +297,8 @@ class LiveSession:
             self.done.set()
 
     def _book(self, run: LiveRun, record: StepRecord) -> None:
-        run.book.add(record)
+        entry = run.book.add(record)
+        self.log_tail.append({key: entry.get(key) for key in TAIL_KEYS})
         run.participant.legs_delivered = record.legs_delivered
         self.view.finished(record, run.totals)
 
