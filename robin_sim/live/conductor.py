@@ -132,7 +132,7 @@ class Conductor:
             session.pause(item.kind == "pause")
         else:  # next_block: this one is saved as ended; the watcher shows the next
             session.pause(False)
-            await self._loop.run_in_executor(None, session.stop, "ended")
+            await self._loop.run_in_executor(None, lambda: session.stop("ended"))
         return None
 
     async def finished(self) -> str:

@@ -24,6 +24,7 @@ from pil.task.records import StepRecord
 from pil.task.runner import steps
 from pil.types import Gesture
 from robin_sim.live.config import LiveConfig
+from robin_sim.live.experimenter import pacing_figures
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
@@ -185,24 +186,7 @@ class LiveSession:
 
     def pacing(self) -> dict[str, Any]:
         """The stream's and the pacer's figures now (for the experimenter)."""
-        run = self._run_parts
-        stream = None if run is None else run.stream
-        pacer = None if run is None else run.pacer
-        stats = None if stream is None else stream.stats
-        frames = 0 if stats is None else stats.frames
-        return {
-            "frames": frames,
-            "stream_fps": None if stats is None or stats.fps is None else round(stats.fps, 2),
-            "latency_ms": None if not frames else {"median": stats.latency_ms(0.5),
-                                                   "p95": stats.latency_ms(0.95)},
-            "frame_ms": None if not frames
-            else round((stats.render_s + stats.encode_s) / frames * 1000, 1),
-            "behind_s": None if pacer is None else round(pacer.behind_s, 3),
-            "slips": None if pacer is None else pacer.slips,
-            "lag_s": None if pacer is None else round(pacer.lag_s, 3),
-            "speed": self.config.speed,
-            "paused": self.paused,
-        }  # fmt: skip
+        return pacing_figures(self._run_parts, self.config.speed, self.paused)
 
     # --- messages ------------------------------------------------------------------------------
     def _act(self, item: LiveInput) -> None:
