@@ -7,7 +7,6 @@ from pathlib import Path
 
 import aiohttp
 import pytest
-from conftest import start_server
 from page_driver import run_async
 from test_web_socket import receive_until, wait_phase
 
@@ -17,6 +16,7 @@ pytestmark = pytest.mark.slow
 
 
 def test_next_block_saves_the_block_and_starts_the_next_then_end(tmp_path: Path) -> None:
+    from conftest import start_server  # tests/browser/conftest.py, as test_browser_page does
     options = dict(out_root=tmp_path / "live", handover_types=("A",), speed=3.0, video=False,
                    protocol="pilot", instructions="Hand over the legs.")  # fmt: skip
     served = start_server([LiveConfig(session="b1", block=1, **options),
