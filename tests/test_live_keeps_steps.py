@@ -7,6 +7,7 @@ delivered leg to the bin.
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 import pytest
@@ -53,3 +54,29 @@ def test_end_during_the_carry_to_the_bin_keeps_the_approved_open(tmp_path: Path)
     last = steps[-1]
     assert last["action"] == "open" and last["delivered"] and last["feedback"] == "ok"
     assert summary["actions"] == len(steps)
+
+
+def test_a_paused_session_holds_physics_and_still_ends_on_end(tmp_path: Path) -> None:
+    config = LiveConfig(scenario="one_handover", out_root=tmp_path, session="s1", speed=3.0,
+                        fps=10, video=False)  # fmt: skip
+    session = LiveSession(config)
+    session.start()
+    driver = Driver(session)
+    try:
+        driver.my_turn()
+        session.pause(True)
+        time.sleep(0.5)  # the tick under way ends
+        held = session.status()
+        time.sleep(2.0)
+        assert session.status()["sim_time"] == held["sim_time"] and held["paused"]
+        assert held["message"] == "Paused by the experimenter: please wait."
+        session.pause(False)
+        driver.wait(lambda s: s["sim_time"] > held["sim_time"] + 0.3, "physics to run on")
+        # the 2.5 s pause is not counted as pace lost (a busy machine may lose a little)
+        assert session.status()["behind_s"] - held["behind_s"] < 1.5
+        session.pause(True)
+        session.receive({"type": "end"})
+        assert session.done.wait(20), "End should end a paused session"
+    finally:
+        summary = session.stop()
+    assert summary["status"] == "ended"

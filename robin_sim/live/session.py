@@ -242,9 +242,15 @@ class LiveSession:
                 raise SessionStopped("ended")
 
     def _hold(self) -> None:
-        """Wait while paused (a stop still ends the session); the pacer skips the pause."""
+        """Wait while paused (a stop or the participant's End still ends the session); the
+        pacer skips the pause."""
         started = time.monotonic()
+        participant = self._participant
         while self._paused.is_set() and self._stop_status is None:
+            if participant is not None:
+                participant.poll()  # the participant's End still ends the session
+                if participant.ended:
+                    break
             time.sleep(PAUSE_POLL_S)
         if self._pacer is not None:
             self._pacer.skip(time.monotonic() - started)
