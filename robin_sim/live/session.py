@@ -8,7 +8,11 @@ with frames from :class:`~robin_sim.live.frames.FrameStream`. Each step is logge
 by the episode's own :class:`~robin_sim.episode.run.StepBook`. Messages come from any thread
 (:meth:`LiveSession.receive` / :meth:`LiveSession.submit`) and are written to ``inputs.jsonl``;
 :meth:`LiveSession.stop` ends the session between two ticks and saves everything
-(:mod:`robin_sim.live.files`).
+(:mod:`robin_sim.live.files`). A step is logged and counted as soon as the learner has its
+feedback (the loop's observer ``received``), before the participant carries a delivered leg
+away, so a stop at any moment keeps every step the learner has received. For the experimenter,
+:meth:`LiveSession.pause` holds physics between two ticks and :meth:`LiveSession.note` saves a
+timestamped note in the session folder.
 """
 
 from __future__ import annotations
