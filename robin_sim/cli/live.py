@@ -123,9 +123,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"robin-pil live: serving {url}", flush=True)
     if token is not None:
         print("robin-pil live: every request needs the token in that URL", flush=True)
+    experimenter = new_token()
+    print(f"robin-pil live: experimenter's view http://{shown_host}:{bound_port}/experimenter"
+          f"?token={experimenter}", flush=True)  # fmt: skip
     if not args.no_browser:
         webbrowser.open(url)
-    outcome = asyncio.run(LiveServer(conductor, token=token).serve(sock))
+    server = LiveServer(conductor, token=token, experimenter_token=experimenter)
+    outcome = asyncio.run(server.serve(sock))
     for result in conductor.results:
         print(
             f"robin-pil live: session {result.get('session')}: {result.get('status')}, "

@@ -82,6 +82,7 @@ class LiveRun(ClosesOnExit):
                 eye_inset=config.eye_inset, render_workers=config.render_workers,
                 eye_worker=config.eye_worker, reflections=config.reflections,
                 spots=self.picker.spot_pixels(), on_state=self.picker.show,
+                legs=self.picker.leg_pixels,
             )  # fmt: skip
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says

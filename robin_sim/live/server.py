@@ -36,13 +36,15 @@ from aiohttp import WSMsgType, web
 
 from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
+from robin_sim.live.experimenter import experimenter_view, parse_command
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
 
 LOG = logging.getLogger(__name__)
 LOOPBACK_NAMES = ("localhost",)
 STATIC_DIR = Path(__file__).with_name("static")
-STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /static/ serves
+STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css",
+                "experimenter.js": "text/javascript"}  # all /static/ serves
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
@@ -110,9 +112,10 @@ class Tab:
     """One connected tab: its socket, role, what waits to be sent, and its recent inputs."""
 
     ws: web.WebSocketResponse
-    role: str  # "control" | "watch"
+    role: str  # "control" | "watch" | "experimenter"
     frame: bytes | None = None  # the newest frame not yet sent (older ones are dropped)
     status: dict[str, Any] | None = None  # the newest status not yet sent
+    view: dict[str, Any] | None = None  # the newest experimenter's view not yet sent
     texts: deque[dict[str, Any]] = field(default_factory=lambda: deque(maxlen=QUEUED_TEXTS))
     wake: asyncio.Event = field(default_factory=asyncio.Event)
     recent: deque[float] = field(default_factory=deque)  # monotonic times of the last second
@@ -135,15 +138,24 @@ class Tab:
 class LiveServer:
     """The aiohttp application of one run; :meth:`serve` returns the run's final status."""
 
-    def __init__(self, conductor: Conductor, *, token: str | None = None) -> None:
+    def __init__(
+        self,
+        conductor: Conductor,
+        *,
+        token: str | None = None,
+        experimenter_token: str | None = None,
+    ) -> None:
         self.conductor = conductor
         self.token = token
+        # the experimenter's view always needs its own token, on loopback too
+        self.experimenter_token = experimenter_token or new_token()
         self.tabs: list[Tab] = []
         self.app = web.Application(middlewares=[self._guard], client_max_size=64 * 1024)
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
         self.app.router.add_get("/ws", self._websocket)
         self.app.router.add_get("/favicon.ico", self._no_icon)
+        self.app.router.add_get("/experimenter", self._experimenter_page)
         self._loop: asyncio.AbstractEventLoop | None = None
         self._controller_seen = False
 
@@ -153,7 +165,8 @@ class LiveServer:
         """403 without the token (when one is required) or from another site's page."""
         if self.token is not None:
             given = request.query.get("token", "")
-            if not secrets.compare_digest(given.encode(), self.token.encode()):
+            if not (secrets.compare_digest(given.encode(), self.token.encode())
+                    or self._is_experimenter(request)):  # fmt: skip
                 return web.Response(status=403, text="403: this server needs ?token=... "
                                     "(the URL printed when it started)\n")  # fmt: skip
         origin = request.headers.get("Origin")
@@ -166,6 +179,18 @@ class LiveServer:
 
     def _query(self) -> str:
         return "" if self.token is None else f"?token={self.token}"
+
+    def _is_experimenter(self, request: web.Request) -> bool:
+        given = request.query.get("token", "")
+        return secrets.compare_digest(given.encode(), self.experimenter_token.encode())
+
+    async def _experimenter_page(self, request: web.Request) -> web.Response:
+        if not self._is_experimenter(request):
+            return web.Response(status=403, text="403: the experimenter's view needs its own "
+                                "?token=... (printed when the server started)\n")  # fmt: skip
+        page = (STATIC_DIR / "experimenter.html").read_text(encoding="utf-8")
+        query = f"?token={self.experimenter_token}"
+        return web.Response(text=page.replace("{{QUERY}}", query), content_type="text/html")
 
     async def _index(self, request: web.Request) -> web.Response:
         page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
@@ -189,8 +214,11 @@ class LiveServer:
         sock = request.transport.get_extra_info("socket") if request.transport else None
         if sock is not None:  # a lagging tab backs up within a few frames, then gets the newest
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
-        tab = Tab(ws, "watch" if self._controller_seen else "control")
-        self._controller_seen = True
+        if self._is_experimenter(request):
+            tab = Tab(ws, "experimenter")
+        else:
+            tab = Tab(ws, "watch" if self._controller_seen else "control")
+            self._controller_seen = True
         self.tabs.append(tab)
         tab.send({"type": "role", "role": tab.role})
         tab.status = self.conductor.status()
@@ -219,6 +247,9 @@ class LiveServer:
             tab.send(_error(f"too many messages: at most {RATE_LIMIT} per second; this one "
                             "was dropped"))  # fmt: skip
             return
+        if tab.role == "experimenter":
+            await self._command(tab, data)
+            return
         if tab.role != "control":
             tab.send(_error("this tab watches read-only; the first tab opened controls"))
             return
@@ -226,6 +257,18 @@ class LiveServer:
             await self.conductor.receive(data)  # checked with parse_input, then acted on
         except LiveInputError as problem:
             tab.send(_error(str(problem)))
+
+    async def _command(self, tab: Tab, data: str | bytes) -> None:
+        """One experimenter's command; its reply (``done``, with a saved note) or an error."""
+        try:
+            item = parse_command(data)
+            note = await self.conductor.command(item)
+        except LiveInputError as problem:
+            tab.send(_error(str(problem)))
+            return
+        LOG.info("experimenter: %s", item.kind)
+        tab.send({"type": "done", "command": item.kind, "note": note})
+        self.push_status()
 
     async def _sender(self, tab: Tab) -> None:
         """Send what waits for ``tab``: texts, the newest status, the newest frame."""
@@ -238,6 +281,9 @@ class LiveServer:
                 if tab.status is not None:
                     status, tab.status = tab.status, None
                     await tab.ws.send_json({"type": "status", **status})
+                if tab.view is not None:
+                    view, tab.view = tab.view, None
+                    await tab.ws.send_json(view)
                 if tab.frame is not None:
                     frame, tab.frame = tab.frame, None
                     await tab.ws.send_bytes(frame)
@@ -261,8 +307,14 @@ class LiveServer:
 
     def push_status(self) -> None:
         status = self.conductor.status()
+        view = None
         for tab in self.tabs:
             tab.status = status
+            if tab.role == "experimenter":
+                if view is None:
+                    roles = [(t.role, t.frames_dropped) for t in self.tabs]
+                    view = experimenter_view(self.conductor, roles)
+                tab.view = view
             tab.wake.set()
 
     async def _status_loop(self) -> None:
