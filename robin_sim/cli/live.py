@@ -122,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
         print("robin-pil live: every request needs the token in that URL", flush=True)
     if not args.no_browser:
         webbrowser.open(url)
-    outcome = asyncio.run(LiveServer(conductor, token=token).serve(sock))
+    outcome = asyncio.run(LiveServer(conductor, token=token, host=host).serve(sock))
     for result in conductor.results:
         print(
             f"robin-pil live: session {result.get('session')}: {result.get('status')}, "

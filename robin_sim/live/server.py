@@ -18,7 +18,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import errno
-import ipaddress
 import json
 import logging
 import secrets
@@ -30,40 +29,26 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-from urllib.parse import urlsplit
 
 from aiohttp import WSMsgType, web
 
 from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
+from robin_sim.live.connections import Connections, GuardedSite, Limits
+from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
 
 LOG = logging.getLogger(__name__)
-LOOPBACK_NAMES = ("localhost",)
+__all__ = ["LiveServer", "bind", "is_loopback", "new_token"]
 STATIC_DIR = Path(__file__).with_name("static")
 STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css"}  # all /static/ serves
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
 SEND_BUFFER_BYTES = 128 * 1024  # kernel send buffer of a tab's socket: a few frames, not seconds
+EXAMPLE = '{"type": "thumb", "value": "up"}'  # a valid message, for error replies
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
-SECURITY_HEADERS = {
-    "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; "
-    "connect-src 'self'; style-src 'self'; script-src 'self'",
-    "X-Content-Type-Options": "nosniff",
-    "Cache-Control": "no-store",
-}
-
-
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` is reachable only from this machine."""
-    if host in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
 
 
 def bind(host: str, port: int) -> socket.socket:
@@ -78,7 +63,7 @@ def bind(host: str, port: int) -> socket.socket:
     try:
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         sock.bind(address)
-        sock.listen(64)
+        sock.listen(128)
     except OSError as problem:
         sock.close()
         if problem.errno == errno.EADDRINUSE:
@@ -135,11 +120,22 @@ class Tab:
 class LiveServer:
     """The aiohttp application of one run; :meth:`serve` returns the run's final status."""
 
-    def __init__(self, conductor: Conductor, *, token: str | None = None) -> None:
+    def __init__(
+        self, conductor: Conductor, *, token: str | None = None, host: str | None = None,
+        limits: Limits | None = None,
+    ) -> None:  # fmt: skip
+        """``host``: the ``--host`` given (None: the bound address); ``limits``: the bounds
+        on HTTP clients (:class:`~robin_sim.live.connections.Limits`)."""
         self.conductor = conductor
         self.token = token
         self.tabs: list[Tab] = []
-        self.app = web.Application(middlewares=[self._guard], client_max_size=64 * 1024)
+        self.limits = limits or Limits()
+        self.connections = Connections(self.limits)
+        self.guard = Guard(host, on_request=self.connections.served)  # Host, Origin, headers
+        self.app = web.Application(middlewares=[self.guard.middleware, self._guard],
+                                   client_max_size=64 * 1024)  # fmt: skip
+        self.guard.install(self.app)
+        self._hurry: asyncio.Event | None = None  # set by a signal while the tabs close
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
         self.app.router.add_get("/ws", self._websocket)
@@ -150,19 +146,13 @@ class LiveServer:
     # --- HTTP -------------------------------------------------------------------------------
     @web.middleware
     async def _guard(self, request: web.Request, handler: Any) -> web.StreamResponse:
-        """403 without the token (when one is required) or from another site's page."""
+        """403 without the token (when one is required); Host and Origin: :class:`Guard`."""
         if self.token is not None:
             given = request.query.get("token", "")
             if not secrets.compare_digest(given.encode(), self.token.encode()):
                 return web.Response(status=403, text="403: this server needs ?token=... "
                                     "(the URL printed when it started)\n")  # fmt: skip
-        origin = request.headers.get("Origin")
-        if origin is not None and urlsplit(origin).netloc != request.host:
-            return web.Response(status=403, text="403: requests from other sites' pages\n")
-        response = await handler(request)
-        if not isinstance(response, web.WebSocketResponse):
-            response.headers.update(SECURITY_HEADERS)
-        return response
+        return await handler(request)
 
     def _query(self) -> str:
         return "" if self.token is None else f"?token={self.token}"
@@ -226,6 +216,11 @@ class LiveServer:
             await self.conductor.receive(data)  # checked with parse_input, then acted on
         except LiveInputError as problem:
             tab.send(_error(str(problem)))
+        except Exception as problem:  # never lets one message end the session
+            LOG.warning("a message could not be handled: %s: %.200s", type(problem).__name__,
+                        problem)  # fmt: skip
+            tab.send(_error(f"this message could not be handled ({type(problem).__name__}); "
+                            f"send one JSON object such as {EXAMPLE}"))  # fmt: skip
 
     async def _sender(self, tab: Tab) -> None:
         """Send what waits for ``tab``: texts, the newest status, the newest frame."""
@@ -275,17 +270,22 @@ class LiveServer:
         """Serve on the listening ``sock`` until the run ends; return its final status.
         ``handle_signals``: SIGINT / SIGTERM save the session (main thread only)."""
         loop = self._loop = asyncio.get_running_loop()
+        self._hurry = asyncio.Event()
+        self.guard.hosts.bind_to(sock)
+        handle_exception = loop.get_exception_handler()
+        loop.set_exception_handler(self.connections.loop_exception)
         self.conductor.attach(loop, self.frame_from_physics)
         signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
         runner = web.AppRunner(
-            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0
-        )
+            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0,
+            keepalive_timeout=self.limits.header_timeout_s,  # also bounds unfinished headers
+        )  # fmt: skip
         await runner.setup()
         status_task = None
         try:
-            await web.SockSite(runner, sock).start()
+            await GuardedSite(runner, sock, self.connections).start()
             status_task = asyncio.create_task(self._status_loop())
             outcome = await self.conductor.finished()
             self.push_status()  # the last status reaches every tab before the sockets close
@@ -293,12 +293,33 @@ class LiveServer:
         finally:
             if status_task is not None:
                 status_task.cancel()
-            for tab in list(self.tabs):
-                await tab.ws.close(code=1001, message=b"the session has ended")
+            await self._close_tabs()
+            self.connections.abort_all()  # a client that never reads holds nothing up
             await runner.cleanup()
             for signum in signals:
                 loop.remove_signal_handler(signum)
+            loop.set_exception_handler(handle_exception)
         return outcome
+
+    async def _close_tabs(self) -> None:
+        """Say goodbye to every tab, for at most ``limits.close_timeout_s`` (less on a signal)."""
+        goodbye = b"the session has ended"
+        closing = [asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
+                   for tab in list(self.tabs)]  # fmt: skip
+        if not closing:
+            return
+        assert self._hurry is not None
+        hurry = asyncio.ensure_future(self._hurry.wait())
+        await asyncio.wait([asyncio.gather(*closing, return_exceptions=True), hurry],
+                           timeout=self.limits.close_timeout_s,
+                           return_when=asyncio.FIRST_COMPLETED)  # fmt: skip
+        hurry.cancel()
+        late = [task for task in closing if not task.done()]
+        for task in late:
+            task.cancel()
+        if late:
+            LOG.warning("%d tab(s) did not take the goodbye in time; their connections were "
+                        "dropped", len(late))  # fmt: skip
 
     def stop_soon(self) -> None:
         """From any thread: end the run as if signalled (the session saved ``interrupted``)."""
@@ -307,6 +328,8 @@ class LiveServer:
 
     def _signalled(self, signum: int) -> None:
         LOG.warning("%s: saving the session", signal.Signals(signum).name)
+        if self._hurry is not None:
+            self._hurry.set()  # the tabs' goodbyes are cut short too
         self.conductor.interrupt()
 
 
