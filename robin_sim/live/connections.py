@@ -11,7 +11,9 @@ protocol for each accepted socket (:class:`GuardedConnection`) and keeps at most
 the cap closes the oldest connection that has not yet sent a whole request (a half-open one,
 the cheapest to lose); if every connection is serving, the newcomer gets a short 503. The
 loop's exception handler (:meth:`Connections.loop_exception`) logs an accept failure once, in
-one line. :meth:`Connections.abort_all` drops whatever is left when the server stops, so a
+one line, and :data:`HTTP_LOG`, aiohttp's logger here, logs a client that went away while being
+answered (a closed tab: ``ClientConnectionResetError``) in one line, without the traceback.
+:meth:`Connections.abort_all` drops whatever is left when the server stops, so a
 client that never reads cannot hold the exit up.
 """
 
@@ -28,12 +30,28 @@ from typing import Any
 from aiohttp import web
 
 LOG = logging.getLogger(__name__)
+HTTP_LOG = logging.getLogger("robin_sim.live.http")  # given to aiohttp's request handlers
 RESERVED_FDS = 128  # descriptors kept for the engine: MuJoCo, EGL, the MP4 encoder, the logs
 BUSY_BODY = b"503: too many connections now\r\n"
 BUSY_REPLY = (
     b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nConnection: close\r\n"
     b"Content-Length: %d\r\n\r\n%s" % (len(BUSY_BODY), BUSY_BODY)
 )
+
+
+class OneLineDisconnects(logging.Filter):
+    """A record about a connection the client closed or reset: one line, no traceback."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        error = record.exc_info[1] if record.exc_info else None
+        if isinstance(error, ConnectionError):
+            record.msg = "a client went away while being answered (%s: %s)"
+            record.args = (type(error).__name__, error)
+            record.exc_info = record.exc_text = None
+        return True
+
+
+HTTP_LOG.addFilter(OneLineDisconnects())
 
 
 @dataclass(frozen=True)
@@ -149,6 +167,9 @@ class Connections:
         if isinstance(error, OSError) and "accept" in str(context.get("message", "")):
             self._say_once("accept", "cannot accept connections: %s (the process is out of "
                            "descriptors or memory); retrying", error.strerror or error)  # fmt: skip
+            return
+        if isinstance(error, ConnectionError):  # a client went away under a callback
+            LOG.warning("a client went away (%s: %s)", type(error).__name__, error)
             return
         loop.default_exception_handler(context)
 

@@ -34,7 +34,7 @@ from aiohttp import WSMsgType, web
 
 from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
-from robin_sim.live.connections import Connections, GuardedSite, Limits
+from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits
 from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
@@ -281,6 +281,7 @@ class LiveServer:
         runner = web.AppRunner(
             self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0,
             keepalive_timeout=self.limits.header_timeout_s,  # also bounds unfinished headers
+            logger=HTTP_LOG,  # a closed tab: one line, no traceback
         )  # fmt: skip
         await runner.setup()
         status_task = None
