@@ -22,6 +22,7 @@ import logging
 import re
 import socket
 from collections.abc import Awaitable, Callable
+from typing import Any
 from urllib.parse import urlsplit
 
 from aiohttp import web
@@ -75,9 +76,8 @@ class HostCheck:
         if self.wildcard:
             self.names.update(n.lower() for n in (socket.gethostname(), socket.getfqdn()) if n)
 
-    def bind_to(self, sock: socket.socket) -> None:
-        """Take the bound address and port from the listening socket."""
-        address = sock.getsockname()
+    def bind_to(self, address: tuple[Any, ...]) -> None:
+        """Take the bound address and port (the listening socket's ``getsockname()``)."""
         self.bound, self.port = str(address[0]).lower(), int(address[1])
         if self.given is None and not is_loopback(self.bound):
             self.wildcard = self.bound in WILDCARDS

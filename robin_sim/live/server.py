@@ -271,7 +271,7 @@ class LiveServer:
         ``handle_signals``: SIGINT / SIGTERM save the session (main thread only)."""
         loop = self._loop = asyncio.get_running_loop()
         self._hurry = asyncio.Event()
-        self.guard.hosts.bind_to(sock)
+        self.guard.hosts.bind_to(sock.getsockname())
         handle_exception = loop.get_exception_handler()
         loop.set_exception_handler(self.connections.loop_exception)
         self.conductor.attach(loop, self.frame_from_physics)
