@@ -12,7 +12,8 @@ the cap closes the oldest connection that has not yet sent a whole request (a ha
 the cheapest to lose); if every connection is serving, the newcomer gets a short 503. The
 loop's exception handler (:meth:`Connections.loop_exception`) logs an accept failure once, in
 one line, and :data:`HTTP_LOG`, aiohttp's logger here, logs a client that went away while being
-answered (a closed tab: ``ClientConnectionResetError``) in one line, without the traceback.
+answered (a closed tab: ``ClientConnectionResetError``) or malformed HTTP (a 400) in one
+line, without the traceback.
 :meth:`Connections.abort_all` drops whatever is left when the server stops, so a
 client that never reads cannot hold the exit up.
 """
@@ -28,6 +29,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from aiohttp import web
+from aiohttp.http_exceptions import HttpProcessingError
 
 LOG = logging.getLogger(__name__)
 HTTP_LOG = logging.getLogger("robin_sim.live.http")  # given to aiohttp's request handlers
@@ -39,19 +41,25 @@ BUSY_REPLY = (
 )
 
 
-class OneLineDisconnects(logging.Filter):
-    """A record about a connection the client closed or reset: one line, no traceback."""
+class OneLineClientErrors(logging.Filter):
+    """A record about a client's fault (it went away, or sent malformed HTTP): one warning
+    line, no traceback."""
 
     def filter(self, record: logging.LogRecord) -> bool:
         error = record.exc_info[1] if record.exc_info else None
         if isinstance(error, ConnectionError):
             record.msg = "a client went away while being answered (%s: %s)"
-            record.args = (type(error).__name__, error)
-            record.exc_info = record.exc_text = None
+        elif isinstance(error, HttpProcessingError):
+            record.msg = "refused a malformed request (%s: %s)"
+        else:
+            return True
+        record.args = (type(error).__name__, " ".join(str(error).split())[:200])
+        record.exc_info, record.exc_text = None, None
+        record.levelno, record.levelname = logging.WARNING, "WARNING"
         return True
 
 
-HTTP_LOG.addFilter(OneLineDisconnects())
+HTTP_LOG.addFilter(OneLineClientErrors())
 
 
 @dataclass(frozen=True)
@@ -105,7 +113,8 @@ class GuardedConnection(asyncio.Protocol):
             self.inner.resume_writing()
 
     def connection_lost(self, exc: Exception | None) -> None:
-        if self.owner.release(self):
+        self.owner.release(self)
+        if self.admitted:
             self.inner.connection_lost(exc)
 
 
@@ -140,10 +149,10 @@ class Connections:
         self.open[connection.transport] = connection
         return True
 
-    def release(self, connection: GuardedConnection) -> bool:
-        """Forget a closed connection; whether aiohttp had it."""
-        transport = connection.transport
-        return transport is not None and self.open.pop(transport, None) is not None
+    def release(self, connection: GuardedConnection) -> None:
+        """Forget a closed connection."""
+        if connection.transport is not None:
+            self.open.pop(connection.transport, None)
 
     def served(self, request: web.Request) -> None:
         """The app got a whole request on this connection: it is no longer half-open."""
@@ -157,9 +166,11 @@ class Connections:
             self._forget(connection)
 
     def _forget(self, connection: GuardedConnection) -> None:
+        """Drop ``connection`` now (its ``connection_lost`` follows in the next loop pass)."""
         transport = connection.transport
         if transport is not None:
-            transport.abort()  # connection_lost follows and releases it
+            self.open.pop(transport, None)
+            transport.abort()
 
     def loop_exception(self, loop: asyncio.AbstractEventLoop, context: dict[str, Any]) -> None:
         """The loop's exception handler: resource errors of ``accept()`` in one line, once."""
