@@ -33,7 +33,10 @@ from aiohttp.http_exceptions import HttpProcessingError
 
 LOG = logging.getLogger(__name__)
 HTTP_LOG = logging.getLogger("robin_sim.live.http")  # given to aiohttp's request handlers
-RESERVED_FDS = 128  # descriptors kept for the engine: MuJoCo, EGL, the MP4 encoder, the logs
+RESERVED_FDS = 96  # descriptors kept for the engine (a running session holds about 12), logs
+# Connections asyncio accepts in one go (the listen backlog too): each holds a descriptor until
+# the loop's next pass, and one dropped for it holds its own until then: the cap leaves room.
+ACCEPT_BURST = 16
 BUSY_BODY = b"503: too many connections now\r\n"
 BUSY_REPLY = (
     b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nConnection: close\r\n"
@@ -75,7 +78,7 @@ class Limits:
         soft, _ = resource.getrlimit(resource.RLIMIT_NOFILE)
         if soft == resource.RLIM_INFINITY:
             return self.max_connections
-        return max(4, min(self.max_connections, soft - RESERVED_FDS))
+        return max(4, min(self.max_connections, soft - RESERVED_FDS - 4 * ACCEPT_BURST))
 
 
 class GuardedConnection(asyncio.Protocol):
@@ -194,7 +197,7 @@ class GuardedSite(web.SockSite):
     """A :class:`aiohttp.web.SockSite` whose connections go through :class:`Connections`."""
 
     def __init__(self, runner: web.BaseRunner, sock: Any, connections: Connections) -> None:
-        super().__init__(runner, sock, backlog=128)
+        super().__init__(runner, sock, backlog=ACCEPT_BURST)
         self.connections = connections
 
     async def start(self) -> None:

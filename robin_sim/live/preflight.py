@@ -23,9 +23,15 @@ def check_writable(folder: Path, option: str = "--out") -> None:
     """``folder`` (made later if missing) can take new files; else one clear error."""
     folder = Path(folder)
     existing = folder
-    while not existing.exists() and existing != existing.parent:
-        existing = existing.parent
-    if not existing.is_dir():
+    try:
+        while not existing.exists() and existing != existing.parent:
+            existing = existing.parent
+        is_dir = existing.is_dir()
+    except OSError as error:  # a folder on the way that may not be looked into
+        raise RobinPilError(f"{option} {quote(str(folder))} cannot be reached: "
+                            f"{error.strerror or error}; choose a folder you can write "
+                            "to") from None  # fmt: skip
+    if not is_dir:
         raise RobinPilError(f"{option} {quote(str(folder))}: {quote(str(existing))} is a file, "
                             "not a folder; choose a folder you can write to")  # fmt: skip
     try:
