@@ -34,9 +34,10 @@ from aiohttp.http_exceptions import HttpProcessingError
 LOG = logging.getLogger(__name__)
 HTTP_LOG = logging.getLogger("robin_sim.live.http")  # given to aiohttp's request handlers
 RESERVED_FDS = 96  # descriptors kept for the engine (a running session holds about 12), logs
-# Connections asyncio accepts in one go (the listen backlog too): each holds a descriptor until
-# the loop's next pass, and one dropped for it holds its own until then: the cap leaves room.
+# Connections asyncio accepts in one go: each holds a descriptor until the loop's next pass, and
+# one dropped for it holds its own until then: the cap leaves room for a few bursts.
 ACCEPT_BURST = 16
+LISTEN_QUEUE = 128  # connections the kernel holds for us meanwhile (they cost no descriptor)
 BUSY_BODY = b"503: too many connections now\r\n"
 BUSY_REPLY = (
     b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nConnection: close\r\n"
@@ -208,3 +209,4 @@ class GuardedSite(web.SockSite):
         self._server = await loop.create_server(
             self.connections.factory(server), sock=self._sock, backlog=self._backlog
         )
+        self._sock.listen(LISTEN_QUEUE)  # asyncio's listen() took the burst size; Linux updates
