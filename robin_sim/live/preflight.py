@@ -16,6 +16,7 @@ from pil.errors import RobinPilError, quote
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionExistsError, session_folder
 
+PATH_LIMIT = 4200  # paths are shown whole (the system's own limit is 4096)
 RETRY_NAMES = ("retry", *(f"retry{n}" for n in range(2, 100)))  # suggested --session names
 
 
@@ -28,17 +29,17 @@ def check_writable(folder: Path, option: str = "--out") -> None:
             existing = existing.parent
         is_dir = existing.is_dir()
     except OSError as error:  # a folder on the way that may not be looked into
-        raise RobinPilError(f"{option} {quote(str(folder))} cannot be reached: "
+        raise RobinPilError(f"{option} {_shown(folder)} cannot be reached: "
                             f"{error.strerror or error}; choose a folder you can write "
                             "to") from None  # fmt: skip
     if not is_dir:
-        raise RobinPilError(f"{option} {quote(str(folder))}: {quote(str(existing))} is a file, "
+        raise RobinPilError(f"{option} {_shown(folder)}: {_shown(existing)} is a file, "
                             "not a folder; choose a folder you can write to")  # fmt: skip
     try:
         handle, name = tempfile.mkstemp(prefix=".robin-pil-write-check-", dir=existing)
     except OSError as error:
-        where = "" if existing == folder else f" (its folder {quote(str(existing))})"
-        raise RobinPilError(f"{option} {quote(str(folder))}{where} is not writable: "
+        where = "" if existing == folder else f" (its folder {_shown(existing)})"
+        raise RobinPilError(f"{option} {_shown(folder)}{where} is not writable: "
                             f"{error.strerror or error}; choose a folder you can write "
                             "to") from None  # fmt: skip
     os.close(handle)
@@ -57,7 +58,11 @@ def check_free(configs: Sequence[LiveConfig], folders_named: Callable[[str], lis
                          if not any(f.exists() for f in folders_named(n))), "retry100")  # fmt: skip
             shown = ", ".join(f.name for f in folders_named(name)[:2])
             raise RobinPilError(
-                f"session folder {quote(str(taken))} exists already (a session is never "
+                f"session folder {_shown(taken)} exists already (a session is never "
                 f"overwritten); to run again beside it, add --session {name} (folders {shown}"
                 f"{', ...' if len(folders_named(name)) > 2 else ''})"
             ) from None
+
+
+def _shown(path: Path) -> str:
+    return quote(str(path), PATH_LIMIT)
