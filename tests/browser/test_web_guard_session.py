@@ -98,6 +98,8 @@ def test_a_watcher_that_never_reads_does_not_hold_the_exit(live_server) -> None:
             await control.send_str('{"type": "end"}')
             ended = time.monotonic()
             assert (await until_phase(control, "done"))["status"] == "ended"
+            while not control.closed:  # read on, as a page does, until the server says goodbye
+                await control.receive(timeout=30)
             return ended
 
     try:
