@@ -310,9 +310,9 @@ class LiveServer:
         if not closing:
             return
         assert self._hurry is not None
-        hurry = asyncio.ensure_future(self._hurry.wait())
-        await asyncio.wait([asyncio.gather(*closing, return_exceptions=True), hurry],
-                           timeout=self.limits.close_timeout_s,
+        hurry: asyncio.Future[Any] = asyncio.ensure_future(self._hurry.wait())
+        goodbyes: asyncio.Future[Any] = asyncio.gather(*closing, return_exceptions=True)
+        await asyncio.wait([goodbyes, hurry], timeout=self.limits.close_timeout_s,
                            return_when=asyncio.FIRST_COMPLETED)  # fmt: skip
         hurry.cancel()
         late = [task for task in closing if not task.done()]

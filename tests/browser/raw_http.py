@@ -18,7 +18,7 @@ def exchange(port: int, request: bytes, timeout: float = 10.0) -> tuple[int, dic
         while chunk := sock.recv(65536):
             reply += chunk
             if b"\r\n\r\n" in reply:
-                status, headers, body = parse_reply(reply)
+                _, headers, body = parse_reply(reply)
                 if len(body) >= int(headers.get("content-length", "-1")) >= 0:
                     break
     return parse_reply(reply)
