@@ -123,3 +123,40 @@ def test_write_check_leaves_nothing_and_refuses_a_file(tmp_path: Path) -> None:
         check_writable(tmp_path / "file" / "P01")
     assert (tmp_path / "file").read_text() == "kept"
 
+
+
+def test_accept_out_of_descriptors_is_one_line_once(caplog) -> None:
+    import asyncio
+    import errno
+    import logging
+
+    from robin_sim.live.connections import Connections, Limits
+
+    connections = Connections(Limits())
+    loop = asyncio.new_event_loop()
+    try:
+        caplog.set_level(logging.WARNING)
+        for _ in range(50):  # what asyncio reports on every failed accept() retry
+            connections.loop_exception(loop, {
+                "message": "socket.accept() out of system resource",
+                "exception": OSError(errno.EMFILE, "Too many open files"),
+            })  # fmt: skip
+    finally:
+        loop.close()
+    assert len(caplog.records) == 1 and not caplog.records[0].exc_info
+    assert "Too many open files" in caplog.records[0].getMessage()
+
+
+def test_the_cap_follows_a_low_descriptor_limit() -> None:
+    import resource
+
+    from robin_sim.live.connections import ACCEPT_BURST, RESERVED_FDS, Limits
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (256, hard))
+    try:
+        cap = Limits(max_connections=500).connection_cap()
+    finally:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (soft, hard))
+    assert cap == 256 - RESERVED_FDS - 4 * ACCEPT_BURST
+    assert Limits(max_connections=10).connection_cap() == 10

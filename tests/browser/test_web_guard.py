@@ -14,7 +14,7 @@ from typing import Any
 
 import pytest
 from conftest import Served, start_server
-from raw_http import exchange, get, handshake, parse_reply
+from raw_http import exchange, get, handshake, parse_reply, reset, websocket
 
 from robin_sim.live.connections import Limits
 from robin_sim.live.session import LiveConfig
@@ -169,3 +169,23 @@ def test_500_half_open_requests_and_the_server_still_serves(guarded, caplog) -> 
             sock.close()
     lines = [r.getMessage() for r in caplog.records]
     assert len(lines) <= 3 and not any(r.exc_info for r in caplog.records), lines
+
+
+def test_closed_tabs_are_one_line_each_without_a_traceback(guarded, caplog) -> None:
+    served = guarded()
+    port = served.port
+    caplog.set_level(logging.WARNING)
+    control = websocket(port)  # the participant's tab stays; the others come and go
+    for i in range(40):  # the request sent, then the tab gone at once (a TCP reset)
+        sock = socket.create_connection(("127.0.0.1", port))
+        page = f"GET /static/live.js HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n\r\n".encode()
+        sock.sendall(handshake("/ws", port) if i % 2 else page)
+        reset(sock)
+    time.sleep(0.5)
+    assert get(port, "/")[0] == 200  # still serving
+    control.close()
+    records = caplog.records
+    assert not any(r.exc_info or r.exc_text for r in records), [r.getMessage() for r in records]
+    assert all("\n" not in r.getMessage() for r in records)
+    went = [r for r in records if "went away" in r.getMessage()]
+    assert all(r.levelno == logging.WARNING for r in went)
