@@ -72,7 +72,7 @@ class Limits:
 
     header_timeout_s: float = 10.0  # whole request headers within this of connecting / a reply
     max_connections: int = 64  # open at once (lowered to what the descriptor limit allows)
-    close_timeout_s: float = 2.0  # what closing the tabs may take when the run ends
+    close_timeout_s: float = 1.0  # what closing the tabs may take when the run ends
 
     def connection_cap(self) -> int:
         """:attr:`max_connections`, or fewer when the process may open few descriptors."""

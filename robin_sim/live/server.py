@@ -136,6 +136,7 @@ class LiveServer:
                                    client_max_size=64 * 1024)  # fmt: skip
         self.guard.install(self.app)
         self._hurry: asyncio.Event | None = None  # set by a signal while the tabs close
+        self._closing = False  # the run is over: the tabs are being told
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
         self.app.router.add_get("/ws", self._websocket)
@@ -303,7 +304,9 @@ class LiveServer:
         return outcome
 
     async def _close_tabs(self) -> None:
-        """Say goodbye to every tab, for at most ``limits.close_timeout_s`` (less on a signal)."""
+        """Say goodbye to every tab, for at most ``limits.close_timeout_s`` (cut short by a
+        signal meanwhile)."""
+        self._closing = True
         goodbye = b"the session has ended"
         closing = [asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
                    for tab in list(self.tabs)]  # fmt: skip
@@ -329,8 +332,8 @@ class LiveServer:
 
     def _signalled(self, signum: int) -> None:
         LOG.warning("%s: saving the session", signal.Signals(signum).name)
-        if self._hurry is not None:
-            self._hurry.set()  # the tabs' goodbyes are cut short too
+        if self._closing and self._hurry is not None:
+            self._hurry.set()  # Ctrl-C while the tabs are told: drop them now
         self.conductor.interrupt()
 
 

@@ -87,7 +87,9 @@ def test_few_descriptors_500_half_open_requests_and_ctrl_c_with_frozen_tabs(tmp_
         process.send_signal(signal.SIGINT)
         signalled = time.monotonic()
         code, _, err = stopped(process, timeout=30)
-        assert time.monotonic() - signalled < 5.0, "Ctrl-C waited on the frozen tabs"
+        # saving the session and leaving the process take a few seconds on a loaded machine;
+        # the frozen tabs add at most the goodbye's 1 s (before: a minute or more)
+        assert time.monotonic() - signalled < 8.0, "Ctrl-C waited on the frozen tabs"
     finally:
         for sock in frozen:
             sock.close()
