@@ -154,12 +154,12 @@ class Guard:
         host = request.headers.get("Host")
         if not self.hosts.allows(host):
             self.log.note("Host", str(host), self.hosts.shown())
-            return web.Response(status=421, text="421: this server answers only to its own "
-                                "address (e.g. http://127.0.0.1:PORT/)\n")  # fmt: skip
+            return _refusal(421, "421: this server answers only to its own address (e.g. "
+                            "http://127.0.0.1:PORT/)\n")  # fmt: skip
         origin = request.headers.get("Origin")
         if origin is not None and not self.hosts.allows_origin(origin):
             self.log.note("Origin", origin, self.hosts.shown())
-            return web.Response(status=403, text="403: requests from other sites' pages\n")
+            return _refusal(403, "403: requests from other sites' pages\n")
         return await handler(request)
 
     @staticmethod
@@ -170,3 +170,10 @@ class Guard:
     def install(self, app: web.Application) -> None:
         """Put the headers on every response of ``app`` (the middleware is given to it)."""
         app.on_response_prepare.append(self.add_headers)
+
+
+def _refusal(status: int, text: str) -> web.Response:
+    """A short refusal that also closes the connection (a refused client keeps nothing open)."""
+    response = web.Response(status=status, text=text)
+    response.force_close()
+    return response

@@ -80,8 +80,8 @@ def test_origin_is_checked_against_the_allow_list(guarded) -> None:
                    f"https://127.0.0.1:{port}"):  # fmt: skip
         status, _, _ = get(port, "/", extra=f"Origin: {origin}\r\n")
         assert status == 403, origin
-        status, _, _ = exchange(port, handshake("/ws", port, extra=f"Origin: {origin}\r\n"))
-        assert status == 403, origin
+        status, headers, _ = exchange(port, handshake("/ws", port, extra=f"Origin: {origin}\r\n"))
+        assert status == 403 and headers.get("connection") == "close", (origin, headers)
     assert served.conductor.phase == "waiting"
     status, _, _ = get(port, "/", extra=f"Origin: http://localhost:{port}\r\n")
     assert status == 200
