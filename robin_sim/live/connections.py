@@ -1,4 +1,5 @@
-"""The live server's connections: a cap, the cheapest dropped first, and quiet resource errors.
+"""The live server's connections: the listening socket (:func:`bind`), a cap on connections,
+the cheapest dropped first, and quiet resource errors.
 
 aiohttp closes a connection whose request headers are not complete within its
 ``keepalive_timeout`` of connecting (or of the previous response), which this server sets to
@@ -21,8 +22,10 @@ client that never reads cannot hold the exit up.
 from __future__ import annotations
 
 import asyncio
+import errno
 import logging
 import resource
+import socket
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -30,6 +33,8 @@ from typing import Any
 
 from aiohttp import web
 from aiohttp.http_exceptions import HttpProcessingError
+
+from pil.errors import RobinPilError, quote
 
 LOG = logging.getLogger(__name__)
 HTTP_LOG = logging.getLogger("robin_sim.live.http")  # given to aiohttp's request handlers
@@ -210,3 +215,26 @@ class GuardedSite(web.SockSite):
             self.connections.factory(server), sock=self._sock, backlog=self._backlog
         )
         self._sock.listen(LISTEN_QUEUE)  # asyncio's listen() took the burst size; Linux updates
+
+
+def bind(host: str, port: int) -> socket.socket:
+    """A listening socket on ``host``:``port``, or one clear error."""
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except socket.gaierror as problem:
+        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
+                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
+    family, _, _, _, address = infos[0]
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind(address)
+        sock.listen(128)
+    except OSError as problem:
+        sock.close()
+        if problem.errno == errno.EADDRINUSE:
+            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
+                                "(or --port 0 for any free one)") from None  # fmt: skip
+        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
+    sock.setblocking(False)
+    return sock

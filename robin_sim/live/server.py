@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import errno
 import json
 import logging
 import secrets
@@ -32,9 +31,8 @@ from typing import Any
 
 from aiohttp import WSMsgType, web
 
-from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
-from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits
+from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits, bind
 from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
@@ -49,29 +47,6 @@ MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refu
 SEND_BUFFER_BYTES = 128 * 1024  # kernel send buffer of a tab's socket: a few frames, not seconds
 EXAMPLE = '{"type": "thumb", "value": "up"}'  # a valid message, for error replies
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
-
-
-def bind(host: str, port: int) -> socket.socket:
-    """A listening socket on ``host``:``port``, or one clear error."""
-    try:
-        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
-    except socket.gaierror as problem:
-        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
-                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
-    family, _, _, _, address = infos[0]
-    sock = socket.socket(family, socket.SOCK_STREAM)
-    try:
-        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        sock.bind(address)
-        sock.listen(128)
-    except OSError as problem:
-        sock.close()
-        if problem.errno == errno.EADDRINUSE:
-            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
-                                "(or --port 0 for any free one)") from None  # fmt: skip
-        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
-    sock.setblocking(False)
-    return sock
 
 
 def new_token() -> str:
