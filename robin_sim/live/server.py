@@ -110,8 +110,6 @@ class LiveServer:
         self.app = web.Application(middlewares=[self.guard.middleware, self._guard],
                                    client_max_size=64 * 1024)  # fmt: skip
         self.guard.install(self.app)
-        self._hurry: asyncio.Event | None = None  # set by a signal while the tabs close
-        self._closing = False  # the run is over: the tabs are being told
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
         self.app.router.add_get("/ws", self._websocket)
@@ -246,7 +244,6 @@ class LiveServer:
         """Serve on the listening ``sock`` until the run ends; return its final status.
         ``handle_signals``: SIGINT / SIGTERM save the session (main thread only)."""
         loop = self._loop = asyncio.get_running_loop()
-        self._hurry = asyncio.Event()
         self.guard.hosts.bind_to(sock.getsockname())
         handle_exception = loop.get_exception_handler()
         loop.set_exception_handler(self.connections.loop_exception)
@@ -279,20 +276,17 @@ class LiveServer:
         return outcome
 
     async def _close_tabs(self) -> None:
-        """Say goodbye to every tab, for at most ``limits.close_timeout_s`` (cut short by a
-        signal meanwhile)."""
-        self._closing = True
+        """Say goodbye to every tab, for at most ``limits.close_timeout_s``: a tab that does not
+        read is then dropped (a signal meanwhile waits no longer than that)."""
         goodbye = b"the session has ended"
         closing = [asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
                    for tab in list(self.tabs)]  # fmt: skip
         if not closing:
             return
-        assert self._hurry is not None
-        hurry: asyncio.Future[Any] = asyncio.ensure_future(self._hurry.wait())
-        goodbyes: asyncio.Future[Any] = asyncio.gather(*closing, return_exceptions=True)
-        await asyncio.wait([goodbyes, hurry], timeout=self.limits.close_timeout_s,
-                           return_when=asyncio.FIRST_COMPLETED)  # fmt: skip
-        hurry.cancel()
+        await asyncio.wait(closing, timeout=self.limits.close_timeout_s)
+        for task in closing:
+            if task.done() and not task.cancelled():
+                task.exception()  # a failed goodbye is no error: the tab is gone either way
         late = [task for task in closing if not task.done()]
         for task in late:
             task.cancel()
@@ -307,8 +301,6 @@ class LiveServer:
 
     def _signalled(self, signum: int) -> None:
         LOG.warning("%s: saving the session", signal.Signals(signum).name)
-        if self._closing and self._hurry is not None:
-            self._hurry.set()  # Ctrl-C while the tabs are told: drop them now
         self.conductor.interrupt()
 
 
