@@ -113,6 +113,10 @@ class LiveSession:
         except LiveInputError as error:
             self._log_input(item.as_dict(), str(error))
             raise
+        except Exception as problem:  # logged and refused: the session goes on
+            refused = LiveInputError(f"{item.kind}: could not be acted on ({problem!r:.200})")
+            self._log_input(item.as_dict(), str(refused))
+            raise refused from None
         self._log_input(item.as_dict(), "")
 
     def subscribe(self, callback: Callable[[Frame], None]) -> Callable[[], None]:

@@ -43,9 +43,11 @@ class Served:
         return self.outcome[0]
 
 
-def start_server(configs: Sequence[LiveConfig], token: str | None = None) -> Served:
+def start_server(
+    configs: Sequence[LiveConfig], token: str | None = None, **server_options: Any
+) -> Served:
     conductor = Conductor(configs)
-    server = LiveServer(conductor, token=token)
+    server = LiveServer(conductor, token=token, **server_options)
     sock = bind("127.0.0.1", 0)
     port = sock.getsockname()[1]
     served: Served
