@@ -14,7 +14,7 @@ import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from robin_sim.live.experimenter import Command
+from robin_sim.live.commands import Command
 from robin_sim.live.inputs import LiveInputError, parse_input
 from robin_sim.live.session import Frame, LiveConfig, LiveSession
 

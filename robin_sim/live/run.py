@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from pil.experiments.systems import test_parts
 from pil.task.parts import RunParts
@@ -103,3 +104,25 @@ class LiveRun(ClosesOnExit):
         finally:
             if self.log is not None:
                 self.log.close()
+
+
+def pacing_figures(run: LiveRun | None, speed: float, paused: bool) -> dict[str, Any]:
+    """The stream's and the pacer's figures of a running session now."""
+    stream = None if run is None else run.stream
+    pacer = None if run is None else run.pacer
+    stats = None if stream is None else stream.stats
+    figures: dict[str, Any] = {
+        "frames": 0, "stream_fps": None, "latency_ms": None, "frame_ms": None,
+        "behind_s": None if pacer is None else round(pacer.behind_s, 3),
+        "slips": None if pacer is None else pacer.slips,
+        "lag_s": None if pacer is None else round(pacer.lag_s, 3),
+        "speed": speed, "paused": paused,
+    }  # fmt: skip
+    if stats is not None and stats.frames:
+        figures.update(
+            frames=stats.frames,
+            stream_fps=None if stats.fps is None else round(stats.fps, 2),
+            latency_ms={"median": stats.latency_ms(0.5), "p95": stats.latency_ms(0.95)},
+            frame_ms=round((stats.render_s + stats.encode_s) / stats.frames * 1000, 1),
+        )
+    return figures

@@ -31,9 +31,10 @@ from typing import Any
 
 from aiohttp import WSMsgType, web
 
+from robin_sim.live.commands import parse_command
 from robin_sim.live.conductor import Conductor
 from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits, bind
-from robin_sim.live.experimenter import experimenter_view, parse_command
+from robin_sim.live.experimenter import experimenter_view
 from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame

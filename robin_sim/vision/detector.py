@@ -25,6 +25,7 @@ import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import Feedback, Gesture
+from robin_sim.control.gaze import look_at
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
 from robin_sim.person.gestures import GestureDisplay, pose_for
@@ -32,7 +33,6 @@ from robin_sim.person.hand_poses import Performance
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, load_shipped
 from robin_sim.vision.condition_params import CONDITION_PARAMS
 from robin_sim.vision.eyes import Condition, EyeCameras
-from robin_sim.vision.gaze import look_at
 from robin_sim.vision.picture import reading_picture
 from robin_sim.vision.reader import Reading, read_views, see
 from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
