@@ -1,0 +1,128 @@
+"""``robin-pil replay``: the states logged while a run records, re-rendered to the same frames.
+
+The episode runs in MuJoCo and renders with EGL for real; the replay's frames are decoded from
+both MP4s with PyAV and compared pixel by pixel.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import av
+import mujoco
+import numpy as np
+import pytest
+
+from robin_sim.render.gl_backend import ensure_gl_backend
+
+ensure_gl_backend()
+
+from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
+from robin_sim.cli.main import main  # noqa: E402
+from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.render.state_log import STATES_NAME, StateLog, load_states  # noqa: E402
+from robin_sim.render.worker import FrameState  # noqa: E402
+
+ONE_HANDOVER = SCENARIOS_DIR / "one_handover.yaml"
+COMPARED = 12  # frames decoded from each video
+# Tolerance: both videos are H.264 (crf 23) of the frames; identical renders encode identically,
+# so any difference comes from the render. Allowed: a mean of 0.5 levels, 8 levels at most in
+# 99.9 % of the values (antialiased edges of a moved part would exceed both).
+MEAN_LEVELS, PIXEL_LEVELS, PIXEL_SHARE = 0.5, 8, 0.999
+
+
+def _frames(path: Path, count: int) -> list[np.ndarray]:
+    with av.open(str(path)) as container:
+        frames = []
+        for frame in container.decode(container.streams.video[0]):
+            frames.append(frame.to_ndarray(format="rgb24").astype(np.int16))
+            if len(frames) == count:
+                break
+    return frames
+
+
+@pytest.mark.slow
+def test_replay_of_an_episode_renders_the_frames_of_its_video(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "episode"
+    summary = run_episode(EpisodeConfig(scenario=ONE_HANDOVER, out=out, width=160, height=120,
+                                        fps=5, render_workers=0, verify=False,
+                                        progress=False))  # fmt: skip
+    assert summary["status"] == "finished"
+    assert sorted(p.name for p in out.iterdir()) == [
+        "episode.jsonl", "episode.mp4", STATES_NAME, "summary.json"]  # fmt: skip
+    assert "states" not in json.dumps(summary)  # the summary is as before: no new field
+    recorded = load_states(out / STATES_NAME)
+    assert recorded.video_frames == summary["video"]["frames"]
+    assert (out / STATES_NAME).stat().st_size < 60_000 + 300 * len(recorded.states)  # compact
+    capsys.readouterr()
+    assert main(["replay", str(out), "--to", "6"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["path"] == str(out / "replay.mp4")
+    original, replayed = _frames(out / "episode.mp4", COMPARED), _frames(out / "replay.mp4", 99)
+    assert len(replayed) == result["video_frames"] and len(replayed) >= COMPARED
+    assert not np.array_equal(original[0], original[-1])  # the robot moves in these frames
+    for k, (a, b) in enumerate(zip(original, replayed, strict=False)):
+        difference = np.abs(a - b)
+        assert difference.mean() <= MEAN_LEVELS, k
+        assert (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE, k
+    # a frame shifted by one is not a match: the comparison can fail
+    assert np.abs(original[-1] - replayed[1]).mean() > MEAN_LEVELS
+    assert main(["replay", str(out)]) == 2  # replay.mp4 exists: never overwritten
+    assert "exists already" in capsys.readouterr().err
+
+
+def test_states_round_trip_with_geometry_changes_kept_only_where_they_change(
+    tmp_path: Path,
+) -> None:
+    model = build_model()
+    data = mujoco.MjData(model)
+    log = StateLog(tmp_path / STATES_NAME, {"layout": {}, "size": [8, 8]})
+    for step in range(5):
+        data.qpos[0] = 0.1 * step
+        if step == 3:
+            model.geom_rgba[2, 3] = 0.25
+        log.add(FrameState.capture(model, data), copies=1 + step % 2, overlay={"step": step})
+    assert log.save() == tmp_path / STATES_NAME and log.save() is None  # once
+    recorded = load_states(tmp_path / STATES_NAME)
+    assert [s.qpos[0] for s in recorded.states] == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.4])
+    assert [s.geom_rgba[2, 3] for s in recorded.states][2:] == pytest.approx([1.0, 0.25, 0.25])
+    assert list(recorded.copies) == [1, 2, 1, 2, 1] and recorded.video_frames == 7
+    assert [o["step"] for o in recorded.overlays] == [0, 1, 2, 3, 4]
+    with np.load(tmp_path / STATES_NAME) as raw:
+        assert list(raw["geom_frames"]) == [0, 3]
+    part = recorded.between(0.0, 0.0)
+    assert len(part.states) == 5  # all at simulated time 0 here
+
+
+@pytest.mark.parametrize(
+    ("make", "expected"),
+    [
+        (lambda d: d / "missing", "does not exist"),
+        (lambda d: (d / "file.txt").write_text("x") and d / "file.txt", "is a file"),
+        (lambda d: d, "is not a run's folder"),
+        (lambda d: (d / "summary.json").write_text("{}") and d, "has no states.npz"),
+        (lambda d: ((d / "a").mkdir(), (d / "a" / STATES_NAME).write_text("x"), d)[-1],
+         "holds 1 recorded runs"),
+    ],
+)  # fmt: skip
+def test_bad_dir_is_refused_with_exit_2(tmp_path: Path, capsys, make, expected: str) -> None:
+    folder = make(tmp_path)
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    assert main(["replay", str(folder)]) == 2
+    err = capsys.readouterr().err
+    assert expected in err and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written
+
+
+def test_unreadable_states_and_viewer_without_display(tmp_path: Path, capsys, monkeypatch) -> None:
+    (tmp_path / STATES_NAME).write_text("not a zip")
+    assert main(["replay", str(tmp_path)]) == 2
+    assert "not a readable states file" in capsys.readouterr().err
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert main(["replay", str(tmp_path), "--viewer"]) == 2
+    assert "--viewer needs a display" in capsys.readouterr().err
+    assert main(["replay", str(tmp_path), "--out", str(tmp_path / "x.avi")]) == 2
+    assert "ending in .mp4" in capsys.readouterr().err
