@@ -95,6 +95,15 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
     ]  # fmt: skip
 
 
+def questionnaires_of(args: argparse.Namespace) -> tuple[Any, ...]:
+    """The protocol's questionnaires (answered after each block); none without a protocol."""
+    if args.protocol is None:
+        return ()
+    from robin_sim.live.protocol import load_protocol
+
+    return load_protocol(args.protocol).questionnaires
+
+
 def run(args: argparse.Namespace) -> int:
     """Check everything, serve the page until the run ends; 130 when interrupted."""
     import asyncio
@@ -110,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.live.conductor import Conductor
     from robin_sim.live.server import LiveServer, bind, is_loopback, new_token
 
-    conductor = Conductor(session_configs(args))  # every session validated here
+    conductor = Conductor(session_configs(args), questionnaires_of(args))  # all validated here
     token = None if is_loopback(host) else new_token()
     sock = bind(host, port)
     bound_port = sock.getsockname()[1]
