@@ -43,8 +43,10 @@ class Served:
         return self.outcome[0]
 
 
-def start_server(configs: Sequence[LiveConfig], token: str | None = None) -> Served:
-    conductor = Conductor(configs)
+def start_server(
+    configs: Sequence[LiveConfig], token: str | None = None, questionnaires: Sequence[Any] = ()
+) -> Served:
+    conductor = Conductor(configs, questionnaires)
     server = LiveServer(conductor, token=token)
     sock = bind("127.0.0.1", 0)
     port = sock.getsockname()[1]
