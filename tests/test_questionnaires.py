@@ -163,3 +163,8 @@ def test_report_pairs_participants_who_rated_both_conditions(tmp_path: Path) -> 
     (tmp_path / "P09" / "block1-pil" / QUESTIONNAIRES_NAME).write_text("{not json\n")
     with pytest.raises(SessionsError, match=r"questionnaires.jsonl:1: not a questionnaire"):
         load_answers(tmp_path)
+
+
+def test_the_shipped_protocol_asks_nasa_tlx_and_godspeed() -> None:
+    protocol = load_protocol("reactive_vs_proactive")
+    assert [q.name for q in protocol.questionnaires] == ["nasa-tlx", "godspeed"]

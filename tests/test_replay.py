@@ -126,3 +126,33 @@ def test_unreadable_states_and_viewer_without_display(tmp_path: Path, capsys, mo
     assert "--viewer needs a display" in capsys.readouterr().err
     assert main(["replay", str(tmp_path), "--out", str(tmp_path / "x.avi")]) == 2
     assert "ending in .mp4" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_replay_of_a_live_session_renders_the_frames_of_its_video(tmp_path: Path, capsys) -> None:
+    import time
+
+    from robin_sim.live.config import LiveConfig
+    from robin_sim.live.session import LiveSession
+
+    session = LiveSession(LiveConfig(scenario="one_handover", out_root=tmp_path, session="s1",
+                                     speed=3.0, fps=10, width=160, height=120))  # fmt: skip
+    session.start()
+    try:
+        deadline = time.monotonic() + 90
+        while (session.latest_frame() is None or session.latest_frame().seq < 20) and \
+                time.monotonic() < deadline:  # fmt: skip
+            time.sleep(0.1)
+    finally:
+        summary = session.stop("ended")
+    folder = session.out_dir
+    assert summary["video"]["frames"] >= 20
+    capsys.readouterr()
+    assert main(["replay", str(folder), "--out", str(tmp_path / "again.mp4")]) == 0
+    original = _frames(folder / "episode.mp4", 999)
+    replayed = _frames(tmp_path / "again.mp4", 999)
+    assert len(replayed) == len(original) == summary["video"]["frames"]
+    for k in range(0, len(original), max(1, len(original) // COMPARED)):
+        difference = np.abs(original[k] - replayed[k])
+        assert difference.mean() <= MEAN_LEVELS, k
+        assert (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE, k
