@@ -156,3 +156,50 @@ def test_replay_of_a_live_session_renders_the_frames_of_its_video(tmp_path: Path
         difference = np.abs(original[k] - replayed[k])
         assert difference.mean() <= MEAN_LEVELS, k
         assert (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE, k
+
+
+def _get(port: int, target: str, host: str | None = None) -> tuple[int, dict[str, str], bytes]:
+    import http.client
+
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    connection.putrequest("GET", target, skip_host=True)
+    connection.putheader("Host", host or f"127.0.0.1:{port}")
+    connection.endheaders()
+    response = connection.getresponse()
+    body = response.read()
+    connection.close()
+    return response.status, {k.lower(): v for k, v in response.getheaders()}, body
+
+
+def test_the_scrub_page_serves_each_frame_rendered_again(tmp_path: Path) -> None:
+    import cv2
+    from replay_rig import recorded_run, serving
+
+    from robin_sim.replay.render import ReplayRenderer
+    from robin_sim.replay.serve import JPEG_QUALITY
+
+    path = recorded_run(tmp_path)
+    with ReplayRenderer(load_states(path)) as renderer:
+        expected = [renderer.render(k).astype(np.int16) for k in (0, 5)]
+    with serving(path) as port:
+        status, headers, body = _get(port, "/meta")
+        assert status == 200 and json.loads(body)["frames"] == 6
+        assert json.loads(body)["times"] == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.4, 0.5])
+        for k, pixels in zip((0, 5), expected, strict=True):
+            status, headers, body = _get(port, f"/frame/{k}")
+            assert status == 200 and headers["content-type"] == "image/jpeg"
+            shown = cv2.imdecode(np.frombuffer(body, np.uint8), cv2.IMREAD_COLOR)[:, :, ::-1]
+            assert shown.shape == (120, 160, 3)
+            # the same pixels JPEG-encoded here give the same bytes: the frame is the render's
+            ok, again = cv2.imencode(".jpg", cv2.cvtColor(pixels.astype(np.uint8),
+                                                          cv2.COLOR_RGB2BGR),
+                                     [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
+            assert ok and again.tobytes() == body
+        assert np.abs(expected[0] - expected[1]).mean() > 2.0  # the frames differ: it can fail
+        assert headers["x-frame-options"] == "DENY"
+        assert "frame-ancestors 'none'" in headers["content-security-policy"]
+        for target in ("/frame/6", "/frame/-1", "/frame/" + "9" * 400, "/frame/x"):
+            assert _get(port, target)[0] == 404, target
+        status, _, body = _get(port, "/", host=f"evil.example:{port}")  # DNS rebinding
+        assert status == 403 and b"127.0.0.1" in body
+        assert _get(port, "/", host=f"localhost:{port}")[0] == 200

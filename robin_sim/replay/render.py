@@ -10,12 +10,14 @@ One exception: frames where the vision detector's inset showed a reading get the
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from robin_sim.closing import ClosesOnExit
 from robin_sim.render.inset import INSET_LABEL, EyeInset, draw_eye_inset
 from robin_sim.render.overlay import OverlayInfo, draw_overlay
 from robin_sim.render.pool import RenderPool
@@ -41,44 +43,73 @@ class ReplayResult:
                 "wall_s": round(self.wall_s, 3), "approximate": self.approximate}  # fmt: skip
 
 
+class ReplayRenderer(ClosesOnExit):
+    """Renders recorded frames as the run drew them; build and use it in one thread (its
+    OpenGL contexts belong to it). ``workers`` > 0 renders the scene in worker processes."""
+
+    def __init__(self, recorded: RecordedStates, workers: int = 0) -> None:
+        meta = self.meta = recorded.meta
+        self.recorded = recorded
+        width, height = meta["size"]
+        layout = recorded.layout
+        shadows, reflections = bool(meta["shadows"]), bool(meta["reflections"])
+        self.spots = [tuple(xy) for xy in meta["spots"]]
+        self.eye: EyeInset | None = None
+        self.pool = RenderPool(layout, width, height, meta["camera"], shadows, workers=workers,
+                               reflections=reflections)  # fmt: skip
+        try:
+            if meta["eye_inset"]:
+                self.eye = EyeInset(layout, width, height, shadows, reflections)
+        except BaseException:
+            self.pool.close()
+            raise
+        self._eyes: deque[np.ndarray] = deque()  # eye views of the frames still rendering
+
+    def submit(self, index: int) -> None:
+        """Start rendering frame ``index``."""
+        state = self.recorded.states[index]
+        if self.eye is not None:
+            self._eyes.append(self.eye.render(state))
+        self.pool.submit(state, index)
+
+    def finished(self, wait: bool = False) -> Iterator[tuple[int, np.ndarray]]:
+        """(index, pixels) of the frames rendered so far (``wait``: all submitted), in order."""
+        from robin_sim.live.frames import draw_spots
+
+        for frame in self.pool.drain() if wait else self.pool.ready():
+            index, pixels = frame.payload, frame.pixels
+            overlay = self.recorded.overlays[index]
+            if self.meta["overlay"] and overlay is not None:
+                draw_overlay(pixels, OverlayInfo(**{**overlay["info"], "sim_time": frame.time}))
+            if self.eye is not None:
+                draw_eye_inset(pixels, self._eyes.popleft(), INSET_LABEL)
+            if self.spots:
+                draw_spots(pixels, self.spots)
+            yield index, pixels
+
+    def render(self, index: int) -> np.ndarray:
+        """Frame ``index`` alone (waits for it)."""
+        self.submit(index)
+        return next(pixels for _, pixels in self.finished(wait=True))
+
+    def close(self) -> None:
+        """Free the renderers (idempotent)."""
+        try:
+            if self.eye is not None:
+                self.eye.close()
+        finally:
+            self.pool.close()
+
+
 def replayed_frames(recorded: RecordedStates, workers: int = 0) -> Iterator[tuple[np.ndarray, int]]:
     """Each recorded frame re-rendered and drawn on as the run drew it, with its copies."""
-    from robin_sim.live.frames import draw_spots
-
-    meta = recorded.meta
-    width, height = meta["size"]
-    layout = recorded.layout
-    shadows, reflections = bool(meta["shadows"]), bool(meta["reflections"])
-    eye = EyeInset(layout, width, height, shadows, reflections) if meta["eye_inset"] else None
-    spots = [tuple(xy) for xy in meta["spots"]]
-    try:
-        with RenderPool(layout, width, height, meta["camera"], shadows, workers=workers,
-                        reflections=reflections) as pool:  # fmt: skip
-            eyes: list[np.ndarray] = []
-
-            def finish(frames: Iterator) -> Iterator[tuple[np.ndarray, int]]:
-                for frame in frames:
-                    overlay, copies = frame.payload
-                    pixels = frame.pixels
-                    if meta["overlay"] and overlay is not None:
-                        info = OverlayInfo(**{**overlay["info"], "sim_time": frame.time})
-                        draw_overlay(pixels, info)
-                    if eye is not None:
-                        draw_eye_inset(pixels, eyes.pop(0), INSET_LABEL)
-                    if spots:
-                        draw_spots(pixels, spots)
-                    yield pixels, copies
-
-            for state, copies, overlay in zip(recorded.states, recorded.copies,
-                                              recorded.overlays, strict=True):  # fmt: skip
-                if eye is not None:
-                    eyes.append(eye.render(state))
-                pool.submit(state, (overlay, int(copies)))
-                yield from finish(pool.ready())
-            yield from finish(pool.drain())
-    finally:
-        if eye is not None:
-            eye.close()
+    with ReplayRenderer(recorded, workers) as renderer:
+        for index in range(len(recorded.states)):
+            renderer.submit(index)
+            for done, pixels in renderer.finished():
+                yield pixels, int(recorded.copies[done])
+        for done, pixels in renderer.finished(wait=True):
+            yield pixels, int(recorded.copies[done])
 
 
 def replay_to_mp4(recorded: RecordedStates, out: Path, workers: int = 0) -> ReplayResult:
