@@ -19,8 +19,12 @@
       state.shown = index;
       $("time").textContent = `${meta.times[index].toFixed(2)} s`;
       if (state.playing) {
+        timeline.value = String(index);
         state.wanted = Math.min(meta.frames - 1, index + 1);
-        if (state.wanted === index) state.playing = false;
+        if (state.wanted === index) {
+          state.playing = false;
+          $("play").textContent = "Play";
+        }
       }
       load();
     };
@@ -39,10 +43,5 @@
       load();
     }
   });
-  const follow = () => {
-    if (state.playing) timeline.value = String(state.shown);
-    requestAnimationFrame(follow);
-  };
-  follow();
   load();
 })();
