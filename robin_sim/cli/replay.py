@@ -101,6 +101,7 @@ def load_states_between(path: Path, start: float, end: float | None) -> Any:
 def _serve(recorded: Any, port: int) -> int:
     """Serve the scrubbing page until Ctrl-C."""
     import asyncio
+    import signal
     import sys
 
     from robin_sim.live.server import bind
@@ -109,8 +110,14 @@ def _serve(recorded: Any, port: int) -> int:
     sock = bind("127.0.0.1", port)
     print(f"robin-pil replay: serving http://127.0.0.1:{sock.getsockname()[1]}/ (Ctrl-C stops)",
           flush=True)  # fmt: skip
-    try:
-        asyncio.run(serve_replay(recorded, sock))
-    except KeyboardInterrupt:
-        print("robin-pil replay: stopped", file=sys.stderr)
+
+    async def main() -> None:
+        stop = asyncio.Event()
+        loop = asyncio.get_running_loop()
+        for signum in (signal.SIGINT, signal.SIGTERM):  # either ends the page's server
+            loop.add_signal_handler(signum, stop.set)
+        await serve_replay(recorded, sock, stop)
+
+    asyncio.run(main())
+    print("robin-pil replay: stopped", file=sys.stderr)
     return 0
