@@ -8,8 +8,10 @@ Each rule is one reading of that; all exploit the unique best action first in a 
 * ``next-best`` (the default): after a not-OK, the learnt actions (count > 0) not yet tried in
   this step by falling P (ties at random): section III-B's "next best action"; then, when none
   is left, at random among the actions other than the one just rejected, those that got not-OK
-  before included (III-B: "explores the actions which had received not-OK"). Eq. 2 leaves T
-  unchanged after a not-OK, so only the action just refused is known to be wrong now.
+  before included (III-B: "explores the actions which had received not-OK"). It remembers
+  two things of the step: every action tried in it (the ranked learnt actions skip them all)
+  and the one just refused (the only one the random draw avoids), so a random draw can
+  repeat an unlearnt action refused two actions ago.
 * ``avoid-last``: after a not-OK, at random among the four actions other than the one just
   rejected, learnt or not (Algorithm 1, lines 8-13: the argmax when unique, else random).
 * ``with-replacement``: after a not-OK, at random among all five actions, the rejected one
@@ -19,9 +21,17 @@ Each rule is one reading of that; all exploit the unique best action first in a 
   state, then actions rejected in earlier steps, each group at random. The fewest actions;
   this project's first rule.
 
+Every rule ranks the learnt actions without those tried in this step (the step's refusals in
+the state, kept by :class:`pil.step_memory.StepMemory` whatever its setting); the random
+draws of ``next-best``, ``avoid-last`` and ``with-replacement`` avoid at most the action just
+refused. The within-step memory (``step_memory`` on, :mod:`pil.step_memory`) restricts every
+draw to the actions not refused in this step, as the baselines do; ``untried-first`` already
+never repeats one, so the memory does not change it.
+
 A rule is a function of the table, the state id, the actions tried in this step (a bit mask),
-the action just rejected in this state (-1: none) and the learner's random generator; it
-returns the action index, whether it was an exploit, and the reason.
+the action just rejected in this state (-1: none), the learner's random generator and the
+mask of the actions it may choose (all five without the memory); it returns the action index,
+whether it was an exploit, and the reason.
 """
 
 from __future__ import annotations
@@ -30,13 +40,14 @@ import random
 from collections.abc import Callable
 
 from pil.errors import InvalidChoiceError
+from pil.step_memory import ALL_ACTIONS
 from pil.table import AssociationTable
 from pil.types import ACTIONS
 
-ALL_TRIED = (1 << len(ACTIONS)) - 1
+ALL_TRIED = ALL_ACTIONS
 _INDICES = range(len(ACTIONS))
 Choice = tuple[int, bool, str]
-Rule = Callable[[AssociationTable, int, int, int, random.Random], Choice]
+Rule = Callable[[AssociationTable, int, int, int, random.Random, int], Choice]
 
 
 def _unique_best(table: AssociationTable, sid: int, tried: int) -> Choice | None:
@@ -63,8 +74,12 @@ def _next_learnt(
     return rng.choice(tops), False, "tie among learnt"
 
 
-def _random_but(last: int, rng: random.Random) -> Choice:
-    """At random among all actions but ``last`` (-1: among all)."""
+def _random_but(last: int, rng: random.Random, allowed: int = ALL_TRIED) -> Choice:
+    """At random among the ``allowed`` actions but ``last`` (-1: among all of them)."""
+    if allowed != ALL_TRIED:  # the within-step memory is on (it has refused ``last`` too)
+        pool = [i for i in _INDICES if allowed >> i & 1 and i != last]
+        pool = pool or [i for i in _INDICES if allowed >> i & 1]
+        return rng.choice(pool), False, "explore, not repeating this step's refusals"
     if last < 0:
         return rng.randrange(len(ACTIONS)), False, "explore at random"
     others = [i for i in _INDICES if i != last]
@@ -72,37 +87,61 @@ def _random_but(last: int, rng: random.Random) -> Choice:
 
 
 def next_best(
-    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+    table: AssociationTable,
+    sid: int,
+    tried: int,
+    last: int,
+    rng: random.Random,
+    allowed: int = ALL_TRIED,
 ) -> Choice:
     """The unique best, then learnt actions by falling P, then random but the last rejected."""
     return (
         _unique_best(table, sid, tried)
         or _next_learnt(table, sid, tried, rng)
-        or _random_but(last, rng)
+        or _random_but(last, rng, allowed)
     )
 
 
 def avoid_last(
-    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+    table: AssociationTable,
+    sid: int,
+    tried: int,
+    last: int,
+    rng: random.Random,
+    allowed: int = ALL_TRIED,
 ) -> Choice:
     """The unique best once per step, else at random among all but the action just rejected."""
-    return _unique_best(table, sid, tried) or _random_but(last, rng)
+    return _unique_best(table, sid, tried) or _random_but(last, rng, allowed)
 
 
 def with_replacement(
-    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+    table: AssociationTable,
+    sid: int,
+    tried: int,
+    last: int,
+    rng: random.Random,
+    allowed: int = ALL_TRIED,
 ) -> Choice:
-    """The unique best once per step, else at random among all five."""
+    """The unique best once per step, else at random among all five (the allowed ones)."""
     found = _unique_best(table, sid, tried)
     if found is not None:
         return found
+    if allowed != ALL_TRIED:
+        pool = [i for i in _INDICES if allowed >> i & 1]
+        return rng.choice(pool), False, "explore at random, not repeating this step's refusals"
     return rng.randrange(len(ACTIONS)), False, "explore at random (with replacement)"
 
 
 def untried_first(
-    table: AssociationTable, sid: int, tried: int, last: int, rng: random.Random
+    table: AssociationTable,
+    sid: int,
+    tried: int,
+    last: int,
+    rng: random.Random,
+    allowed: int = ALL_TRIED,
 ) -> Choice:
-    """No repeat within a step; learnt by P, then never tried, then rejected before."""
+    """No repeat within a step; learnt by P, then never tried, then rejected before (the
+    within-step memory changes nothing: the rule already keeps to the untried actions)."""
     if tried == ALL_TRIED:  # every action was rejected in this step: start over
         tried = 0
     found = _unique_best(table, sid, tried) or _next_learnt(table, sid, tried, rng)

@@ -19,7 +19,8 @@ from pathlib import Path
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD, Anticipation, check_threshold
 from pil.anticipation import anticipate as _anticipate
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.exploration import ALL_TRIED, DEFAULT_RULE, RULES, check_rule
+from pil.exploration import DEFAULT_RULE, RULES, check_rule
+from pil.step_memory import StepMemory
 from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
@@ -82,8 +83,12 @@ class Learner:
     not-OK halve the refused action's count so a changed mapping is taken up sooner.
     ``proactive`` (ours, the follow-up work): :meth:`anticipate` offers the likely next state's
     action after an approval (:mod:`pil.anticipation`, ``proactive_threshold`` and
-    ``proactive_min_count``); off, it offers nothing.
+    ``proactive_min_count``); off, it offers nothing. ``step_memory`` (:mod:`pil.step_memory`,
+    off by default: :data:`STEP_MEMORY_OWN`) keeps every exploration draw off the actions
+    refused in this step, as the baselines do.
     """
+
+    STEP_MEMORY_OWN = False  # PIL's own within-step memory setting (the paper's learner)
 
     def __init__(
         self,
@@ -96,6 +101,7 @@ class Learner:
         proactive: bool = False,
         proactive_threshold: float = DEFAULT_THRESHOLD,
         proactive_min_count: int = DEFAULT_MIN_COUNT,
+        step_memory: bool = STEP_MEMORY_OWN,
     ) -> None:
         self.seed = seed
         if table is not None and not isinstance(table, AssociationTable):
@@ -116,7 +122,7 @@ class Learner:
             proactive_threshold, proactive_min_count
         )
         self._rng = random.Random(seed)
-        self._tried: dict[int, int] = {}  # state id -> mask of actions tried in this step
+        self._memory = StepMemory(step_memory)  # actions tried (refused) in this step
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
         self._last_ok = START  # id of the last approved state; START at the task start
         self.last_exploited = False
@@ -130,14 +136,19 @@ class Learner:
 
     def tried_in_step(self, state: State) -> frozenset[Action]:
         """The actions tried in ``state`` since the last OK."""
-        mask = self._tried.get(state_id(state), 0)
+        mask = self._memory.refused(state_id(state))
         return frozenset(a for i, a in enumerate(ACTIONS) if mask >> i & 1)
 
     def restart(self) -> None:
         """The robot is back at its start pose: forget the step and the previous OK state."""
-        self._tried.clear()
+        self._memory.clear()
         self._last_rejected.clear()
         self._last_ok = START
+
+    @property
+    def step_memory(self) -> bool:
+        """Whether the within-step memory is on (:mod:`pil.step_memory`)."""
+        return self._memory.on
 
     # -- section III-A ----------------------------------------------------------------------
     def choose(self, state: State) -> Action:
@@ -146,12 +157,10 @@ class Learner:
         return self._choose(state_id(state) if sid is None else sid)
 
     def _choose(self, sid: int) -> Action:
-        tried = self._tried.get(sid, 0)
-        if tried == ALL_TRIED:  # every action was rejected in this step: start over
-            tried = self._tried[sid] = 0
+        tried, allowed = self._memory.masks(sid)  # all five rejected: the step starts over
         last = self._last_rejected.get(sid, -1)
         index, self.last_exploited, self.last_reason = self._rule(
-            self.table, sid, tried, last, self._rng
+            self.table, sid, tried, last, self._rng, allowed
         )
         return ACTIONS[index]
 
@@ -171,7 +180,7 @@ class Learner:
         if ok is True or (ok is not False and approves(ok)):
             self.table.approve_id(sid, index)
             self.table.follow_id(self._last_ok, sid)
-            self._tried.clear()
+            self._memory.clear()
             self._last_rejected.clear()
             self._last_ok = sid
         else:
@@ -180,7 +189,7 @@ class Learner:
                 row = self.table.row(sid)
                 if row is not None and row[index]:
                     self.table.forget_id(sid, index, row[index] - row[index] // 2)
-            self._tried[sid] = self._tried.get(sid, 0) | 1 << index
+            self._memory.refuse(sid, index)
             self._last_rejected[sid] = index
 
     # -- the proactive robot (ours) -----------------------------------------------------------

@@ -1,4 +1,4 @@
-"""The dm_env interface (pil.env): specs, episodes, the study's counting, the README example."""
+"""The dm_env interface (pil.env): specs, episodes, the study's counting, the docs example."""
 
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ from pil.task.parts import derive_seeds
 from pil.task.world import SymbolicWorld
 from pil.types import ACTIONS, Action, Hand
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[1] / "docs" / "study.md"  # the env example
 
 
 class TestConformance(test_utils.EnvironmentTestMixin, absltest.TestCase):
@@ -125,9 +125,9 @@ def test_bad_actions_are_refused() -> None:
 def test_readme_example_trains_a_bandit() -> None:
     text = README.read_text()
     block = re.search(r"<!-- env-example -->\n```python\n(.*?)```", text, re.S)
-    assert block is not None, "the README's environment example is missing"
+    assert block is not None, "the environment example in docs/study.md is missing"
     namespace: dict = {}
-    exec(compile(block.group(1), "README example", "exec"), namespace)
+    exec(compile(block.group(1), "docs example", "exec"), namespace)
     costs = namespace["costs"]
     random_policy = []
     env = AssemblyEnv(rate=0.8, seed=0)

@@ -9,6 +9,7 @@ and not-OK, kept by every agent so that tables can be saved, shown and compared 
 
 from __future__ import annotations
 
+import math
 import os
 import random
 from pathlib import Path
@@ -16,10 +17,24 @@ from typing import Protocol, runtime_checkable
 
 from pil.errors import RobinPilError
 from pil.learner import Decision
+from pil.step_memory import StepMemory
 from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import save_table
 from pil.types import Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES
+
+
+def check_setting(value: float, name: str, bounds: tuple[float, float]) -> float:
+    """``value`` as a float if it lies in ``bounds`` (inclusive), else a clear error naming
+    ``name`` and the range (the baselines' settings; the run parameters use the same bounds)."""
+    low, high = bounds
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if isinstance(value, bool) or not low <= number <= high:  # NaN fails too
+        raise RobinPilError(f"{name} must be a number in [{low:g}, {high:g}], got {value!r}")
+    return number
 
 
 @runtime_checkable
@@ -56,14 +71,22 @@ class Agent(Protocol):
 class FeedbackAgent:
     """Base of the baselines: acts on the detected state as it is (no validity check, no
     correction), asks for a repeat of a discarded gesture, and records approvals, rejections
-    and transitions in :attr:`table` like PIL does. Within a step it never repeats an action
-    the person refused until all five were refused, so that every step ends. Subclasses
-    implement :meth:`_pick` (given the actions still allowed) and :meth:`_learn`.
+    and transitions in :attr:`table` like PIL does. ``step_memory`` (:mod:`pil.step_memory`,
+    on by default: :data:`STEP_MEMORY_OWN`): within a step it never repeats an action the
+    person refused until all five were refused; off, it chooses among all five. Subclasses
+    implement :meth:`_pick` (given the actions allowed) and :meth:`_learn`.
     """
 
     name = "agent"
+    STEP_MEMORY_OWN = True  # the baselines' own within-step memory setting
 
-    def __init__(self, seed: int = 0, *, table: AssociationTable | None = None) -> None:
+    def __init__(
+        self,
+        seed: int = 0,
+        *,
+        table: AssociationTable | None = None,
+        step_memory: bool = STEP_MEMORY_OWN,
+    ) -> None:
         if table is not None and not isinstance(table, AssociationTable):
             raise RobinPilError(
                 f"table must be an AssociationTable (or None), got {type(table).__name__}"
@@ -74,7 +97,7 @@ class FeedbackAgent:
         self.last_reason = ""
         self._rng = random.Random(seed)
         self._last_ok = START
-        self._refused: dict[int, int] = {}  # state id -> mask of actions refused in this step
+        self._memory = StepMemory(step_memory)  # actions refused in this step
 
     def _pick(self, sid: int, allowed: list[int]) -> tuple[int, bool, str]:
         """Action index (one of ``allowed``), exploit?, reason for state id ``sid``."""
@@ -87,10 +110,8 @@ class FeedbackAgent:
     def choose(self, state: State) -> Action:
         """The next action to try in ``state``."""
         sid = state_id(state)
-        refused = self._refused.get(sid, 0)
-        if refused == _ALL:
-            refused = self._refused[sid] = 0
-        allowed = [i for i in range(len(_ACTIONS)) if not refused >> i & 1]
+        _refused, mask = self._memory.masks(sid)  # all five refused: the step starts over
+        allowed = [i for i in range(len(_ACTIONS)) if mask >> i & 1]
         index, self.last_exploited, self.last_reason = self._pick(sid, allowed)
         return _ACTIONS[index]
 
@@ -113,10 +134,10 @@ class FeedbackAgent:
             self.table.approve_id(sid, index)
             self.table.follow_id(self._last_ok, sid)
             self._last_ok = sid
-            self._refused.clear()
+            self._memory.clear()
         else:
             self.table.reject_id(sid, index)
-            self._refused[sid] = self._refused.get(sid, 0) | 1 << index
+            self._memory.refuse(sid, index)
 
     def correct(self, state: State, previous_state: State | None) -> State | None:
         """Baselines do not correct gestures."""
@@ -125,7 +146,12 @@ class FeedbackAgent:
     def restart(self) -> None:
         """Back at the task start (the previous approved state is forgotten)."""
         self._last_ok = START
-        self._refused.clear()
+        self._memory.clear()
+
+    @property
+    def step_memory(self) -> bool:
+        """Whether the within-step memory is on (:mod:`pil.step_memory`)."""
+        return self._memory.on
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Save :attr:`table` (:func:`pil.save_table`)."""
@@ -133,4 +159,3 @@ class FeedbackAgent:
 
 
 _ACTIONS = tuple(Action)
-_ALL = (1 << len(_ACTIONS)) - 1

@@ -6,14 +6,17 @@ features of the state: one-hot detected gesture (4), last approved action (5) an
 plus a bias, with one weight vector per action, so what is learnt in one state carries over
 to states that share a gesture, a previous action or a hand. Each verdict h (+1 OK, -1
 not-OK) moves H(s, a) a fraction ``step_size`` of the way to h (normalised least mean
-squares). Ties are broken at random; actions refused in the current step are left out
-(:class:`pil.agents.base.FeedbackAgent`).
+squares); ``step_size`` lies in [0, 1] (above 1, H would overshoot the verdict). Ties are
+broken at random; with the within-step memory on, actions refused in the current step are left
+out (:class:`pil.agents.base.FeedbackAgent`).
+
+:data:`STEP_SIZE` and :data:`STEP_SIZE_RANGE` are the one source of the default and the valid
+values (the run parameter ``step_size`` of :mod:`pil.task.params` reads them).
 """
 
 from __future__ import annotations
 
-from pil.agents.base import FeedbackAgent
-from pil.errors import check_rate
+from pil.agents.base import FeedbackAgent, check_setting
 from pil.table import AssociationTable
 from pil.types import ACTIONS, GESTURES, Hand
 from pil.validity import ALL_STATES
@@ -23,6 +26,8 @@ _ACTION = {a: len(GESTURES) + i for i, a in enumerate(ACTIONS)}
 _HAND = {h: len(GESTURES) + len(ACTIONS) + i for i, h in enumerate(Hand)}
 _BIAS = len(GESTURES) + len(ACTIONS) + len(Hand)
 N_FEATURES = _BIAS + 1
+STEP_SIZE = 0.5  # the default: H moves half way to each verdict
+STEP_SIZE_RANGE = (0.0, 1.0)  # a fraction of the way to the verdict
 # The active features of every state id (each state has exactly 4 ones).
 _FEATURES: tuple[tuple[int, ...], ...] = tuple(
     (_GESTURE[s.gesture], _ACTION[s.previous_action], _HAND[s.hand], _BIAS) for s in ALL_STATES
@@ -35,10 +40,15 @@ class TamerAgent(FeedbackAgent):
     name = "tamer"
 
     def __init__(
-        self, seed: int = 0, *, step_size: float = 0.5, table: AssociationTable | None = None
+        self,
+        seed: int = 0,
+        *,
+        step_size: float = STEP_SIZE,
+        table: AssociationTable | None = None,
+        step_memory: bool = FeedbackAgent.STEP_MEMORY_OWN,
     ) -> None:
-        super().__init__(seed, table=table)
-        self.step_size = check_rate(step_size, "step_size")
+        super().__init__(seed, table=table, step_memory=step_memory)
+        self.step_size = check_setting(step_size, "step_size", STEP_SIZE_RANGE)
         self.weights = [[0.0] * N_FEATURES for _ in ACTIONS]
 
     def predict(self, sid: int, index: int) -> float:

@@ -21,6 +21,7 @@ from concurrent.futures import Executor
 from concurrent.futures.process import ProcessPoolExecutor
 
 from pil.errors import RobinPilError, quote
+from pil.extras import require_extra
 from pil.task.params import ParamSpec
 
 DEFAULT_CONNECT_TIMEOUT_S = 10.0
@@ -161,6 +162,7 @@ class DaskBackend(Backend):
     name = "dask"
 
     def __init__(self, address: str, timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> None:
+        require_extra("cluster")
         from distributed import Client  # imported here: the CLI must start fast
 
         _one_line_dask_logs()

@@ -16,10 +16,13 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from pil.agents.bandit import EPSILON, EPSILON_DECAY, EPSILON_DECAY_RANGE, EPSILON_RANGE
+from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.errors import InvalidChoiceError
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
+from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
 from pil.task.detector import DEFAULT_DISCARD, MODELS
 from pil.task.param_spec import MAX_TEXT, ParamError, ParamSpec, spec_for
 from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD
@@ -131,8 +134,30 @@ PARAMS: dict[str, ParamSpec] = {
             1,
             MAX_COUNT,
         ),
-        ParamSpec("epsilon", "float", 0.1, "the bandit baseline's exploration rate", 0.0, 1.0),
-        ParamSpec("step_size", "float", 0.5, "the TAMER baseline's regression step", 0.0, 10.0),
+        ParamSpec(
+            "epsilon", "float", EPSILON, "the bandit baseline's exploration rate", *EPSILON_RANGE
+        ),
+        ParamSpec(
+            "epsilon_decay",
+            "float",
+            EPSILON_DECAY,
+            "bandit: epsilon / (1 + t / tau) after t feedbacks in a state (0: constant)",
+            *EPSILON_DECAY_RANGE,
+        ),
+        ParamSpec(
+            "step_size",
+            "float",
+            STEP_SIZE,
+            "the TAMER baseline's regression step",
+            *STEP_SIZE_RANGE,
+        ),
+        ParamSpec(
+            "step_memory",
+            "choice",
+            DEFAULT_STEP_MEMORY,
+            "never repeat an action refused in this step (every learner; pil.step_memory)",
+            choices=tuple(STEP_MEMORY),
+        ),
     ),
 }
 SCENARIO = ParamSpec(

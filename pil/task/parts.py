@@ -25,6 +25,7 @@ import numpy as np
 from pil.errors import InvalidChoiceError
 from pil.exploration import check_rule
 from pil.learner import Learner
+from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 from pil.task.detector import Detector, MeasuredDetector, make_detector
 from pil.task.params import ASSEMBLY, SEED, parse_all
@@ -152,7 +153,9 @@ def build_parts(
                       exploration=check_rule(values["exploration"]),
                       adaptation=values["adaptation"], proactive=values["proactive"],
                       proactive_threshold=values["proactive_threshold"],
-                      proactive_min_count=values["proactive_min_count"])  # fmt: skip
+                      proactive_min_count=values["proactive_min_count"],
+                      step_memory=step_memory_on(values["step_memory"],
+                                                 Learner.STEP_MEMORY_OWN))  # fmt: skip
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

@@ -111,6 +111,9 @@ def run(args: argparse.Namespace) -> int:
     import sys
     import webbrowser
 
+    from pil.extras import require_extra
+
+    require_extra("live")  # aiohttp: before anything is checked or bound
     port = parse_port(args.port)
     host = str(args.host).strip()
     from robin_sim.render.gl_backend import ensure_gl_backend

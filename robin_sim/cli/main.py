@@ -17,6 +17,10 @@ from pil.errors import RobinPilError
 COMMANDS: dict[str, tuple[str, str]] = {
     "study": ("robin_sim.cli.study", "the paper's simulation study (learner only)"),
     "episode": ("robin_sim.cli.episode", "one physical episode rendered headless to MP4"),
+    "baselines": (
+        "robin_sim.cli.baselines",
+        "bandit and TAMER tuned on held-out seeds, paired tests against PIL (learner only)",
+    ),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests, figures: a results CSV or live sessions"),
     "model-path": ("robin_sim.cli.model_path", "print where the MJCF model files are installed"),

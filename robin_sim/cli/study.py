@@ -13,6 +13,7 @@ from pathlib import Path
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
 from pil.exploration import DEFAULT_RULE, RULES
+from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
 from robin_sim.cli.options import parse_rates, parse_systems
 
 DEFAULT_OUT = Path("out/study")
@@ -80,6 +81,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the learner's rule after a not-OK (default: %(default)s; see pil.exploration)",
     )
     parser.add_argument(
+        "--step-memory",
+        default=DEFAULT_STEP_MEMORY,
+        choices=tuple(STEP_MEMORY),
+        help="within-step memory of every learner: on (a refused action is not tried again in "
+        "the step until all five were refused), off, or per-learner (off for PIL, on for "
+        "bandit and tamer) (default: %(default)s; see pil.step_memory)",
+    )
+    parser.add_argument(
         "--discarded",
         default="repeated",
         choices=("repeated", "corrected"),
@@ -109,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
         "detector": args.detector,
         "exploration": args.exploration,
         "repeat_discarded": args.discarded == "repeated",
+        "step_memory": args.step_memory,
     }
     systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(

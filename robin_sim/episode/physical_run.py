@@ -53,7 +53,7 @@ def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:
     EpisodeTask.of(_config(system, rate, seed, Path("."), params))
 
 
-# relative cost of what a physical run does, in simulated seconds (README, Performance): an
+# relative cost of what a physical run does, in simulated seconds (bench/README.md): an
 # approved action moves (object 1.9, close 0.8, human 7.6, open with the carry to the bin 11.6:
 # about 5.5 on average), a rejected one is shown for 30 % of its path and taken back
 APPROVED_S, REJECTED_S = 5.5, 1.5

@@ -1,6 +1,6 @@
 """A pilot study's protocol file: conditions, their order per participant, blocks, instructions.
 
-A protocol is YAML (see ``scenarios/protocols/reactive_vs_proactive.yaml`` and the README's
+A protocol is YAML (see ``scenarios/protocols/reactive_vs_proactive.yaml`` and docs/live.md,
 "Protocol file")::
 
     name: reactive_vs_proactive

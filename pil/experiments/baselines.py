@@ -1,0 +1,280 @@
+"""The baseline table: bandit and TAMER, tuned on held-out seeds, against PIL under each rule.
+
+:func:`run_baselines` runs every setting of :mod:`pil.experiments.baseline_grid` on the tuning
+seeds, picks each learner's best (fewest mean total actions), then runs on the evaluation seeds
+PIL under every exploration rule (within-step memory off and on) and each baseline at its tuned
+setting and at the registry's defaults. :func:`baseline_tests` compares each baseline variant
+with every PIL variant (:func:`pil.experiments.stats.compare`: paired t and Wilcoxon, pairing by
+``rep`` within each rate), Holm over each test and measure across the whole table.
+:func:`write_outputs` writes ``baselines.csv`` (the evaluation runs), ``tuning.csv``,
+``tests.csv`` and ``summary.md``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pil.atomic import write_text_atomic
+from pil.errors import RobinPilError, check_rate
+from pil.experiments.baseline_grid import (
+    BASELINES,
+    CRITERION,
+    LEARNERS,
+    Score,
+    Setting,
+    choose_best,
+    default_setting,
+    grid,
+    pil_references,
+    score,
+    split_seeds,
+)
+from pil.experiments.paper import PAPER_RATES
+from pil.experiments.report import markdown_table, summary_markdown
+from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
+from pil.experiments.systems import ROW_COLUMNS, check_params, resolve_scenario, run_system
+from pil.task.params import REPS, SEED
+from pil.task.runner import RunnerError
+
+RUN_COLUMNS: tuple[str, ...] = ("variant", "setting", "rep", *ROW_COLUMNS)
+TUNING_COLUMNS: tuple[str, ...] = ("learner", "setting", "params", "runs", "stuck",
+                                   "mean_total_actions", "sd_total_actions",
+                                   "mean_total_gestures", "chosen")  # fmt: skip
+METRICS = measures(("total_actions", "total_gestures"))
+_TUNED = ("exploration", "step_memory", "epsilon", "epsilon_decay", "step_size")
+
+
+@dataclass(frozen=True)
+class BaselineConfig:
+    """What to run: rates, repetitions (evaluation and tuning), master seed, run parameters."""
+
+    rates: tuple[float, ...] = PAPER_RATES
+    reps: int = 20
+    tuning_reps: int = 10
+    seed: int = 0
+    params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}
+
+    def __post_init__(self) -> None:
+        rates = tuple(check_rate(r) for r in self.rates)
+        if len(set(rates)) != len(rates) or not rates:
+            raise RobinPilError(f"give each rate once (at least one), got {self.rates!r}")
+        object.__setattr__(self, "rates", rates)
+        REPS.parse(self.reps, "reps")
+        REPS.parse(self.tuning_reps, "tuning reps")
+        SEED.parse(self.seed, "seed")
+        for name in self.params or {}:
+            if name in _TUNED:
+                raise RobinPilError(f"parameter {name!r} is set by the tuning grid and the "
+                                    f"table; give only others (e.g. tables, discard)")  # fmt: skip
+
+    def runs(self) -> int:
+        """How many runs :func:`run_baselines` makes (at most: equal settings run once)."""
+        tuning = sum(len(grid(learner)) for learner in LEARNERS) * self.tuning_reps
+        evaluation = (len(pil_references()) + 2 * len(BASELINES)) * self.reps
+        return (tuning + evaluation) * len(self.rates)
+
+
+@dataclass(frozen=True)
+class BaselineResult:
+    """The evaluation rows, every tuning score, each learner's best, and the seeds."""
+
+    rows: list[dict[str, Any]]
+    scores: dict[str, list[Score]]
+    best: dict[str, Score]
+    tuning_seeds: list[int]
+    seeds: list[int]
+
+
+def _run(
+    setting: Setting,
+    seeds: Sequence[int],
+    config: BaselineConfig,
+    progress: Callable[[int], None] | None,
+) -> tuple[list[dict[str, Any]], int]:
+    """``setting``'s runs at every rate and seed, and how many got stuck (left out)."""
+    values = check_params({**(config.params or {}), **setting.params})
+    scenario = resolve_scenario(None, values)
+    rows, stuck = [], 0
+    for rep, seed in enumerate(seeds):
+        cache: dict[Any, Any] = {}  # the person's scripts of this seed (no training runs)
+        for rate in config.rates:
+            try:
+                row = run_system(setting.learner, rate, seed, scenario, values, cache)
+            except RunnerError:  # a step never ended (a memoryless greedy baseline)
+                stuck += 1
+            else:
+                rows.append({"setting": setting.describe(), "rep": rep, **row})
+            if progress is not None:
+                progress(1)
+    return rows, stuck
+
+
+def run_baselines(
+    config: BaselineConfig, progress: Callable[[int], None] | None = None
+) -> BaselineResult:
+    """Tune on the tuning seeds, then run the table on the evaluation seeds."""
+    check_params(dict(config.params or {}))  # a bad parameter fails before any run
+    tuning_seeds, seeds = split_seeds(config.seed, config.tuning_reps, config.reps)
+    scores: dict[str, list[Score]] = {}
+    for learner in LEARNERS:
+        scores[learner] = [score(s, *_run(s, tuning_seeds, config, progress))
+                           for s in grid(learner)]  # fmt: skip
+    best = {learner: choose_best(found) for learner, found in scores.items()}
+    variants: list[tuple[str, Setting]] = [(f"pil:{s.name}", s) for s in pil_references()]
+    for learner in BASELINES:
+        variants += [(f"{learner}:tuned", best[learner].setting),
+                     (f"{learner}:default", default_setting(learner))]  # fmt: skip
+    rows: list[dict[str, Any]] = []
+    done: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for variant, setting in variants:
+        key = (setting.learner, setting.describe())
+        if key not in done:
+            found, stuck = _run(setting, seeds, config, progress)
+            if stuck:
+                raise RunnerError(f"{variant} ({setting.describe()}): {stuck} evaluation runs "
+                                  "had a step that never ended; the table needs every run")
+            done[key] = found
+        rows += [{"variant": variant, **r} for r in done[key]]
+    return BaselineResult(rows, scores, best, tuning_seeds, seeds)
+
+
+def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Each baseline variant against every PIL variant, then PIL with the memory against
+    PIL without it (same rule), and each baseline's tuned setting against its default, per
+    rate and measure (paired by rep; ``mean_diff`` = baseline - PIL, with - without memory,
+    tuned - default); Holm over each test and measure across the table."""
+    variants = list(dict.fromkeys(str(r["variant"]) for r in rows))
+    pil = [v for v in variants if v.startswith("pil:")]
+    results: list[dict[str, Any]] = []
+    for variant in variants:
+        if variant in pil:
+            continue
+        subset = [r for r in rows if r["variant"] in (variant, *pil)]
+        results += compare(subset, variant, compare_by="variant", within=("rate",),
+                           metrics=METRICS, pair_by=("rep",))  # fmt: skip
+    pairs = [(f"{v}+memory", v) for v in pil if f"{v}+memory" in pil]  # what the memory does
+    pairs += [(f"{learner}:tuned", f"{learner}:default") for learner in BASELINES]
+    for pair in pairs:
+        subset = [r for r in rows if r["variant"] in pair]
+        if {str(r["variant"]) for r in subset} == set(pair):
+            results += compare(subset, pair[0], compare_by="variant", within=("rate",),
+                               metrics=METRICS, pair_by=("rep",))  # fmt: skip
+    families: dict[tuple[str, str], list[int]] = {}
+    for i, r in enumerate(results):
+        families.setdefault((r["test"], r["measure"]), []).append(i)
+    for indices in families.values():
+        for i, adjusted in zip(indices, holm([results[i]["p"] for i in indices]), strict=True):
+            results[i]["p_holm"] = adjusted
+    return results
+
+
+def csv_text(rows: Sequence[Mapping[str, Any]], columns: Sequence[str]) -> str:
+    """The rows as CSV text (fixed columns, ``\\n`` line ends: byte-reproducible)."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(columns), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
+def tuning_rows(result: BaselineResult) -> list[dict[str, Any]]:
+    """One row per tuning setting: its means and whether it was chosen."""
+    out = []
+    for learner, found in result.scores.items():
+        for s in found:
+            out.append({"learner": learner, "setting": s.setting.name,
+                        "params": s.setting.describe(), "runs": s.runs, "stuck": s.stuck,
+                        "mean_total_actions": round(s.actions, 3),
+                        "sd_total_actions": round(s.actions_sd, 3),
+                        "mean_total_gestures": round(s.gestures, 3),
+                        "chosen": s is result.best[learner]})  # fmt: skip
+    return out
+
+
+def _cell(r: Mapping[str, Any]) -> str:
+    if math.isnan(r["p_holm"]):
+        return f"{r['mean_diff']:+.1f} (no spread)"
+    star = " *" if r["p_holm"] < 0.05 else ""
+    return (f"{r['mean_diff']:+.1f} [{r['ci_low']:+.1f}, {r['ci_high']:+.1f}] "
+            f"p={r['p_holm']:.2g}{star}")  # fmt: skip
+
+
+def _matrix(tests: Sequence[Mapping[str, Any]], measure: str, rates: Sequence[float]) -> str:
+    cells: dict[tuple[str, str], dict[float, str]] = {}
+    for r in tests:
+        if r["measure"] == measure and r["test"] == "paired t":
+            cells.setdefault((r["system_a"], r["system_b"]), {})[float(r["rate"])] = _cell(r)
+    body = [[a, b, *(row.get(rate, "") for rate in rates)] for (a, b), row in cells.items()]
+    return markdown_table(["a", "b",
+                           *(f"{rate:g}" for rate in rates)], body)  # fmt: skip
+
+
+def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence[Any]) -> str:
+    """``summary.md``: tuning, the table's means, and the paired tests against PIL."""
+    rates = sorted({float(r["rate"]) for r in result.rows})
+    tuning_body = [[r["learner"], r["setting"] + (" (chosen)" if r["chosen"] else ""), r["runs"],
+                    r["stuck"], f"{r['mean_total_actions']:.1f} ± {r['sd_total_actions']:.1f}",
+                    f"{r['mean_total_gestures']:.1f}"] for r in tuning_rows(result)]  # fmt: skip
+    chosen = ", ".join(f"{k}: {v.setting.name}" for k, v in result.best.items())
+    parts = [
+        "# Baselines: tuned on held-out seeds, paired against PIL under every exploration rule",
+        "",
+        f"Rates {', '.join(f'{r:g}' for r in config.rates)}; master seed {config.seed}; "
+        f"parameters {dict(config.params or {}) or 'the defaults'}. Tuning: every setting on "
+        f"{config.tuning_reps} held-out repetitions (seed branch disjoint from the evaluation "
+        f"seeds, checked); evaluation: {config.reps} repetitions, the seeds of "
+        f"`robin-pil study --seed {config.seed}`. Best setting per learner = fewest mean "
+        f"`{CRITERION}` over all tuning runs (ties: fewer gestures). Chosen: {chosen}.",
+        "",
+        "`+memory`: the within-step memory on (`step_memory=on`, `pil.step_memory`: a refused "
+        "action is not tried again in the step until all five were refused). `default`: the "
+        "registry's defaults (PIL memory off, the baselines' on).",
+        "",
+        "## Tuning (held-out seeds), mean ± sd over rates and repetitions",
+        "",
+        "`stuck`: runs with a step that found no approved action within "
+        "`max_actions_per_gesture` actions (without the memory a greedy learner can keep "
+        "choosing refused actions); left out of the means, and such a setting is not chosen.",
+        "",
+        markdown_table(
+            ["learner", "setting", "runs", "stuck", "total actions", "total gestures"], tuning_body
+        ),
+        "",
+        "## Evaluation seeds: mean ± sd per variant and rate",
+        "",
+        summary_markdown(result.rows, ("rate", "variant"), ("total_actions", "total_gestures")),
+        "",
+        "## Paired tests against PIL",
+        "",
+        describe_tests(tests) + " (In this table Holm's family is each test and measure "
+        "over the whole table.) Cells: a − b (baseline − PIL, negative: the baseline needs "
+        "fewer; the last rows: with − without the memory, tuned − default), 95 % CI, "
+        "Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
+        "",
+        "### Total actions",
+        "",
+        _matrix(tests, "total_actions", rates),
+        "",
+        "### Total gestures",
+        "",
+        _matrix(tests, "total_gestures", rates),
+    ]
+    return "\n".join(parts) + "\n"
+
+
+def write_outputs(result: BaselineResult, config: BaselineConfig, out: str | Path) -> list[Path]:
+    """Write ``baselines.csv``, ``tuning.csv``, ``tests.csv`` and ``summary.md`` to ``out``."""
+    out = Path(out)
+    tests = baseline_tests(result.rows)
+    return [
+        write_text_atomic(out / "baselines.csv", csv_text(result.rows, RUN_COLUMNS)),
+        write_text_atomic(out / "tuning.csv", csv_text(tuning_rows(result), TUNING_COLUMNS)),
+        write_text_atomic(out / "tests.csv", csv_text(tests, csv_columns(("rate",)))),
+        write_text_atomic(out / "summary.md", summary_text(result, config, tests)),
+    ]

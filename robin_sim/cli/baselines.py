@@ -1,0 +1,55 @@
+"""``robin-pil baselines``: bandit and TAMER tuned on held-out seeds, paired against PIL.
+
+Writes ``baselines.csv`` (the evaluation runs), ``tuning.csv``, ``tests.csv`` and
+``summary.md`` (:mod:`pil.experiments.baselines`); learner only, never imports MuJoCo.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pil.experiments.paper import rates_text
+from robin_sim.cli.options import parse_rates, progress_bar
+
+DEFAULT_OUT = Path("out/baselines")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The table's options (defaults: the paper's rates, 20 + 10 repetitions, seed 0)."""
+    parser.add_argument("--rates", default=rates_text(), help="detection rates (default: "
+                        "%(default)s)")  # fmt: skip
+    parser.add_argument("--reps", default=20, help="evaluation repetitions (default: "
+                        "%(default)s; the seeds of robin-pil study --seed SEED)")  # fmt: skip
+    parser.add_argument("--tuning-reps", default=10, help="held-out repetitions each tuning "
+                        "setting runs on (default: %(default)s)")  # fmt: skip
+    parser.add_argument("--seed", default=0, help="master seed, >= 0 (default: %(default)s)")
+    parser.add_argument("--tables", default=None, help="test tables per run (default: the "
+                        "scenario's, 10)")  # fmt: skip
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output folder "
+                        "(default: %(default)s)")  # fmt: skip
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Tune, run the table and write it; bad input raises a RobinPilError (exit code 2)."""
+    from pil.experiments.baselines import BaselineConfig, run_baselines, write_outputs
+    from pil.outdir import check_out_dir
+    from pil.task.params import ASSEMBLY, REPS, SEED
+
+    tables = ASSEMBLY["tables"].parse(args.tables, "--tables")
+    config = BaselineConfig(
+        rates=parse_rates(args.rates),
+        reps=REPS.parse(args.reps, "--reps"),
+        tuning_reps=REPS.parse(args.tuning_reps, "--tuning-reps"),
+        seed=SEED.parse(args.seed, "--seed"),
+        params={} if tables is None else {"tables": tables},
+    )
+    check_out_dir(args.out)  # before the computation, not after it
+    with progress_bar(config.runs(), "baselines", args) as bar:
+        result = run_baselines(config, progress=bar.update)
+    written = write_outputs(result, config, args.out)
+    chosen = ", ".join(f"{k} {v.setting.name}" for k, v in result.best.items())
+    print(f"{len(result.rows)} evaluation runs; tuned: {chosen}; wrote "
+          + ", ".join(str(p) for p in written))  # fmt: skip
+    return 0

@@ -1,0 +1,108 @@
+"""pil.experiments.stats: the test that matches the design, effect sizes, Holm's correction."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.stats import ttest_ind, ttest_rel, wilcoxon
+
+from pil.experiments.report import ReportError
+from pil.experiments.stats import (
+    PAIRED_T,
+    WELCH,
+    WILCOXON,
+    compare,
+    csv_columns,
+    holm,
+    mean_ci,
+)
+
+
+def _rows(n: int = 12, shift: float = 3.0, seed: int = 0) -> list[dict]:
+    """Paired rows: each rep shares a large random offset, so pairing matters."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for rep in range(n):
+        base = rng.normal(100, 20)
+        for rate in (0.4, 1.0):
+            rows.append({"system": "pil", "rate": rate, "rep": rep, "g": base + rng.normal(0, 1)})
+            rows.append(
+                {"system": "c1", "rate": rate, "rep": rep, "g": base + shift + rng.normal(0, 1)}
+            )
+    return rows
+
+
+def test_paired_p_equals_scipy_ttest_rel_matched_by_rep():
+    rows = _rows()
+    results = compare(rows, "pil", metrics=["g"])
+    for rate in (0.4, 1.0):
+        pil = sorted(
+            (r for r in rows if r["system"] == "pil" and r["rate"] == rate), key=lambda r: r["rep"]
+        )
+        c1 = sorted(
+            (r for r in rows if r["system"] == "c1" and r["rate"] == rate), key=lambda r: r["rep"]
+        )
+        a, b = [r["g"] for r in pil], [r["g"] for r in c1]
+        (t_row,) = [r for r in results if r["rate"] == str(rate) and r["test"] == PAIRED_T]
+        (w_row,) = [r for r in results if r["rate"] == str(rate) and r["test"] == WILCOXON]
+        assert t_row["p"] == pytest.approx(ttest_rel(a, b).pvalue, rel=1e-12)
+        assert w_row["p"] == pytest.approx(wilcoxon(a, b).pvalue, rel=1e-12)
+        assert t_row["pairing"] == "rep" and t_row["n"] == 12
+        assert t_row["mean_diff"] == pytest.approx(np.mean(np.subtract(a, b)))
+        assert t_row["ci_low"] < t_row["mean_diff"] < t_row["ci_high"]
+        d = np.subtract(a, b)
+        assert t_row["effect_size"] == pytest.approx(d.mean() / d.std(ddof=1))
+        # the shared offsets hide the shift from an unpaired test, not from the paired one
+        assert t_row["p"] < 1e-4 < ttest_ind(a, b, equal_var=False).pvalue
+
+
+def test_holm_never_below_raw_p_and_family_size_counts():
+    results = compare(_rows(), "pil", metrics=["g"])
+    assert all(r["p_holm"] >= r["p"] for r in results)
+    raw = [r["p"] for r in results if r["test"] == PAIRED_T]
+    adjusted = [r["p_holm"] for r in results if r["test"] == PAIRED_T]
+    assert min(adjusted) == pytest.approx(min(min(raw) * len(raw), 1.0))
+
+
+def test_holm_leaves_untestable_out_of_the_family():
+    out = holm([0.01, math.nan, 0.04])
+    assert math.isnan(out[1])
+    assert out[0] == pytest.approx(0.02) and out[2] == pytest.approx(0.04)
+
+
+def test_unmatched_samples_fall_back_to_welch_and_say_so():
+    rows = [r for r in _rows() if not (r["system"] == "c1" and r["rep"] == 0)]
+    results = compare(rows, "pil", metrics=["g"])
+    assert {r["test"] for r in results} == {WELCH}
+    assert {r["pairing"] for r in results} == {"none"}
+    pil = [r["g"] for r in rows if r["system"] == "pil" and r["rate"] == 0.4]
+    c1 = [r["g"] for r in rows if r["system"] == "c1" and r["rate"] == 0.4]
+    (row,) = [r for r in results if r["rate"] == "0.4"]
+    assert row["p"] == pytest.approx(ttest_ind(pil, c1, equal_var=False).pvalue)
+
+
+def test_identical_systems_are_untestable_not_significant():
+    rows = [dict(r, g=round(r["g"])) for r in _rows() if r["system"] == "pil"]
+    rows += [dict(r, system="c2") for r in rows]
+    results = compare(rows, "pil", metrics=["g"])
+    assert all(math.isnan(r["p"]) and math.isnan(r["p_holm"]) for r in results)
+    assert all(r["mean_diff"] == 0 for r in results)
+
+
+def test_columns_and_unknown_baseline():
+    results = compare(_rows(), "pil", metrics=["g"])
+    assert list(results[0]) == csv_columns(("rate",))
+    with pytest.raises(ReportError, match="valid choices: c1, pil"):
+        compare(_rows(), "tamer", metrics=["g"])
+
+
+def test_mean_ci_matches_the_t_interval():
+    from scipy.stats import t
+
+    values = [3.0, 5.0, 4.0, 8.0]
+    mean, low, high = mean_ci(values)
+    half = t.ppf(0.975, 3) * np.std(values, ddof=1) / 2
+    assert (low, high) == pytest.approx((mean - half, mean + half))
+    assert math.isnan(mean_ci([2.0])[1])
