@@ -151,6 +151,10 @@ def test_report_pairs_participants_who_rated_both_conditions(tmp_path: Path) -> 
     assert test["n"] == 3
     assert test["p_t"] == pytest.approx(ttest_rel(xs, ys).pvalue)
     assert test["p_w"] == pytest.approx(wilcoxon(xs, ys).pvalue)
+    assert test["mean_diff"] == pytest.approx(35 / 3)  # differences 15, 5, 15
+    ci = ttest_rel(xs, ys).confidence_interval(0.95)
+    assert (test["ci_low"], test["ci_high"]) == pytest.approx((ci.low, ci.high))
+    assert test["p_t_holm"] == pytest.approx(test["p_t"])  # a family of one test
     by = {s["condition"]: s for s in summarize_answers(rows)}
     assert by["pil"]["participants"] == 4 and by["pil"]["mean"] == pytest.approx(48.75)
     text = answers_markdown(rows)

@@ -6,7 +6,8 @@ ratings, Godspeed one mean per scale, a Likert questionnaire one score per item 
 Every answered questionnaire counts, whether or not the block's task was finished: it rates the
 block as the participant lived it. A participant's value in a condition is the mean over their
 blocks in it; conditions are compared over the participants who rated both, with
-``scipy.stats.ttest_rel`` and ``scipy.stats.wilcoxon`` (exact for small n). Pure Python + scipy.
+paired t and Wilcoxon signed-rank (:func:`pil.experiments.stats.paired`, scipy), Holm-adjusted
+within each questionnaire. Pure Python, scipy and statsmodels: no MuJoCo.
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from __future__ import annotations
 import json
 import math
 import statistics
-import warnings
 from collections.abc import Mapping, Sequence
 from itertools import combinations
 from pathlib import Path
@@ -80,30 +80,38 @@ def summarize_answers(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]
 
 
 def paired_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Per score and pair of conditions: paired t and Wilcoxon signed-rank over the participants
-    who rated both (NaN statistics when fewer than two or no difference varies)."""
-    from scipy.stats import ttest_rel, wilcoxon  # imported here: scipy is slow to import
+    """Per score and pair of conditions: paired t and Wilcoxon signed-rank
+    (:func:`pil.experiments.stats.paired`) over the participants who rated both, with the mean
+    difference a - b, its 95 % CI, Cohen's d_z, and Holm-adjusted p over each questionnaire's
+    tests (NaN where fewer than two pairs or no difference varies)."""
+    from pil.experiments.stats import holm, paired
 
     out = []
     for (questionnaire, score), by in participant_scores(rows).items():
         for a, b in combinations(sorted(by), 2):
             both = sorted(set(by[a]) & set(by[b]))
             xs, ys = [by[a][p] for p in both], [by[b][p] for p in both]
-            differences = [x - y for x, y in zip(xs, ys, strict=True)]
-            t = p_t = w = p_w = math.nan
-            if len(both) > 1 and len(set(differences)) > 1:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", RuntimeWarning)
-                    t_test = ttest_rel(xs, ys)
-                    t, p_t = float(t_test.statistic), float(t_test.pvalue)
-                    if any(differences):
-                        w_test = wilcoxon(xs, ys)
-                        w, p_w = float(w_test.statistic), float(w_test.pvalue)
+            # one pair or none: no test, whatever its difference
+            t_test, w_test = paired(xs, ys) if len(both) > 1 else (_untested(), _untested())
             out.append({"questionnaire": questionnaire, "score": score, "a": a, "b": b,
                         "n": len(both), "mean_a": statistics.fmean(xs) if xs else math.nan,
                         "mean_b": statistics.fmean(ys) if ys else math.nan,
-                        "t": t, "p_t": p_t, "w": w, "p_w": p_w})  # fmt: skip
+                        "t": t_test["statistic"], "p_t": t_test["p"],
+                        "w": w_test["statistic"], "p_w": w_test["p"],
+                        "mean_diff": t_test.get("mean_diff", math.nan),
+                        "ci_low": t_test.get("ci_low", math.nan),
+                        "ci_high": t_test.get("ci_high", math.nan),
+                        "d_z": t_test.get("effect_size", math.nan)})  # fmt: skip
+    for name in {r["questionnaire"] for r in out}:  # Holm within each questionnaire
+        family = [r for r in out if r["questionnaire"] == name]
+        for key in ("p_t", "p_w"):
+            for r, adjusted in zip(family, holm([r[key] for r in family]), strict=True):
+                r[f"{key}_holm"] = adjusted
     return out
+
+
+def _untested() -> dict[str, float]:
+    return {"statistic": math.nan, "p": math.nan}
 
 
 def answers_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
@@ -124,13 +132,19 @@ def answers_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     tests = paired_tests(rows)
     if tests:
         lines += ["## Paired tests (participants who rated both conditions)", "",
-                  "`scipy.stats.ttest_rel` and `scipy.stats.wilcoxon`; n/a with fewer than two "
-                  "pairs or no varying difference; p < 0.05 marked *.", "",
+                  "Paired t (`scipy.stats.ttest_rel`) and Wilcoxon signed-rank "
+                  "(`scipy.stats.wilcoxon`) via `pil.experiments.stats.paired`; mean difference "
+                  "a - b with its 95 % CI and Cohen's d_z; p Holm-adjusted within each "
+                  "questionnaire (statsmodels); n/a with fewer than two pairs or no varying "
+                  "difference; p < 0.05 marked *, raw and adjusted alike.", "",
                   markdown_table(["questionnaire", "score", "a", "b", "n", "mean (a)",
-                                  "mean (b)", "t", "p (t)", "W", "p (W)"],
+                                  "mean (b)", "a - b [95 % CI]", "d_z", "t", "p (t, Holm)",
+                                  "W", "p (W, Holm)"],
                                  [[r["questionnaire"], r["score"], r["a"], r["b"], r["n"],
-                                   _number(r["mean_a"]), _number(r["mean_b"]), _number(r["t"]),
-                                   _p(r["p_t"]), _number(r["w"], 1), _p(r["p_w"])]
+                                   _number(r["mean_a"]), _number(r["mean_b"]), _diff(r),
+                                   _number(r["d_z"]), _number(r["t"]),
+                                   f"{_p(r['p_t'])} ({_p(r['p_t_holm'])})", _number(r["w"], 1),
+                                   f"{_p(r['p_w'])} ({_p(r['p_w_holm'])})"]
                                   for r in tests]), ""]  # fmt: skip
     else:
         lines += ["No paired tests: the answers hold fewer than two conditions.", ""]
@@ -160,6 +174,14 @@ def _mean_sd(mean: float, sd: float | None) -> str:
 
 def _number(value: float, digits: int = 2) -> str:
     return "n/a" if math.isnan(value) else f"{value:.{digits}f}"
+
+
+def _diff(row: Mapping[str, Any]) -> str:
+    if math.isnan(row["mean_diff"]):
+        return "n/a"
+    if math.isnan(row["ci_low"]):
+        return f"{row['mean_diff']:.2f}"
+    return f"{row['mean_diff']:.2f} [{row['ci_low']:.2f}, {row['ci_high']:.2f}]"
 
 
 def _p(value: float) -> str:
