@@ -1,7 +1,8 @@
 """``robin-pil replay``: the states logged while a run records, re-rendered to the same frames.
 
-The episode runs in MuJoCo and renders with EGL for real; the replay's frames are decoded from
-both MP4s with PyAV and compared pixel by pixel.
+Sessions run in MuJoCo and render with EGL for real; the replay's frames are decoded from both
+MP4s with PyAV and compared pixel by pixel (the episode's replay is checked in
+``tests/test_episode.py``, on the one-handover episode that test runs anyway).
 """
 
 from __future__ import annotations
@@ -9,68 +10,19 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import av
 import mujoco
 import numpy as np
 import pytest
+from replay_rig import COMPARED, decoded_frames, frames_match
 
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
 from robin_sim.cli.main import main  # noqa: E402
-from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.render.state_log import STATES_NAME, StateLog, load_states  # noqa: E402
 from robin_sim.render.worker import FrameState  # noqa: E402
-
-ONE_HANDOVER = SCENARIOS_DIR / "one_handover.yaml"
-COMPARED = 12  # frames decoded from each video
-# Tolerance: both videos are H.264 (crf 23) of the frames; identical renders encode identically,
-# so any difference comes from the render. Allowed: a mean of 0.5 levels, 8 levels at most in
-# 99.9 % of the values (antialiased edges of a moved part would exceed both).
-MEAN_LEVELS, PIXEL_LEVELS, PIXEL_SHARE = 0.5, 8, 0.999
-
-
-def _frames(path: Path, count: int) -> list[np.ndarray]:
-    with av.open(str(path)) as container:
-        frames = []
-        for frame in container.decode(container.streams.video[0]):
-            frames.append(frame.to_ndarray(format="rgb24").astype(np.int16))
-            if len(frames) == count:
-                break
-    return frames
-
-
-@pytest.mark.slow
-def test_replay_of_an_episode_renders_the_frames_of_its_video(tmp_path: Path, capsys) -> None:
-    out = tmp_path / "episode"
-    summary = run_episode(EpisodeConfig(scenario=ONE_HANDOVER, out=out, width=160, height=120,
-                                        fps=5, render_workers=0, verify=False,
-                                        progress=False))  # fmt: skip
-    assert summary["status"] == "finished"
-    assert sorted(p.name for p in out.iterdir()) == [
-        "episode.jsonl", "episode.mp4", STATES_NAME, "summary.json"]  # fmt: skip
-    assert "states" not in json.dumps(summary)  # the summary is as before: no new field
-    recorded = load_states(out / STATES_NAME)
-    assert recorded.video_frames == summary["video"]["frames"]
-    assert (out / STATES_NAME).stat().st_size < 60_000 + 300 * len(recorded.states)  # compact
-    capsys.readouterr()
-    assert main(["replay", str(out), "--to", "6"]) == 0
-    result = json.loads(capsys.readouterr().out)
-    assert result["path"] == str(out / "replay.mp4")
-    original, replayed = _frames(out / "episode.mp4", COMPARED), _frames(out / "replay.mp4", 99)
-    assert len(replayed) == result["video_frames"] and len(replayed) >= COMPARED
-    assert not np.array_equal(original[0], original[-1])  # the robot moves in these frames
-    for k, (a, b) in enumerate(zip(original, replayed, strict=False)):
-        difference = np.abs(a - b)
-        assert difference.mean() <= MEAN_LEVELS, k
-        assert (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE, k
-    # a frame shifted by one is not a match: the comparison can fail
-    assert np.abs(original[-1] - replayed[1]).mean() > MEAN_LEVELS
-    assert main(["replay", str(out)]) == 2  # replay.mp4 exists: never overwritten
-    assert "exists already" in capsys.readouterr().err
 
 
 def test_states_round_trip_with_geometry_changes_kept_only_where_they_change(
@@ -149,13 +101,11 @@ def test_replay_of_a_live_session_renders_the_frames_of_its_video(tmp_path: Path
     assert summary["video"]["frames"] >= 20
     capsys.readouterr()
     assert main(["replay", str(folder), "--out", str(tmp_path / "again.mp4")]) == 0
-    original = _frames(folder / "episode.mp4", 999)
-    replayed = _frames(tmp_path / "again.mp4", 999)
+    original = decoded_frames(folder / "episode.mp4", 999)
+    replayed = decoded_frames(tmp_path / "again.mp4", 999)
     assert len(replayed) == len(original) == summary["video"]["frames"]
     for k in range(0, len(original), max(1, len(original) // COMPARED)):
-        difference = np.abs(original[k] - replayed[k])
-        assert difference.mean() <= MEAN_LEVELS, k
-        assert (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE, k
+        assert frames_match(original[k], replayed[k]), k
 
 
 def _get(port: int, target: str, host: str | None = None) -> tuple[int, dict[str, str], bytes]:
