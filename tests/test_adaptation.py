@@ -76,8 +76,9 @@ def test_adapt_command_writes_csv_summary_and_figure(tmp_path: Path, capsys) -> 
             "--out", str(tmp_path), "--no-progress"]  # fmt: skip
     assert main(argv) == 0
     assert {p.name for p in tmp_path.iterdir()} == {"adaptation.csv", "adaptation.md",
-                                                    "adaptation.png"}  # fmt: skip
-    assert "| 1.0 | lost_rejections | pil | pil-halve |" in (tmp_path / "adaptation.md").read_text()
+                                                    "adaptation.png", "tests.csv"}  # fmt: skip
+    text = (tmp_path / "adaptation.md").read_text()
+    assert "| lost_rejections | - | 1.0 | pil | pil-halve | paired t | 2 | rep+seed |" in text
     assert main(["adapt", "--systems", "pil,robot", "--out", str(tmp_path / "x")]) == 2
     assert (
         main(["adapt", "--change", str(tmp_path / "none.yaml"), "--out", str(tmp_path / "x")]) == 2

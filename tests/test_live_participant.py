@@ -39,6 +39,9 @@ class ActsAtOnce:
     def answered(self, record: StepRecord) -> None:
         self.action = None
 
+    def received(self, record: StepRecord) -> None:
+        pass
+
     def __call__(self, _: object) -> None:
         person = self.participant
         wanted = self.by_step[person.instruction]

@@ -52,7 +52,11 @@ def test_people_command(tmp_path: Path) -> None:
     argv = ["people", "--systems", "pil", "--reps", "2", "--rates", "1.0", "--tables", "4",
             "--out", str(tmp_path), "--no-progress"]  # fmt: skip
     assert main(argv) == 0
-    assert {p.name for p in tmp_path.iterdir()} == {"people.csv", "people.md", "people.png"}
+    assert {p.name for p in tmp_path.iterdir()} == {"people.csv", "people.md", "people.png",
+                                                    "tests.csv"}  # fmt: skip
+    tests = (tmp_path / "tests.csv").read_text().splitlines()
+    assert tests[0].startswith("measure,reading,rate,system,system_a,system_b,test,n,pairing,")
+    assert ",shared,per-person,paired t,2,rep+seed," in tests[1]
     assert main([*argv[:2], "bandit", "--out", str(tmp_path / "never")]) == 2
     assert main(["people", "--tables", "0", "--out", str(tmp_path / "never")]) == 2
     assert not (tmp_path / "never").exists()

@@ -1,4 +1,4 @@
-"""Generic summaries, Welch t-tests and bar charts over rows read back from a CSV."""
+"""Generic summaries, tests between systems and bar charts over rows read back from a CSV."""
 
 from __future__ import annotations
 
@@ -16,9 +16,9 @@ from pil.experiments.report import (
     load_rows,
     summarize,
     summary_markdown,
-    ttests_markdown,
-    welch_ttests,
 )
+from pil.experiments.stats import WELCH, compare
+from pil.experiments.stats import tests_markdown as table_of_tests  # not a test: renamed
 
 DATA = {  # (system, discard) -> legs delivered in four runs
     ("pil", "0.1"): [40, 38, 39, 41],
@@ -57,23 +57,26 @@ def test_summary_over_any_grouping_column(results: Path) -> None:
     assert "| 0.1 | pil | 4 | 39.5 ± 1.3 |" in text
 
 
-def test_welch_ttests_match_scipy(results: Path) -> None:
-    rows = load_rows(results)
-    tests = welch_ttests(rows, "pil", compare_by="system", within=("discard",), metrics=("legs",))
-    assert len(tests) == 2
+def test_rows_without_a_pairing_key_get_welch_tests_matching_scipy(results: Path) -> None:
+    rows = load_rows(results)  # no rep column: nothing pairs the runs
+    tests = compare(rows, "pil", compare_by="system", within=("discard",), metrics=("legs",))
+    assert len(tests) == 2 and {t["test"] for t in tests} == {WELCH}
     expected = ttest_ind(DATA[("pil", "0.1")], DATA[("c1", "0.1")], equal_var=False)
-    assert tests[0]["discard"] == "0.1" and tests[0]["other"] == "c1"
+    assert tests[0]["discard"] == "0.1" and tests[0]["system_b"] == "c1"
+    assert tests[0]["pairing"] == "none"
     assert math.isclose(tests[0]["p"], expected.pvalue)
-    assert math.isclose(tests[0]["t"], expected.statistic)
+    assert math.isclose(tests[0]["statistic"], expected.statistic)
     assert tests[1]["discard"] == "0.3" and math.isclose(tests[1]["p"], 1.0)  # same data
-    table = ttests_markdown(tests, ("discard",))
-    assert " *" in table.splitlines()[2]  # p < 0.05 at discard 0.1
+    table = table_of_tests(tests, ("discard",))
+    assert " *" in table.splitlines()[2]  # Holm-adjusted p < 0.05 at discard 0.1
 
 
 def test_identical_constant_groups_give_no_p_value() -> None:
-    rows = [{"system": s, "rate": "1.0", "g": "220"} for s in ("pil", "c1") for _ in range(3)]
-    (test,) = welch_ttests(rows, metrics=("g",))
-    assert math.isnan(test["p"]) and "n/a" in ttests_markdown([test])
+    rows = [{"system": s, "rate": "1.0", "rep": str(i), "g": "220"}
+            for s in ("pil", "c1") for i in range(3)]  # fmt: skip
+    tests = compare(rows, "pil", metrics=("g",))
+    assert all(math.isnan(t["p"]) for t in tests)
+    assert "n/a" in table_of_tests(tests)
 
 
 def test_bad_columns_and_baseline_are_named(results: Path) -> None:
@@ -81,7 +84,7 @@ def test_bad_columns_and_baseline_are_named(results: Path) -> None:
     with pytest.raises(ReportError, match="unknown column 'lgs'; valid choices: system"):
         summarize(rows, ("system",), ("lgs",))
     with pytest.raises(ReportError, match="baseline 'c9' not found"):
-        welch_ttests(rows, "c9", within=("discard",), metrics=("legs",))
+        compare(rows, "c9", within=("discard",), metrics=("legs",))
     with pytest.raises(ReportError, match=r"holds 'run0\.mp4', not a number"):
         summarize(rows, ("system",), ("video",))
     with pytest.raises(ReportError, match="cannot read"):

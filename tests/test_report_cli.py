@@ -7,6 +7,7 @@ import statistics
 from pathlib import Path
 
 import pytest
+from scipy.stats import ttest_rel
 
 from pil.experiments.sweep_exec import execute_run
 from pil.experiments.sweep_grid import build_grid, load_target
@@ -49,10 +50,30 @@ def test_report_follows_the_grid(results, tmp_path) -> None:
             if (r["rate"], r["discard"], r["system"]) == ("0.6", "0.3", "c1")]  # fmt: skip
     mean, sd = statistics.fmean(cell), statistics.stdev(cell)
     assert f"| 0.6 | 0.3 | c1 | 3 | {mean:.1f} ± {sd:.1f} |" in summary
-    assert "## Welch t-tests: pil against each other system" in summary
-    tests = read(tmp_path / "ttests.csv")
-    assert len(tests) == 2 * 2 * 4  # rates x discard values x metrics, one other system
-    assert {(t["baseline"], t["other"]) for t in tests} == {("pil", "c1")}
+    assert "## Paired tests: pil against each other system" in summary
+    assert "samples paired by rep+seed" in summary
+    tests = read(tmp_path / "tests.csv")
+    assert len(tests) == 2 * 2 * 4 * 2  # rates x discard values x metrics x (t, Wilcoxon)
+    assert {(t["system_a"], t["system_b"], t["pairing"]) for t in tests} == {("pil", "c1",
+                                                                               "rep+seed")}
+    assert list(tests[0])[:4] == ["measure", "reading", "rate", "discard"]
+    checked = 0
+    for t in tests:  # the sweep's systems of one cell and repetition share the seed: paired
+        if t["test"] != "paired t" or t["p"] == "nan":
+            continue
+        column = {("gestures", "training included"): "total_gestures",
+                  ("actions", "training included"): "total_actions"}.get(
+                      (t["measure"], t["reading"]), t["measure"])  # fmt: skip
+
+        def side(system: str, t: dict = t, column: str = column) -> list[float]:
+            cell = [r for r in rows if (r["rate"], r["discard"], r["system"])
+                    == (t["rate"], t["discard"], system)]  # fmt: skip
+            return [float(r[column]) for r in sorted(cell, key=lambda r: int(r["rep"]))]
+
+        assert float(t["p"]) == pytest.approx(ttest_rel(side("pil"), side("c1")).pvalue)
+        assert float(t["p_holm"]) >= float(t["p"])
+        checked += 1
+    assert checked >= 4
     figures = [p for p in written if p.suffix == ".png"]
     assert len(figures) == 4 * 2  # one per metric and discard value
     assert tmp_path / "total_gestures_discard=0.3.png" in figures

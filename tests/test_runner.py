@@ -170,9 +170,15 @@ def test_the_observer_sees_each_decision_before_the_world_acts(scenario: Scenari
             assert len(world.hands) == len(seen)  # right after the world acted
             answers.append(record)
 
+        def received(self, record: StepRecord) -> None:
+            assert len(world.hands) == len(seen)  # before the next action
+            got.append(record)
+
+    got: list[StepRecord] = []
     records = list(steps(*parts(scenario, 0.6, 11), world, observer=Observer()))
     acted = [r for r in records if not r.is_repeat]
     assert len(seen) == len(acted) == len(answers)
+    assert got == acted  # each complete record, as yielded
     assert [a.feedback for a in answers] == [r.feedback for r in acted]
     assert all(s.feedback is None and s.succeeded is None for s in seen)
     answer = {"feedback": None, "succeeded": None, "delivered": False, "legs_delivered": 0,
@@ -210,7 +216,8 @@ class RecordingBody:
 
 def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> None:
     """The person performs, watches the robot act, shows the thumb, and only then does the
-    learner receive the feedback (and the record is yielded)."""
+    learner receive the feedback; the person's after-thumb act (a carry to the bin) follows,
+    then the record is yielded."""
     events: list[str] = []
     learner, person, detector = parts(scenario, 0.8, 3, handovers=4)
     person.body = RecordingBody(events)
@@ -239,7 +246,7 @@ def test_a_step_goes_gesture_robot_thumb_then_learner(scenario: Scenario) -> Non
         assert (
             events[i - 1] == "watch"
             and events[i + 1].startswith("thumb ")
-            and events[i + 2 : i + 5] == ["after", "learner", "record"]
+            and events[i + 2 : i + 5] == ["learner", "after", "record"]
         )
     thumbs = [e.removeprefix("thumb ") for e in events if e.startswith("thumb ")]
     assert thumbs == [r.feedback.value for r in records if not r.is_repeat]  # type: ignore[union-attr]

@@ -175,7 +175,7 @@ def test_cli_writes_csv_report_and_figure(within_folder: Path, capsys: Any) -> N
                 "proactive")["mean_handover_s"] == ""  # fmt: skip
     report = (out / "report.md").read_text()
     assert "status `finished`" in report and "## Paired t-tests (within-subject)" in report
-    assert "| P02 | block3-proactive | proactive | ended |" in report
+    assert "| P02 | block3-proactive | proactive | table_one | ended | 3 / 3 |" in report
     p = stats.ttest_rel([18, 19, 22, 18], [14, 15, 13, 17]).pvalue
     assert "| instruction gestures | pil | proactive | 4 | 19.25 | 14.75 |" in report
     assert f"{p:.3g}" in report
@@ -243,9 +243,7 @@ def test_a_corrupt_summary_is_named_and_nothing_written(
         load_sessions(within_folder)
 
 
-def test_sessions_refuse_csv_options_and_all_unfinished(tmp_path: Path, capsys: Any) -> None:
-    write(tmp_path, summary("P01", "a", "pil", {}, status="closed"))
-    assert "none of the 1 sessions is 'finished'" in refused([str(tmp_path)], capsys)
+def test_sessions_refuse_csv_options(tmp_path: Path, capsys: Any) -> None:
     write(tmp_path, summary("P01", "b", "pil", {}))
     err = refused([str(tmp_path), "--baseline", "pil"], capsys)
     assert "--metrics and --baseline are for a results CSV" in err
@@ -260,7 +258,8 @@ def test_study_folders_and_csvs_still_report(tmp_path: Path, capsys: Any) -> Non
     assert main(["report", str(tmp_path)]) == 0
     assert (tmp_path / "report" / "summary.md").is_file()
     assert main(["report", str(tmp_path / "runs.csv"), "--out", str(tmp_path / "r2")]) == 0
-    assert (tmp_path / "r2" / "ttests.csv").is_file()
+    assert (tmp_path / "r2" / "tests.csv").is_file()  # paired by rep (no seed column)
+    assert ",rep," in (tmp_path / "r2" / "tests.csv").read_text()
     capsys.readouterr()
     err = refused([str(tmp_path / "runs.csv"), "--baseline", "nope"], capsys)
     assert "unknown baseline system 'nope'; valid choices: 'c1', 'pil'" in err
@@ -274,3 +273,37 @@ def test_one_condition_is_summarised_without_tests(tmp_path: Path, capsys: Any) 
     assert "| pil | 2 | 2 | 14.00 ± 2.83 |" in report
     assert "No t-tests: the counted sessions hold fewer than two conditions." in report
     assert (tmp_path / "report" / "sessions.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_only_unfinished_sessions_are_listed_and_the_report_goes_on(tmp_path: Path,
+                                                                     capsys: Any) -> None:
+    write(tmp_path, summary("P01", "a", "pil", {"legs_delivered": 1}, status="ended"))
+    assert main(["report", str(tmp_path)]) == 0
+    report = (tmp_path / "report" / "report.md").read_text()
+    assert "1 sessions of 1 participants; 0 counted, 1 left out." in report
+    assert "No session is `finished` yet" in report
+    assert "| P01 | a | pil | table_one | ended | 1 / 3 | `P01/a/summary.json` |" in report
+    rows = list(csv.DictReader((tmp_path / "report" / "sessions.csv").open()))
+    assert [(r["status"], r["counted"]) for r in rows] == [("ended", "False")]
+    assert not (tmp_path / "report" / "sessions.png").exists()  # no figure without a count
+
+
+def test_scenarios_are_split_and_one_value_shows_n_without_sd(tmp_path: Path) -> None:
+    four = summary("P01", "a", "pil", {"gestures": 16})
+    four.update(scenario="assembly", legs_total=4)
+    write(tmp_path, four)
+    one = summary("P02", "a", "pil", {"gestures": 4})
+    one.update(scenario="one_handover", legs_total=1)
+    write(tmp_path, one)
+    rows = load_sessions(tmp_path)
+    entries = summarize_sessions(rows)
+    assert [(e["scenario"], e["condition"], e["n"]) for e in entries] == [
+        ("assembly", "pil", 1), ("one_handover", "pil", 1)]
+    assert [e["gestures_mean"] for e in entries] == [16.0, 4.0]  # never pooled to 10
+    assert all(math.isnan(e["gestures_sd"]) for e in entries)
+    assert main(["report", str(tmp_path)]) == 0
+    report = (tmp_path / "report" / "report.md").read_text()
+    assert "## scenario `assembly`, protocol `reactive_vs_proactive`" in report
+    assert "## scenario `one_handover`, protocol `reactive_vs_proactive`" in report
+    assert "| pil | 1 | 1 | 16.00 (n = 1) |" in report and "± 0.00" not in report
+    assert "10.00" not in report

@@ -37,12 +37,14 @@ def test_outputs_are_written_and_readable(tmp_path: Path) -> None:
     assert len(rows) == SMALL.runs() == 2 * 2 * 5
     written = write_outputs(rows, SMALL, tmp_path)
     assert {p.name for p in written} == {
-        "runs.csv", "summary.md", "gestures.png", "actions.png", "training.png"
+        "runs.csv", "claim_runs.csv", "tests.csv", "summary.md", "gestures.png", "actions.png",
+        "training.png",
     }  # fmt: skip
     back = load_rows(tmp_path / "runs.csv")
     assert list(back[0]) == list(STUDY_COLUMNS) and len(back) == 20
     summary = (tmp_path / "summary.md").read_text()
-    assert "## Welch t-tests" in summary and "| 0.6 | total_gestures | pil | c1 |" in summary
+    assert "## Paired tests" in summary and "paired t, wilcoxon signed-rank" in summary
+    assert "| gestures | training included | 0.6 | pil | c1 | paired t | 2 | rep+seed |" in summary
     assert "| 100 % | 110.0 ± 0.0 | 111 | -0.9 % |" in summary
     for name in ("gestures.png", "actions.png", "training.png"):
         assert matplotlib.image.imread(tmp_path / name).shape[0] > 100
@@ -99,5 +101,7 @@ def test_summary_compares_every_rule_and_checks_the_claim_both_ways(tmp_path: Pa
     assert "**next-best** (used)" in text
     for rule in ("avoid-last", "with-replacement", "untried-first"):
         assert f"| {rule} |" in text
-    assert "- totals (training counted): PIL costlier" in text
-    assert "- test tables alone: PIL costlier" in text
+    for discarded in ("repeated", "corrected"):  # the study's reading and the re-run one
+        assert f"- training included; discarded {discarded}: PIL costlier" in text
+        assert f"- test tables only; discarded {discarded}: PIL costlier" in text
+    assert (tmp_path / "claim_runs.csv").exists()

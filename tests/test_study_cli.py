@@ -17,7 +17,8 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
                  "--no-progress"])  # fmt: skip
     assert code == 0
     assert {p.name for p in out.iterdir()} == {
-        "runs.csv", "summary.md", "gestures.png", "actions.png", "training.png"
+        "runs.csv", "claim_runs.csv", "tests.csv", "summary.md", "gestures.png", "actions.png",
+        "training.png",
     }  # fmt: skip
     assert "20 runs" in capsys.readouterr().out
 
@@ -95,5 +96,5 @@ def test_study_runs_the_baselines_beside_pil(tmp_path: Path) -> None:
     text = (out / "summary.md").read_text()
     for system in ("bandit", "tamer"):
         assert f"| 0.6 | {system} | 2 |" in text
-        assert f"| 0.6 | gestures | pil | {system} |" in text
+        assert f"| gestures | test tables only | 0.6 | pil | {system} | paired t |" in text
     assert "training" not in {p.stem for p in out.iterdir()}  # no pre-trained system: no figure

@@ -1,5 +1,6 @@
 """Outputs of the smaller studies (adaptation, transfer, personal mappings): a CSV, a summary
-with mean ± sd and Welch t-tests, and one bar chart, each written atomically."""
+with mean ± sd and paired tests (by repetition: every compared run of one repetition shares
+its seed), ``tests.csv`` and one bar chart, each written atomically."""
 
 from __future__ import annotations
 
@@ -7,8 +8,11 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from pil.atomic import write_text_atomic
-from pil.experiments.report import Row, summary_markdown, ttests_markdown, welch_ttests
+from pil.experiments.report import Row, summary_markdown
+from pil.experiments.stats import WILCOXON, compare, csv_columns, describe_tests, tests_markdown
 from pil.experiments.study import csv_text
+
+PAIR_BY: tuple[str, ...] = ("rep", "seed")  # the compared runs of one repetition share its seed
 
 
 def sort_runs(
@@ -28,6 +32,18 @@ def rep_rows_text(rows: Sequence[Row]) -> str:
     return csv_text(rows, list(rows[0]))
 
 
+def small_study_tests(
+    rows: Sequence[Row],
+    baseline: str,
+    compare_by: str,
+    within: Sequence[str],
+    metrics: Sequence[str],
+) -> list[dict]:
+    """The small study's ``tests.csv`` rows (paired by :data:`PAIR_BY`, Holm per test)."""
+    return compare(rows, baseline, compare_by=compare_by, within=within, metrics=metrics,
+                   pair_by=PAIR_BY)  # fmt: skip
+
+
 def write_small_study(
     rows: Sequence[Row],
     out: str | Path,
@@ -45,7 +61,9 @@ def write_small_study(
     extra: str = "",
     figure_group_by: Sequence[str] | None = None,
 ) -> list[Path]:
-    """Write ``NAME.csv``, ``NAME.md`` and ``NAME.png`` under ``out``; returns the paths.
+    """Write ``NAME.csv``, ``NAME.md``, ``tests.csv`` and ``NAME.png`` under ``out``; returns
+    the paths. ``baseline`` is compared with every other value of ``compare_by`` within each
+    ``within`` group, paired by :data:`PAIR_BY` (Welch where the runs do not pair).
 
     ``extra`` is Markdown appended to the summary; ``figure_group_by`` (two columns, default
     ``group_by``) groups the bars.
@@ -53,18 +71,18 @@ def write_small_study(
     from pil.experiments.figures import plot_metric
 
     out = Path(out)
-    tests = welch_ttests(rows, baseline, compare_by=compare_by, within=within, metrics=metrics)
-    significant = sum(1 for t in tests if t["p"] < 0.05)
+    tests = small_study_tests(rows, baseline, compare_by, within, metrics)
     text = "\n".join([
         f"# {title}", "", intro, "", "## Mean ± sd", "",
         summary_markdown(rows, group_by, metrics), "",
-        f"## Welch t-tests: {baseline} against each other {compare_by}", "",
-        f"{significant} of {len(tests)} comparisons have p < 0.05 (marked *).", "",
-        ttests_markdown(tests, within), "",
+        f"## Paired tests: {baseline} against each other {compare_by}", "",
+        describe_tests(tests) + " All rows in `tests.csv`.", "",
+        tests_markdown([t for t in tests if t["test"] != WILCOXON], within), "",
         *([extra, ""] if extra else []),
     ])  # fmt: skip
     written = [write_text_atomic(out / f"{name}.csv", rep_rows_text(rows))]
     written.append(write_text_atomic(out / f"{name}.md", text))
+    written.append(write_text_atomic(out / "tests.csv", csv_text(tests, csv_columns(within))))
     written.append(
         plot_metric(
             rows,

@@ -2,9 +2,9 @@
 
 * :func:`training_figures` reads ours from a study's rows; :func:`rule_training` reruns the
   training for every exploration rule (same seeds), so the summary can show all of them.
-* :func:`claim_markdown` checks the paper's claim that at low rates PIL needs more gestures
-  and actions than conditions 1 and 2, in both readings: totals with the training counted, and
-  the test tables alone.
+
+The paper's claim (PIL costlier than c1 and c2 at low rates) is read from the study's paired
+tests: :mod:`pil.experiments.study_tests`.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from pil.experiments.paper import LOW_RATES, PAPER_RATES, PAPER_TRAINING
-from pil.experiments.report import Row, markdown_table, mean_sd, number, welch_ttests
+from pil.experiments.paper import PAPER_RATES, PAPER_TRAINING
+from pil.experiments.report import Row, markdown_table, mean_sd, number
 from pil.exploration import RULES
 from pil.task.scenario import Scenario
 
@@ -126,46 +126,3 @@ def rules_markdown(by_rule: Mapping[str, Figures], chosen: str) -> str:
         cells.append(f"{worst_difference({r: figures[r] for r in rates}):.1f} %")
         body.append(cells)
     return markdown_table(header, body)
-
-
-def claim_tests(rows: Sequence[Row]) -> list[dict[str, Any]]:
-    """Welch tests of PIL against c1 and c2 at the low rates, in both readings."""
-    wanted = [r for r in rows if str(r["system"]) in ("pil", "c1", "c2")]
-    rates = {number(r["rate"], "rate") for r in wanted}
-    if not {"pil", "c1", "c2"} <= {str(r["system"]) for r in wanted} or not rates & set(LOW_RATES):
-        return []
-    metrics = ("total_gestures", "total_actions", "gestures", "actions")
-    tests = welch_ttests(wanted, "pil", compare_by="system", within=("rate",), metrics=metrics)
-    return [t for t in tests if number(t["rate"], "rate") in LOW_RATES]
-
-
-def claim_markdown(rows: Sequence[Row]) -> str:
-    """The paper's claim (PIL costlier than c1 and c2 at 40 and 60 %) in both readings."""
-    tests = claim_tests(rows)
-    if not tests:
-        return "(needs pil, c1 and c2 at 40 % or 60 %)"
-    readings = {"totals (training counted)": ("total_gestures", "total_actions"),
-                "test tables alone": ("gestures", "actions")}  # fmt: skip
-    body, verdicts = [], []
-    for reading, metrics in readings.items():
-        held = dict.fromkeys(metrics, 0)
-        tried = dict.fromkeys(metrics, 0)
-        for t in tests:
-            if t["metric"] not in metrics:
-                continue
-            more = t["baseline_mean"] - t["other_mean"]
-            ok = more > 0 and t["p"] == t["p"] and t["p"] < 0.05
-            held[t["metric"]] += ok
-            tried[t["metric"]] += 1
-            p = "n/a" if t["p"] != t["p"] else f"{t['p']:.2g}"
-            body.append([reading, f"{number(t['rate']) * 100:.0f} %", t["metric"], t["other"],
-                         f"{t['baseline_mean']:.1f}", f"{t['other_mean']:.1f}",
-                         f"{more:+.1f}", p, "yes" if ok else "no"])  # fmt: skip
-        counts = ", ".join(f"{m} {held[m]} of {tried[m]}" for m in metrics)
-        whole = "holds" if all(held[m] == tried[m] for m in metrics) else "does not hold in full"
-        verdicts.append(f"- {reading}: PIL costlier at p < 0.05 in {counts} comparisons; the "
-                        f"claim {whole}.")  # fmt: skip
-    table = markdown_table(
-        ["reading", "rate", "metric", "vs", "PIL", "condition", "PIL − condition", "p",
-         "PIL costlier, p < 0.05"], body)  # fmt: skip
-    return table + "\n\n" + "\n".join(verdicts)

@@ -4,17 +4,21 @@ Both systems learn from scratch on the same handover order and detector deck (co
 numbers), so repetition ``r`` of ``pil`` and of ``proactive`` differ only by the anticipations.
 Per repetition: *gestures saved* = pil's gestures - proactive's gestures (the anticipations the
 person let happen save one each, and a changed course of learning may save or cost more);
-*actions wasted* = anticipations the person stopped. Welch t-tests compare the two systems'
+*actions wasted* = anticipations the person stopped. The p-values are the study's paired
+t-tests (by repetition, Holm-adjusted; :mod:`pil.experiments.study_tests`) of the two systems'
 gestures and actions on the test tables.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
-from pil.experiments.report import Row, group_rows, markdown_table, mean_sd, number, welch_ttests
+from pil.experiments.report import Row, group_rows, markdown_table, mean_sd, number
+from pil.experiments.stats import PAIRED_T
+from pil.experiments.study_tests import TEST_TABLES, study_tests
 
 BASELINE, PROACTIVE = "pil", "proactive"
 
@@ -23,14 +27,19 @@ def _by_rep(rows: Sequence[Row], system: str) -> dict[str, Row]:
     return {str(r["rep"]): r for r in rows if str(r["system"]) == system}
 
 
-def proactive_figures(rows: Sequence[Row]) -> list[dict[str, float]]:
-    """Per rate (both systems present): means and sds of the comparison, with p-values."""
+def proactive_figures(
+    rows: Sequence[Row], tests: Sequence[Mapping[str, Any]] | None = None
+) -> list[dict[str, float]]:
+    """Per rate (both systems present): means and sds of the comparison, with the
+    Holm-adjusted paired p-values of ``tests`` (:func:`study_tests` rows; by default those
+    of ``rows``)."""
+    tests = study_tests(rows) if tests is None else tests
     rows = [r for r in rows if str(r["system"]) in (BASELINE, PROACTIVE)]
     if not rows or {str(r["system"]) for r in rows} != {BASELINE, PROACTIVE}:
         return []
-    tests = welch_ttests(rows, BASELINE, compare_by="system", within=("rate",),
-                         metrics=("gestures", "actions"))  # fmt: skip
-    p_of = {(t["rate"], t["metric"]): t["p"] for t in tests}
+    p_of = {(str(t["rate"]), t["measure"]): float(t["p_holm"]) for t in tests
+            if t["system_b"] == PROACTIVE and t["reading"] == TEST_TABLES
+            and t["test"] == PAIRED_T}  # fmt: skip
     out = []
     for (rate,), members in group_rows(rows, ["rate"]).items():
         base, pro = _by_rep(members, BASELINE), _by_rep(members, PROACTIVE)

@@ -1,4 +1,5 @@
-"""Summaries and Welch t-tests over result rows, generic over grouping columns and metrics.
+"""Summaries over result rows, generic over grouping columns and metrics (the tests between
+systems: :mod:`pil.experiments.stats`).
 
 Rows are mappings of column name to value, as written by the study (numbers) or read back
 from a CSV (strings); values are converted where a number is needed. The same functions
@@ -10,7 +11,6 @@ from __future__ import annotations
 import csv
 import math
 import statistics
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -144,72 +144,4 @@ def summary_markdown(
         + [f"{s[f'{m}_mean']:.1f} ± {s[f'{m}_sd']:.1f}" for m in metrics]
         for s in summarize(rows, group_by, metrics)
     ]
-    return markdown_table(header, body)
-
-
-def welch_ttests(
-    rows: Sequence[Row],
-    baseline: str = "pil",
-    *,
-    compare_by: str = "system",
-    within: Sequence[str] = ("rate",),
-    metrics: Sequence[str] = DEFAULT_METRICS,
-) -> list[dict[str, Any]]:
-    """Welch's t-test (unequal variances) of ``baseline`` against every other value of
-    ``compare_by``, separately for each combination of ``within`` columns and each metric.
-
-    Each result holds the ``within`` values, ``metric``, ``other``, both means, ``t`` and
-    ``p`` (NaN when a group has fewer than two runs or both groups are constant).
-    """
-    from scipy.stats import ttest_ind  # imported here: scipy is slow to import
-
-    check_columns(rows, [compare_by, *within, *metrics])
-    values = {str(r[compare_by]) for r in rows}
-    if baseline not in values:
-        raise ReportError(
-            f"baseline {baseline!r} not found in column {compare_by!r}; valid choices: "
-            + ", ".join(sorted(values, key=sort_key))
-        )
-    results = []
-    for key, members in group_rows(rows, within).items():
-        by_value = group_rows(members, [compare_by])
-        base_rows = by_value.get((baseline,), [])
-        for metric in metrics:
-            base = [number(r[metric], metric) for r in base_rows]
-            for (other,), other_rows in by_value.items():
-                if other == baseline:
-                    continue
-                them = [number(r[metric], metric) for r in other_rows]
-                t, p = math.nan, math.nan
-                if len(base) > 1 and len(them) > 1 and (len(set(base)) > 1 or len(set(them)) > 1):
-                    with warnings.catch_warnings():  # nearly constant groups: p is still valid
-                        warnings.filterwarnings("ignore", "Precision loss", RuntimeWarning)
-                        test = ttest_ind(base, them, equal_var=False)
-                    t, p = float(test.statistic), float(test.pvalue)
-                entry: dict[str, Any] = dict(zip(within, key, strict=True))
-                entry.update(
-                    metric=metric,
-                    baseline=baseline,
-                    other=other,
-                    baseline_mean=statistics.fmean(base) if base else math.nan,
-                    other_mean=statistics.fmean(them),
-                    t=t,
-                    p=p,
-                )
-                results.append(entry)
-    return results
-
-
-def ttests_markdown(results: Sequence[Mapping[str, Any]], within: Sequence[str] = ("rate",)) -> str:
-    """A Markdown table of :func:`welch_ttests` results (p < 0.05 marked with *)."""
-    header = [*within, "metric", "baseline", "other", "mean (baseline)", "mean (other)", "t", "p"]
-    body = []
-    for r in results:
-        p = r["p"]
-        p_text = "n/a" if math.isnan(p) else f"{p:.3g}{' *' if p < 0.05 else ''}"
-        t_text = "n/a" if math.isnan(r["t"]) else f"{r['t']:.2f}"
-        body.append(
-            [*(r[c] for c in within), r["metric"], r["baseline"], r["other"],
-             f"{r['baseline_mean']:.1f}", f"{r['other_mean']:.1f}", t_text, p_text]
-        )  # fmt: skip
     return markdown_table(header, body)

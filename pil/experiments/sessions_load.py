@@ -35,7 +35,7 @@ LIVE_OPTIONAL: tuple[str, ...] = (
     "stream_fps", "started_utc",
 )  # fmt: skip
 SESSION_COLUMNS: tuple[str, ...] = (
-    "participant", "session", "condition", "block", "protocol", "status", "counted",
+    "participant", "session", "condition", "block", "scenario", "protocol", "status", "counted",
     *MEASURES, "legs_total", *LIVE_OPTIONAL[2:], "summary",
 )  # fmt: skip
 EXPECTED = (
@@ -86,6 +86,8 @@ def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[st
     if block is not None and (isinstance(block, bool) or not isinstance(block, int)):
         raise SessionsError(f"{path}: live.block: expected a whole number or null, got {block!r}")
     row["block"] = block
+    scenario = summary.get("scenario")
+    row["scenario"] = scenario if isinstance(scenario, str) and scenario else "unknown"
     row["protocol"] = live.get("protocol")
     status = summary.get("status")
     if not isinstance(status, str) or not status:

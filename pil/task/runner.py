@@ -62,6 +62,11 @@ class StepObserver(Protocol):
         """The person is about to show ``record.feedback``."""
         ...
 
+    def received(self, record: StepRecord) -> None:
+        """The learner has received ``record``'s feedback (the step is complete; a delivered
+        leg is in the person's hand, before they carry it away)."""
+        ...
+
 
 def steps(
     learner: Learner,
@@ -78,8 +83,10 @@ def steps(
 
     Per performance of a gesture, in the order things happen: the person performs it, the
     detector reads it, the learner decides; per action the robot acts, the person judges it and
-    shows the thumb, and only then the learner receives the feedback. ``observer`` is told of
-    each decision and answer for presentation only.
+    shows the thumb, and only then the learner receives the feedback; then the person does what
+    follows the thumb (e.g. carries a delivered leg away) and the record is yielded.
+    ``observer`` is told of each decision, answer and received feedback (before that carry:
+    a live session logs the step there, so ending during the carry loses nothing).
     """
     previous, expected = START_ACTION, START_HAND
     gestures = actions = legs = 0
@@ -171,7 +178,6 @@ def steps(
                 # What the robot sees of the thumb: it stopped a stopped action because it saw
                 # the thumb go down; the thumb after an action that ran to its end is read.
                 heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
-                person.after_feedback(feedback)
                 ok = heard is not _NOT_OK  # no feedback counts as OK (eq. 1)
                 delivered = (
                     ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
@@ -184,6 +190,9 @@ def steps(
                     dropped=outcome.dropped, feedback_read=heard,
                 )  # fmt: skip
                 learner.feedback(state, action, ok)
+                if observer is not None:
+                    observer.received(record)
+                person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin
                 yield record
                 if ok:  # the robot takes the step as approved
                     previous, expected = action, hand_after(action, hand)
@@ -239,7 +248,6 @@ def _anticipate(
         observer.answered(base._replace(feedback=feedback))
     person.show_feedback(feedback)
     heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
-    person.after_feedback(feedback)
     ok = heard is not _NOT_OK
     delivered = ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
     record = base._replace(
@@ -248,6 +256,9 @@ def _anticipate(
         dropped=outcome.dropped, feedback_read=heard,
     )  # fmt: skip
     learner.feedback(guess.state, action, ok)
+    if observer is not None:
+        observer.received(record)
+    person.after_feedback(feedback)
     return record
 
 

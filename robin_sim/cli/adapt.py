@@ -1,7 +1,8 @@
 """``robin-pil adapt``: the person changes a gesture's meaning mid-task (learner only).
 
-Writes ``adaptation.csv``, ``adaptation.md`` (mean ± sd, Welch t-tests of PIL against every
-other system, how many runs adapted) and ``adaptation.png``.
+Writes ``adaptation.csv``, ``adaptation.md`` (mean ± sd, paired tests of PIL against every
+other system, how many runs adapted), ``tests.csv`` and ``adaptation.png``; with ``--seeds K``
+K such studies in ``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``).
 """
 
 from __future__ import annotations
@@ -40,6 +41,21 @@ def run(args: argparse.Namespace) -> int:
     rates, systems = run_options(args, ADAPT_SYSTEMS)
     change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
     check_out_dir(args.out)
+    if args.seeds > 1:
+        from robin_sim.cli.options import run_seed_studies
+
+        what = [change.name, change.from_table, change.gesture.value, change.action.value,
+                change.scenario.name]  # fmt: skip
+        settings = {"study": "adapt", "change": what, "rates": list(rates), "reps": args.reps,
+                    "systems": list(systems)}  # fmt: skip
+        return run_seed_studies(
+            args, "adaptation", settings,
+            lambda seed, step: run_adaptation_study(change, systems, rates, args.reps, seed,
+                                                    progress=step),
+            lambda _seed, rows, folder: write_adaptation(rows, change, folder),
+            within=("rate",), title="Adaptation to a changed mapping",
+            runs_per_seed=len(rates) * len(systems) * args.reps,
+        )  # fmt: skip
     with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
         rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
                                     progress=bar.update)  # fmt: skip

@@ -9,11 +9,14 @@ Ctrl-C / SIGTERM (saved ``interrupted``, exit code 130).
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+
+MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-character name
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,6 +41,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", type=Path, default=Path("out/live"),
                         help="sessions folder (default: %(default)s)")  # fmt: skip
+    parser.add_argument(
+        "--session", default=None,
+        help="name of this run's session folder under OUT/PARTICIPANT (with --protocol: the "
+        "prefix of its blocks' folders, NAME-block1-...); default: the UTC start time, or "
+        "block1-... with --protocol. Give a new one to run a participant again",
+    )  # fmt: skip
     parser.add_argument("--speed", default="1", help="sim seconds per wall second (default 1)")
     parser.add_argument("--no-browser", action="store_true", help="print the URL only")
     parser.add_argument("--no-video", action="store_true", help="no MP4 of the session")
@@ -74,12 +83,13 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
     """The run's checked sessions: one, or one per protocol block of the participant."""
     from robin_sim.live.session import LiveConfig
 
+    session = parse_session(getattr(args, "session", None))
     base = LiveConfig(
         participant=args.participant, system=args.system, scenario=args.scenario,
         out_root=args.out, speed=parse_speed(args.speed), video=not args.no_video,
     ).checked()  # fmt: skip
     if args.protocol is None:
-        return [base]
+        return [replace(base, session=session).checked()]
     from robin_sim.live.protocol import load_protocol
 
     protocol = load_protocol(args.protocol)
@@ -89,10 +99,40 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
             base, system=block.condition, scenario=scenario,
             handover_types=tuple(block.handover_types), block=block.index,
             protocol=str(args.protocol), instructions=block.instructions,
-            session=f"block{block.index + 1}-{block.condition}",
+            session=block_folder(session, block.index, block.condition),
         ).checked()
         for block in protocol.blocks_for(base.participant)
     ]  # fmt: skip
+
+
+def parse_session(text: str | None) -> str | None:
+    """``--session`` as a folder name (None: the default names)."""
+    if text is None:
+        return None
+    from robin_sim.live.config import NAME_PATTERN
+
+    if not NAME_PATTERN.fullmatch(text) or len(text) > MAX_SESSION_PREFIX:
+        raise RobinPilError(f"--session {quote(text)} is not a valid name; use 1-"
+                            f"{MAX_SESSION_PREFIX} letters, digits, '_' or '-'")  # fmt: skip
+    return text
+
+
+def block_folder(session: str | None, index: int, condition: str) -> str:
+    """A protocol block's session folder: ``block<N>-<condition>``, after ``--session`` if given."""
+    name = f"block{index + 1}-{condition}"
+    return name if session is None else f"{session}-{name}"
+
+
+def planned_folders(configs: list[Any]) -> Callable[[str], list[Path]]:
+    """The run's session folders if ``--session`` were ``name`` (for the restart advice)."""
+
+    def folders(name: str) -> list[Path]:
+        base = Path(configs[0].out_root) / configs[0].participant
+        if configs[0].protocol is None:
+            return [base / name]
+        return [base / block_folder(name, c.block or 0, c.system) for c in configs]
+
+    return folders
 
 
 def questionnaires_of(args: argparse.Namespace) -> tuple[Any, ...]:
@@ -120,9 +160,13 @@ def run(args: argparse.Namespace) -> int:
 
     ensure_gl_backend()  # before MuJoCo is imported
     from robin_sim.live.conductor import Conductor
+    from robin_sim.live.preflight import check_free, check_writable
     from robin_sim.live.server import LiveServer, bind, is_loopback, new_token
 
-    conductor = Conductor(session_configs(args), questionnaires_of(args))  # all validated here
+    configs = session_configs(args)
+    check_free(configs, planned_folders(configs))  # the advice names a free --session
+    check_writable(configs[0].out_root / configs[0].participant)  # before the page is served
+    conductor = Conductor(configs, questionnaires_of(args))  # every session validated here
     token = None if is_loopback(host) else new_token()
     sock = bind(host, port)
     bound_port = sock.getsockname()[1]
@@ -132,9 +176,13 @@ def run(args: argparse.Namespace) -> int:
     print(f"robin-pil live: serving {url}", flush=True)
     if token is not None:
         print("robin-pil live: every request needs the token in that URL", flush=True)
+    experimenter = new_token()
+    print(f"robin-pil live: experimenter's view http://{shown_host}:{bound_port}/experimenter"
+          f"?token={experimenter}", flush=True)  # fmt: skip
     if not args.no_browser:
         webbrowser.open(url)
-    outcome = asyncio.run(LiveServer(conductor, token=token).serve(sock))
+    server = LiveServer(conductor, token=token, experimenter_token=experimenter, host=host)
+    outcome = asyncio.run(server.serve(sock))
     for result in conductor.results:
         print(
             f"robin-pil live: session {result.get('session')}: {result.get('status')}, "

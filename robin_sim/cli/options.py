@@ -4,7 +4,7 @@ parsing of ``--rates`` and ``--systems`` lists; each check raises before anythin
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -48,13 +48,22 @@ def parse_systems(text: str) -> tuple[str, ...]:
 def add_run_options(
     parser: argparse.ArgumentParser, *, rates: str, out: Path, systems: Sequence[str]
 ) -> None:
-    """``--systems``, ``--rates``, ``--reps``, ``--seed``, ``--out`` and ``--no-progress``."""
+    """``--systems``, ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and
+    ``--no-progress``."""
     parser.add_argument(
         "--systems", default=None, help=f"comma-separated systems (default: {','.join(systems)})"
     )
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
     parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
+    parser.add_argument(
+        "--seeds",
+        type=int,
+        default=1,
+        help="independent studies, master seeds SEED .. SEED+K-1, each in OUT/seed_<n>/, their "
+        "comparisons over seeds in OUT/seeds.md and OUT/seeds_tests.csv; a finished seed "
+        "folder is reused (default: %(default)s: one study in OUT)",
+    )
     parser.add_argument(
         "--out", type=Path, default=out, help="output folder (default: %(default)s)"
     )
@@ -69,6 +78,9 @@ def run_options(
         raise RobinPilError(f"--seed must be a whole number >= 0, got {args.seed}")
     if args.reps < 1:
         raise RobinPilError(f"--reps must be >= 1, got {args.reps}")
+    from pil.experiments.over_seeds import check_seed_count
+
+    check_seed_count(args.seeds)
     rates = parse_rates(args.rates)
     chosen = tuple(systems) if args.systems is None else parse_systems(args.systems)
     for system in chosen:
@@ -86,3 +98,31 @@ def progress_bar(total: int, desc: str, args: argparse.Namespace) -> Any:
     from tqdm import tqdm
 
     return tqdm(total=total, desc=desc, unit="run", file=sys.stderr, disable=args.no_progress)
+
+
+def run_seed_studies(
+    args: argparse.Namespace,
+    name: str,
+    settings: dict[str, Any],
+    run_one: Callable[[int, Callable[[int], object]], list[dict[str, Any]]],
+    write_one: Callable[[int, list[dict[str, Any]], Path], object],
+    *,
+    within: Sequence[str],
+    title: str,
+    runs_per_seed: int,
+) -> int:
+    """``--seeds K`` of a small study: K studies in ``OUT/seed_<n>/`` (``run_one(seed,
+    progress)`` then ``write_one(seed, rows, folder)``; a finished folder is reused) and their
+    comparisons over seeds; the settings of an existing folder are checked before anything
+    runs."""
+    from pil.experiments.over_seeds import check_seed_folders, run_seeds, write_tests_over_seeds
+
+    seeds = list(range(args.seed, args.seed + args.seeds))
+    check_seed_folders(args.out, seeds, settings)
+    with progress_bar(runs_per_seed * len(seeds), name, args) as bar:
+        run_seeds(args.out, seeds, settings, f"{name}.csv",
+                  lambda seed: run_one(seed, bar.update), write_one,
+                  skipped=lambda _seed: bar.update(runs_per_seed))  # fmt: skip
+    written = write_tests_over_seeds(args.out, seeds, within, title)
+    print(f"{len(seeds)} studies; wrote " + ", ".join(str(p) for p in written))
+    return 0

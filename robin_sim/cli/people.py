@@ -1,7 +1,8 @@
 """``robin-pil people``: two people with different mappings, one shared table vs one each.
 
-Writes ``people.csv``, ``people.md`` (mean ± sd, Welch t-tests of shared against per-person)
-and ``people.png``.
+Writes ``people.csv``, ``people.md`` (mean ± sd, paired tests of shared against per-person),
+``tests.csv`` and ``people.png``; with ``--seeds K`` K such studies in ``OUT/seed_<n>/`` and
+their comparisons over seeds (``seeds.md``).
 """
 
 from __future__ import annotations
@@ -47,6 +48,21 @@ def run(args: argparse.Namespace) -> int:
     if args.tables is not None:
         people = People(people.scenario.with_changes(tables=args.tables), people.overrides)
     check_out_dir(args.out)
+    if args.seeds > 1:
+        from robin_sim.cli.options import run_seed_studies
+
+        settings = {"study": "people", "people": str(args.people),
+                    "tables": people.scenario.tables, "rates": list(rates),
+                    "reps": args.reps, "systems": list(systems)}  # fmt: skip
+        return run_seed_studies(
+            args, "people", settings,
+            lambda seed, step: run_people_study(people, systems, rates, args.reps, seed,
+                                                progress=step),
+            lambda _seed, rows, folder: write_people(rows, folder),
+            within=("rate", "system"),
+            title="Personal mappings: one shared table vs one per person",
+            runs_per_seed=len(rates) * len(systems) * args.reps,
+        )  # fmt: skip
     with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
         rows = run_people_study(people, systems, rates, args.reps, args.seed,
                                 progress=bar.update)  # fmt: skip

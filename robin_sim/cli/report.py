@@ -1,10 +1,13 @@
-"""``robin-pil report``: summary table, Welch t-tests and figures for a results CSV.
+"""``robin-pil report``: summary table, paired tests and figures for a results CSV.
 
 Works on a sweep's ``results.csv`` and on a study CSV. The grouping follows the grid that was
 run: detection rate plus every parameter the sweep varied (the columns a sweep writes between
 ``rate`` and ``rep``). Failed runs are counted and left out of the statistics. For physical
 runs (a ``legs_delivered`` column) the report adds the share of legs delivered (in %) and the
-physical failures per rate.
+physical failures per rate. The baseline is compared with every other system per grid cell:
+a sweep gives every system of one cell and repetition the same seed, so the runs pair by
+``rep`` and ``seed`` (paired t and Wilcoxon, :mod:`pil.experiments.stats`); where they do not
+(a failed run, another seed) Welch's test is used and ``tests.csv`` says so.
 
 Given a folder instead, the report looks at what it holds: live sessions
 (``<participant>/<session>/summary.json`` with a ``"live"`` block, from ``robin-pil live``) get
@@ -51,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--baseline",
         default=None,
-        help="system every other system is t-tested against (default: pil; results CSVs only)",
+        help="system every other system is compared with (default: pil; results CSVs only)",
     )
 
 
@@ -161,7 +164,7 @@ def write_report(
     metrics: Sequence[str] | None = None,
     baseline: str = BASELINE,
 ) -> list[Path]:
-    """Write ``summary.md``, ``ttests.csv`` and one PNG per metric (and swept cell) to ``out``."""
+    """Write ``summary.md``, ``tests.csv`` and one PNG per metric (and swept cell) to ``out``."""
     from pil.atomic import write_text_atomic
     from pil.experiments.figures import plot_metric
     from pil.experiments.report import (
@@ -169,9 +172,16 @@ def write_report(
         check_columns,
         load_rows,
         summary_markdown,
-        ttests_markdown,
-        welch_ttests,
     )
+    from pil.experiments.stats import (
+        WILCOXON,
+        compare,
+        csv_columns,
+        describe_tests,
+        measures,
+        tests_markdown,
+    )
+    from pil.experiments.study_tests import READINGS
     from pil.experiments.sweep_store import rows_to_csv
 
     results, out = Path(results), Path(out)
@@ -211,18 +221,21 @@ def write_report(
     written = [out / "summary.md"]
     systems = {str(r["system"]) for r in rows} if has_system else set()
     if baseline in systems and len(systems) > 1:
-        tests = welch_ttests(rows, baseline, compare_by="system", within=axes, metrics=metrics)
+        pair_by = [c for c in ("rep", "seed") if c in rows[0]]
+        tests = compare(rows, baseline, compare_by="system", within=axes,
+                        metrics=measures(metrics, READINGS), pair_by=pair_by)  # fmt: skip
         lines += [
-            f"## Welch t-tests: {baseline} against each other system",
+            f"## Paired tests: {baseline} against each other system",
             "",
-            ttests_markdown(tests, within=axes),
+            describe_tests(tests) + " All rows in `tests.csv`.",
+            "",
+            tests_markdown([t for t in tests if t["test"] != WILCOXON], within=axes),
             "",
         ]
-        columns = [*axes, "metric", "baseline", "other", "baseline_mean", "other_mean", "t", "p"]
-        write_text_atomic(out / "ttests.csv", rows_to_csv(tests, columns))
-        written.append(out / "ttests.csv")
+        write_text_atomic(out / "tests.csv", rows_to_csv(tests, csv_columns(axes)))
+        written.append(out / "tests.csv")
     else:
-        lines += [f"No t-tests: the results hold no {baseline!r} rows next to other systems.", ""]
+        lines += [f"No tests: the results hold no {baseline!r} rows next to other systems.", ""]
     write_text_atomic(out / "summary.md", "\n".join(lines))
 
     if has_system and axes and axes[0] == "rate":

@@ -1,7 +1,10 @@
 """``robin-pil study``: the paper's learner-only study (section IV-B); never imports MuJoCo.
 
-Writes ``runs.csv`` (one row per run), ``summary.md`` (mean ± sd, training figures next to
-the paper's, Welch t-tests) and ``gestures.png``, ``actions.png``, ``training.png``.
+Writes ``runs.csv`` (one row per run), ``tests.csv`` (paired tests of PIL against every other
+system), ``summary.md`` (mean ± sd, training figures next to the paper's, the paper's claim,
+the tests) and ``gestures.png``, ``actions.png``, ``training.png``. With ``--seeds K`` it runs
+K such studies into ``OUT/seed_<n>/`` and writes their headlines over seeds
+(:mod:`pil.experiments.study_seeds`).
 """
 
 from __future__ import annotations
@@ -61,6 +64,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="test tables per run (default: the scenario's, 10 in the paper's setup)",
     )
     parser.add_argument("--seed", default=0, help="master seed, >= 0 (default: %(default)s)")
+    parser.add_argument(
+        "--seeds",
+        default="1",
+        help="independent studies to run, master seeds SEED .. SEED+K-1, each in OUT/seed_<n>/, "
+        "reported over seeds in OUT/summary.md and OUT/seeds.csv; a finished seed folder is "
+        "reused (default: %(default)s: one study in OUT)",
+    )
     parser.add_argument(
         "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
     )
@@ -129,10 +139,33 @@ def run(args: argparse.Namespace) -> int:
         scenario=resolve_scenario(args.scenario, check_params(params)),  # a bad file: refused now
         params=params,
     )
+    count = _seed_count(args.seeds)
     check_out_dir(args.out)  # before the computation, not after it
+    if count > 1:
+        from pil.experiments.study_seeds import check_seeds, run_study_seeds
+
+        check_seeds(config, count, args.out)
+        with tqdm(total=config.runs() * count, desc="study", unit="run", file=sys.stderr,
+                  disable=args.no_progress) as bar:  # fmt: skip
+            written = run_study_seeds(config, count, args.out, progress=bar.update)
+        print(f"{count} studies of {config.runs()} runs; wrote "
+              + ", ".join(str(p) for p in written))  # fmt: skip
+        return 0
     with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
               disable=args.no_progress) as bar:  # fmt: skip
         rows = run_study(config, progress=bar.update)
     written = write_outputs(rows, config, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+def _seed_count(text: str) -> int:
+    """``--seeds`` as a whole number of studies."""
+    from pil.experiments.over_seeds import MAX_SEEDS, check_seed_count
+
+    try:
+        count = int(str(text).strip())
+    except ValueError:
+        raise RobinPilError(f"--seeds must be a whole number from 1 to {MAX_SEEDS}, got "
+                            f"{text!r}") from None  # fmt: skip
+    return check_seed_count(count)

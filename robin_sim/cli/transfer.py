@@ -1,8 +1,9 @@
 """``robin-pil transfer``: a second task (tidying) from scratch vs from saved associations.
 
-Writes ``transfer.csv``, ``transfer.md`` (mean ± sd, Welch t-tests of scratch against table)
-and ``transfer.png``; without ``--table`` also ``assembly_table.json`` (the first
-repetition's assembly table, reusable with ``--table``).
+Writes ``transfer.csv``, ``transfer.md`` (mean ± sd, paired tests of scratch against table),
+``tests.csv`` and ``transfer.png``; without ``--table`` also ``assembly_table.json`` (the first
+repetition's assembly table, reusable with ``--table``). With ``--seeds K`` K such studies in
+``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``).
 """
 
 from __future__ import annotations
@@ -35,13 +36,31 @@ def run(args: argparse.Namespace) -> int:
     if args.table is not None:
         load_table(args.table)  # a corrupt or missing file fails here, before anything runs
     check_out_dir(args.out)
+    source = f"the saved table {args.table}" if args.table else "each repetition's assembly table"
+    if args.seeds > 1:
+        from robin_sim.cli.options import run_seed_studies
+
+        def one(seed: int, step: object) -> list:
+            folder = args.out / f"seed_{seed}"
+            folder.mkdir(parents=True, exist_ok=True)
+            first = None if args.table is not None else folder / "assembly_table.json"
+            return run_transfer_study(systems, rates, args.reps, seed, table_file=args.table,
+                                      save_first=first, progress=step)  # fmt: skip
+
+        settings = {"study": "transfer", "table": str(args.table), "rates": list(rates),
+                    "reps": args.reps, "systems": list(systems)}  # fmt: skip
+        return run_seed_studies(
+            args, "transfer", settings, one,
+            lambda _seed, rows, folder: write_transfer(rows, folder, source),
+            within=("rate", "system"), title="Transfer to a second task",
+            runs_per_seed=len(rates) * len(systems) * args.reps,
+        )  # fmt: skip
     save_first = None if args.table is not None else args.out / "assembly_table.json"
     if save_first is not None:
         args.out.mkdir(parents=True, exist_ok=True)
     with progress_bar(len(rates) * len(systems) * args.reps, "transfer", args) as bar:
         rows = run_transfer_study(systems, rates, args.reps, args.seed, table_file=args.table,
                                   save_first=save_first, progress=bar.update)  # fmt: skip
-    source = f"the saved table {args.table}" if args.table else "each repetition's assembly table"
     written = write_transfer(rows, args.out, source)
     if save_first is not None:
         written.append(save_first)

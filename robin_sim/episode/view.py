@@ -36,6 +36,9 @@ class EpisodeView:
         """The person is about to show the thumb (``record.feedback``)."""
         self.update(feedback=None if record.feedback is None else record.feedback.value)
 
+    def received(self, record: StepRecord) -> None:
+        """The learner has the feedback (the overlay changes when the record is finished)."""
+
     def finished(self, record: StepRecord) -> None:
         """A record is done: the legs delivered so far."""
         self.update(legs_delivered=record.legs_delivered)

@@ -17,6 +17,7 @@ import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from robin_sim.live.experimenter import Command
 from robin_sim.live.inputs import LiveInputError, parse_input
 from robin_sim.live.questioning import Questioning
 from robin_sim.live.questionnaires import Questionnaire
@@ -131,6 +132,28 @@ class Conductor:
         else:
             shown = "the instructions: press Start" if self.phase == "instructions" else "none"
             raise LiveInputError(f"{item.kind}: no session is running (showing {shown})")
+
+    async def command(self, item: Command) -> dict[str, Any] | None:
+        """An experimenter's command (:mod:`robin_sim.live.experimenter`); a saved note's
+        entry, else None. :class:`LiveInputError` says why it cannot be done now."""
+        assert self._loop is not None
+        session = self.session
+        if item.kind == "note":
+            return session.note(item.text)
+        if item.kind == "end":
+            await self._end("ended")
+            return None
+        if self.phase == "questionnaire" and item.kind == "next_block":
+            await self._after_questions()  # the experimenter skips the rest of them
+            return None
+        if self.phase != "running":
+            raise LiveInputError(f"{item.kind}: no block is running now ({self.phase})")
+        if item.kind in ("pause", "resume"):
+            session.pause(item.kind == "pause")
+        else:  # next_block: this one is saved as ended; the watcher shows the next
+            session.pause(False)
+            await self._loop.run_in_executor(None, lambda: session.stop("ended"))
+        return None
 
     async def finished(self) -> str:
         """Wait for the end of the run; its final status."""

@@ -4,8 +4,9 @@ The folder is ``out_root/<participant>/<session>``; an existing one is refused (
 overwrites another). ``inputs.jsonl`` gets one line per message from the controlling client,
 flushed at once: wall-clock and monotonic time, the simulated time, the raw message, whether it
 was accepted and, if not, why. ``summary.json`` holds the episode summary's fields
-(:func:`robin_sim.episode.run.run_summary`) and a ``"live"`` block; the step log and the MP4
-are written by :class:`robin_sim.live.run.LiveRun`.
+(:func:`robin_sim.episode.run.run_summary`) and a ``"live"`` block; ``notes.jsonl`` the
+experimenter's timestamped notes; the step log and the MP4 are written by
+:class:`robin_sim.live.run.LiveRun`.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from robin_sim.live.config import LiveConfig
 if TYPE_CHECKING:
     from robin_sim.live.run import LiveRun
 
-INPUTS_NAME, SUMMARY_NAME = "inputs.jsonl", "summary.json"
+INPUTS_NAME, SUMMARY_NAME, NOTES_NAME = "inputs.jsonl", "summary.json", "notes.jsonl"
 MAX_RAW_CHARS = 2000  # a raw message longer than this is logged cut (the server limits them)
 
 
@@ -89,6 +90,15 @@ class SessionFiles:
             self._inputs.flush()
             self.inputs += 1
             self.rejected += bool(error)
+
+    def log_note(self, text: str, sim_time: float | None) -> dict[str, Any]:
+        """One experimenter's note, timestamped, appended to ``notes.jsonl`` (flushed); the
+        entry. Written also after the session has ended (the folder stays)."""
+        entry = {"utc": datetime.now(UTC).isoformat(timespec="milliseconds"),
+                 "wall": time.time(), "sim_time": sim_time, "text": text}  # fmt: skip
+        with self._lock, (self.out_dir / NOTES_NAME).open("a", encoding="utf-8") as notes:
+            notes.write(json.dumps(entry) + "\n")
+        return entry
 
     def save(self, status: str, error: str, run: LiveRun | None) -> dict[str, Any]:
         """Close the inputs log and write ``summary.json``; the summary."""

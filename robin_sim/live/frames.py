@@ -26,14 +26,14 @@ import numpy as np
 
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model.names import DEFAULT_CAMERA, EYE_CAMERA
-from robin_sim.model.scene import SceneLayout
+from robin_sim.model.scene import LEG_COLORS, SceneLayout
 from robin_sim.render.inset import EyeInset, draw_eye_inset, inset_size
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.state_log import StateLog, layout_dict
 from robin_sim.render.video import Mp4Writer
 
 JPEG_QUALITY = 80
-SPOT_COLOUR = (255, 214, 90)  # RGB of the rings marking the table spots
+SPOT_COLOUR = (40, 40, 48)  # RGB of the rings marking the table spots (dark on the table)
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,14 +102,39 @@ class FrameHub:
 
 
 def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None:
-    """Rings with their numbers where the table spots are, in place."""
+    """Rings numbered from 1 (as the page names them) where the table spots are, in place."""
     scale = frame.shape[0] / 480
     for k, (x, y) in enumerate(pixels):
         centre = (round(x), round(y))
-        axes = (max(3, round(9 * scale)), max(2, round(4 * scale)))  # the table seen at a slant
-        cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_COLOUR, 1, cv2.LINE_AA)
-        cv2.putText(frame, str(k), (centre[0] - 3, centre[1] + 3), cv2.FONT_HERSHEY_SIMPLEX,
-                    0.3 * scale, SPOT_COLOUR, 1, cv2.LINE_AA)  # fmt: skip
+        axes = (max(3, round(10 * scale)), max(2, round(5 * scale)))  # the table seen at a slant
+        cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_COLOUR, 2, cv2.LINE_AA)
+        _label(frame, str(k + 1), (centre[0] + axes[0] + 2, centre[1] + 4), (255, 255, 255),
+               scale)  # fmt: skip
+
+
+def draw_leg_numbers(frame: np.ndarray, labels: Iterable[tuple[float, float, int]]) -> None:
+    """Each leg's number (from 1) in its own colour beside it, in place; ``labels`` holds
+    (x, y, leg) with (x, y) the leg's pixel."""
+    scale = frame.shape[0] / 480
+    radius = max(4, round(8 * scale))
+    for x, y, leg in labels:
+        r, g, b, _ = LEG_COLORS[leg % len(LEG_COLORS)]
+        colour = (round(r * 255), round(g * 255), round(b * 255))
+        centre = (round(x), round(y))  # a badge on the leg itself
+        cv2.circle(frame, centre, radius + 1, (20, 20, 20), -1, cv2.LINE_AA)
+        cv2.circle(frame, centre, radius, colour, -1, cv2.LINE_AA)
+        _label(frame, str(leg + 1), (centre[0] - round(4 * scale), centre[1] + round(5 * scale)),
+               (255, 255, 255), scale)  # fmt: skip
+
+
+def _label(frame: np.ndarray, text: str, at: tuple[int, int], colour: tuple[int, int, int],
+           scale: float) -> None:  # fmt: skip
+    """``text`` at ``at`` in ``colour`` with a dark outline (readable on any background)."""
+    size = 0.5 * scale
+    cv2.putText(frame, text, at, cv2.FONT_HERSHEY_SIMPLEX, size, (20, 20, 20),
+                max(2, round(4 * scale)), cv2.LINE_AA)  # fmt: skip
+    cv2.putText(frame, text, at, cv2.FONT_HERSHEY_SIMPLEX, size, colour,
+                max(1, round(1.5 * scale)), cv2.LINE_AA)  # fmt: skip
 
 
 class FrameStream(ClosesOnExit):
@@ -130,6 +155,7 @@ class FrameStream(ClosesOnExit):
         reflections: bool = False,
         spots: Iterable[tuple[float, float]] = (),
         on_state: Callable[[FrameState], None] | None = None,
+        legs: Callable[[], Iterable[tuple[float, float, int]]] | None = None,
         states: Path | None = None,
     ) -> None:
         self.hub, self.stats = hub, StreamStats()
@@ -141,8 +167,10 @@ class FrameStream(ClosesOnExit):
                 "fps": video_fps, "camera": DEFAULT_CAMERA, "shadows": False,
                 "reflections": reflections, "eye_inset": eye_inset, "overlay": False,
                 "spots": [list(map(float, xy)) for xy in self.spots],
+                "leg_numbers": legs is not None,
             })  # fmt: skip
         self.on_state = on_state  # e.g. the picker follows the frames
+        self.legs = legs  # (x, y, leg) of each leg once on_state has seen the frame's state
         self._waiting: deque[FrameState] = deque()  # frames still rendering
         self._eyes: deque[np.ndarray] = deque()  # eye views rendered in this process
         self._closed = False
@@ -188,13 +216,15 @@ class FrameStream(ClosesOnExit):
             eye = self._next_eye()
             if eye is not None:
                 draw_eye_inset(pixels, eye)
+            if self.on_state is not None:
+                self.on_state(state)
             draw_spots(pixels, self.spots)
+            if self.legs is not None:
+                draw_leg_numbers(pixels, self.legs())
             ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
                                     [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
             if not ok:  # pragma: no cover - OpenCV fails only on a bad image
                 raise RuntimeError("JPEG encoding of a live frame failed")
-            if self.on_state is not None:
-                self.on_state(state)
             self.stats.frames += 1
             frame = Frame(self.stats.frames, jpeg.tobytes(), float(state.time), captured)
             self.hub.publish(frame)

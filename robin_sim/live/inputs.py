@@ -83,6 +83,11 @@ def _decode(raw: str | bytes | Mapping[str, Any]) -> Mapping[str, Any]:
             )
         try:
             message = json.loads(raw)
+        except RecursionError:
+            raise LiveInputError(
+                "message is nested too deeply to read; send one flat JSON object such as "
+                '{"type": "thumb", "value": "up"}'
+            ) from None
         except (ValueError, UnicodeDecodeError):
             raise LiveInputError(
                 'message is not JSON; send one JSON object such as {"type": "thumb", '
@@ -104,10 +109,10 @@ def _coordinate(message: Mapping[str, Any], name: str, size: int) -> float:
         raise LiveInputError(
             f"point: {name} must be a number of pixels in [0, {size}), got {value!r:.40}"
         )
-    if not math.isfinite(value) or not 0 <= value < size:
+    if (isinstance(value, float) and not math.isfinite(value)) or not 0 <= value < size:
         raise LiveInputError(
-            f"point: {name} = {value!r} lies outside the {size}-pixel frame; valid: 0 <= {name} "
-            f"< {size}"
+            f"point: {name} = {value!r:.40} lies outside the {size}-pixel frame; valid: "
+            f"0 <= {name} < {size}"
         )
     return float(value)
 
@@ -122,7 +127,20 @@ def _choice(message: Mapping[str, Any], kind: str, name: str, valid: tuple[str, 
 
 
 def parse_input(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> LiveInput:
-    """Check one message against the contract; ``width`` x ``height`` is the scene frame."""
+    """Check one message against the contract; ``width`` x ``height`` is the scene frame.
+    Whatever goes wrong reading it is a :class:`LiveInputError` (never another exception)."""
+    try:
+        return _checked(raw, width, height)
+    except LiveInputError:
+        raise
+    except Exception as problem:  # a message must never end the session
+        raise LiveInputError(
+            f"message could not be read ({type(problem).__name__}); send one JSON object such "
+            f'as {{"type": "thumb", "value": "up"}} with "type" one of {_choices(INPUT_KINDS)}'
+        ) from None
+
+
+def _checked(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> LiveInput:
     message = _decode(raw)
     kind = message.get("type")
     if not isinstance(kind, str) or kind not in FIELDS:

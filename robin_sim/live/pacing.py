@@ -61,6 +61,10 @@ class Pacer:
             self.behind_s += -ahead
             self._wall0 -= ahead  # from here on, pace from where physics is now
 
+    def skip(self, wall_s: float) -> None:
+        """Pace on as if ``wall_s`` s of wall time had not passed (a pause: no lag counted)."""
+        self._wall0 += wall_s
+
     @property
     def lag_s(self) -> float:
         """How far (wall s) physics is behind its pace now (negative: ahead, sleeping)."""

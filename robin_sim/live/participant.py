@@ -27,9 +27,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from pil.task.person import LegsSeen, ScriptStep
+from pil.task.records import StepRecord
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome, Target
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
+from robin_sim.live.guide import guide, leg_colour, leg_rgb
 from robin_sim.person.body import PhysicalBody
 
 # The action a gesture means in a state the block's types do not use (for the record only).
@@ -99,10 +101,12 @@ class LiveParticipant:
         self.thumb: Feedback | None = None  # the thumb given since the current action began
         self.ended = False
         self.judging = False  # an action is watched or awaits its thumb: a thumb is taken
+        self.verdict_pending = False  # judged, not yet received by the learner (session clears)
         self.interventions = 0
         self._gesture: Gesturing | None = None
         self._previous = Action.OPEN  # the last action the participant approved
         self._legs = LegsSeen()
+        self._delivered_legs: set[int] = set()  # of the table now laid out
         self._handover, self._step = -1, 0  # the handover and its approved instructions
         # A proactive robot acts before the next gesture after an approved action, when its
         # learnt transitions make one next state likely (pil.anticipation): then the loop gets
@@ -142,6 +146,28 @@ class LiveParticipant:
         kind = self.types[handover]
         steps = [f"{s.gesture.value} -> {s.action.value}" for s in kind.steps]
         return {"handover": handover, "handover_type": kind.name, "handover_steps": steps}
+
+    def guide(self) -> dict[str, object]:
+        """The page's plain-words guide to the handover now asked for
+        (:func:`robin_sim.live.guide.guide`), with the table's legs and spots for its legend."""
+        handover = min(self.legs_delivered, self.legs_total - 1)
+        done = self._step if self._handover == self.legs_delivered else 0
+        legs = range(self.legs_per_table)
+        leg = next((k for k in (self._legs.holding, self._legs.pointed)
+                    if k is not None and k not in self._delivered_legs), None)  # fmt: skip
+        if leg is None:
+            leg = next((k for k in legs if k not in self._delivered_legs), 0)
+        shown = guide(self.types[handover], done, leg, handover, self.legs_total)
+        shown["legs"] = [{"number": k + 1, "colour": leg_colour(k), "css": leg_rgb(k),
+                          "delivered": k in self._delivered_legs} for k in legs]  # fmt: skip
+        shown["spots"] = len(self.body.world.layout.spots)
+        return shown
+
+    def received(self, record: StepRecord) -> None:
+        """The learner has ``record``: a delivered leg is off the table from now on."""
+        self.verdict_pending = False
+        if record.delivered and self._legs.holding is not None:
+            self._delivered_legs.add(self._legs.holding)
 
     @property
     def gesture_pending(self) -> bool:
@@ -208,6 +234,7 @@ class LiveParticipant:
 
     def start_table(self, table: int) -> None:
         """A new table's legs are laid out: the hand rests first."""
+        self._delivered_legs.clear()
         self.body.start_table(table)
 
     def perform(self, intent: Intent) -> None:
@@ -225,6 +252,7 @@ class LiveParticipant:
         """The participant's thumb, given during the move or in the feedback window the world
         waited after it (:meth:`ThumbWatcher.result_window`); a thumb down took the action
         back (``outcome.interrupted``); none, or a next gesture instead, is silence (OK)."""
+        self.verdict_pending = True
         if outcome.interrupted:
             return Feedback.NOT_OK
         return Feedback.NONE if self.thumb is None else self.thumb

@@ -8,7 +8,8 @@ coordinates are continuous image coordinates: x from 0 (left edge) to ``width`` 
 from 0 (top edge, the first row of the frame) to ``height`` (bottom edge), so image y runs
 against the camera's +y. A ray that first meets any geom of a leg's body points at that leg; one
 that meets the table top within :data:`SPOT_RADIUS` of a spot points at the spot; anything else
-raises :class:`~robin_sim.live.inputs.LiveInputError` naming what can be pointed at.
+raises :class:`~robin_sim.live.inputs.LiveInputError` saying, in plain words, what was clicked
+and what can be (legs and spots numbered from 1, as the page shows them).
 """
 
 from __future__ import annotations
@@ -28,6 +29,11 @@ from robin_sim.render.renderer import camera_id
 from robin_sim.render.worker import FrameState, apply_state
 
 SPOT_RADIUS = 0.05  # m: a table-top hit this close to a spot points at it (spots lie 0.12 apart)
+# Words in a hit geom's or body's name -> what the participant is told they clicked on.
+PLAIN_PARTS = (("bin", "the bin"), ("floor", "the floor"), ("table", "the table"),
+               ("human", "your hand"), ("person", "your hand"), ("head", "Robin's head"),
+               ("palm", "Robin's hand"), ("finger", "Robin's hand"), ("torso", "Robin's body"),
+               ("arm", "Robin's arm"), ("wall", "the wall"))  # fmt: skip
 VISIBLE_GROUPS = np.array([1, 1, 1, 0, 0, 0], np.uint8)  # the renderer's default geom groups
 
 
@@ -88,6 +94,19 @@ class Picker:
         with self._lock:
             return [self.project(spot) for spot in self._spots]
 
+    def leg_pixels(self) -> list[tuple[float, float, int]]:
+        """(x, y, leg) of each leg on the frame now shown (legs behind the camera left out)."""
+        with self._lock:
+            seen = []
+            for body, leg in self._leg_of_body.items():
+                try:
+                    x, y = self.project(self.data.xpos[body])
+                except ValueError:
+                    continue
+                if 0 <= x < self.width and 0 <= y < self.height:
+                    seen.append((x, y, leg))
+            return seen
+
     # --- picking -------------------------------------------------------------------------------
     def pick(self, x: float, y: float) -> Target:
         """The leg or spot under image point (x, y); else :class:`LiveInputError`."""
@@ -107,17 +126,22 @@ class Picker:
                     spot = int(np.argmin(gaps))
                     if gaps[spot] <= SPOT_RADIUS:
                         return Target("spot", spot)
-            what = "nothing" if hit < 0 else self._name(hit)
+            what = "nothing (the background)" if hit < 0 else self._name(hit)
         raise LiveInputError(
-            f"the click at ({x:.0f}, {y:.0f}) hit {what}; point at a table leg "
-            f"(legs 0-{len(self._leg_of_body) - 1}) or a table spot (spots "
-            f"0-{len(self._spots) - 1}, the marked rings on the table, within "
-            f"{SPOT_RADIUS * 100:.0f} cm)"
+            f"That click was on {what}, not on a leg or a spot. Click one of the numbered "
+            f"legs (1-{len(self._leg_of_body)}) or spots (1-{len(self._spots)}, the rings on "
+            "the table)."
         )
 
     def _name(self, geom: int) -> str:
-        name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, geom)
-        body = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, self.model.geom_bodyid[geom])
+        """What a participant would call the thing the click hit."""
         if geom == self._table_top:
-            return "the table top away from the spots"
-        return f"{name or 'a geom'} (of {body or 'the world'})"
+            return "the table away from the spots"
+        name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, geom) or ""
+        body = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY,
+                                 self.model.geom_bodyid[geom]) or ""  # fmt: skip
+        words = f"{name} {body}".lower()
+        for part, plain in PLAIN_PARTS:
+            if part in words:
+                return plain
+        return "something else"

@@ -52,6 +52,7 @@ DEFAULT_INSTRUCTIONS = (
     "({types}) with gestures; thumbs up or down tell the robot how it did."
 )
 MAX_REPEAT, MAX_TYPES = 100, 100  # per block: clear bounds instead of a runaway study
+MAX_INSTRUCTIONS = 4000  # characters of an instruction text, before and after filling it in
 
 
 class ProtocolError(RobinPilError):
@@ -309,14 +310,22 @@ def _template(value: Any, where: str) -> str:
     """Instructions text; its ``{placeholders}`` must be among :data:`PLACEHOLDERS`."""
     text = _text(value, where)
     valid = ", ".join("{" + p + "}" for p in PLACEHOLDERS)
+    if len(text) > MAX_INSTRUCTIONS:
+        raise ProtocolError(f"{where}: {len(text)} characters is too long; at most "
+                            f"{MAX_INSTRUCTIONS}")  # fmt: skip
     try:
-        fields = [f for _lit, f, _spec, _conv in string.Formatter().parse(text) if f is not None]
+        fields = [(f, spec, conv) for _lit, f, spec, conv in string.Formatter().parse(text)
+                  if f is not None]  # fmt: skip
     except ValueError as error:
         raise ProtocolError(f"{where}: {error}; write {{{{ and }}}} for literal braces, "
                             f"placeholders: {valid}") from None  # fmt: skip
-    for field in fields:
+    for field, spec, conv in fields:
         if field not in PLACEHOLDERS:
             raise ProtocolError(f"{where}: unknown placeholder {{{field}}}; valid choices: {valid}")
+        if spec or conv:  # {block:>100000000} would fill a 100 MB text
+            shown = field + ("!" + conv if conv else "") + (":" + spec if spec else "")
+            raise ProtocolError(f"{where}: placeholder {{{shown:.40}}} has a format; write it "
+                                f"bare, as {{{field}}} (placeholders: {valid})")  # fmt: skip
     return text
 
 

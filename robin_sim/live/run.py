@@ -83,6 +83,7 @@ class LiveRun(ClosesOnExit):
                 eye_inset=config.eye_inset, render_workers=config.render_workers,
                 eye_worker=config.eye_worker, reflections=config.reflections,
                 spots=self.picker.spot_pixels(), on_state=self.picker.show,
+                legs=self.picker.leg_pixels,
                 states=out_dir / STATES_NAME,
             )  # fmt: skip
             self.log = StepLog(out_dir / LOG_NAME)

@@ -17,8 +17,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import errno
-import ipaddress
 import json
 import logging
 import secrets
@@ -30,66 +28,29 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-from urllib.parse import urlsplit
 
 from aiohttp import WSMsgType, web
 
-from pil.errors import RobinPilError, quote
 from robin_sim.live.conductor import Conductor
+from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits, bind
+from robin_sim.live.experimenter import experimenter_view, parse_command
+from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
 
 LOG = logging.getLogger(__name__)
-LOOPBACK_NAMES = ("localhost",)
+__all__ = ["LiveServer", "bind", "is_loopback", "new_token"]
 STATIC_DIR = Path(__file__).with_name("static")
 STATIC_TYPES = {  # all /static/ serves
-    "live.js": "text/javascript", "live.css": "text/css",
+    "live.js": "text/javascript", "live.css": "text/css", "experimenter.js": "text/javascript",
     "questionnaire.js": "text/javascript", "questionnaire.css": "text/css",
 }  # fmt: skip
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
 SEND_BUFFER_BYTES = 128 * 1024  # kernel send buffer of a tab's socket: a few frames, not seconds
+EXAMPLE = '{"type": "thumb", "value": "up"}'  # a valid message, for error replies
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
-SECURITY_HEADERS = {
-    "Content-Security-Policy": "default-src 'self'; img-src 'self' blob: data:; "
-    "connect-src 'self'; style-src 'self'; script-src 'self'",
-    "X-Content-Type-Options": "nosniff",
-    "Cache-Control": "no-store",
-}
-
-
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` is reachable only from this machine."""
-    if host in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host).is_loopback
-    except ValueError:
-        return False
-
-
-def bind(host: str, port: int) -> socket.socket:
-    """A listening socket on ``host``:``port``, or one clear error."""
-    try:
-        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
-    except socket.gaierror as problem:
-        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
-                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
-    family, _, _, _, address = infos[0]
-    sock = socket.socket(family, socket.SOCK_STREAM)
-    try:
-        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        sock.bind(address)
-        sock.listen(64)
-    except OSError as problem:
-        sock.close()
-        if problem.errno == errno.EADDRINUSE:
-            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
-                                "(or --port 0 for any free one)") from None  # fmt: skip
-        raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
-    sock.setblocking(False)
-    return sock
 
 
 def new_token() -> str:
@@ -113,9 +74,10 @@ class Tab:
     """One connected tab: its socket, role, what waits to be sent, and its recent inputs."""
 
     ws: web.WebSocketResponse
-    role: str  # "control" | "watch"
+    role: str  # "control" | "watch" | "experimenter"
     frame: bytes | None = None  # the newest frame not yet sent (older ones are dropped)
     status: dict[str, Any] | None = None  # the newest status not yet sent
+    view: dict[str, Any] | None = None  # the newest experimenter's view not yet sent
     texts: deque[dict[str, Any]] = field(default_factory=lambda: deque(maxlen=QUEUED_TEXTS))
     wake: asyncio.Event = field(default_factory=asyncio.Event)
     recent: deque[float] = field(default_factory=deque)  # monotonic times of the last second
@@ -138,37 +100,62 @@ class Tab:
 class LiveServer:
     """The aiohttp application of one run; :meth:`serve` returns the run's final status."""
 
-    def __init__(self, conductor: Conductor, *, token: str | None = None) -> None:
+    def __init__(
+        self,
+        conductor: Conductor,
+        *,
+        token: str | None = None,
+        experimenter_token: str | None = None,
+        host: str | None = None,
+        limits: Limits | None = None,
+    ) -> None:
+        """``host``: the ``--host`` given (None: the bound address); ``limits``: the bounds
+        on HTTP clients (:class:`~robin_sim.live.connections.Limits`)."""
         self.conductor = conductor
         self.token = token
+        # the experimenter's view always needs its own token, on loopback too
+        self.experimenter_token = experimenter_token or new_token()
         self.tabs: list[Tab] = []
-        self.app = web.Application(middlewares=[self._guard], client_max_size=64 * 1024)
+        self.limits = limits or Limits()
+        self.connections = Connections(self.limits)
+        self.guard = Guard(host, on_request=self.connections.served)  # Host, Origin, headers
+        self.app = web.Application(middlewares=[self.guard.middleware, self._guard],
+                                   client_max_size=64 * 1024)  # fmt: skip
+        self.guard.install(self.app)
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
         self.app.router.add_get("/ws", self._websocket)
         self.app.router.add_get("/favicon.ico", self._no_icon)
+        self.app.router.add_get("/experimenter", self._experimenter_page)
         self._loop: asyncio.AbstractEventLoop | None = None
         self._controller_seen = False
 
     # --- HTTP -------------------------------------------------------------------------------
     @web.middleware
     async def _guard(self, request: web.Request, handler: Any) -> web.StreamResponse:
-        """403 without the token (when one is required) or from another site's page."""
+        """403 without the token (when one is required); Host and Origin: :class:`Guard`."""
         if self.token is not None:
             given = request.query.get("token", "")
-            if not secrets.compare_digest(given.encode(), self.token.encode()):
+            if not (secrets.compare_digest(given.encode(), self.token.encode())
+                    or self._is_experimenter(request)):  # fmt: skip
                 return web.Response(status=403, text="403: this server needs ?token=... "
                                     "(the URL printed when it started)\n")  # fmt: skip
-        origin = request.headers.get("Origin")
-        if origin is not None and urlsplit(origin).netloc != request.host:
-            return web.Response(status=403, text="403: requests from other sites' pages\n")
-        response = await handler(request)
-        if not isinstance(response, web.WebSocketResponse):
-            response.headers.update(SECURITY_HEADERS)
-        return response
+        return await handler(request)
 
     def _query(self) -> str:
         return "" if self.token is None else f"?token={self.token}"
+
+    def _is_experimenter(self, request: web.Request) -> bool:
+        given = request.query.get("token", "")
+        return secrets.compare_digest(given.encode(), self.experimenter_token.encode())
+
+    async def _experimenter_page(self, request: web.Request) -> web.Response:
+        if not self._is_experimenter(request):
+            return web.Response(status=403, text="403: the experimenter's view needs its own "
+                                "?token=... (printed when the server started)\n")  # fmt: skip
+        page = (STATIC_DIR / "experimenter.html").read_text(encoding="utf-8")
+        query = f"?token={self.experimenter_token}"
+        return web.Response(text=page.replace("{{QUERY}}", query), content_type="text/html")
 
     async def _index(self, request: web.Request) -> web.Response:
         page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
@@ -192,8 +179,11 @@ class LiveServer:
         sock = request.transport.get_extra_info("socket") if request.transport else None
         if sock is not None:  # a lagging tab backs up within a few frames, then gets the newest
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
-        tab = Tab(ws, "watch" if self._controller_seen else "control")
-        self._controller_seen = True
+        if self._is_experimenter(request):
+            tab = Tab(ws, "experimenter")
+        else:
+            tab = Tab(ws, "watch" if self._controller_seen else "control")
+            self._controller_seen = True
         self.tabs.append(tab)
         tab.send({"type": "role", "role": tab.role})
         tab.status = self.conductor.status()
@@ -222,6 +212,9 @@ class LiveServer:
             tab.send(_error(f"too many messages: at most {RATE_LIMIT} per second; this one "
                             "was dropped"))  # fmt: skip
             return
+        if tab.role == "experimenter":
+            await self._command(tab, data)
+            return
         if tab.role != "control":
             tab.send(_error("this tab watches read-only; the first tab opened controls"))
             return
@@ -229,6 +222,23 @@ class LiveServer:
             await self.conductor.receive(data)  # checked with parse_input, then acted on
         except LiveInputError as problem:
             tab.send(_error(str(problem)))
+        except Exception as problem:  # never lets one message end the session
+            LOG.warning("a message could not be handled: %s: %.200s", type(problem).__name__,
+                        problem)  # fmt: skip
+            tab.send(_error(f"this message could not be handled ({type(problem).__name__}); "
+                            f"send one JSON object such as {EXAMPLE}"))  # fmt: skip
+
+    async def _command(self, tab: Tab, data: str | bytes) -> None:
+        """One experimenter's command; its reply (``done``, with a saved note) or an error."""
+        try:
+            item = parse_command(data)
+            note = await self.conductor.command(item)
+        except LiveInputError as problem:
+            tab.send(_error(str(problem)))
+            return
+        LOG.info("experimenter: %s", item.kind)
+        tab.send({"type": "done", "command": item.kind, "note": note})
+        self.push_status()
 
     async def _sender(self, tab: Tab) -> None:
         """Send what waits for ``tab``: texts, the newest status, the newest frame."""
@@ -241,6 +251,9 @@ class LiveServer:
                 if tab.status is not None:
                     status, tab.status = tab.status, None
                     await tab.ws.send_json({"type": "status", **status})
+                if tab.view is not None:
+                    view, tab.view = tab.view, None
+                    await tab.ws.send_json(view)
                 if tab.frame is not None:
                     frame, tab.frame = tab.frame, None
                     await tab.ws.send_bytes(frame)
@@ -264,8 +277,14 @@ class LiveServer:
 
     def push_status(self) -> None:
         status = self.conductor.status()
+        view = None
         for tab in self.tabs:
             tab.status = status
+            if tab.role == "experimenter":
+                if view is None:
+                    roles = [(t.role, t.frames_dropped) for t in self.tabs]
+                    view = experimenter_view(self.conductor, roles)
+                tab.view = view
             tab.wake.set()
 
     async def _status_loop(self) -> None:
@@ -278,17 +297,22 @@ class LiveServer:
         """Serve on the listening ``sock`` until the run ends; return its final status.
         ``handle_signals``: SIGINT / SIGTERM save the session (main thread only)."""
         loop = self._loop = asyncio.get_running_loop()
+        self.guard.hosts.bind_to(sock.getsockname())
+        handle_exception = loop.get_exception_handler()
+        loop.set_exception_handler(self.connections.loop_exception)
         self.conductor.attach(loop, self.frame_from_physics)
         signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
         runner = web.AppRunner(
-            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0
-        )
+            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0,
+            keepalive_timeout=self.limits.header_timeout_s,  # also bounds unfinished headers
+            logger=HTTP_LOG,  # a closed tab: one line, no traceback
+        )  # fmt: skip
         await runner.setup()
         status_task = None
         try:
-            await web.SockSite(runner, sock).start()
+            await GuardedSite(runner, sock, self.connections).start()
             status_task = asyncio.create_task(self._status_loop())
             outcome = await self.conductor.finished()
             self.push_status()  # the last status reaches every tab before the sockets close
@@ -296,12 +320,32 @@ class LiveServer:
         finally:
             if status_task is not None:
                 status_task.cancel()
-            for tab in list(self.tabs):
-                await tab.ws.close(code=1001, message=b"the session has ended")
+            await self._close_tabs()
+            self.connections.abort_all()  # a client that never reads holds nothing up
             await runner.cleanup()
             for signum in signals:
                 loop.remove_signal_handler(signum)
+            loop.set_exception_handler(handle_exception)
         return outcome
+
+    async def _close_tabs(self) -> None:
+        """Say goodbye to every tab, for at most ``limits.close_timeout_s``: a tab that does not
+        read is then dropped (a signal meanwhile waits no longer than that)."""
+        goodbye = b"the session has ended"
+        closing = [asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
+                   for tab in list(self.tabs)]  # fmt: skip
+        if not closing:
+            return
+        await asyncio.wait(closing, timeout=self.limits.close_timeout_s)
+        for task in closing:
+            if task.done() and not task.cancelled():
+                task.exception()  # a failed goodbye is no error: the tab is gone either way
+        late = [task for task in closing if not task.done()]
+        for task in late:
+            task.cancel()
+        if late:
+            LOG.warning("%d tab(s) did not take the goodbye in time; their connections were "
+                        "dropped", len(late))  # fmt: skip
 
     def stop_soon(self) -> None:
         """From any thread: end the run as if signalled (the session saved ``interrupted``)."""

@@ -8,12 +8,18 @@ with frames from :class:`~robin_sim.live.frames.FrameStream`. Each step is logge
 by the episode's own :class:`~robin_sim.episode.run.StepBook`. Messages come from any thread
 (:meth:`LiveSession.receive` / :meth:`LiveSession.submit`) and are written to ``inputs.jsonl``;
 :meth:`LiveSession.stop` ends the session between two ticks and saves everything
-(:mod:`robin_sim.live.files`).
+(:mod:`robin_sim.live.files`). A step is logged and counted as soon as the learner has its
+feedback (the loop's observer ``received``), before the participant carries a delivered leg
+away, so a stop at any moment keeps every step the learner has received. For the experimenter,
+:meth:`LiveSession.pause` holds physics between two ticks and :meth:`LiveSession.note` saves a
+timestamped note in the session folder.
 """
 
 from __future__ import annotations
 
 import threading
+import time
+from collections import deque
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -22,6 +28,7 @@ from pil.task.records import StepRecord
 from pil.task.runner import steps
 from pil.types import Gesture
 from robin_sim.live.config import LiveConfig
+from robin_sim.live.experimenter import pacing_figures
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
@@ -40,6 +47,11 @@ from robin_sim.person.body import PhysicalBody
 __all__ = ["Frame", "LiveConfig", "LiveSession"]
 STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
 STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
+LOG_TAIL = 40  # steps kept for the experimenter's view
+TAIL_KEYS = ("t", "handover", "step", "true_gesture", "action", "target", "feedback",
+             "delivered", "legs_delivered", "sim_time", "reason")  # fmt: skip
+PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
+PAUSED_MESSAGE = "Paused by the experimenter: please wait."
 
 
 class SessionStopped(BaseException):
@@ -67,7 +79,10 @@ class LiveSession:
         self._participant: LiveParticipant | None = None
         self._picker: Picker | None = None
         self._pacer: Any = None
+        self._run_parts: LiveRun | None = None
         self._files: SessionFiles | None = None
+        self._paused = threading.Event()  # the experimenter paused physics
+        self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
 
     # --- the contract --------------------------------------------------------------------------
     def start(self) -> None:
@@ -98,6 +113,10 @@ class LiveSession:
         except LiveInputError as error:
             self._log_input(item.as_dict(), str(error))
             raise
+        except Exception as problem:  # logged and refused: the session goes on
+            refused = LiveInputError(f"{item.kind}: could not be acted on ({problem!r:.200})")
+            self._log_input(item.as_dict(), str(refused))
+            raise refused from None
         self._log_input(item.as_dict(), "")
 
     def subscribe(self, callback: Callable[[Frame], None]) -> Callable[[], None]:
@@ -126,6 +145,12 @@ class LiveSession:
         participant, summary, pacer = self._participant, self._summary, self._pacer
         status = self.view.status(participant, None if summary is None else summary["status"])
         status["behind_s"] = None if pacer is None else round(pacer.behind_s, 3)  # lost pace
+        files = self._files
+        # inputs taken so far: the page clears a shown error once this grows
+        status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected
+        status["paused"] = self.paused
+        if self.paused and status["phase"] != "done":
+            status["message"] = PAUSED_MESSAGE
         return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
@@ -146,6 +171,31 @@ class LiveSession:
         self.done.wait(STOP_WAIT_S)
         return dict(self._summary or {"status": self._stop_status, "saving": True})
 
+    # --- the experimenter ----------------------------------------------------------------------
+    def pause(self, paused: bool) -> None:
+        """Hold physics (and the stream) between two ticks, or let it run on (thread-safe)."""
+        if paused:
+            self._paused.set()
+        else:
+            self._paused.clear()
+
+    @property
+    def paused(self) -> bool:
+        return self._paused.is_set()
+
+    def note(self, text: str) -> dict[str, Any]:
+        """Save an experimenter's note with its time in the session folder; the entry."""
+        files, participant = self._files, self._participant
+        if files is None:
+            raise LiveInputError("note: this block has not started, so it has no folder yet; "
+                                 "write the note once it runs")  # fmt: skip
+        sim_time = None if participant is None else round(participant.body.world.time, 4)
+        return files.log_note(text, sim_time)
+
+    def pacing(self) -> dict[str, Any]:
+        """The stream's and the pacer's figures now (for the experimenter)."""
+        return pacing_figures(self._run_parts, self.config.speed, self.paused)
+
     # --- messages ------------------------------------------------------------------------------
     def _act(self, item: LiveInput) -> None:
         participant = self._participant
@@ -161,17 +211,18 @@ class LiveSession:
                                  "protocol block's instructions")  # fmt: skip
         elif item.kind == "thumb":
             if not participant.judging:
-                raise LiveInputError("thumb: there is no robot action to judge now; give a "
-                                     "thumb while the robot acts or right after")  # fmt: skip
+                raise LiveInputError("There is no robot action to judge now: give a thumb "
+                                     "while Robin moves or just after.")  # fmt: skip
             participant.offer(THUMBS[str(item.thumb)])
         else:
             if phase not in ("waiting_for_gesture", "waiting_for_thumb"):
                 raise LiveInputError(
-                    f"{item.kind}: not your turn (the robot is acting); gesture once it waits "
-                    "for you, or give thumb down to stop it"
+                    "It is not your turn yet: Robin is still acting. Wait until it asks for "
+                    "your gesture, or give thumb down to stop it."
                 )
             if item.kind == "point":
                 target = self._picker.pick(float(item.x), float(item.y))  # type: ignore[arg-type]
+                self.view.clicked(target, float(item.x), float(item.y))  # type: ignore[arg-type]
                 participant.offer(Gesturing(Gesture.POINTING, target))
             else:
                 participant.offer(Gesturing(GESTURES[str(item.gesture)]))
@@ -184,14 +235,35 @@ class LiveSession:
 
     # --- the physics thread --------------------------------------------------------------------
     def _on_tick(self, _: object) -> None:
-        if self._stop_status is not None:
-            raise SessionStopped(self._stop_status)
         participant = self._participant
+        # A verdict given but not yet received by the learner (the thumb being shown): the stop
+        # waits the moment until the step is logged, so no approved step is ever lost.
+        holding = participant is not None and participant.verdict_pending
+        if self._stop_status is not None and not holding:
+            raise SessionStopped(self._stop_status)
+        if self._paused.is_set() and not holding:
+            self._hold()
         if participant is not None:
             participant.poll()
-            if participant.ended and participant.phase != "waiting_for_gesture":
+            if participant.ended and not holding and participant.phase != "waiting_for_gesture":
                 # "end" while the robot acts or waits for a thumb: no verdict is made up
                 raise SessionStopped("ended")
+
+    def _hold(self) -> None:
+        """Wait while paused (a stop or the participant's End still ends the session); the
+        pacer skips the pause."""
+        started = time.monotonic()
+        participant = self._participant
+        while self._paused.is_set() and self._stop_status is None:
+            if participant is not None:
+                participant.poll()  # the participant's End still ends the session
+                if participant.ended:
+                    break
+            time.sleep(PAUSE_POLL_S)
+        if self._pacer is not None:
+            self._pacer.skip(time.monotonic() - started)
+        if self._stop_status is not None:
+            raise SessionStopped(self._stop_status)
 
     def _run(self) -> None:
         files = self._files
@@ -201,13 +273,15 @@ class LiveSession:
             run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
             with run:
                 self._participant, self._picker = run.participant, run.picker
-                self._pacer = run.pacer
+                self._pacer, self._run_parts = run.pacer, run
                 self.view.table = getattr(run.parts.learner, "table", None)
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
+                observer = _Booking(self, run)
                 for record in steps(parts.learner, run.participant, parts.detector, run.world,
-                                    observer=self.view, **parts.options):  # fmt: skip
-                    self._book(run, record)
+                                    observer=observer, **parts.options):  # fmt: skip
+                    if record is not observer.last:  # a repeat request: no feedback to receive
+                        self._book(run, record)
             done = run.participant.legs_delivered >= run.participant.legs_total
             status = "finished" if done else "ended"
         except SessionStopped as stopped:
@@ -221,6 +295,27 @@ class LiveSession:
             self.done.set()
 
     def _book(self, run: LiveRun, record: StepRecord) -> None:
-        run.book.add(record)
+        entry = run.book.add(record)
+        self.log_tail.append({key: entry.get(key) for key in TAIL_KEYS})
         run.participant.legs_delivered = record.legs_delivered
         self.view.finished(record, run.totals)
+
+
+class _Booking:
+    """The step loop's observer: the page's view, and each step logged and counted as soon as
+    the learner has its feedback (before the participant carries a delivered leg away)."""
+
+    def __init__(self, session: LiveSession, run: LiveRun) -> None:
+        self.session, self.run = session, run
+        self.last: StepRecord | None = None  # the record booked last
+
+    def decided(self, record: StepRecord) -> None:
+        self.session.view.decided(record)
+
+    def answered(self, record: StepRecord) -> None:
+        self.session.view.answered(record)
+
+    def received(self, record: StepRecord) -> None:
+        self.last = record
+        self.run.participant.received(record)
+        self.session._book(self.run, record)

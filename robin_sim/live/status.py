@@ -11,8 +11,11 @@ import threading
 from typing import TYPE_CHECKING, Any
 
 from pil.task.records import StepRecord
+from pil.task.world import Target
+from pil.types import Hand
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
+from robin_sim.live.guide import target_name
 
 if TYPE_CHECKING:
     from robin_sim.live.participant import LiveParticipant
@@ -20,6 +23,7 @@ if TYPE_CHECKING:
 DOING = {"object": "moving to {target}", "location": "moving to {target}",
          "human": "bringing the leg to your hand", "close": "closing the hand",
          "open": "opening the hand"}  # fmt: skip
+EMPTY_HAND_TO_PERSON = "moving its empty hand to yours"  # "human" holding nothing
 TURN = {"waiting_for_gesture": "participant", "waiting_for_thumb": "participant"}
 
 
@@ -28,7 +32,15 @@ def _target_text(record: StepRecord) -> str:
     if target is None:
         return "the nearest leg" if record.action is not None and record.action.value == "object" \
             else "the nearest spot"  # fmt: skip
-    return f"{target.kind} {target.index}"
+    return target_name(target)
+
+
+def _doing(record: StepRecord) -> str:
+    """What the robot does, in the page's words."""
+    action = "" if record.action is None else record.action.value
+    if action == "human" and record.state is not None and record.state.hand is Hand.FREE:
+        return EMPTY_HAND_TO_PERSON
+    return DOING.get(action, action).format(target=_target_text(record))
 
 
 class LiveStatus:
@@ -44,12 +56,13 @@ class LiveStatus:
         self._policy: dict[str, Any] | None = None
         self._tally = {"gestures": 0, "actions": 0, "rejected": 0, "legs_delivered": 0}
         self.session = ""
+        self._clicked: dict[str, Any] | None = None  # the leg or spot clicked last
 
     # --- the StepObserver protocol -------------------------------------------------------------
     def decided(self, record: StepRecord) -> None:
         """The robot is about to act on ``record``."""
         action = "" if record.action is None else record.action.value
-        doing = DOING.get(action, action).format(target=_target_text(record))
+        doing = _doing(record)
         if record.proactive:
             doing += " (anticipating)"
         policy = self._policy_of(record)
@@ -74,6 +87,13 @@ class LiveStatus:
             self._tally = {"gestures": counts.gestures, "actions": counts.actions,
                             "rejected": counts.rejected, "legs_delivered": counts.legs}  # fmt: skip
 
+    def clicked(self, target: Target, x: float, y: float) -> None:
+        """The participant clicked ``target`` at frame pixel (x, y) (the page marks it)."""
+        with self._lock:
+            self._clicked = {"kind": target.kind, "index": target.index,
+                             "number": target.index + 1, "name": target_name(target),
+                             "x": round(x, 1), "y": round(y, 1)}  # fmt: skip
+
     def _policy_of(self, record: StepRecord) -> dict[str, Any] | None:
         """P(a|s) of the learner's table for the record's state (None without either)."""
         state = record.state
@@ -90,7 +110,7 @@ class LiveStatus:
         """The contract's status dict."""
         with self._lock:
             counts, doing, policy = dict(self._tally), self._doing, self._policy
-            action, last = self._action, self._last
+            action, last, clicked = self._action, self._last, self._clicked
         if final is not None:
             phase, message = "done", f"The session is over ({final})."
         elif participant is None:
@@ -114,6 +134,9 @@ class LiveStatus:
             # the handover now asked for, e.g. {"handover": 0, "handover_type": "A",
             # "handover_steps": ["pointing -> object", ...]} (None before the scene is built)
             "task": None if participant is None else participant.task(),
+            # the same in plain words: goal, next instruction, checklist, legs and spots
+            "guide": None if participant is None else participant.guide(),
+            "clicked": clicked,  # the leg or spot clicked last (None: none yet)
             "sim_time": None if world is None else round(world.time, 3),
             "system": self.config.system,
             "participant": self.config.participant,

@@ -55,6 +55,8 @@ LEG_COLORS: tuple[tuple[float, float, float, float], ...] = (
     (0.95, 0.5, 0.65, 1),
     (0.45, 0.3, 0.15, 1),
 )
+# What a participant calls each of LEG_COLORS (same order).
+LEG_COLOUR_NAMES = ("red", "green", "blue", "yellow", "purple", "teal", "pink", "brown")
 _LAYOUT_KEYS = ("legs", "spots", "handover", "bin")
 _REACH_TEXT = (
     "the left arm's reach: x 0.40-0.55 m for y -0.10..0.55 m, narrowing to y 0.10..0.55 m at "

@@ -1,9 +1,10 @@
 """Re-render a recorded run's frames from its states and write them to an MP4.
 
 Each state of ``states.npz`` is rendered with the run's own settings (camera, size, shadows,
-reflections), and gets what the run drew on it: the episode's overlay and eye inset, or the live
-stream's eye inset and spot rings. Frames come out pixel-identical to the run's (the renderers
-are deterministic after their warm-up), so the MP4 matches the original up to H.264 encoding.
+reflections), and gets what the run drew on it: the episode's overlay and eye inset, or the
+live stream's eye inset, spot rings and leg numbers. Frames come out pixel-identical to the
+run's (the renderers are deterministic after their warm-up), so the MP4 matches the original
+up to H.264 encoding.
 One exception: frames where the vision detector's inset showed a reading get the live eye view.
 """
 
@@ -14,6 +15,7 @@ from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -64,6 +66,11 @@ class ReplayRenderer(ClosesOnExit):
             self.pool.close()
             raise
         self._eyes: deque[np.ndarray] = deque()  # eye views of the frames still rendering
+        self.picker: Any = None  # where the legs are seen, for the live stream's leg numbers
+        if meta.get("leg_numbers"):
+            from robin_sim.live.picking import Picker
+
+            self.picker = Picker(layout, width, height)
 
     def submit(self, index: int) -> None:
         """Start rendering frame ``index``."""
@@ -74,7 +81,7 @@ class ReplayRenderer(ClosesOnExit):
 
     def finished(self, wait: bool = False) -> Iterator[tuple[int, np.ndarray]]:
         """(index, pixels) of the frames rendered so far (``wait``: all submitted), in order."""
-        from robin_sim.live.frames import draw_spots
+        from robin_sim.live.frames import draw_leg_numbers, draw_spots
 
         for frame in self.pool.drain() if wait else self.pool.ready():
             index, pixels = frame.payload, frame.pixels
@@ -85,6 +92,9 @@ class ReplayRenderer(ClosesOnExit):
                 draw_eye_inset(pixels, self._eyes.popleft(), INSET_LABEL)
             if self.spots:
                 draw_spots(pixels, self.spots)
+            if self.picker is not None:
+                self.picker.show(self.recorded.states[index])
+                draw_leg_numbers(pixels, self.picker.leg_pixels())
             yield index, pixels
 
     def render(self, index: int) -> np.ndarray:

@@ -7,7 +7,11 @@ measured error model (``measured-<tag>.json``: the detection rate d, discards, m
 the thumbs' confusion). The learner-only study then runs PIL with each measured error model
 (``measured:FILE``) and, as the reference, with the paper's dice at d = 0.4 .. 1.0. Outputs:
 ``conditions.csv``, ``conditions.md`` and ``conditions.png`` (PIL's gestures and actions
-against d: the dice curve and the measured conditions).
+against d: the dice curve and the measured conditions), ``conditions_runs.csv`` (PIL's run
+per measured condition and repetition) and ``tests.csv``: each condition against the first one
+studied (the brightest, noiseless by default) on PIL's gestures and actions, paired by
+repetition (every condition's study uses the same master seed, so repetition ``r`` has the same
+handover order; paired t and Wilcoxon with Holm, :mod:`pil.experiments.stats`).
 """
 
 from __future__ import annotations
@@ -86,14 +90,20 @@ def measure(
 
 def study_costs(
     rows: list[dict[str, object]], reps: int, seed: int
-) -> tuple[list[dict[str, object]], list[dict[str, float]]]:
-    """PIL's mean gestures and actions per measured condition, and along the dice curve."""
+) -> tuple[list[dict[str, object]], list[dict[str, float]], list[dict[str, object]]]:
+    """PIL's mean gestures and actions per measured condition and along the dice curve, and
+    the measured conditions' runs (a ``condition`` column added)."""
     from pil.experiments.study import StudyConfig, run_study
 
-    def pil_means(rate: float, detector: str) -> tuple[float, float, float, float]:
+    measured_runs: list[dict[str, object]] = []
+
+    def pil_means(rate: float, detector: str, condition: str = ""
+                  ) -> tuple[float, float, float, float]:  # fmt: skip
         config = StudyConfig(rates=(rate,), reps=reps, seed=seed, systems=("pil",),
                              params={"detector": detector})  # fmt: skip
         runs = run_study(config)
+        if condition:
+            measured_runs.extend({"condition": condition, **r} for r in runs)
         g = [float(r["gestures"]) for r in runs]
         a = [float(r["actions"]) for r in runs]
         return (
@@ -109,7 +119,8 @@ def study_costs(
             row.update(pil_gestures=None, pil_gestures_sd=None, pil_actions=None,
                        pil_actions_sd=None)  # fmt: skip
             continue
-        g, gs, a, asd = pil_means(round(d, 4), f"measured:{row['measured_file']}")
+        g, gs, a, asd = pil_means(round(d, 4), f"measured:{row['measured_file']}",
+                                  tag(float(str(row["lighting"])), float(str(row["camera_noise"]))))
         row.update(pil_gestures=round(g, 1), pil_gestures_sd=round(gs, 1),
                    pil_actions=round(a, 1), pil_actions_sd=round(asd, 1))  # fmt: skip
     dice = []
@@ -117,7 +128,17 @@ def study_costs(
         g, gs, a, asd = pil_means(rate, "exact")
         dice.append({"rate": rate, "gestures": g, "gestures_sd": gs, "actions": a,
                      "actions_sd": asd})  # fmt: skip
-    return rows, dice
+    return rows, dice, measured_runs
+
+
+def condition_tests(runs: list[dict[str, object]]) -> list[dict[str, object]]:
+    """Each measured condition against the first one, paired by repetition (``tests.csv``)."""
+    from pil.experiments.stats import compare
+
+    if len({r["condition"] for r in runs}) < 2:
+        return []
+    return compare(runs, str(runs[0]["condition"]), compare_by="condition", within=(),
+                   metrics=("gestures", "actions"), pair_by=("rep", "seed"))  # fmt: skip
 
 
 def _cost(row: dict[str, object], key: str) -> str:
@@ -126,10 +147,18 @@ def _cost(row: dict[str, object], key: str) -> str:
 
 
 def write_outputs(
-    out: Path, rows: list[dict[str, object]], dice: list[dict[str, float]], reps: int
+    out: Path,
+    rows: list[dict[str, object]],
+    dice: list[dict[str, float]],
+    reps: int,
+    runs: list[dict[str, object]] | None = None,
 ) -> list[Path]:
-    """conditions.csv, conditions.md and conditions.png."""
+    """conditions.csv, conditions.md and conditions.png; with ``runs`` (the measured
+    conditions' runs of :func:`study_costs`) also conditions_runs.csv and tests.csv."""
     import matplotlib
+
+    from pil.experiments.stats import csv_columns, describe_tests, tests_markdown
+    from pil.experiments.study import csv_text
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -159,6 +188,17 @@ def write_outputs(
     for r in dice:
         lines.append(f"| {r['rate']:g} | {r['gestures']:.1f} ± {r['gestures_sd']:.1f} | "
                      f"{r['actions']:.1f} ± {r['actions_sd']:.1f} |")  # fmt: skip
+    extra: list[Path] = []
+    tests = condition_tests(runs or [])
+    if runs:
+        extra.append(out / "conditions_runs.csv")
+        extra[-1].write_text(csv_text(runs, list(runs[0])))
+    if tests:
+        extra.append(out / "tests.csv")
+        extra[-1].write_text(csv_text(tests, csv_columns(())))
+        lines += ["", f"## Each condition against {tests[0]['system_a']} (PIL, test tables)",
+                  "", describe_tests(tests) + " All rows in `tests.csv`.", "",
+                  tests_markdown(tests, ())]  # fmt: skip
     report = out / "conditions.md"
     report.write_text("\n".join(lines) + "\n")
     figure = out / "conditions.png"
@@ -183,7 +223,7 @@ def write_outputs(
     fig.tight_layout()
     fig.savefig(figure, dpi=110)
     plt.close(fig)
-    return [table, report, figure]
+    return [table, report, figure, *extra]
 
 
 def run_conditions(
@@ -201,5 +241,5 @@ def run_conditions(
     conditions = [(lit, n) for lit in lighting for n in noise]
     render_conditions(out, seed, samples, workers, conditions, progress)
     rows = measure(out, samples, conditions, load_shipped())
-    rows, dice = study_costs(rows, reps, seed)
-    return write_outputs(out, rows, dice, reps)
+    rows, dice, runs = study_costs(rows, reps, seed)
+    return write_outputs(out, rows, dice, reps, runs)

@@ -44,10 +44,13 @@ class Served:
 
 
 def start_server(
-    configs: Sequence[LiveConfig], token: str | None = None, questionnaires: Sequence[Any] = ()
+    configs: Sequence[LiveConfig],
+    token: str | None = None,
+    questionnaires: Sequence[Any] = (),
+    **server_options: Any,
 ) -> Served:
     conductor = Conductor(configs, questionnaires)
-    server = LiveServer(conductor, token=token)
+    server = LiveServer(conductor, token=token, **server_options)
     sock = bind("127.0.0.1", 0)
     port = sock.getsockname()[1]
     served: Served

@@ -12,7 +12,8 @@
   const live = {
     role: null, status: null, errors: [], connected: false, closed: null,
     received: 0, drawn: 0, lastSeq: 0, latencies: [], receivedAt: [], drawnAt: [],
-    sent: [],
+    sent: [], accepted: 0,
+    listeners: [], // other scripts of the page (the experimenter's view) get every message
   };
   window.robinLive = live;
 
@@ -24,9 +25,10 @@
   socket.onclose = (event) => {
     live.connected = false;
     live.closed = { code: event.code, reason: event.reason };
-    setRole(live.role, true);
-    if (!live.status || live.status.phase !== "done") {
-      showError("the connection to the server is closed");
+    const over = !!live.status && live.status.phase === "done";
+    setRole(live.role, true, over);
+    if (!over) {
+      showError("The connection to Robin was lost. Please tell the experimenter.");
     }
     updateControls();
   };
@@ -47,6 +49,7 @@
   live.send = send;
 
   function textMessage(message) {
+    for (const listener of live.listeners) listener(message);
     if (message.type === "status") {
       live.status = message;
       showStatus(message);
@@ -100,25 +103,6 @@
     if (live.latencies.length > KEEP) live.latencies.splice(0, live.latencies.length - KEEP);
   }
 
-  // --- frame rate and latency, once a second -----------------------------------------------
-  function perSecond(times, now) {
-    while (times.length && now - times[0] > 2000) times.shift();
-    return times.length / 2;
-  }
-  function quantile(values, q) {
-    if (!values.length) return NaN;
-    const sorted = [...values].sort((a, b) => a - b);
-    return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
-  }
-  setInterval(() => {
-    const now = performance.now();
-    $("fps-in").textContent = perSecond(live.receivedAt, now).toFixed(1);
-    $("fps-drawn").textContent = perSecond(live.drawnAt, now).toFixed(1);
-    const recent = live.latencies.slice(-60);
-    $("latency").textContent = recent.length
-      ? `${quantile(recent, 0.5).toFixed(0)} / ${quantile(recent, 0.95).toFixed(0)} ms` : "—";
-  }, 1000);
-
   // --- the status ----------------------------------------------------------------------------
   function showStatus(status) {
     const turn = $("turn");
@@ -129,6 +113,10 @@
       : status.turn === "robot" ? "Robin's turn" : "Your turn";
     $("doing").textContent = status.robot_doing || "—";
     $("message").textContent = status.message || "";
+    showGuide(done ? null : status.guide, status.phase);
+    showClicked(status.clicked);
+    if ((status.inputs_accepted || 0) > live.accepted) clearError(); // a valid input came
+    live.accepted = status.inputs_accepted || 0;
     $("legs").textContent = status.legs_total == null ? "—"
       : `${status.legs_delivered} / ${status.legs_total}`;
     $("gestures").textContent = status.gestures;
@@ -140,6 +128,53 @@
     showScreen(status);
     if (window.robinQuestionnaire) window.robinQuestionnaire.show(status);
     updateControls();
+  }
+
+  // The handover in plain words: the goal, the next step, all steps as a checklist, the legend.
+  function showGuide(guide, phase) {
+    const list = $("checklist");
+    if (!guide) {
+      $("goal").textContent = "";
+      $("instruction").textContent = "";
+      list.replaceChildren();
+      $("legend").replaceChildren();
+      return;
+    }
+    $("goal").textContent = `Leg ${guide.handover_number} of ${guide.handovers}: ${guide.goal}`;
+    $("instruction").textContent = phase === "waiting_for_gesture" ? guide.instruction
+      : phase === "waiting_for_thumb" ? "Thumb up if Robin did what you meant, thumb down if not."
+      : "Watch Robin: thumb down stops a wrong move.";
+    list.replaceChildren(...guide.checklist.map((step, k) => {
+      const item = document.createElement("li");
+      item.textContent = step.text;
+      item.className = step.done ? "done" : k === guide.step ? "current" : "";
+      return item;
+    }));
+    const legs = guide.legs.map((leg) => {
+      const chip = document.createElement("span");
+      chip.className = leg.delivered ? "chip delivered" : "chip";
+      chip.style.setProperty("--leg", leg.css);
+      chip.textContent = `leg ${leg.number} ${leg.colour}`;
+      return chip;
+    });
+    const spots = document.createElement("span");
+    spots.className = "chip spot";
+    spots.textContent = `spots 1-${guide.spots}: the rings`;
+    $("legend").replaceChildren(...legs, spots);
+  }
+
+  // A ring around what was clicked last, in frame pixels scaled to the shown canvas.
+  function showClicked(clicked) {
+    const ring = $("target-ring");
+    if (!clicked) {
+      ring.hidden = true;
+      return;
+    }
+    ring.hidden = false;
+    ring.style.left = `${(clicked.x / canvas.width) * 100}%`;
+    ring.style.top = `${(clicked.y / canvas.height) * 100}%`;
+    ring.title = `you pointed at ${clicked.name}`;
+    ring.dataset.target = `${clicked.kind} ${clicked.number}`;
   }
 
   function showPolicy(policy) {
@@ -175,6 +210,7 @@
 
   function showScreen(status) {
     const screen = $("screen");
+    screen.className = "screen";
     if (status.phase === "instructions") {
       screen.hidden = false;
       $("screen-title").textContent = status.blocks > 1
@@ -183,9 +219,12 @@
         : status.instructions || status.message || "";
       $("start").hidden = live.role !== "control" || !!status.starting;
     } else if (status.phase === "done") {
+      const normal = ["finished", "ended"].includes(status.status);
       screen.hidden = false;
-      $("screen-title").textContent = `Session saved (${status.status})`;
-      $("screen-text").textContent =
+      screen.className = normal ? "screen finished" : "screen";
+      $("screen-title").textContent = normal ? "Session finished"
+        : `Session saved (${status.status})`;
+      $("screen-text").textContent = (normal ? "Thank you! " : "") +
         `${status.legs_delivered} of ${status.legs_total ?? "?"} legs delivered. ` +
         "You can close this tab.";
       $("start").hidden = true;
@@ -194,12 +233,13 @@
     }
   }
 
-  function setRole(role, closed) {
+  function setRole(role, closed, over) {
     live.role = role;
     const badge = $("role");
-    badge.className = `badge ${closed ? "closed" : role}`;
-    badge.textContent = closed ? "disconnected"
-      : role === "control" ? "you control this session" : "watching (read-only)";
+    badge.className = `badge ${over ? "finished" : closed ? "closed" : role}`;
+    badge.textContent = over ? "session finished" : closed ? "disconnected"
+      : role === "control" ? "you control this session"
+      : role === "experimenter" ? "experimenter" : "watching (read-only)";
     updateControls();
   }
 
@@ -212,11 +252,12 @@
     }
   }
 
-  let errorTimer = null;
+  // An error stays next to the image until the next input the session takes.
   function showError(text) {
     $("error").textContent = text;
-    clearTimeout(errorTimer);
-    errorTimer = setTimeout(() => { $("error").textContent = ""; }, 6000);
+  }
+  function clearError() {
+    $("error").textContent = "";
   }
 
   // --- the participant's inputs --------------------------------------------------------------
@@ -256,7 +297,7 @@
   // A click points: the pixel in the frame's coordinates, whatever size the canvas is shown at.
   canvas.addEventListener("click", (event) => {
     if (live.role !== "control") {
-      showError("this tab watches read-only");
+      if (live.role !== "experimenter") showError("this tab watches read-only");
       return;
     }
     const box = canvas.getBoundingClientRect();

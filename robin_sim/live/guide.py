@@ -1,0 +1,93 @@
+"""What the live page tells the participant to do, in plain words.
+
+:func:`guide` turns the handover now asked for (its type's steps, how many of them the
+participant has let stand, the leg it is about) into the page's ``guide`` block: one goal
+("Ask Robin to give you the red leg (leg 1)."), the next step as an instruction, and every step
+as a checklist. Legs and spots are numbered from 1 for people; their colours are the scene's
+(:data:`robin_sim.model.scene.LEG_COLOUR_NAMES`). Pure Python: no MuJoCo.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pil.task.scenario import HandoverType
+from pil.task.world import Target
+from pil.types import Action, Gesture
+from robin_sim.model.scene import LEG_COLORS, LEG_COLOUR_NAMES
+
+# The key of each gesture's button on the page.
+KEYS = {Gesture.GRASP: "R", Gesture.GIVE_ME: "G", Gesture.RELEASE: "L"}
+
+
+def leg_colour(leg: int) -> str:
+    """The colour name of leg ``leg`` (0-based) as the scene paints it."""
+    return LEG_COLOUR_NAMES[leg % len(LEG_COLOUR_NAMES)]
+
+
+def leg_rgb(leg: int) -> str:
+    """The CSS colour of leg ``leg`` (0-based), e.g. ``rgb(217, 64, 51)``."""
+    r, g, b, _ = LEG_COLORS[leg % len(LEG_COLORS)]
+    return f"rgb({round(r * 255)}, {round(g * 255)}, {round(b * 255)})"
+
+
+def leg_name(leg: int) -> str:
+    """How the page names leg ``leg`` (0-based): "the red leg (leg 1)"."""
+    return f"the {leg_colour(leg)} leg (leg {leg + 1})"
+
+
+def target_name(target: Target) -> str:
+    """A clicked leg or spot in the page's words."""
+    return leg_name(target.index) if target.kind == "leg" else f"spot {target.index + 1}"
+
+
+def goal(kind: HandoverType, leg: int) -> str:
+    """The handover's aim: the leg to the person's hand, or onto a spot on the table."""
+    actions = [step.action for step in kind.steps]
+    last_move = next((a for a in reversed(actions) if a in (Action.HUMAN, Action.LOCATION)), None)
+    if last_move is Action.LOCATION:
+        return f"Ask Robin to put {leg_name(leg)} on a spot on the table."
+    via = " by way of a spot on the table" if Action.LOCATION in actions else ""
+    return f"Ask Robin to give you {leg_name(leg)}{via}."
+
+
+def step_text(kind: HandoverType, index: int, leg: int) -> str:
+    """Step ``index`` of ``kind`` as an instruction to the participant."""
+    step = kind.steps[index]
+    before = [s.action for s in kind.steps[:index]]
+    if step.gesture is Gesture.POINTING and step.action is Action.OBJECT:
+        later = any(s.action is Action.OBJECT for s in kind.steps[index + 1 :])
+        if later:
+            return "Point at another leg first (click it in the image)."
+        return f"Point at {leg_name(leg)}: click it in the image."
+    if step.gesture is Gesture.POINTING:
+        return "Point at a spot on the table: click one of the numbered rings."
+    key = KEYS[step.gesture]
+    what = {
+        Action.CLOSE: "so that Robin grasps the leg",
+        Action.HUMAN: "so that Robin brings the leg to your hand",
+        Action.OPEN: "so that Robin lets go of the leg"
+        + (" into your hand" if before and before[-1] is Action.HUMAN else ""),
+        Action.OBJECT: "so that Robin goes to the leg",
+        Action.LOCATION: "so that Robin moves to the spot",
+    }[step.action]
+    name = step.gesture.value.replace("give me", "give-me")
+    return f"Make the {name} gesture (button or key {key}) {what}."
+
+
+def guide(
+    kind: HandoverType, done: int, leg: int, handover: int, legs_total: int
+) -> dict[str, Any]:
+    """The page's guide for handover ``handover`` of type ``kind`` with ``done`` steps let
+    stand, about leg ``leg`` (0-based)."""
+    steps = [{"text": step_text(kind, k, leg), "done": k < done} for k in range(len(kind.steps))]
+    current = min(done, len(kind.steps) - 1)
+    return {
+        "goal": goal(kind, leg),
+        "instruction": steps[current]["text"],
+        "checklist": steps,
+        "step": current,
+        "handover_number": handover + 1,
+        "handovers": legs_total,
+        "leg": {"index": leg, "number": leg + 1, "colour": leg_colour(leg), "css": leg_rgb(leg)},
+    }

@@ -1,0 +1,91 @@
+// The experimenter's view: the participant's page (live.js) plus the stream's and the pacer's
+// figures, the log as it grows, and the run's controls (pause, resume, next block, end, notes).
+"use strict";
+
+(() => {
+  const live = window.robinLive;
+  const $ = (id) => document.getElementById(id);
+  const view = { last: null, replies: [] };
+  live.experimenter = view; // read by the browser tests
+
+  live.listeners.push((message) => {
+    if (message.type === "experimenter") {
+      view.last = message;
+      showView(message);
+    } else if (message.type === "done") {
+      view.replies.push(message);
+      $("reply").textContent = message.command === "note" ? "" : `${message.command}: done`;
+      if (message.command === "note" && message.note) {
+        $("note-saved").textContent = `note saved at ${message.note.utc}`;
+        $("note-text").value = "";
+      }
+    } else if (message.type === "error") {
+      $("reply").textContent = message.message;
+    }
+  });
+
+  function text(value, digits = 1) {
+    return value == null ? "—" : Number(value).toFixed(digits);
+  }
+
+  function showView(message) {
+    const pacing = message.pacing;
+    $("run-phase").textContent = `run: ${message.run_phase}`;
+    $("folder").textContent = `session folder: ${message.session_folder}`;
+    if (pacing) {
+      $("stream-fps").textContent = text(pacing.stream_fps);
+      $("publish-latency").textContent = pacing.latency_ms
+        ? `${text(pacing.latency_ms.median, 0)} / ${text(pacing.latency_ms.p95, 0)} ms` : "—";
+      $("frame-ms").textContent = text(pacing.frame_ms);
+      $("behind").textContent = `${text(pacing.behind_s, 2)}, ${pacing.slips ?? "—"}`;
+      $("speed").textContent = `${pacing.speed}x, ${pacing.paused ? "paused" : "running"}`;
+    }
+    $("tabs").textContent = message.tabs.map((t) => `${t.role} (${t.frames_dropped})`)
+      .join(", ");
+    const rows = message.log.map((step) => {
+      const row = document.createElement("tr");
+      const target = step.target ? `${step.target.kind} ${step.target.index + 1}` : "";
+      for (const cell of [step.t, (step.handover ?? 0) + 1, step.true_gesture || "",
+        step.action || "(repeat)", target, step.feedback || "", step.legs_delivered,
+        text(step.sim_time)]) {
+        const td = document.createElement("td");
+        td.textContent = cell;
+        row.append(td);
+      }
+      return row;
+    });
+    $("log").tBodies[0].replaceChildren(...rows);
+  }
+
+  // Frame rate and latency of this tab, once a second (the participant's page shows none).
+  function perSecond(times, now) {
+    while (times.length && now - times[0] > 2000) times.shift();
+    return times.length / 2;
+  }
+  function quantile(values, q) {
+    const sorted = [...values].sort((a, b) => a - b);
+    return sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
+  }
+  setInterval(() => {
+    const now = performance.now();
+    $("fps-in").textContent = perSecond(live.receivedAt, now).toFixed(1);
+    $("fps-drawn").textContent = perSecond(live.drawnAt, now).toFixed(1);
+    const recent = live.latencies.slice(-60);
+    $("latency").textContent = recent.length
+      ? `${quantile(recent, 0.5).toFixed(0)} / ${quantile(recent, 0.95).toFixed(0)} ms` : "—";
+  }, 1000);
+
+  for (const button of document.querySelectorAll("button[data-command]")) {
+    button.addEventListener("click", () => {
+      const command = button.dataset.command;
+      if (command === "end" && !confirm("End the whole run? The session is saved as ended.")) {
+        return;
+      }
+      live.send({ type: command });
+    });
+  }
+  $("note-save").addEventListener("click", () => {
+    const note = $("note-text").value.trim();
+    if (note) live.send({ type: "note", text: note });
+  });
+})();

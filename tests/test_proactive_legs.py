@@ -1,0 +1,35 @@
+"""The proactive path counts the legs it delivers (an anticipated open on the person's palm or
+on a spot delivers a leg like any approved open)."""
+
+from __future__ import annotations
+
+import pytest
+
+from pil.experiments.systems import SYSTEM_SPECS, run_one
+from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
+from pil.task.runner import steps
+from pil.task.world import SymbolicWorld
+
+
+@pytest.mark.parametrize(("rate", "seed"), [(0.8, 1), (1.0, 1), (1.0, 0)])
+def test_every_leg_is_counted_with_anticipations(rate: float, seed: int) -> None:
+    row = run_one("proactive", rate, seed=seed)
+    assert row["anticipated_ok"] > 0
+    assert row["legs"] == 40  # 10 tables of 4 legs, each delivered once
+
+
+def test_an_anticipated_delivery_raises_the_leg_count() -> None:
+    values = {**check_params({}), **SYSTEM_SPECS["proactive"].params}
+    scenario = resolve_scenario(None, values)
+    found = 0
+    for seed in (0, 1):
+        parts = build_parts(scenario, 1.0, derive_seeds(seed), **values)
+        records = list(steps(parts.learner, parts.person, parts.detector, SymbolicWorld(),
+                             **parts.options))  # fmt: skip
+        legs = 0
+        for record in records:
+            legs += record.delivered
+            assert record.legs_delivered == legs  # the running count follows every delivery
+            found += record.proactive and record.delivered
+        assert legs == 40
+    assert found > 0  # the proactive path delivered legs in these runs
