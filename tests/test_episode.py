@@ -9,6 +9,7 @@ from pathlib import Path
 
 import av
 import pytest
+from replay_rig import check_episode_replay
 
 from robin_sim.render.gl_backend import ensure_gl_backend
 
@@ -36,7 +37,7 @@ def _learner_only(config: EpisodeConfig) -> list[dict]:
 
 
 @pytest.mark.slow
-def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -> None:
+def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path, capsys) -> None:
     config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, width=160, height=120, fps=15,
                            progress=False)  # fmt: skip
     summary = run_episode(config)
@@ -64,6 +65,7 @@ def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -
     assert {c["check"] for c in checks} == {"in hand", "on palm"}
     assert all(c["agrees"] for c in checks), checks
     assert all(20 <= c["pixels"] <= c["leg_pixels"] for c in checks), checks  # MIN_PIXELS = 20
+    check_episode_replay(tmp_path, summary, capsys)  # robin-pil replay: the same frames
 
 
 @pytest.mark.slow

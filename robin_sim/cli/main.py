@@ -36,6 +36,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "measured detection rate per camera condition (light x noise) and PIL's costs",
     ),
     "live": ("robin_sim.cli.live", "a browser page: a live person gestures, Robin learns"),
+    "replay": ("robin_sim.cli.replay", "re-render a recorded episode or live session to MP4"),
 }
 
 

@@ -97,6 +97,10 @@ def run_folder(args: argparse.Namespace) -> int:
         out = args.out if args.out is not None else folder / "report"
         for path in write_sessions_report(rows, folder, out):
             print(path)
+        from pil.experiments.questionnaire_report import write_answers_report
+
+        for path in write_answers_report(folder, out):  # answers after the blocks, if any
+            print(path)
         return 0
     for name in RESULTS_FILES:
         if (folder / name).is_file():

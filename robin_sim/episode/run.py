@@ -92,6 +92,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                 stack.callback(world.sim.add_observer(guard.check))
                 if config.video:
                     from robin_sim.episode.recorder import VideoRecorder  # needs the GL backend
+                    from robin_sim.render.state_log import STATES_NAME
 
                     recorder = stack.enter_context(
                         VideoRecorder(
@@ -101,6 +102,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             render_workers=config.render_workers,
                             eye_inset=config.eye_inset,
                             readings=parts.detector if task.vision is not None else None,
+                            states=out / STATES_NAME,
                         )
                     )  # fmt: skip
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))

@@ -30,6 +30,7 @@ from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.person.body import PhysicalBody
 from robin_sim.render.renderer import check_frame_size
+from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, VIDEO_NAME = "log.jsonl", "episode.mp4"
@@ -84,6 +85,7 @@ class LiveRun(ClosesOnExit):
                 eye_worker=config.eye_worker, reflections=config.reflections,
                 spots=self.picker.spot_pixels(), on_state=self.picker.show,
                 legs=self.picker.leg_pixels,
+                states=out_dir / STATES_NAME,
             )  # fmt: skip
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says

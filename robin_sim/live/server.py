@@ -42,8 +42,10 @@ from robin_sim.live.session import Frame
 LOG = logging.getLogger(__name__)
 __all__ = ["LiveServer", "bind", "is_loopback", "new_token"]
 STATIC_DIR = Path(__file__).with_name("static")
-STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css",
-                "experimenter.js": "text/javascript"}  # all /static/ serves
+STATIC_TYPES = {  # all /static/ serves
+    "live.js": "text/javascript", "live.css": "text/css", "experimenter.js": "text/javascript",
+    "questionnaire.js": "text/javascript", "questionnaire.css": "text/css",
+}  # fmt: skip
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
