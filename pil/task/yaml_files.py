@@ -1,8 +1,16 @@
 """YAML files of the task (scenarios, study protocols): finding shipped ones by name, reading
-a file's top-level mapping with one clear error for every way it can be broken."""
+a file's top-level mapping with one clear error for every way it can be broken.
+
+A task file is small: only regular files of at most :data:`MAX_YAML_BYTES` are read (a
+device such as ``/dev/zero`` or a huge file is refused at once), and YAML aliases are refused
+(a few hundred bytes of nested aliases expand to gigabytes: an "alias bomb").
+"""
 
 from __future__ import annotations
 
+import errno
+import os
+import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -10,6 +18,44 @@ from typing import Any
 import yaml
 
 from pil.errors import RobinPilError, quote
+
+MAX_YAML_BYTES = 1_000_000  # a task file is a few KB; anything larger is a mistake or an attack
+
+
+class _NoAliasLoader(yaml.SafeLoader):
+    """The safe loader, refusing every alias (``*name``) before it is expanded."""
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        if self.check_event(yaml.AliasEvent):
+            event = self.peek_event()
+            raise yaml.composer.ComposerError(
+                None, None, "YAML aliases (*name) are not allowed in a task file; write the "
+                "value out", event.start_mark
+            )  # fmt: skip
+        return super().compose_node(parent, index)
+
+
+def load_yaml_text(text: str) -> Any:
+    """``text`` parsed as YAML like ``yaml.safe_load``, but with aliases refused."""
+    return yaml.load(text, Loader=_NoAliasLoader)  # a SafeLoader subclass
+
+
+def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:
+    """A regular file's UTF-8 text, refused (``OSError``/``ValueError``) when it is not a
+    regular file or is larger than ``limit`` bytes; nothing more than ``limit`` is read."""
+    handle = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # a FIFO does not block the open
+    if not stat.S_ISREG(os.fstat(handle).st_mode):
+        os.close(handle)
+        raise IsADirectoryError(errno.EISDIR, "not a regular file")
+    with os.fdopen(handle, "rb") as reader:
+        data = reader.read(limit + 1)
+    if len(data) > limit:
+        raise FileTooLargeError(f"larger than {limit:,} bytes")
+    return data.decode("utf-8")
+
+
+class FileTooLargeError(ValueError):
+    """A task file over the size limit (raised by :func:`read_small_text`)."""
 
 
 def shipped_in(folder: Path) -> tuple[str, ...]:
@@ -39,7 +85,7 @@ def read_yaml_mapping(
     listed when the file cannot be read.
     """
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_small_text(path)
     except OSError as problem:
         raise error(
             f"{path}: cannot read the {kind}: {problem.strerror}; a file, or one of the shipped "
@@ -49,8 +95,10 @@ def read_yaml_mapping(
         raise error(
             f"{path}: not UTF-8 text (byte {problem.start}); a {kind} is a UTF-8 YAML file"
         ) from None
+    except FileTooLargeError as problem:
+        raise error(f"{path}: {problem}; a {kind} is a small YAML file") from None
     try:
-        raw = yaml.safe_load(text)
+        raw = load_yaml_text(text)
     except yaml.YAMLError as problem:
         mark = getattr(problem, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
