@@ -35,14 +35,15 @@ def run(args: argparse.Namespace) -> int:
         run_adaptation_study,
         write_adaptation,
     )
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, ADAPT_SYSTEMS)
     change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
-    check_out_dir(args.out)
-    with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
-        rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
-                                    progress=bar.update)  # fmt: skip
-    written = write_adaptation(rows, change, args.out)
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
+            rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
+                                        progress=bar.update)  # fmt: skip
+        written = write_adaptation(rows, change, args.out)
     print(f"{len(rows)} paired runs; wrote " + ", ".join(str(p) for p in written))
     return 0

@@ -40,16 +40,17 @@ def run(args: argparse.Namespace) -> int:
         run_people_study,
         write_people,
     )
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, PEOPLE_SYSTEMS, only=PEOPLE_SYSTEMS)
     people = load_people(DEFAULT_PEOPLE if args.people is None else args.people)
     if args.tables is not None:
         people = People(people.scenario.with_changes(tables=args.tables), people.overrides)
-    check_out_dir(args.out)
-    with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
-        rows = run_people_study(people, systems, rates, args.reps, args.seed,
-                                progress=bar.update)  # fmt: skip
-    written = write_people(rows, args.out)
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
+            rows = run_people_study(people, systems, rates, args.reps, args.seed,
+                                    progress=bar.update)  # fmt: skip
+        written = write_people(rows, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0

@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
 
     from pil.experiments.study import StudyConfig, run_study, write_outputs
     from pil.experiments.systems import PAPER_SYSTEMS, check_params, resolve_scenario
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
     from pil.task.params import ASSEMBLY, REPS, SEED
 
     params = {
@@ -119,10 +119,11 @@ def run(args: argparse.Namespace) -> int:
         scenario=resolve_scenario(args.scenario, check_params(params)),  # a bad file: refused now
         params=params,
     )
-    check_out_dir(args.out)  # before the computation, not after it
-    with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
-              disable=args.no_progress) as bar:  # fmt: skip
-        rows = run_study(config, progress=bar.update)
-    written = write_outputs(rows, config, args.out)
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
+                  disable=args.no_progress) as bar:  # fmt: skip
+            rows = run_study(config, progress=bar.update)
+        written = write_outputs(rows, config, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0

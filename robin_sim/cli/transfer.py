@@ -28,22 +28,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the paired runs and write the outputs; bad input raises before anything runs."""
     from pil.experiments.transfer import TRANSFER_SYSTEMS, run_transfer_study, write_transfer
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
     from pil.table_io import load_table
 
     rates, systems = run_options(args, TRANSFER_SYSTEMS, only=TRANSFER_SYSTEMS)
     if args.table is not None:
         load_table(args.table)  # a corrupt or missing file fails here, before anything runs
-    check_out_dir(args.out)
-    save_first = None if args.table is not None else args.out / "assembly_table.json"
-    if save_first is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-    with progress_bar(len(rates) * len(systems) * args.reps, "transfer", args) as bar:
-        rows = run_transfer_study(systems, rates, args.reps, args.seed, table_file=args.table,
-                                  save_first=save_first, progress=bar.update)  # fmt: skip
-    source = f"the saved table {args.table}" if args.table else "each repetition's assembly table"
-    written = write_transfer(rows, args.out, source)
-    if save_first is not None:
-        written.append(save_first)
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        save_first = None if args.table is not None else args.out / "assembly_table.json"
+        if save_first is not None:
+            args.out.mkdir(parents=True, exist_ok=True)
+        with progress_bar(len(rates) * len(systems) * args.reps, "transfer", args) as bar:
+            rows = run_transfer_study(systems, rates, args.reps, args.seed, table_file=args.table,
+                                      save_first=save_first, progress=bar.update)  # fmt: skip
+        source = (
+            f"the saved table {args.table}" if args.table else "each repetition's assembly table"
+        )
+        written = write_transfer(rows, args.out, source)
+        if save_first is not None:
+            written.append(save_first)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0
