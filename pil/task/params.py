@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
-from pil.errors import InvalidChoiceError
+from pil.errors import NEVER_DETECTED, InvalidChoiceError
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
 from pil.task.detector import DEFAULT_DISCARD, MODELS
@@ -144,7 +144,8 @@ SCENARIO = ParamSpec(
     empty="scenarios/assembly.yaml",
 )
 RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
-RATE = ParamSpec("rate", "float", 1.0, "gesture detection rate", 0.0, 1.0)
+RATE = ParamSpec("rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True,
+                 why_low=NEVER_DETECTED)  # fmt: skip
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
 REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
 

@@ -45,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--rates",
         default=None,
-        help="detection rates in [0, 1], comma separated (default: the paper's rates; with "
+        help="detection rates in (0, 1], comma separated (default: the paper's rates; with "
         "--detector measured:FILE the file's measured rate)",
     )
     parser.add_argument(
