@@ -28,19 +28,20 @@ def check_out_dir(path: str | os.PathLike[str], label: str = "--out") -> Path:
     shown = quote(str(out))
     if not str(out).strip():
         raise OutDirError(f"{label}: empty path; give a folder to write the results to")
-    for parent in [out, *out.parents]:
-        if parent.exists() or parent.is_symlink():
-            if not parent.is_dir():
-                where = (
-                    "is a file" if parent == out else f"lies under the file {quote(str(parent))}"
-                )
-                raise OutDirError(f"{label} {shown} {where}; give a folder (new or existing)")
-            break
     try:
+        for parent in [out, *out.parents]:
+            if parent.exists() or parent.is_symlink():
+                if not parent.is_dir():
+                    where = (
+                        "is a file" if parent == out
+                        else f"lies under the file {quote(str(parent))}"
+                    )  # fmt: skip
+                    raise OutDirError(f"{label} {shown} {where}; give a folder (new or existing)")
+                break
         out.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=out, prefix=".robin-pil-probe-"):
             pass
-    except OSError as error:
+    except OSError as error:  # a 300-character name part: ENAMETOOLONG, from exists() too
         reason = error.strerror or type(error).__name__
         raise OutDirError(
             f"{label} {shown} cannot be written ({reason}); give a folder you can write to"
