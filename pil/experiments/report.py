@@ -15,11 +15,12 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, quote
 
 Row = Mapping[str, Any]
 DEFAULT_GROUP_BY: tuple[str, ...] = ("system", "rate")
 DEFAULT_METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
+MAX_MAGNITUDE = 1e15  # no count or time of a run comes near; larger is a corrupt cell
 
 
 class ReportError(RobinPilError):
@@ -46,13 +47,20 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
 
 
 def number(value: Any, column: str = "value") -> float:
-    """``value`` as a float; a non-number raises naming the column."""
+    """``value`` as a float; a non-number, NaN, an infinity or a number beyond
+    :data:`MAX_MAGNITUDE` raises naming the column."""
     if isinstance(value, bool):
         return float(value)
     try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ReportError(f"column {column!r} holds {value!r}, not a number") from None
+        result = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ReportError(f"column {column!r} holds {quote(value)}, not a number") from None
+    if not math.isfinite(result) or abs(result) > MAX_MAGNITUDE:
+        raise ReportError(
+            f"column {column!r} holds {quote(value)}, not a finite number of magnitude at "
+            f"most {MAX_MAGNITUDE:g} (a run's counts and times); fix or remove that row"
+        )
+    return result
 
 
 def sort_key(value: Any) -> tuple[int, float, str]:

@@ -28,12 +28,13 @@ from pil.experiments.sessions_load import (
     SESSION_COLUMNS,
     SessionsError,
     load_sessions,
+    unreported_sessions,
 )
 
 __all__ = [  # the reading is re-exported: the report's callers import from here only
     "COUNTED_STATUS", "EXPECTED", "MEASURES", "SESSION_COLUMNS", "SessionsError",
     "conditions_of", "is_within", "load_sessions", "participant_means", "report_markdown",
-    "session_tests", "summarize_sessions", "write_sessions_report",
+    "session_tests", "summarize_sessions", "unreported_sessions", "write_sessions_report",
 ]  # fmt: skip
 
 
@@ -121,8 +122,13 @@ def session_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     return results
 
 
-def report_markdown(rows: Sequence[Mapping[str, Any]], folder: str | Path) -> str:
-    """``report.md``: the counting rule, the per-condition table, the tests, the left-out."""
+def report_markdown(
+    rows: Sequence[Mapping[str, Any]],
+    folder: str | Path,
+    unreported: Sequence[tuple[str, str]] = (),
+) -> str:
+    """``report.md``: the counting rule, the per-condition table, the tests, the left-out
+    sessions and the ``unreported`` session folders (no readable summary)."""
     counted = [r for r in rows if r["counted"]]
     left_out = [r for r in rows if not r["counted"]]
     within = is_within(rows)
@@ -178,6 +184,10 @@ def report_markdown(rows: Sequence[Mapping[str, Any]], folder: str | Path) -> st
                   markdown_table(["participant", "session", "condition", "status", "summary"],
                                  [[r["participant"], r["session"], r["condition"], r["status"],
                                    f"`{r['summary']}`"] for r in left_out]), ""]  # fmt: skip
+    if unreported:
+        body = [[f"`{where}`", why] for where, why in unreported]
+        lines += ["## Not reported (no readable summary)", "",
+                  markdown_table(["session folder", "why"], body), ""]  # fmt: skip
     return "\n".join(lines)
 
 
@@ -197,7 +207,7 @@ def write_sessions_report(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise SessionsError(f"--out {out}: cannot make the folder: {error.strerror}") from None
-    text = report_markdown(rows, folder)
+    text = report_markdown(rows, folder, unreported_sessions(folder))
     written = [write_text_atomic(out / "sessions.csv", rows_to_csv(rows, SESSION_COLUMNS))]
     written.append(write_text_atomic(out / "report.md", text))
     summary = {s["condition"]: s for s in summarize_sessions(rows)}

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -81,7 +82,12 @@ def run(args: argparse.Namespace) -> int:
 def run_folder(args: argparse.Namespace) -> int:
     """A folder: live sessions, else a study or sweep folder's results, else an error."""
     from pil.errors import RobinPilError
-    from pil.experiments.sessions_report import EXPECTED, load_sessions, write_sessions_report
+    from pil.experiments.sessions_report import (
+        EXPECTED,
+        load_sessions,
+        unreported_sessions,
+        write_sessions_report,
+    )
 
     folder = args.results
     rows = load_sessions(folder)  # a corrupt summary.json raises here, before anything is written
@@ -94,6 +100,8 @@ def run_folder(args: argparse.Namespace) -> int:
         out = args.out if args.out is not None else folder / "report"
         for path in write_sessions_report(rows, folder, out):
             print(path)
+        for where, why in unreported_sessions(folder):  # listed in report.md too
+            print(f"robin-pil report: not reported: {where}: {why}", file=sys.stderr)
         return 0
     for name in RESULTS_FILES:
         if (folder / name).is_file():
@@ -164,11 +172,13 @@ def write_report(
         ReportError,
         check_columns,
         load_rows,
+        number,
         summary_markdown,
         ttests_markdown,
         welch_ttests,
     )
     from pil.experiments.sweep_store import rows_to_csv
+    from pil.outdir import check_out_dir
 
     results, out = Path(results), Path(out)
     rows = load_rows(results)
@@ -186,7 +196,11 @@ def write_report(
     axes = grid_axes(rows)
     has_system = "system" in rows[0]
     group_by = [*axes, "system"] if has_system else axes
-    out.mkdir(parents=True, exist_ok=True)
+    numeric = [*metrics, *(["rate"] if "rate" in axes else [])]
+    for row in rows:  # every number checked before anything is written
+        for column in numeric:
+            number(row[column], column)
+    check_out_dir(out)
 
     lines = [
         f"# Report: {results.name}",
