@@ -8,6 +8,7 @@ A subclass lives next to what raises it (``pil.task.scenario.ScenarioError``,
 
 from __future__ import annotations
 
+import errno
 from collections.abc import Iterable
 from typing import Any
 
@@ -54,3 +55,25 @@ def check_rate(rate: float, name: str = "detection rate", *, above_zero: bool = 
     if above_zero and value == 0.0:
         raise RobinPilError(f"{name} must lie in {valid}, got 0 ({NEVER_DETECTED})")
     return value
+
+
+# errno -> what to do about it, for a file the program could not write or read
+_OS_ADVICE: dict[int, str] = {
+    errno.ENOSPC: "the disk is full: free some space and run the command again",
+    errno.EDQUOT: "the disk quota is used up: free some space and run the command again",
+    errno.ENAMETOOLONG: "a file or folder name is too long: give a shorter --out",
+    errno.EROFS: "the disk is read-only: give an --out on a writable disk",
+    errno.EACCES: "permission denied: give an --out you can write to",
+    errno.EPERM: "permission denied: give an --out you can write to",
+    errno.EFBIG: "the file grew too large for its disk",
+    errno.EIO: "the disk reported an input/output error",
+}
+
+
+def os_error_line(error: OSError) -> str:
+    """One line for an ``OSError`` that reached the command line: the file, the system's
+    reason and what to do (files finished before it are kept)."""
+    where = quote(str(error.filename), 400) if error.filename is not None else "a file"
+    reason = error.strerror or type(error).__name__
+    advice = _OS_ADVICE.get(error.errno or 0, "")
+    return f"cannot write {where} ({reason}){'; ' + advice if advice else ''}"

@@ -28,7 +28,7 @@ from pil.task.runner import steps
 from pil.types import Hand, hand_after
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeTask
 from robin_sim.episode.interrupts import InterruptGuard
-from robin_sim.episode.log import StepLog, write_json_atomic
+from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
 from robin_sim.episode.reading import vision_detector
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
@@ -92,7 +92,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
         try:
             # an earlier run's files are replaced now, so that a kill -9 leaves only this run's
             write_json_atomic(out / SUMMARY_NAME, _summary(config, task, totals, parts, world,
-                                                           started, status, error, None))
+                                                           started, status, error, None),
+                              reserve=SUMMARY_RESERVE)  # fmt: skip
             for stale in (LOG_NAME, VIDEO_NAME):
                 (out / stale).unlink(missing_ok=True)
             with ExitStack() as stack:
@@ -234,7 +235,7 @@ def _summary(
             "camera": config.camera,
             "size": [config.width, config.height],
             "fps": config.fps,
-            "frames": timing.frames_written,
+            "frames": recorder.writer.frames_written,  # after a full disk: the frames kept
             "render_s": round(timing.render_s, 3),
             "encode_s": round(timing.encode_s, 3),
         }
