@@ -16,10 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pil.atomic import write_text_reserved
 from robin_sim.cli.main import main
-from robin_sim.render.mp4_trim import trim_torn_tail, whole_boxes_end
-from robin_sim.render.video import Mp4Writer, count_frames, probe_video
+from robin_sim.render.video import Mp4Writer, probe_video
 
 LONG = "x" * 300  # one name part longer than any file system allows (255 bytes)
 
@@ -83,6 +81,8 @@ def test_sweep_on_a_full_disk_exits_2_not_1(
 def test_a_reserved_summary_is_replaced_in_place_on_a_full_disk(
     small_disk: Callable[[int, int], Path],
 ) -> None:
+    from pil.atomic import write_text_reserved
+
     disk = small_disk(64, 64)
     path = write_text_reserved(disk / "summary.json", '{"status": "running"}\n', 8192)
     assert path.stat().st_size == 8192
@@ -102,6 +102,9 @@ def small_video(path: Path, frames: int = 45) -> Path:
 
 
 def test_a_torn_video_is_cut_back_to_its_last_whole_fragment(tmp_path: Path) -> None:
+    from robin_sim.render.mp4_trim import trim_torn_tail, whole_boxes_end
+    from robin_sim.render.video import count_frames
+
     path = small_video(tmp_path / "v.mp4")
     whole = path.stat().st_size
     assert whole_boxes_end(path) == whole and probe_video(path)["frames"] == 45

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -10,17 +11,12 @@ import pytest
 
 from robin_sim.cli.main import main
 from robin_sim.vision.build import pending
-from robin_sim.vision.build_config import MAX_SAMPLES, BuildConfig, cpu_count
+from robin_sim.vision.build_config import BuildConfig
 from robin_sim.vision.classifier import GestureModel, ModelFileError, load_shipped, shipped_path
-from robin_sim.vision.dataset import (
-    CHUNK,
-    ChunkError,
-    chunk_path,
-    chunk_ready,
-    load_split,
-    read_chunk,
-    save_chunk,
-)
+from robin_sim.vision.dataset import CHUNK, chunk_path, load_split, save_chunk
+
+MAX_SAMPLES = 100_000  # robin_sim.vision.build_config.MAX_SAMPLES
+CPUS = len(os.sched_getaffinity(0))
 
 
 def write_chunk(folder: Path, split: str, k: int, seed: int) -> Path:
@@ -43,12 +39,16 @@ def test_chunks_of_another_seed_are_rendered_anew(tmp_path: Path) -> None:
     assert pending(seed0) == []
     seed5 = BuildConfig(samples=CHUNK, seed=5, out=tmp_path, workers=1)
     assert pending(seed5) == [("train", 0), ("heldout", 0)]  # none reused
+    from robin_sim.vision.dataset import ChunkError
+
     with pytest.raises(ChunkError, match="drawn with seed 0, not 5"):
         load_split(seed5.chunks, "train", CHUNK, seed=5)
     assert len(load_split(seed0.chunks, "train", CHUNK, seed=0)["label"]) == 2 * CHUNK
 
 
 def test_a_truncated_chunk_is_a_clear_error_and_rendered_anew(tmp_path: Path) -> None:
+    from robin_sim.vision.dataset import ChunkError, chunk_ready, read_chunk
+
     path = write_chunk(tmp_path, "train", 0, seed=0)
     path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
     assert not chunk_ready(path, 0)
@@ -112,7 +112,7 @@ def test_the_vision_detector_refuses_a_nan_model(tmp_path: Path) -> None:
     [
         (["--samples", "10000000"], f"to {MAX_SAMPLES}, got 10000000"),
         (["--samples", "3"], "from 28"),
-        (["--workers", "1000"], f"--workers must be a whole number from 1 to {cpu_count()}"),
+        (["--workers", "1000"], f"--workers must be a whole number from 1 to {CPUS}"),
         (["--workers", "0"], "got 0"),
         (["--seed=-1"], "--seed must be a whole number from 0"),
         (["--out", "/proc/robin-pil-x"], "cannot be written"),
