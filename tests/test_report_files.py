@@ -4,6 +4,8 @@ session folders without a readable summary listed, an unwritable --out one clear
 from __future__ import annotations
 
 import json
+import os
+import time
 from pathlib import Path
 
 import pytest
@@ -91,3 +93,24 @@ def test_dangling_and_killed_sessions_are_listed(
     assert "P06/s1" in err and "killed" in err
     report = (out / "report.md").read_text()
     assert "## Not reported" in report and "`P05/s1`" in report and "`P06/s1`" in report
+
+
+def test_a_device_or_fifo_as_results_is_refused_at_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    fifo = tmp_path / "results.csv"
+    os.mkfifo(fifo)
+    started = time.monotonic()
+    for path in ("/dev/zero", str(fifo)):
+        refused(["report", path, "--out", str(tmp_path / "r")], capsys, "not a regular file")
+    assert time.monotonic() - started < 10
+    assert not (tmp_path / "r").exists()
+
+
+def test_a_folder_of_killed_sessions_only_says_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    killed = tmp_path / "live" / "P01" / "s1"
+    killed.mkdir(parents=True)
+    (killed / "inputs.jsonl").write_text("{}\n")
+    refused(["report", str(tmp_path / "live")], capsys, "nothing to report", "P01/s1", "killed")

@@ -8,6 +8,7 @@ serve ``robin-pil study``, sweeps over any parameter, and physical runs with ext
 from __future__ import annotations
 
 import csv
+import io
 import math
 import statistics
 import warnings
@@ -16,10 +17,12 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.regular_files import FileTooLargeError, read_regular_text
 
 Row = Mapping[str, Any]
 DEFAULT_GROUP_BY: tuple[str, ...] = ("system", "rate")
 DEFAULT_METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
+MAX_RESULTS_BYTES = 2_000_000_000  # a results CSV read whole: 2 GB is millions of runs
 MAX_MAGNITUDE = 1e15  # no count or time of a run comes near; larger is a corrupt cell
 
 
@@ -31,10 +34,12 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
     """The rows of a results CSV (values stay strings)."""
     path = Path(path)
     try:
-        with path.open(newline="", encoding="utf-8") as handle:
-            rows = list(csv.DictReader(handle))
+        text = read_regular_text(path, MAX_RESULTS_BYTES)
+        rows = list(csv.DictReader(io.StringIO(text, newline="")))
     except OSError as error:
         raise ReportError(f"{path}: cannot read the results: {error.strerror}") from None
+    except FileTooLargeError as error:
+        raise ReportError(f"{path}: {error}; a results file is a CSV of run rows") from None
     except UnicodeDecodeError as error:
         raise ReportError(
             f"{path}: not UTF-8 text (byte {error.start}); a results file is a UTF-8 CSV"

@@ -8,9 +8,6 @@ device such as ``/dev/zero`` or a huge file is refused at once), and YAML aliase
 
 from __future__ import annotations
 
-import errno
-import os
-import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -18,6 +15,7 @@ from typing import Any
 import yaml
 
 from pil.errors import RobinPilError, quote
+from pil.regular_files import FileTooLargeError, read_regular_text
 
 MAX_YAML_BYTES = 1_000_000  # a task file is a few KB; anything larger is a mistake or an attack
 
@@ -38,24 +36,6 @@ class _NoAliasLoader(yaml.SafeLoader):
 def load_yaml_text(text: str) -> Any:
     """``text`` parsed as YAML like ``yaml.safe_load``, but with aliases refused."""
     return yaml.load(text, Loader=_NoAliasLoader)  # a SafeLoader subclass
-
-
-def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:
-    """A regular file's UTF-8 text, refused (``OSError``/``ValueError``) when it is not a
-    regular file or is larger than ``limit`` bytes; nothing more than ``limit`` is read."""
-    handle = os.open(path, os.O_RDONLY | os.O_NONBLOCK)  # a FIFO does not block the open
-    if not stat.S_ISREG(os.fstat(handle).st_mode):
-        os.close(handle)
-        raise IsADirectoryError(errno.EISDIR, "not a regular file")
-    with os.fdopen(handle, "rb") as reader:
-        data = reader.read(limit + 1)
-    if len(data) > limit:
-        raise FileTooLargeError(f"larger than {limit:,} bytes")
-    return data.decode("utf-8")
-
-
-class FileTooLargeError(ValueError):
-    """A task file over the size limit (raised by :func:`read_small_text`)."""
 
 
 def shipped_in(folder: Path) -> tuple[str, ...]:
@@ -118,3 +98,9 @@ def reject_unknown(
     for key in raw:
         if key not in valid:
             raise error(f"{where}: unknown key {quote(key)}; valid choices: " + ", ".join(valid))
+
+
+def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:
+    """A task file's text: :func:`pil.regular_files.read_regular_text` at the task files'
+    size limit."""
+    return read_regular_text(path, limit)

@@ -107,9 +107,14 @@ def run_folder(args: argparse.Namespace) -> int:
         if (folder / name).is_file():
             args.results = folder / name
             return run(args)
+    unreported = unreported_sessions(folder)
+    found = (
+        f" ({len(unreported)} session folders have no readable summary, e.g. "
+        f"{unreported[0][0]}: {unreported[0][1]})" if unreported else ""
+    )  # fmt: skip
     raise RobinPilError(
-        f"{folder}: nothing to report; expected {EXPECTED}, or a study or sweep folder (with "
-        f"{' or '.join(RESULTS_FILES)}), or a results CSV"
+        f"{folder}: nothing to report{found}; expected {EXPECTED}, or a study or sweep folder "
+        f"(with {' or '.join(RESULTS_FILES)}), or a results CSV"
     )
 
 
