@@ -6,6 +6,7 @@ Each is refused up front (exit 2, one line, nothing written), or now works.
 from __future__ import annotations
 
 import csv
+import os
 import subprocess
 import sys
 import time
@@ -87,3 +88,19 @@ def test_people_with_one_table_runs(tmp_path: Path, capsys: pytest.CaptureFixtur
     assert {row["mode"] for row in rows} == {"shared", "per-person"}
     assert all(row["tables"] == "1" and row["legs"] == "4" for row in rows)
     assert all(int(row["actions"]) >= int(row["gestures"]) > 0 for row in rows)
+
+
+def test_devices_and_fifos_as_input_files_are_refused_at_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    fifo = tmp_path / "fifo.json"
+    os.mkfifo(fifo)
+    out = tmp_path / "out"
+    started = time.monotonic()
+    for path in ("/dev/zero", str(fifo)):
+        refused(["transfer", "--table", path, "--reps", "1", "--rates", "1.0", "--no-progress",
+                 "--out", str(out)], capsys, "not a regular file")  # fmt: skip
+        refused([*SWEEP, "--rates", "1.0", "--workers", "1", "--out", str(out), "--param",
+                 f"detector=measured:{path}"], capsys, "not a regular file")  # fmt: skip
+    assert time.monotonic() - started < 20
+    assert not out.exists()
