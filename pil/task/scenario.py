@@ -18,9 +18,15 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, TypeVar
 
-from pil.errors import RobinPilError, quote
+from pil.errors import RobinPilError
 from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
-from pil.task.yaml_files import find_shipped, read_yaml_mapping, reject_unknown, shipped_in
+from pil.task.yaml_files import (
+    find_shipped,
+    read_yaml_mapping,
+    reject_unknown,
+    shipped_in,
+    text_field,
+)
 from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -29,7 +35,6 @@ SCENARIOS_DIR = Path(str(resources.files("pil.task") / "scenarios"))
 DEFAULT_SCENARIO = SCENARIOS_DIR / "assembly.yaml"
 DEFAULT_TYPES = SCENARIOS_DIR / "handover_types.yaml"
 MIN_STEPS, MAX_STEPS = 4, 7
-MAX_TEXT = 2000  # characters of a name or a description
 ASSEMBLY_KEYS: tuple[str, ...] = (
     "name",
     "description",
@@ -204,7 +209,7 @@ def build_type(name: str, raw: object, source: str) -> HandoverType:
                 f"({why_invalid(state)})"
             )
     steps = tuple(Step(g, a, s) for (g, a), s in zip(pairs, states, strict=True))
-    return HandoverType(str(name), steps, _text(raw, "description", "", where))
+    return HandoverType(str(name), steps, text_field(raw, "description", "", where, ScenarioError))
 
 
 def build_types(raw: object, source: str) -> tuple[HandoverType, ...]:
@@ -255,27 +260,15 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     layout = raw.get("layout", {})
     if not isinstance(layout, Mapping):
         raise ScenarioError(f"{path}: layout: expected a mapping (passed on to the world)")
-    _text(raw, "description", "", str(path))
+    text_field(raw, "description", "", str(path), ScenarioError)
     return Scenario(
         types=types,
         sequence=tuple(sequence_raw),
         layout=dict(layout),
-        name=_text(raw, "name", path.stem, str(path)),
+        name=text_field(raw, "name", path.stem, str(path), ScenarioError),
         source=str(path),
         **_check_assembly(raw, str(path)),
     )
-
-
-def _text(raw: Mapping[str, Any], key: str, default: str, where: str) -> str:
-    """``raw[key]`` as a one-line text of at most :data:`MAX_TEXT` characters (``default`` if
-    absent); a list, a mapping or a huge text raises :class:`ScenarioError`."""
-    value = raw.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, str | int | float):
-        raise ScenarioError(f"{where}: {key}: expected a text, got {quote(value)}")
-    text = str(value)
-    if len(text) > MAX_TEXT:
-        raise ScenarioError(f"{where}: {key}: at most {MAX_TEXT} characters, got {len(text)}")
-    return text
 
 
 def shipped_scenarios() -> tuple[str, ...]:

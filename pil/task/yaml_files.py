@@ -18,6 +18,7 @@ from pil.errors import RobinPilError, quote
 from pil.regular_files import FileTooLargeError, read_regular_text
 
 MAX_YAML_BYTES = 1_000_000  # a task file is a few KB; anything larger is a mistake or an attack
+MAX_TEXT = 2000  # characters of a name or a description in a task file
 
 
 class _NoAliasLoader(yaml.SafeLoader):
@@ -104,3 +105,17 @@ def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:
     """A task file's text: :func:`pil.regular_files.read_regular_text` at the task files'
     size limit."""
     return read_regular_text(path, limit)
+
+
+def text_field(
+    raw: Mapping[str, Any], key: str, default: str, where: str, error: type[RobinPilError]
+) -> str:
+    """``raw[key]`` as a text of at most :data:`MAX_TEXT` characters (``default`` if absent;
+    a number is written as text); a list, a mapping or a longer text raises ``error``."""
+    value = raw.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, str | int | float):
+        raise error(f"{where}: {key}: expected a text, got {quote(value)}")
+    text = str(value)
+    if len(text) > MAX_TEXT:
+        raise error(f"{where}: {key}: at most {MAX_TEXT} characters, got {len(text)}")
+    return text
