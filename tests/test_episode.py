@@ -121,7 +121,7 @@ def test_episode_at_60_percent_runs_to_the_end_with_corrections(tmp_path: Path) 
 
 
 def test_bad_input_is_refused_before_anything_runs(tmp_path: Path) -> None:
-    with pytest.raises(Exception, match=r"\[0, 1\]"):
+    with pytest.raises(Exception, match=r"\(0, 1\]"):
         run_episode(EpisodeConfig(rate=1.5, out=tmp_path, video=False))
     with pytest.raises(Exception, match="system"):
         run_episode(EpisodeConfig(system="c9", out=tmp_path, video=False))
