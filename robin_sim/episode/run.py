@@ -98,7 +98,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             world.sim, view, out / VIDEO_NAME, layout=task.layout,
                             width=config.width, height=config.height, fps=config.fps,
                             camera=config.camera, shadows=config.shadows,
-                            render_workers=config.render_workers,
+                            # a signal already noted: one frame, rendered here, is enough
+                            render_workers=0 if guard.requested else config.render_workers,
                             eye_inset=config.eye_inset,
                             readings=parts.detector if task.vision is not None else None,
                         )

@@ -13,7 +13,8 @@ arrays over pipes (0.9 MB at 640x480, 1-5 ms). ``workers=0`` renders in-process,
 
 A frame shows the state's own ``qpos`` and is pixel-identical to a warmed-up
 :class:`FrameRenderer`'s render of it, whichever worker renders it. Workers ignore SIGINT and
-SIGTERM from their first instruction on (they start with both blocked): a Ctrl-C sent to the
+SIGTERM from their first instruction on (they start with both ignored, inherited through
+``exec``; :mod:`robin_sim.render.worker_start`): a Ctrl-C sent to the
 whole process group reaches only the main process, which finishes the frames in flight and
 ends the workers with :meth:`RenderPool.close`.
 """
@@ -47,7 +48,7 @@ from robin_sim.render.worker import (
     check_state,
     warmed_renderer,
 )
-from robin_sim.render.worker_start import blocked_signals, start_worker
+from robin_sim.render.worker_start import ignored_for_children, start_worker
 
 
 def default_workers() -> int:
@@ -140,7 +141,7 @@ class RenderPool(ClosesOnExit):
                     ),
                     daemon=True,
                 )
-                with blocked_signals():  # the worker starts with Ctrl-C held back
+                with ignored_for_children():  # the worker starts deaf to Ctrl-C
                     process.start()
                 child.close()
                 self._processes.append(process)
