@@ -91,3 +91,24 @@ def test_systems_help_lists_every_accepted_system(command: str, accepts: dict) -
     text = _option_help(parser, action)
     for name in accepts:
         assert name in text.replace(",", " ").split(), f"{command} --systems help lacks {name}"
+
+
+def test_the_episode_bar_gives_the_whole_episode_time_left() -> None:
+    import io
+
+    from robin_sim.episode.run import progress_bar
+
+    clock = [0.0]
+    bar = progress_bar(8, file=io.StringIO(), mininterval=0)
+    bar._time = lambda: clock[0]  # tqdm's own clock, stepped by hand
+    bar.start_t = bar.last_print_t = 0.0
+    for leg in range(4):  # a leg every 60 s, ten steps to a leg, most of them deliver nothing
+        for step in range(10):
+            clock[0] = leg * 60.0 + (step + 1) * 6.0
+            bar.update(1 if step == 9 else 0)
+    meter = bar.format_dict
+    left = (meter["total"] - meter["n"]) / meter["rate"] if meter["rate"] else None
+    if left is None:  # no smoothed rate: tqdm uses the mean, n / elapsed
+        left = (meter["total"] - meter["n"]) * meter["elapsed"] / meter["n"]
+    assert left == pytest.approx(4 * 60.0), left  # 4 legs to go at 60 s each
+    bar.close()

@@ -63,6 +63,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--out", type=Path, default=Path("out"), help="output folder")
     add_progress_switch(parser)
+    parser.add_argument(
+        "--json", action="store_true",
+        help="print the whole summary as JSON instead of the short one (summary.json holds it)",
+    )  # fmt: skip
 
 
 def _system_help() -> str:
@@ -112,5 +116,10 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.episode.run import run_episode
 
     summary = run_episode(config)
-    print(json.dumps(summary, indent=2))
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        from robin_sim.cli.episode_text import summary_text
+
+        print(summary_text(summary, config.out))
     return 0
