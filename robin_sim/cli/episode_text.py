@@ -28,8 +28,8 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
     rate = summary.get("real_time_factor")
     lines = [
         f"episode {ended}",
-        f"  run             {summary['system']} ({summary['system_name']}), detection rate "
-        f"{summary['rate']:g}, seed {summary['seed']}, scenario {summary['scenario']}",
+        f"  run             {summary['system_name']}, scenario {summary['scenario']}",
+        f"                  detection rate {summary['rate']:g}, seed {summary['seed']}",
         f"  legs delivered  {legs} ({where})",
         f"  gestures        {summary['gestures']} instruction gestures, "
         f"{summary['repeats']} repeats, {summary['corrections']} corrections",
