@@ -36,7 +36,8 @@ from robin_sim.model.scene import SceneLayout
 from robin_sim.render.inset import INSET_LABEL, draw_eye_inset, inset_size
 from robin_sim.render.overlay import draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
-from robin_sim.render.renderer import FrameClock
+from robin_sim.render.renderer import FrameClock, camera_id
+from robin_sim.render.spots import spot_pixels
 from robin_sim.render.video import Mp4Writer
 from robin_sim.render.worker import SecondView
 
@@ -106,6 +107,8 @@ class VideoRecorder(ClosesOnExit):
             self.pool.close()
             raise
         self._sim = sim
+        self._camera, self._size = camera_id(sim.model, camera), (width, height)
+        self._spots = (layout or SceneLayout()).spots  # ringed and numbered on every frame
         self.clock = FrameClock(fps, sim.control_dt)
         self._start_time = sim.time
         self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
@@ -121,7 +124,8 @@ class VideoRecorder(ClosesOnExit):
 
     def _submit(self, sim: Simulator, due: int) -> None:
         """Hand the state now to the pool, standing for ``due`` video frames."""
-        info = replace(self.view.info, sim_time=sim.time)
+        spots = spot_pixels(sim.model, sim.data, self._camera, self._spots, self._size)
+        info = replace(self.view.info, sim_time=sim.time, spots=spots)
         state = FrameState.capture(sim.model, sim.data)
         reading = None
         if self.readings is not None and self.eye_size is not None:
