@@ -130,9 +130,8 @@ class VideoRecorder(ClosesOnExit):
         reading = None
         if self.readings is not None and self.eye_size is not None:
             reading = self.readings.inset_at(sim.time, self.eye_size)
-        with_eye = self.eye_size is not None and reading is None and (
-            self._submitted % self.eye_every == 0 or self._last_eye is None
-        )
+        with_eye = self.eye_size is not None and reading is None
+        with_eye = with_eye and self._submitted % self.eye_every == 0  # the first frame has one
         self.pool.submit(state, (info, due, reading), with_second=with_eye)
         self._submitted += 1
         self._last_legs = info.legs_delivered
@@ -175,7 +174,6 @@ class VideoRecorder(ClosesOnExit):
         try:
             empty = self.pool.in_flight == 0 and self.timing.frames_written == 0
             if empty or self.view.info.legs_delivered != self._last_legs:
-                self._last_eye = None if empty else self._last_eye
                 self._submit(self._sim, 1)
             self._write(self.pool.drain())
         finally:
