@@ -21,6 +21,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import smoke  # bench/smoke.py: --smoke
+
 CASES = {"without inset": ["--no-eye-inset"], "with inset": []}
 
 
@@ -66,9 +68,8 @@ def main() -> None:
     parser.add_argument("--size", default="640x480", help="video size (default: %(default)s)")
     parser.add_argument("--fps", type=int, default=30, help="video rate (default: %(default)s)")
     parser.add_argument("--repeats", type=int, default=3, help="runs per case (default: 3)")
-    parser.add_argument("--smoke", action="store_true", help="one tiny pair: the bench works")
-    args = parser.parse_args()
-    size, fps, repeats = ("160x120", 5, 1) if args.smoke else (args.size, args.fps, args.repeats)
+    args = smoke.parse_args(parser, size="160x120", fps=5, repeats=1)
+    size, fps, repeats = args.size, args.fps, args.repeats
     found = measure(size, fps, repeats)
     print(f"one_handover episode, {size} at {fps} fps, median of {repeats} run(s) per case")
     print(table(found))

@@ -14,6 +14,8 @@ import random
 import statistics
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.experiments.study import StudyConfig, run_study
 
 
@@ -43,7 +45,7 @@ def baseline(decisions: int) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, repeats=1)
     config = StudyConfig()
     times, base_times = [], []
     decisions = 0
