@@ -68,7 +68,6 @@ class _Pending:
     time: float
     payload: Any
     worker: int
-    second: bool = False
 
 
 class RenderPool(ClosesOnExit):
@@ -210,7 +209,7 @@ class RenderPool(ClosesOnExit):
                     f"{process.exitcode}) before frame {index} (t = {state.time:.3f} s)"
                 )
             )
-        self._pending.append(_Pending(index, state.time, payload, worker, with_second))
+        self._pending.append(_Pending(index, state.time, payload, worker))
         self._submitted += 1
         return index
 
