@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import threading
 from collections.abc import Iterator
 from typing import Any
 
@@ -35,14 +36,17 @@ def ignored_for_children() -> Iterator[None]:
     kernel keeps a blocked signal pending even while its disposition is "ignore"; when the
     handlers are restored and the block lifted, it is delivered as usual. One that was already
     pending is delivered first. (A signal taken by another thread of this process while inside
-    would be ignored; the episode starts its pool from its only thread.)
+    would be ignored; the episode starts its pool from its only thread.) Outside the main
+    thread (the live server's session thread) Python cannot set handlers: there only the block
+    applies, as before, and a worker is deaf to the signals from :func:`start_worker` on.
     """
     previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
     previous: dict[signal.Signals, Any] = {}
     try:
-        _deliver_pending()
-        for signum in SIGNALS:
-            previous[signum] = signal.signal(signum, signal.SIG_IGN)
+        if threading.current_thread() is threading.main_thread():  # else: only the block
+            _deliver_pending()  # (Python sets handlers in the main thread only, e.g. not in
+            for signum in SIGNALS:  # the live server's session thread)
+                previous[signum] = signal.signal(signum, signal.SIG_IGN)
         yield
     finally:
         for signum, handler in previous.items():
