@@ -25,6 +25,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -123,7 +125,7 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--speed", type=float, default=1.0)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, runs=1, seconds=1.0)
     from playwright.sync_api import sync_playwright
 
     rows: list[dict[str, float]] = []

@@ -25,6 +25,8 @@ printed as a table with the ratio to the baseline.
 
 from __future__ import annotations
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
@@ -111,7 +113,7 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=8.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--fps", type=int, default=15)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, seconds=1.0, repeats=1)
     costs = part_costs()
     print("| part of a frame | ms |\n|---|---|")
     for name, ms in costs.items():

@@ -18,6 +18,8 @@ from __future__ import annotations
 import argparse
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -94,7 +96,7 @@ def main() -> None:
     parser.add_argument("--tries", type=int, default=10)
     parser.add_argument("--raise", dest="heights", default="0,0.15,0.2", help="m, comma list")
     parser.add_argument("--heldout", type=int, default=0, help="held-out samples (0: skip)")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, tries=1, heights="0", heldout=0)
     if args.heldout:
         print("| held-out samples' hand | hands found | accuracy (7 classes) | in context |")
         print("|---|---|---|---|")

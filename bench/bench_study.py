@@ -14,6 +14,8 @@ import random
 import statistics
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.experiments.study import StudyConfig, run_study
 
 
@@ -43,8 +45,9 @@ def baseline(decisions: int) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
-    config = StudyConfig()
+    parser.add_argument("--reps", type=int, default=StudyConfig.reps, help="study repetitions")
+    args = smoke.parse_args(parser, repeats=1, reps=1)
+    config = StudyConfig(reps=args.reps)
     times, base_times = [], []
     decisions = 0
     for _ in range(args.repeats):

@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.experiments.sweep_backends import Backend, DaskBackend, LocalBackend
 from pil.experiments.sweep_exec import execute
 from pil.experiments.sweep_grid import (
@@ -164,7 +166,8 @@ def main() -> None:
     parser.add_argument("--physical-repeats", type=int, default=3)
     parser.add_argument("--physical-legs", type=int, default=1, help="legs per physical run")
     parser.add_argument("--no-dask", action="store_true")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, repeats=1, learner_reps=1, physical_runs=1,
+                            physical_repeats=1, no_dask=True)  # fmt: skip
 
     load_before = os.getloadavg()
     cluster = None

@@ -16,6 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -46,7 +48,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--video", action="store_true")
     parser.add_argument("--scenario", type=Path, default=SCENARIOS_DIR / "one_handover.yaml")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, repeats=1)
     runs: dict[str, list[tuple[float, float, int]]] = {d: [] for d in DETECTORS}
     for _ in range(args.repeats):
         for detector in DETECTORS:  # in turns: load changes hit both alike

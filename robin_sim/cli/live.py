@@ -31,14 +31,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument("--system", default="pil", help=_system_help() + " (with --protocol: "
                         "each block's condition)")  # fmt: skip
-    parser.add_argument("--scenario", default=None, help="assembly YAML or shipped scenario name")
+    parser.add_argument("--scenario", default=None, help="assembly YAML or shipped scenario name "
+                        "(default: scenarios/assembly.yaml)")  # fmt: skip
     parser.add_argument("--participant", default="P01", help="participant id, [A-Za-z0-9_-]{1,32} "
                         "(default: %(default)s)")  # fmt: skip
     parser.add_argument(
         "--protocol",
         default=None,
         help="study protocol: a YAML file or a shipped protocol's name (reactive_vs_proactive); "
-        "the participant's blocks run one after another",
+        "the participant's blocks run one after another (default: none, one free session)",
     )
     parser.add_argument("--out", type=Path, default=Path("out/live"),
                         help="sessions folder (default: %(default)s)")  # fmt: skip

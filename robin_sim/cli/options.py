@@ -45,13 +45,27 @@ def parse_systems(text: str) -> tuple[str, ...]:
     return names
 
 
+def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
+    """The help of a ``--systems`` option: ``default`` and every system it accepts (``accepts``;
+    by default every system of the registry)."""
+    from pil.experiments.systems import SYSTEMS
+
+    names = ", ".join(SYSTEMS if accepts is None else accepts)
+    return f"comma-separated systems (default: {default}); any of {names}"
+
+
 def add_run_options(
-    parser: argparse.ArgumentParser, *, rates: str, out: Path, systems: Sequence[str]
+    parser: argparse.ArgumentParser,
+    *,
+    rates: str,
+    out: Path,
+    systems: Sequence[str],
+    accepts: Sequence[str] | None = None,
 ) -> None:
-    """``--systems``, ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and
-    ``--no-progress``."""
+    """``--systems`` (``systems`` by default, ``accepts`` the valid choices: every system if
+    None), ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and ``--no-progress``."""
     parser.add_argument(
-        "--systems", default=None, help=f"comma-separated systems (default: {','.join(systems)})"
+        "--systems", default=None, help=systems_help(",".join(systems), accepts)
     )
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
     parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
@@ -67,7 +81,18 @@ def add_run_options(
     parser.add_argument(
         "--out", type=Path, default=out, help="output folder (default: %(default)s)"
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_progress_switch(parser)
+
+
+def add_progress_switch(parser: argparse.ArgumentParser) -> None:
+    """``--no-progress`` (every command's name for it), and ``--quiet``, its old name in some
+    commands, kept as a hidden alias."""
+    parser.add_argument(
+        "--no-progress", dest="no_progress", action="store_true", help="no progress bar"
+    )
+    parser.add_argument(
+        "--quiet", dest="no_progress", action="store_true", help=argparse.SUPPRESS
+    )
 
 
 def run_options(

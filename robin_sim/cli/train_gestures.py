@@ -15,6 +15,8 @@ import shutil
 import sys
 from pathlib import Path
 
+from robin_sim.cli.options import add_progress_switch
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The command's options."""
@@ -34,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--install", action="store_true",
         help="copy the model, report and measured error model into the package",
     )  # fmt: skip
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_progress_switch(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -51,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     total = config.samples + config.heldout
     with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here
         with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
-                  disable=args.quiet) as bar:  # fmt: skip
+                  disable=args.no_progress) as bar:  # fmt: skip
             render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
         result = train_and_report(config)
     if args.install:

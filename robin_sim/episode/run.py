@@ -107,7 +107,8 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             world.sim, view, out / VIDEO_NAME, layout=task.layout,
                             width=config.width, height=config.height, fps=config.fps,
                             camera=config.camera, shadows=config.shadows,
-                            render_workers=config.render_workers,
+                            # a signal already noted: one frame, rendered here, is enough
+                            render_workers=0 if guard.requested else config.render_workers,
                             eye_inset=config.eye_inset,
                             readings=parts.detector if task.vision is not None else None,
                             states=out / STATES_NAME,
@@ -116,10 +117,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
                 log = stack.enter_context(StepLog(out / LOG_NAME))
                 view.update(legs_total=task.legs_total)
-                bar = stack.enter_context(
-                    tqdm(total=task.legs_total, desc="episode", unit="leg",
-                         disable=not config.progress)
-                )  # fmt: skip
+                bar = stack.enter_context(progress_bar(task.legs_total, config.progress))
                 guard.check()  # a signal during start-up
                 book = StepBook(parts, world, log, totals, checks)
                 _play(episode_records(parts, world, view), book, view, bar)
@@ -137,6 +135,14 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                                recorder)  # fmt: skip
             write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
+
+
+def progress_bar(legs: int, enabled: bool = True, **options: Any) -> tqdm:
+    """The episode's bar over legs. Its time left is the whole episode's: the mean wall time
+    per leg so far times the legs to go (``smoothing=0``; tqdm's default weighs the last
+    updates, and a step that delivers no leg made it read one leg's time)."""
+    return tqdm(total=legs, desc="episode", unit="leg", disable=not enabled, smoothing=0,
+                **options)  # fmt: skip
 
 
 def _play(
