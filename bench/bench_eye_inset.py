@@ -28,9 +28,24 @@ CASES = {"without inset": ["--no-eye-inset"], "with inset": []}
 
 def run_episode(out: Path, size: str, fps: int, extra: list[str]) -> dict:
     """One episode in a fresh process; its summary."""
-    argv = [sys.executable, "-m", "robin_sim.cli.main", "episode", "--scenario", "one_handover",
-            "--size", size, "--fps", str(fps), "--no-verify", "--no-progress", "--json",
-            "--out", str(out), *extra]  # fmt: skip
+    argv = [
+        sys.executable,
+        "-m",
+        "robin_sim.cli.main",
+        "episode",
+        "--scenario",
+        "one_handover",
+        "--size",
+        size,
+        "--fps",
+        str(fps),
+        "--no-verify",
+        "--no-progress",
+        "--json",
+        "--out",
+        str(out),
+        *extra,
+    ]
     subprocess.run(argv, check=True, stdout=subprocess.DEVNULL)
     return json.loads((out / "summary.json").read_text())
 
@@ -44,22 +59,29 @@ def measure(size: str, fps: int, repeats: int) -> dict[str, list[dict]]:
                 out = Path(folder) / f"{k}_{case.replace(' ', '_')}"
                 summary = run_episode(out, size, fps, extra)
                 found[case].append(summary)
-                print(f"  run {k + 1}/{repeats} {case}: {summary['wall_time_s']:.1f} s wall",
-                      file=sys.stderr, flush=True)  # fmt: skip
+                print(
+                    f"  run {k + 1}/{repeats} {case}: {summary['wall_time_s']:.1f} s wall",
+                    file=sys.stderr,
+                    flush=True,
+                )
     return found
 
 
 def table(found: dict[str, list[dict]]) -> str:
     """The markdown table of the medians."""
-    rows = ["| case | wall s | render wait s | frames | ms per frame | vs. without |",
-            "|---|---|---|---|---|---|"]  # fmt: skip
+    rows = [
+        "| case | wall s | render wait s | frames | ms per frame | vs. without |",
+        "|---|---|---|---|---|---|",
+    ]
     base = statistics.median(s["wall_time_s"] for s in found["without inset"])
     for case, summaries in found.items():
         wall = statistics.median(s["wall_time_s"] for s in summaries)
         render = statistics.median(s["video"]["render_s"] for s in summaries)
         frames = summaries[0]["video"]["frames"]
-        rows.append(f"| {case} | {wall:.1f} | {render:.1f} | {frames} | "
-                    f"{1e3 * wall / frames:.1f} | {wall / base:.2f}x |")  # fmt: skip
+        rows.append(
+            f"| {case} | {wall:.1f} | {render:.1f} | {frames} | "
+            f"{1e3 * wall / frames:.1f} | {wall / base:.2f}x |"
+        )
     return "\n".join(rows)
 
 

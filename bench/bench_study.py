@@ -59,10 +59,14 @@ def main() -> None:
     med, base = statistics.median(times), statistics.median(base_times)
     print(f"default study: {config.runs()} runs, {decisions} robot decisions per study")
     print(f"{'what':<28}{'median s':>10}{'min s':>10}{'max s':>10}{'decisions/s':>14}")
-    print(f"{'study computation':<28}{med:>10.3f}{min(times):>10.3f}{max(times):>10.3f}"
-          f"{decisions / med:>14,.0f}")  # fmt: skip
-    print(f"{'baseline (draw + lookup)':<28}{base:>10.4f}{min(base_times):>10.4f}"
-          f"{max(base_times):>10.4f}{decisions / base:>14,.0f}")  # fmt: skip
+    print(
+        f"{'study computation':<28}{med:>10.3f}{min(times):>10.3f}{max(times):>10.3f}"
+        f"{decisions / med:>14,.0f}"
+    )
+    print(
+        f"{'baseline (draw + lookup)':<28}{base:>10.4f}{min(base_times):>10.4f}"
+        f"{max(base_times):>10.4f}{decisions / base:>14,.0f}"
+    )
     print(f"ratio study / baseline: {med / base:.1f}x")
 
 

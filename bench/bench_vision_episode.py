@@ -32,9 +32,13 @@ def one(scenario: Path, detector: str, video: bool) -> tuple[float, float, int]:
     """(wall s, simulated s, readings) of one episode."""
     with tempfile.TemporaryDirectory() as folder:
         config = EpisodeConfig(
-            scenario=scenario, out=Path(folder), video=video, verify=False, progress=False,
+            scenario=scenario,
+            out=Path(folder),
+            video=video,
+            verify=False,
+            progress=False,
             params={"detector": detector},
-        )  # fmt: skip
+        )
         started = time.perf_counter()
         summary = run_episode(config)
         wall = time.perf_counter() - started
@@ -54,8 +58,10 @@ def main() -> None:
         for detector in DETECTORS:  # in turns: load changes hit both alike
             runs[detector].append(one(args.scenario, detector, args.video))
     walls = {d: statistics.median(r[0] for r in runs[d]) for d in DETECTORS}
-    print(f"{args.scenario.name}, {'video 640x480' if args.video else 'no video'}, "
-          f"median of {args.repeats}")  # fmt: skip
+    print(
+        f"{args.scenario.name}, {'video 640x480' if args.video else 'no video'}, "
+        f"median of {args.repeats}"
+    )
     print("| detector | wall s | simulated s | × real time | readings | wall × exact |")
     print("|---|---|---|---|---|---|")
     for detector in DETECTORS:

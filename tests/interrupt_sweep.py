@@ -23,8 +23,17 @@ from pathlib import Path
 
 from robin_sim.render.video import probe_video
 
-ARGV = ["episode", "--scenario", "one_handover", "--size", "160x120", "--fps", "10",
-        "--no-verify", "--no-progress"]  # fmt: skip
+ARGV = [
+    "episode",
+    "--scenario",
+    "one_handover",
+    "--size",
+    "160x120",
+    "--fps",
+    "10",
+    "--no-verify",
+    "--no-progress",
+]
 DELAYS = tuple(round(0.3 * k, 1) for k in range(1, 17))  # 0.3 ... 4.8 s
 
 
@@ -58,8 +67,10 @@ def signal_at(delay: float, how: signal.Signals, out: Path) -> Outcome:
     """Run the episode into ``out`` and send ``how`` to its group ``delay`` s after the start."""
     process = subprocess.Popen(
         [sys.executable, "-m", "robin_sim.cli.main", *ARGV, "--out", str(out)],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
-    )  # fmt: skip
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
     started = time.monotonic()
     try:
         time.sleep(max(0.0, delay - (time.monotonic() - started)))
@@ -90,9 +101,12 @@ def _sweep(busy: int) -> int:
                     problems = result.problems()
                     failures += bool(problems)
                     status = None if result.summary is None else result.summary["status"]
-                    print(f"{how.name:7} {delay:4.1f} s  exit {result.code}  {status}  "
-                          f"mp4 {result.video_frames} frames  {time.monotonic() - began:5.1f} s  "
-                          f"{'; '.join(problems) or 'ok'}", flush=True)  # fmt: skip
+                    print(
+                        f"{how.name:7} {delay:4.1f} s  exit {result.code}  {status}  "
+                        f"mp4 {result.video_frames} frames  {time.monotonic() - began:5.1f} s  "
+                        f"{'; '.join(problems) or 'ok'}",
+                        flush=True,
+                    )
     finally:
         for burner in burners:
             burner.kill()

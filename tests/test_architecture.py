@@ -233,10 +233,16 @@ def _model_names() -> frozenset[str]:
 
     model = build_model()
     obj = mujoco.mjtObj
-    sizes = {obj.mjOBJ_BODY: model.nbody, obj.mjOBJ_JOINT: model.njnt,
-             obj.mjOBJ_GEOM: model.ngeom, obj.mjOBJ_SITE: model.nsite,
-             obj.mjOBJ_ACTUATOR: model.nu, obj.mjOBJ_CAMERA: model.ncam,
-             obj.mjOBJ_EQUALITY: model.neq, obj.mjOBJ_MATERIAL: model.nmat}  # fmt: skip
+    sizes = {
+        obj.mjOBJ_BODY: model.nbody,
+        obj.mjOBJ_JOINT: model.njnt,
+        obj.mjOBJ_GEOM: model.ngeom,
+        obj.mjOBJ_SITE: model.nsite,
+        obj.mjOBJ_ACTUATOR: model.nu,
+        obj.mjOBJ_CAMERA: model.ncam,
+        obj.mjOBJ_EQUALITY: model.neq,
+        obj.mjOBJ_MATERIAL: model.nmat,
+    }
     found = set()
     for kind in sizes:
         for i in range(sizes[kind]):
@@ -263,8 +269,9 @@ def _name_like_fstrings(path: Path) -> list[str]:
             for p in parts
         ):
             continue
-        pattern = "".join(re.escape(p.value) if isinstance(p, ast.Constant) else "[A-Za-z0-9_]+"
-                          for p in parts)  # fmt: skip
+        pattern = "".join(
+            re.escape(p.value) if isinstance(p, ast.Constant) else "[A-Za-z0-9_]+" for p in parts
+        )
         if any(re.fullmatch(pattern, name) for name in _model_names()):
             found.append(f"{path.relative_to(ROOT)}:{node.lineno}: {ast.unparse(node)}")
     return found

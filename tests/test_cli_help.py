@@ -61,16 +61,25 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_bare_command_lists_every_command() -> None:
-    done = subprocess.run([sys.executable, "-m", "robin_sim.cli.main"], capture_output=True,
-                          text=True, timeout=60)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-m", "robin_sim.cli.main"], capture_output=True, text=True, timeout=60
+    )
     assert done.returncode == 2  # a missing command is bad input (argparse's convention)
     assert "Traceback" not in done.stderr
     for command in COMMANDS:
         assert f"    {command} " in done.stderr or f"    {command}\n" in done.stderr, command
 
 
-PROGRESS_COMMANDS = ["study", "episode", "sweep", "adapt", "transfer", "people",
-                     "train-gestures", "vision-conditions"]  # fmt: skip
+PROGRESS_COMMANDS = [
+    "study",
+    "episode",
+    "sweep",
+    "adapt",
+    "transfer",
+    "people",
+    "train-gestures",
+    "vision-conditions",
+]
 
 
 @pytest.mark.parametrize("command", PROGRESS_COMMANDS)

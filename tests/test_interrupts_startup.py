@@ -18,8 +18,9 @@ from interrupt_sweep import DELAYS, signal_at
 
 pytestmark = pytest.mark.slow
 
-TURNS = [(delay, signal.SIGINT if k % 2 == 0 else signal.SIGTERM) for k, delay in
-         enumerate(DELAYS[::2])]  # fmt: skip
+TURNS = [
+    (delay, signal.SIGINT if k % 2 == 0 else signal.SIGTERM) for k, delay in enumerate(DELAYS[::2])
+]
 
 
 @pytest.mark.parametrize(("delay", "how"), TURNS, ids=[f"{h.name}-{d}s" for d, h in TURNS])

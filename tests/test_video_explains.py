@@ -26,12 +26,21 @@ WIDTH, HEIGHT = 640, 480
 HEAD = (0.0, 0.0, 1.64)  # the head sphere's centre in the person's body (models/scene.xml)
 HEAD_RADIUS = 0.1
 BUSY = OverlayInfo(
-    step=123, sim_time=456.78, true_gesture="give me", detected_gesture="pointing",
-    corrected_gesture="give me", action="location (anticipating release)", intended="human",
-    feedback="not ok", legs_delivered=39, legs_total=40,
-    state="<give me, location, occupied>", policy={a.value: 0.2 for a in ACTIONS},
-    handover=39, handover_type="J",
-)  # fmt: skip  (the longest lines the overlay shows)
+    step=123,
+    sim_time=456.78,
+    true_gesture="give me",
+    detected_gesture="pointing",
+    corrected_gesture="give me",
+    action="location (anticipating release)",
+    intended="human",
+    feedback="not ok",
+    legs_delivered=39,
+    legs_total=40,
+    state="<give me, location, occupied>",
+    policy={a.value: 0.2 for a in ACTIONS},
+    handover=39,
+    handover_type="J",
+)  # the longest lines the overlay shows
 
 
 @pytest.fixture(scope="module")
@@ -49,8 +58,9 @@ def _head_disc(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.ndarray, 
     body = data.body(names.PERSON_BODY)
     centre = body.xpos + body.xmat.reshape(3, 3) @ np.array(HEAD)
     sideways = data.cam_xmat[camera].reshape(3, 3)[:, 0] * HEAD_RADIUS
-    (middle, edge) = project(model, data, camera, np.array([centre, centre + sideways]),
-                             (WIDTH, HEIGHT))  # fmt: skip
+    (middle, edge) = project(
+        model, data, camera, np.array([centre, centre + sideways]), (WIDTH, HEIGHT)
+    )
     return middle, float(np.linalg.norm(edge - middle))
 
 
@@ -72,8 +82,9 @@ def test_the_spots_are_ringed_and_numbered_where_the_table_has_them(scene) -> No
 
     model, data, frame = scene
     layout = SceneLayout()
-    pixels = spot_pixels(model, data, camera_id(model, names.DEFAULT_CAMERA), layout.spots,
-                         (WIDTH, HEIGHT))  # fmt: skip
+    pixels = spot_pixels(
+        model, data, camera_id(model, names.DEFAULT_CAMERA), layout.spots, (WIDTH, HEIGHT)
+    )
     assert len(pixels) == len(layout.spots) == 4
     expected = Picker(layout, WIDTH, HEIGHT).spot_pixels()
     np.testing.assert_allclose(pixels, expected, atol=0.5)
@@ -116,8 +127,9 @@ def test_the_last_frame_counts_the_legs_the_episode_delivered(tmp_path: Path) ->
     view = EpisodeView()
     view.update(legs_total=4, legs_delivered=3)
     path = tmp_path / "last.mp4"
-    recorder = VideoRecorder(world.sim, view, path, width=320, height=240, fps=10,
-                             render_workers=0, eye_inset=False)  # fmt: skip
+    recorder = VideoRecorder(
+        world.sim, view, path, width=320, height=240, fps=10, render_workers=0, eye_inset=False
+    )
     world.run(1.0)
     view.update(legs_delivered=4)  # the last step delivered the fourth leg; then it ends
     recorder.close()
@@ -128,7 +140,8 @@ def test_the_last_frame_counts_the_legs_the_episode_delivered(tmp_path: Path) ->
     marks = {}
     for legs in (3, 4):
         black = np.zeros((240, 320, 3), np.uint8)
-        marks[legs] = np.any(draw_overlay(black, replace(view.info, legs_delivered=legs)) > 128,
-                             axis=2)  # fmt: skip
+        marks[legs] = np.any(
+            draw_overlay(black, replace(view.info, legs_delivered=legs)) > 128, axis=2
+        )
     only_four, only_three = marks[4] & ~marks[3], marks[3] & ~marks[4]
     assert shown[only_four].mean() > shown[only_three].mean() + 40  # "4/4" drawn, not "3/4"

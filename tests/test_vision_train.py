@@ -67,10 +67,20 @@ def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
 def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> None:
     out = tmp_path / "g"
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "3",
-         "--out", str(out)],
-        capture_output=True, text=True, check=False,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "train-gestures",
+            "--samples",
+            "3",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 2
     assert "train-gestures: error: --samples must be a whole number from 28" in done.stderr
     assert not out.exists()
@@ -111,10 +121,20 @@ def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -
 
 def test_vision_conditions_rejects_bad_lists_with_exit_2(tmp_path: Path) -> None:
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", "vision-conditions", "--lighting", "dim",
-         "--out", str(tmp_path / "v")],
-        capture_output=True, text=True, check=False,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "vision-conditions",
+            "--lighting",
+            "dim",
+            "--out",
+            str(tmp_path / "v"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 2
     assert "robin-pil vision-conditions: error: --lighting: give numbers" in done.stderr
 
@@ -125,8 +145,19 @@ def test_interrupted_training_keeps_finished_chunks_and_resumes(tmp_path: Path) 
     import time
 
     out = tmp_path / "g"
-    command = [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "96",
-               "--out", str(out), "--workers", "1", "--quiet"]  # fmt: skip
+    command = [
+        sys.executable,
+        "-m",
+        "robin_sim.cli.main",
+        "train-gestures",
+        "--samples",
+        "96",
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 240
     while not list((out / "chunks").glob("train-*.npz")) and time.monotonic() < deadline:

@@ -30,4 +30,3 @@ class DefaultsHelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
         if isinstance(action, argparse._VersionAction | argparse._HelpAction):
             return text
         return super()._get_help_string(action)
-

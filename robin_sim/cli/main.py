@@ -56,9 +56,7 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         "Each command's options: robin-pil COMMAND --help.",
         formatter_class=DefaultsHelpFormatter,
     )
-    parser.add_argument(
-        "--version", action="version", version=f"%(prog)s {package_version()}"
-    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {package_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
     for name, (module_name, help_text) in COMMANDS.items():
         sub_parser = sub.add_parser(

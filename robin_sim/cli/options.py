@@ -64,9 +64,7 @@ def add_run_options(
 ) -> None:
     """``--systems`` (``systems`` by default, ``accepts`` the valid choices: every system if
     None), ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and ``--no-progress``."""
-    parser.add_argument(
-        "--systems", default=None, help=systems_help(",".join(systems), accepts)
-    )
+    parser.add_argument("--systems", default=None, help=systems_help(",".join(systems), accepts))
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
     parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
@@ -90,9 +88,7 @@ def add_progress_switch(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--no-progress", dest="no_progress", action="store_true", help="no progress bar"
     )
-    parser.add_argument(
-        "--quiet", dest="no_progress", action="store_true", help=argparse.SUPPRESS
-    )
+    parser.add_argument("--quiet", dest="no_progress", action="store_true", help=argparse.SUPPRESS)
 
 
 def run_options(
@@ -111,8 +107,10 @@ def run_options(
     for system in chosen:
         if only is not None and system not in only:
             valid = ", ".join(repr(s) for s in only)
-            raise RobinPilError(f"--systems: this study runs PIL learners; {system!r} is not "
-                                f"one (valid choices: {valid})")  # fmt: skip
+            raise RobinPilError(
+                f"--systems: this study runs PIL learners; {system!r} is not "
+                f"one (valid choices: {valid})"
+            )
     return rates, chosen
 
 
@@ -145,9 +143,15 @@ def run_seed_studies(
     seeds = list(range(args.seed, args.seed + args.seeds))
     check_seed_folders(args.out, seeds, settings)
     with progress_bar(runs_per_seed * len(seeds), name, args) as bar:
-        run_seeds(args.out, seeds, settings, f"{name}.csv",
-                  lambda seed: run_one(seed, bar.update), write_one,
-                  skipped=lambda _seed: bar.update(runs_per_seed))  # fmt: skip
+        run_seeds(
+            args.out,
+            seeds,
+            settings,
+            f"{name}.csv",
+            lambda seed: run_one(seed, bar.update),
+            write_one,
+            skipped=lambda _seed: bar.update(runs_per_seed),
+        )
     written = write_tests_over_seeds(args.out, seeds, within, title)
     print(f"{len(seeds)} studies; wrote " + ", ".join(str(p) for p in written))
     return 0
@@ -158,8 +162,9 @@ def parse_port(text: str) -> int:
     try:
         port = int(str(text).strip())
     except ValueError:
-        raise RobinPilError(f"--port must be a whole number from 1 to 65535 (0: any free "
-                            f"port), got {quote(text)}") from None  # fmt: skip
+        raise RobinPilError(
+            f"--port must be a whole number from 1 to 65535 (0: any free port), got {quote(text)}"
+        ) from None
     if not 0 <= port <= 65535:
         raise RobinPilError(f"--port must lie from 1 to 65535 (0: any free port), got {port}")
     return port

@@ -57,11 +57,18 @@ def run(args: argparse.Namespace) -> int:
             f"{args.reps}, {args.workers}"
         )
     total = len(lighting) * len(noise) * (-(-args.samples // 48) * 48)
-    with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
-              disable=args.no_progress) as bar:  # fmt: skip
+    with tqdm(
+        total=total, desc="render", unit="sample", file=sys.stderr, disable=args.no_progress
+    ) as bar:
         written = run_conditions(
-            args.out, seed=args.seed, samples=args.samples, reps=args.reps,
-            workers=args.workers, lighting=lighting, noise=noise, progress=bar.update,
-        )  # fmt: skip
+            args.out,
+            seed=args.seed,
+            samples=args.samples,
+            reps=args.reps,
+            workers=args.workers,
+            lighting=lighting,
+            noise=noise,
+            progress=bar.update,
+        )
     print("wrote " + ", ".join(str(p) for p in written))
     return 0

@@ -97,10 +97,17 @@ class VideoRecorder(ClosesOnExit):
         self.states: StateLog | None = None
         if states is not None:
             meta = {
-                "kind": "episode", "layout": layout_dict(layout), "size": [width, height],
-                "fps": fps, "camera": camera, "shadows": shadows, "reflections": True,
-                "eye_inset": eye_inset, "overlay": True, "spots": [],
-            }  # fmt: skip
+                "kind": "episode",
+                "layout": layout_dict(layout),
+                "size": [width, height],
+                "fps": fps,
+                "camera": camera,
+                "shadows": shadows,
+                "reflections": True,
+                "eye_inset": eye_inset,
+                "overlay": True,
+                "spots": [],
+            }
             self.states = StateLog(states, meta)
         self.readings = readings
         self.eye_size = inset_size(width, height) if eye_inset else None
@@ -110,8 +117,9 @@ class VideoRecorder(ClosesOnExit):
         self._last_legs = -1  # legs delivered shown by the last frame submitted
         self.timing = VideoTiming()
         second = None if self.eye_size is None else SecondView(EYE_CAMERA, self.eye_size)
-        self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers,
-                               second=second)  # fmt: skip
+        self.pool = RenderPool(
+            layout, width, height, camera, shadows, workers=render_workers, second=second
+        )
         try:
             self.writer = Mp4Writer(path, width, height, fps)
         except BaseException:

@@ -104,8 +104,9 @@ def _draw_text_panel(frame: np.ndarray, lines: list[str], scale: float) -> None:
     _darken(frame, x0, y0, x1, y1)
     for i, line in enumerate(lines):
         y = pad + line_h * (i + 1) - round(4 * scale)
-        cv2.putText(frame, line, (x0 + pad, y), FONT, font_scale, TEXT_COLOUR, thickness,
-                    cv2.LINE_AA)  # fmt: skip
+        cv2.putText(
+            frame, line, (x0 + pad, y), FONT, font_scale, TEXT_COLOUR, thickness, cv2.LINE_AA
+        )
 
 
 def _draw_policy_panel(

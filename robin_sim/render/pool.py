@@ -235,9 +235,7 @@ class RenderPool(ClosesOnExit):
         when = f"on frame {oldest.index} (t = {oldest.time:.3f} s)"
         pixels, view = self._receive(oldest.worker, FRAME_TIMEOUT_S, when, oldest.index)
         self._pending.popleft()
-        self._ready.append(
-            RenderedFrame(oldest.index, oldest.time, pixels, oldest.payload, view)
-        )
+        self._ready.append(RenderedFrame(oldest.index, oldest.time, pixels, oldest.payload, view))
 
     def _receive(self, worker: int, timeout: float, when: str, index: int = -1) -> Any:
         """The next reply of ``worker``; raises :class:`RenderPoolError` (and closes) on trouble."""

@@ -72,5 +72,6 @@ def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None
         (text_w, text_h), _ = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, font, ring - 1)
         label = (centre[0] - axes[0] - round(4 * scale) - text_w, centre[1] + text_h // 2)
         for colour, weight in ((SPOT_SHADOW, ring + 1), (SPOT_RING, max(1, ring - 1))):
-            cv2.putText(frame, text, label, cv2.FONT_HERSHEY_SIMPLEX, font, colour, weight,
-                        cv2.LINE_AA)  # fmt: skip
+            cv2.putText(
+                frame, text, label, cv2.FONT_HERSHEY_SIMPLEX, font, colour, weight, cv2.LINE_AA
+            )

@@ -57,8 +57,15 @@ class FrameState:
     @classmethod
     def capture(cls, model: mujoco.MjModel, data: mujoco.MjData) -> FrameState:
         """Copy the state of ``model``/``data`` now (later changes do not reach the frame)."""
-        copies = (data.qpos, data.mocap_pos, data.mocap_quat, model.geom_rgba, model.geom_pos,
-                  model.geom_quat, model.geom_size)  # fmt: skip
+        copies = (
+            data.qpos,
+            data.mocap_pos,
+            data.mocap_quat,
+            model.geom_rgba,
+            model.geom_pos,
+            model.geom_quat,
+            model.geom_size,
+        )
         return cls(float(data.time), *(array.copy() for array in copies))
 
 

@@ -45,9 +45,15 @@ class ReplayResult:
     approximate: int  # frames whose inset showed a vision reading (replayed with the live eye)
 
     def as_dict(self) -> dict[str, object]:
-        return {"path": str(self.path), "frames_rendered": self.frames_rendered,
-                "video_frames": self.video_frames, "fps": self.fps, "size": list(self.size),
-                "wall_s": round(self.wall_s, 3), "approximate": self.approximate}  # fmt: skip
+        return {
+            "path": str(self.path),
+            "frames_rendered": self.frames_rendered,
+            "video_frames": self.video_frames,
+            "fps": self.fps,
+            "size": list(self.size),
+            "wall_s": round(self.wall_s, 3),
+            "approximate": self.approximate,
+        }
 
 
 class ReplayRenderer(ClosesOnExit):
@@ -68,8 +74,16 @@ class ReplayRenderer(ClosesOnExit):
             second = SecondView(EYE_CAMERA, inset_size(width, height))
         self.second = second
         self._last_eye: np.ndarray | None = None
-        self.pool = RenderPool(layout, width, height, meta["camera"], shadows, workers=workers,
-                               reflections=reflections, second=second)  # fmt: skip
+        self.pool = RenderPool(
+            layout,
+            width,
+            height,
+            meta["camera"],
+            shadows,
+            workers=workers,
+            reflections=reflections,
+            second=second,
+        )
         try:
             if meta["eye_inset"] and second is None:
                 self.eye = EyeInset(layout, width, height, shadows, reflections)
@@ -152,6 +166,14 @@ def replay_to_mp4(recorded: RecordedStates, out: Path, workers: int = 0) -> Repl
                 writer.write(pixels)
             rendered += 1
             written += copies
-    approximate = sum(1 for o in recorded.overlays if o and o.get("eye") not in (None, INSET_LABEL, HELD_EYE))
-    return ReplayResult(out, rendered, written, int(meta["fps"]), (width, height),
-                        time.perf_counter() - started, approximate)  # fmt: skip
+    exact = (None, INSET_LABEL, HELD_EYE)  # what the replay draws as the run did
+    approximate = sum(1 for o in recorded.overlays if o and o.get("eye") not in exact)
+    return ReplayResult(
+        out,
+        rendered,
+        written,
+        int(meta["fps"]),
+        (width, height),
+        time.perf_counter() - started,
+        approximate,
+    )

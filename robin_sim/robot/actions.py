@@ -128,9 +128,16 @@ class RobotAction(ABC):
     def undone_after_stop(self, result: ActionResult, ctx: Context, detail: str) -> ActionResult:
         """``result`` marked as stopped by the person after its end and taken back."""
         return ActionResult(
-            self.action, False, True, f"rejected at its end; {detail}", result.started,
-            ctx.sim.time, result.measurements, True, result.dropped,
-        )  # fmt: skip
+            self.action,
+            False,
+            True,
+            f"rejected at its end; {detail}",
+            result.started,
+            ctx.sim.time,
+            result.measurements,
+            True,
+            result.dropped,
+        )
 
 
 def _lost(ctx: Context, held: int | None) -> int | None:
@@ -197,8 +204,17 @@ class MoveAction(RobotAction):
             if dropped is not None:
                 detail += f"; leg {dropped} dropped on the way"
             m = {"stopped_after_s": played * self.plan.dt, "stop_coast_m": coast}
-            return self.report(False, True, detail, start, ctx, interrupted=True,
-                               dropped=dropped, return_error_m=back, **m)  # fmt: skip
+            return self.report(
+                False,
+                True,
+                detail,
+                start,
+                ctx,
+                interrupted=True,
+                dropped=dropped,
+                return_error_m=back,
+                **m,
+            )
         error = float(np.linalg.norm(sim.site_pose().translation() - self.goal.translation()))
         m = {"site_error_m": error, "duration_s": sim.time - start}
         if _lost(ctx, held) is not None:  # a drop cannot be undone; the arm can
@@ -249,8 +265,9 @@ class CloseAction(RobotAction):
         sim.step_until(fingers_settled, self.time_limit)
         leg = ctx.held_leg()  # the opening fingers may have caught a leg after all
         if leg is not None:
-            return self.report(True, False, f"holding leg {leg} (caught as the fingers opened)",
-                               start, ctx)  # fmt: skip
+            return self.report(
+                True, False, f"holding leg {leg} (caught as the fingers opened)", start, ctx
+            )
         return self.report(False, True, "closed on nothing; opened again", start, ctx)
 
     def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
@@ -301,8 +318,9 @@ class OpenAction(RobotAction):
             detail = "stopped by the person; fingers closed again"
             if dropped is not None:
                 detail += f", but leg {dropped} had slipped out (dropped)"
-            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
-                               dropped=dropped)  # fmt: skip
+            return self.report(
+                False, dropped is None, detail, start, ctx, interrupted=True, dropped=dropped
+            )
         if leg is None:
             ok = ctx.hand_state() is Hand.FREE
             return self.report(ok, False, "hand open", start, ctx)
@@ -319,8 +337,9 @@ class OpenAction(RobotAction):
             sim.step_until(fingers_settled, self.time_limit)
             dropped = _lost(ctx, leg)
             detail = "stopped by the person while rising; hand back down and closed"
-            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
-                               dropped=dropped)  # fmt: skip
+            return self.report(
+                False, dropped is None, detail, start, ctx, interrupted=True, dropped=dropped
+            )
         sim.step_until(lambda _: ctx.leg_speed(leg) < self.rest_speed, 2.0)
         speed = ctx.leg_speed(leg)
         centre = ctx.leg_position(leg)

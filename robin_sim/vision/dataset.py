@@ -64,8 +64,10 @@ SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
 # and spots plus the hand's pointing offset), or anywhere in the person's working box.
 POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
-PLACES = np.array([[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
-                  + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)])  # fmt: skip
+PLACES = np.array(
+    [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
+    + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
+)
 BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.08]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 

@@ -172,9 +172,14 @@ class VisionDetector:
         label, confidence = reading.among(classes)
         kept = label != NO_GESTURE and confidence >= reading.threshold
         record = VisionRecord(
-            kind, pose, label if kept else DISCARDED, label, confidence, reading.boxes,
+            kind,
+            pose,
+            label if kept else DISCARDED,
+            label,
+            confidence,
+            reading.boxes,
             self.sim.time,
-        )  # fmt: skip
+        )
         self.records.append(record)
         return record
 

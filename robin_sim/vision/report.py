@@ -17,8 +17,14 @@ if TYPE_CHECKING:
     from robin_sim.vision.build_config import BuildConfig
 
 # the pil names of the classes (measured files speak the learner's language)
-PIL_NAMES = {"pointing": "pointing", "give_me": "give me", "grasp": "grasp", "release": "release",
-             "thumb_up": "OK", "thumb_down": "not OK"}  # fmt: skip
+PIL_NAMES = {
+    "pointing": "pointing",
+    "give_me": "give me",
+    "grasp": "grasp",
+    "release": "release",
+    "thumb_up": "OK",
+    "thumb_down": "not OK",
+}
 
 
 def _rows(counts: np.ndarray) -> np.ndarray:
@@ -60,8 +66,15 @@ def _figure(evaluation: Evaluation, path: Path) -> None:
     ax.set_yticks(range(len(CLASSES)), CLASSES)
     for i in range(share.shape[0]):
         for j in range(share.shape[1]):
-            ax.text(j, i, f"{share[i, j]:.2f}", ha="center", va="center", fontsize=7,
-                    color="white" if share[i, j] > 0.5 else "black")  # fmt: skip
+            ax.text(
+                j,
+                i,
+                f"{share[i, j]:.2f}",
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="white" if share[i, j] > 0.5 else "black",
+            )
     ax.set_xlabel("reading")
     ax.set_ylabel("true pose")
     ax.set_title(f"held-out (unseen skin tones and light): accuracy {evaluation.accuracy:.1%}")
