@@ -7,7 +7,9 @@ read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag.
 
 The world holds the person's mocap hand as a part of the scene (:attr:`PhysicalWorld.human`) but
 never moves it: the person's body (:mod:`robin_sim.person.body`) does. After a wanted "open"
-lets a leg go onto the palm, the robot's hand rises clear; the person then carries the leg away.
+lets a leg go onto the palm (or a spot), the robot's hand rises clear and goes back to its home
+pose (:meth:`PhysicalWorld.rest_hand`: out of the line from its eyes to the person's pointing
+hand); the person then carries a delivered leg away.
 :meth:`PhysicalWorld.start_table` lays out a new table's legs: the legs are put back at the
 layout's poses (a scene change between tables, done only while the hand is empty and never
 during an action) and the arm returns home.
@@ -25,7 +27,7 @@ from pil.task.world import Outcome, Target, Watcher
 from pil.types import Action, Hand
 from robin_sim.control.hand_state import HandSensor
 from robin_sim.control.simulator import HandTargets, Simulator
-from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend
+from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, through
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
@@ -275,3 +277,19 @@ class PhysicalWorld:
             self.release = None
             if release.kind == "palm" and "leg" in result.measurements:
                 self.delivered.append(int(result.measurements["leg"]))
+            if "leg" in result.measurements:
+                self.rest_hand()
+
+    def rest_hand(self) -> float:
+        """Move the empty hand back to its home pose; returns the time it took (s).
+
+        After letting a leg go on the palm or a spot the hand has only risen clear, and there,
+        between Robin's eyes and the person's drawn-back pointing hand, it hid that hand
+        above the left legs and spots from both eyes (``bench/bench_pointing_view.py``); at
+        home it hides none. A straight path: up and back, away from the person's palm."""
+        start = self.sim.commanded_site_pose()
+        if np.linalg.norm(start.translation() - self._home_pose.translation()) < 1e-3:
+            return 0.0
+        began = self.sim.time
+        self.sim.execute(self.sim.plan(through([start, self._home_pose], self.speed)))
+        return self.sim.time - began
