@@ -8,7 +8,7 @@ from pathlib import Path
 from pil.errors import RobinPilError
 from robin_sim.vision.dataset import CHUNK
 
-DEFAULT_SAMPLES = 4032  # 576 per class; the shipped model's (skin, jitter and height vary widely)
+DEFAULT_SAMPLES = 2016  # 288 per class; the shipped model's
 MIN_SAMPLES = 7 * 4
 
 
