@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import mink
 import mujoco
 import numpy as np
 
@@ -45,6 +46,8 @@ from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace,
 from robin_sim.robot.targets import (
     reach_text,
 )
+
+REST_RISE_Z = 1.0  # m: an empty hand going home rises to at least this height first
 
 
 class PhysicalWorld:
@@ -164,6 +167,8 @@ class PhysicalWorld:
             self._after(action, result, robot_action, release)
         elif result.dropped is not None:
             self.release = None  # the leg is gone from the hand
+            if self.held_leg() is None:
+                self.rest_hand()  # an empty hand left over the palm hides the pointing hand
         self.last_result = result
         self.history.append(result)
         return result.outcome()
@@ -286,10 +291,17 @@ class PhysicalWorld:
         After letting a leg go on the palm or a spot the hand has only risen clear, and there,
         between Robin's eyes and the person's drawn-back pointing hand, it hid that hand
         above the left legs and spots from both eyes (``bench/bench_pointing_view.py``); at
-        home it hides none. A straight path: up and back, away from the person's palm."""
+        home it hides none. The same after an action that lost the held leg (an open the person
+        stopped too late): the hand rises to :data:`REST_RISE_Z` if it is lower, then goes
+        straight home, away from the person's palm."""
         start = self.sim.commanded_site_pose()
         if np.linalg.norm(start.translation() - self._home_pose.translation()) < 1e-3:
             return 0.0
+        waypoints = [start]
+        here = start.translation()
+        if here[2] < REST_RISE_Z - 1e-3:  # a hand low over the palm rises first, clear of it
+            up = np.array([here[0], here[1], REST_RISE_Z])
+            waypoints.append(mink.SE3.from_rotation_and_translation(start.rotation(), up))
         began = self.sim.time
-        self.sim.execute(self.sim.plan(through([start, self._home_pose], self.speed)))
+        self.sim.execute(self.sim.plan(through([*waypoints, self._home_pose], self.speed)))
         return self.sim.time - began
