@@ -64,6 +64,24 @@ def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
     assert CHUNK > 0
 
 
+def test_a_factor_level_fixes_one_field_of_every_sample() -> None:
+    """The factor bench's override sets the field; ``lift`` raises the hand where it is held;
+    the splits hold jitter at 1 and lift at 0 (the shipped model's data set)."""
+    from dataclasses import replace
+
+    from robin_sim.vision.factors import FACTORS
+
+    for i in range(50):
+        spec = sample_spec(0, "heldout", i)
+        assert spec.jitter == 1.0 and spec.lift == 0.0
+        np.testing.assert_array_equal(spec.held_at, spec.hand)
+        for field, levels in FACTORS.values():
+            fixed = replace(spec, **{field: levels[-1]})
+            assert getattr(fixed, field) == levels[-1]
+        lifted = replace(spec, lift=0.12)
+        np.testing.assert_allclose(lifted.held_at - spec.hand, [0.0, 0.0, 0.12])
+
+
 def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> None:
     out = tmp_path / "g"
     done = subprocess.run(

@@ -83,6 +83,14 @@ def _figure(evaluation: Evaluation, path: Path) -> None:
     plt.close(fig)
 
 
+def _no_hand_share(split: dict[str, np.ndarray]) -> float:
+    """Share of samples in which neither eye found a hand."""
+    samples = np.unique(split["sample"])
+    found = np.zeros(samples.size, bool)
+    np.logical_or.at(found, np.searchsorted(samples, split["sample"]), split["found"])
+    return float(1.0 - found.mean())
+
+
 def write_report(
     config: BuildConfig,
     model_path: Path,
@@ -95,10 +103,12 @@ def write_report(
     """Write report.md, confusion.png and measured.json under ``config.out``."""
     out = config.out
     ranges = {name: r for name, r in SPLITS.items()}
+    held = ranges["heldout"]
     condition = (
-        f"skin tones {ranges['heldout'].skin}, light scale {ranges['heldout'].lighting}, "
-        f"light tilt {ranges['heldout'].light_tilt} rad"
+        f"skin tones {held.skin}, light scale {held.lighting}, light tilt {held.light_tilt} rad"
     )
+    train = ranges["train"]
+    no_hand = _no_hand_share(heldout_split)
     lines = [
         "# Gesture recognition: train-gestures report",
         "",
@@ -107,8 +117,9 @@ def write_report(
         f"({model_path.stat().st_size / 1024:.0f} KiB), confidence threshold "
         f"{threshold:.2f}.",
         "",
-        f"- training conditions: skin tones {ranges['train'].skin}, light scale "
-        f"{ranges['train'].lighting}, light tilt {ranges['train'].light_tilt} rad",
+        f"- training conditions: skin tones {train.skin}, light scale {train.lighting}, "
+        f"light tilt {train.light_tilt} rad; pose jitter scale {train.jitter}, hand held "
+        f"{train.lift} m above its place",
         f"- held-out conditions (never trained on): {condition}",
         "",
         "| split | accuracy (7 classes) | discarded | accuracy of kept readings | "
@@ -125,7 +136,8 @@ def write_report(
         "",
         f"Hand segmentation (left eye, IoU with the renderer's ground truth): held-out mean "
         f"{iou_heldout:.2f}, training mean {iou_train:.2f}; "
-        f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views.",
+        f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views; "
+        f"neither eye found one in {no_hand:.1%} of held-out samples (no hand: discarded).",
         "",
         "## Held-out confusion (counts; rows: the pose shown)",
         "",
