@@ -141,8 +141,11 @@ def main() -> None:
                 f"{row.right[n]}/{row.tries[n]}" if n in row.right else "-" for n in names
             )
             total = sum(row.tries.values())
-            print(f"| {row.state} | {cells} | {sum(row.right.values())}/{total} "
-                  f"| {row.both}/{total} | {min(row.heights)} |", flush=True)  # fmt: skip
+            print(
+                f"| {row.state} | {cells} | {sum(row.right.values())}/{total} "
+                f"| {row.both}/{total} | {min(row.heights)} |",
+                flush=True,
+            )
         print(f"person contacts: {contacts}  ({time.perf_counter() - started:.0f} s)")
 
 

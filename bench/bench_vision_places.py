@@ -56,8 +56,10 @@ def main() -> None:
     args = parser.parse_args()
     total_right: Counter[str] = Counter()
     total_seen: Counter[str] = Counter()
-    print("| seed | status | gestures | actions | legs | wall s | detection rate | misread | "
-          "discarded | no hand | " + " | ".join(PLACES) + " |")  # fmt: skip
+    print(
+        "| seed | status | gestures | actions | legs | wall s | detection rate | misread | "
+        "discarded | no hand | " + " | ".join(PLACES) + " |"
+    )
     print("|---" * (10 + len(PLACES)) + "|", flush=True)
     for seed in (int(s) for s in args.seeds.split(",")):
         out = args.out / f"seed-{seed}"

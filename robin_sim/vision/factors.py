@@ -65,12 +65,18 @@ def measure_factors(
             low, high = proportion_confint(right, evaluation.samples, method="wilson")
             found = np.zeros(samples, bool)
             np.logical_or.at(found, split["sample"], split["found"])
-            rows.append({
-                "factor": factor, "level": level, "samples": evaluation.samples,
-                "hands_found": float(found.mean()), "accuracy": evaluation.accuracy,
-                "ci_low": float(low), "ci_high": float(high),
-                "in_context": evaluation.detection_rate(),
-            })  # fmt: skip
+            rows.append(
+                {
+                    "factor": factor,
+                    "level": level,
+                    "samples": evaluation.samples,
+                    "hands_found": float(found.mean()),
+                    "accuracy": evaluation.accuracy,
+                    "ci_low": float(low),
+                    "ci_high": float(high),
+                    "in_context": evaluation.detection_rate(),
+                }
+            )
     return rows
 
 
