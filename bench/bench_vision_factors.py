@@ -24,7 +24,10 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--model", type=Path, nargs="*", default=None)
     parser.add_argument("--out", type=Path, default=Path("out/vision_factors"))
+    parser.add_argument("--smoke", action="store_true", help="a few samples per level (tests)")
     args = parser.parse_args()
+    if args.smoke:
+        args.samples, args.workers = 4, 1
     started = time.perf_counter()
     render_factors(args.out / "chunks", args.seed, args.samples, args.workers, lambda n: None)
     print(f"rendered in {time.perf_counter() - started:.0f} s", flush=True)

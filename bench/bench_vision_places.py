@@ -53,7 +53,11 @@ def main() -> None:
     parser.add_argument("--seeds", default="0,1,2,3,4")
     parser.add_argument("--lighting", default="1")
     parser.add_argument("--out", type=Path, default=Path("out/vision_places"))
+    parser.add_argument("--smoke", action="store_true", help="one seed, one handover (tests)")
     args = parser.parse_args()
+    scenario = "one_handover" if args.smoke else None
+    if args.smoke:
+        args.seeds = "0"
     total_right: Counter[str] = Counter()
     total_seen: Counter[str] = Counter()
     print(
@@ -64,7 +68,9 @@ def main() -> None:
     for seed in (int(s) for s in args.seeds.split(",")):
         out = args.out / f"seed-{seed}"
         params = {"detector": "vision", "lighting": args.lighting}
-        config = EpisodeConfig(seed=seed, out=out, video=False, progress=False, params=params)
+        config = EpisodeConfig(
+            seed=seed, out=out, video=False, progress=False, params=params, scenario=scenario
+        )
         started = time.perf_counter()
         summary = run_episode(config)
         wall = time.perf_counter() - started

@@ -152,7 +152,7 @@ def test_an_episode_on_a_full_disk_leaves_a_summary_and_a_playable_video(
     ]
     assert main(argv) == 2
     line = last_line(capsys.readouterr().err)
-    assert line.startswith("robin-pil episode: error: cannot write") and "episode.mp4" in line
+    assert line.startswith("robin-pil episode: error: cannot write") and "No space left" in line
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed" and "No space left" in summary["error"]
     frames = probe_video(out / "episode.mp4")["frames"]

@@ -121,7 +121,9 @@ def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -
     written = run_conditions(
         tmp_path, samples=MIN_SAMPLES, reps=2, lighting=(1.0,), noise=(0.0, 40.0)
     )
-    assert [p.name for p in written] == ["conditions.csv", "conditions.md", "conditions.png"]
+    assert sorted(p.name for p in written) == sorted(
+        ["conditions.csv", "conditions_runs.csv", "conditions.md", "tests.csv", "conditions.png"]
+    )
     rows = (tmp_path / "conditions.csv").read_text().splitlines()
     assert len(rows) == 3  # header and the two conditions
     for noise in ("0", "40"):

@@ -18,7 +18,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
-from pil.experiments.report import Row, group_rows, load_rows, markdown_table, number
+from pil.experiments.report import Row, group_rows, load_rows, markdown_table, number_or_nan
 from pil.experiments.stats import PAIRED_T, WELCH, mean_ci
 
 SETTINGS_FILE = "settings.json"  # written last: a seed folder with it holds a finished run
@@ -105,16 +105,16 @@ def tests_over_seeds(
     keys = ["measure", "reading", *within, "system_a", "system_b"]
     out = []
     for key, members in group_rows(rows, keys).items():
-        diffs = [number(m["mean_diff"], "mean_diff") for m in members]
+        diffs = [number_or_nan(m["mean_diff"], "mean_diff") for m in members]
         mean, low, high = mean_ci([d for d in diffs if not math.isnan(d)])
 
         def significant(sign: int, members: list[Row] = members) -> int:
             return sum(
                 1
                 for m in members
-                if not math.isnan(number(m["p_holm"]))
-                and number(m["p_holm"]) < 0.05
-                and sign * number(m["mean_diff"]) > 0
+                if not math.isnan(number_or_nan(m["p_holm"], "p_holm"))
+                and number_or_nan(m["p_holm"], "p_holm") < 0.05
+                and sign * number_or_nan(m["mean_diff"], "mean_diff") > 0
             )
 
         out.append(
@@ -127,7 +127,9 @@ def tests_over_seeds(
                 "ci_high": high,
                 "seeds_a_more": significant(1),
                 "seeds_a_less": significant(-1),
-                "seeds_untestable": sum(1 for m in members if math.isnan(number(m["p_holm"]))),
+                "seeds_untestable": sum(
+                    1 for m in members if math.isnan(number_or_nan(m["p_holm"], "p_holm"))
+                ),
             }
         )
     return out
