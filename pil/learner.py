@@ -174,7 +174,7 @@ class Learner:
         sid = _ID_BY_OBJECT.get(id(state))
         if sid is None:
             sid = state_id(state)
-        index = _ACTION_INDEX.get(action)  # type: ignore[call-overload]  # "object" hits too
+        index = _ACTION_INDEX.get(action)  # type: ignore[arg-type]  # "object" hits too
         if index is None:
             index = action_index(action)
         if ok is True or (ok is not False and approves(ok)):
@@ -258,7 +258,7 @@ class Learner:
             previous_action = Action.parse(previous_action)
         if hand.__class__ is not Hand:
             hand = Hand.parse(hand)
-        return self._repair(detected_state, previous_action, hand)  # type: ignore[arg-type]
+        return self._repair(detected_state, previous_action, hand)
 
     def _repair(
         self, detected_state: State | None, previous_action: Action, hand: Hand

@@ -39,7 +39,7 @@ def state_id(state: State | str) -> int:
     if found is not None:
         return found
     if state.__class__ is State:
-        return _STATE_ID[state]  # type: ignore[index]
+        return _STATE_ID[state]
     if isinstance(state, str):
         return _STATE_ID[State.from_key(state)]
     raise TypeError(f"expected a State, got {state!r}")
@@ -53,7 +53,7 @@ def canonical(state: State | str) -> State:
 def action_index(action: Action | str) -> int:
     """Position of ``action`` in :data:`pil.types.ACTIONS`; strings are parsed."""
     if action.__class__ is Action:
-        return _ACTION_INDEX[action]  # type: ignore[index]
+        return _ACTION_INDEX[action]
     return _ACTION_INDEX[Action.parse(action)]
 
 
@@ -63,7 +63,7 @@ def approves(ok: bool | Feedback | str) -> bool:
         return ok
     if ok.__class__ is Feedback:
         return ok is not Feedback.NOT_OK
-    return Feedback.parse(ok).approves  # type: ignore[arg-type]
+    return Feedback.parse(ok).approves
 
 
 def state_sort_key(state: State | None) -> int:

@@ -107,7 +107,8 @@ class State:
         parts = key.split("|")
         if len(parts) != 3:
             raise InvalidChoiceError("state key", key, ["gesture|previous_action|hand"])
-        return cls(*parts)
+        gesture, action, hand = parts
+        return cls(Gesture.parse(gesture), Action.parse(action), Hand.parse(hand))
 
     def __str__(self) -> str:
         return f"<{self.gesture}, {self.previous_action}, {self.hand}>"

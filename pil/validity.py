@@ -146,7 +146,7 @@ def broken_rules(state: State | str) -> tuple[Rule, ...]:
 
     ``state`` may also be a key such as ``"grasp|human|occupied"``.
     """
-    found = _BROKEN.get(state)  # type: ignore[call-overload]
+    found = _BROKEN.get(state)  # type: ignore[arg-type]
     if found is not None:
         return found
     if isinstance(state, str):

@@ -4,8 +4,9 @@ its seed), ``tests.csv`` and one bar chart, each written atomically."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any, TypeVar
 
 from pil.atomic import write_text_atomic
 from pil.experiments.report import Row, summary_markdown
@@ -15,9 +16,12 @@ from pil.experiments.study import csv_text
 PAIR_BY: tuple[str, ...] = ("rep", "seed")  # the compared runs of one repetition share its seed
 
 
+R = TypeVar("R", bound=Mapping[str, Any])  # a result row: a dict, or a CSV's read back
+
+
 def sort_runs(
-    rows: list[Row], systems: Sequence[str], column: str = "", values: Sequence[str] = ()
-) -> list[Row]:
+    rows: list[R], systems: Sequence[str], column: str = "", values: Sequence[str] = ()
+) -> list[R]:
     """``rows`` in the studies' order (in place): rate, the given system order, then
     ``column`` in the order of ``values`` (e.g. the mode or start), then repetition."""
     order = {s: i for i, s in enumerate(systems)}

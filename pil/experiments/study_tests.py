@@ -109,15 +109,15 @@ def claim_markdown(tests: Sequence[Mapping[str, Any]], discarded: str = "") -> s
         pairs.setdefault(key, {})[str(t["test"])] = t
     body = []
     for (reading, rate, measure, other), found in pairs.items():
-        t, w = found.get(PAIRED_T), found.get(WILCOXON)
-        ref = t if t is not None else w
+        paired_t, wil = found.get(PAIRED_T), found.get(WILCOXON)
+        ref = paired_t if paired_t is not None else wil
         assert ref is not None
-        yes = t is not None and w is not None and _costlier(t) and _costlier(w)
+        yes = paired_t is not None and wil is not None and _costlier(paired_t) and _costlier(wil)
         body.append([
             reading, f"{number(rate) * 100:.0f} %", measure, other,
             f"{float(ref['mean_diff']):+.1f} [{float(ref['ci_low']):+.1f}, "
             f"{float(ref['ci_high']):+.1f}]",
-            _p(t), _p(w), "yes" if yes else "no",
+            _p(paired_t), _p(wil), "yes" if yes else "no",
         ])  # fmt: skip
     table = markdown_table(
         ["reading", "rate", "measure", "vs", "PIL − condition [95 % CI]",

@@ -41,6 +41,7 @@ class ClusterLostError(SchedulerError):
 def execute_run(function: str, args: Sequence[Any], kwargs: Mapping[str, Any]) -> dict[str, Any]:
     """Run ``function(*args, **kwargs)`` in a worker; return the outcome, never raise."""
     started = time.perf_counter()
+    outcome: dict[str, Any]
     try:
         metrics = import_object(function)(*args, **kwargs)
         if not isinstance(metrics, Mapping):

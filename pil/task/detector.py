@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import random
 from collections.abc import Sequence
+from typing import Protocol
 
 from pil.errors import InvalidChoiceError, RobinPilError, check_rate
 from pil.types import GESTURES, Feedback, Gesture
@@ -36,6 +37,21 @@ NO_CAMERAS = (
 )
 DEFAULT_DISCARD = 0.5  # share of misses discarded as low-confidence; calibrated, see README
 _INDEX = {g: i for i, g in enumerate(GESTURES)}
+
+
+class GestureReader(Protocol):
+    """What the step loop needs of whatever reads the person: the dice :class:`Detector`, a
+    :class:`MeasuredDetector`, or Robin's eye cameras (``robin_sim.vision.detector``)."""
+
+    rate: float
+
+    def detect(self, gesture: Gesture) -> Gesture | None:
+        """The gesture as read (None: discarded as low-confidence)."""
+        ...
+
+    def read_feedback(self, feedback: Feedback) -> Feedback:
+        """The thumb as read."""
+        ...
 
 
 class DetectorError(RobinPilError):

@@ -224,6 +224,7 @@ class ScriptedPerson:
         head = self._todo[0]
         if self._legs.holding is not None and hand is Hand.FREE:
             leg = self._legs.lost()
+            assert leg is not None  # held a moment ago
             if self.body is not None and self.body.recover(leg):
                 self.interventions += 1
             where = head.intent

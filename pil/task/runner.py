@@ -30,7 +30,7 @@ from pil.anticipation import Anticipation
 from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
-from pil.task.detector import Detector
+from pil.task.detector import GestureReader
 from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
@@ -71,7 +71,7 @@ class StepObserver(Protocol):
 def steps(
     learner: Learner,
     person: Person,
-    detector: Detector,
+    detector: GestureReader,
     world: World,
     *,
     manual: bool = False,
@@ -214,7 +214,7 @@ def steps(
 def _anticipate(
     learner: Learner,
     person: Person,
-    detector: Detector,
+    detector: GestureReader,
     world: World,
     item: ScriptStep,
     guess: Anticipation,
@@ -265,7 +265,7 @@ def _anticipate(
 def run(
     learner: Learner,
     person: ScriptedPerson,
-    detector: Detector,
+    detector: GestureReader,
     world: World,
     **options: Any,
 ) -> RunStats:

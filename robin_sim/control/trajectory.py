@@ -28,7 +28,9 @@ def min_jerk(tau: float) -> float:
     return t * t * t * (10.0 + t * (-15.0 + 6.0 * t))
 
 
-def pose(position: Sequence[float], quat_wxyz: Sequence[float] | None = None) -> mink.SE3:
+def pose(
+    position: Sequence[float] | np.ndarray, quat_wxyz: Sequence[float] | None = None
+) -> mink.SE3:
     """An SE3 pose from a position and an optional (w, x, y, z) quaternion (identity if None)."""
     rotation = mink.SO3.identity() if quat_wxyz is None else mink.SO3(np.asarray(quat_wxyz, float))
     return mink.SE3.from_rotation_and_translation(rotation.normalize(), np.asarray(position, float))

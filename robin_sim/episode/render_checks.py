@@ -24,13 +24,13 @@ class RenderChecks(ClosesOnExit):
     def __init__(self, world: PhysicalWorld, *, enabled: bool = True) -> None:
         self.world = world
         self.enabled = enabled
-        self._renderer = None
+        self._renderer: Any = None  # a CloseUpRenderer once the first check needs one
         self._pending: dict[str, Any] | None = None
         if enabled:
             world.add_result_hook(self._on_result)
 
     def _close_up(self) -> Any:
-        if self._renderer is None:
+        if self._renderer is None:  # built on the first check
             from robin_sim.render.renderer import CloseUpRenderer
 
             self._renderer = CloseUpRenderer(self.world.model)

@@ -91,10 +91,10 @@ class Performance:
     ) -> Performance:
         """A random performance; ``jitter`` scales the pose jitter (0: none)."""
         return cls(
-            curl=tuple(rng.normal(0.0, 0.08 * jitter, 4).tolist()),  # type: ignore[arg-type]
+            curl=tuple(rng.normal(0.0, 0.08 * jitter, 4).tolist()),
             spread=float(rng.normal(0.0, 0.05 * jitter)),
-            thumb=tuple(rng.normal(0.0, 0.12 * jitter, 3).tolist()),  # type: ignore[arg-type]
-            wrist=tuple(rng.normal(0.0, 0.12 * jitter, 3).tolist()),  # type: ignore[arg-type]
+            thumb=tuple(rng.normal(0.0, 0.12 * jitter, 3).tolist()),
+            wrist=tuple(rng.normal(0.0, 0.12 * jitter, 3).tolist()),
             size=float(rng.uniform(*size_range)),
             skin=float(rng.uniform(*skin_range)),
         )

@@ -210,6 +210,7 @@ class CloseUpRenderer(ClosesOnExit):
         return self._with_camera(body, depth)
 
     def _with_camera(self, body: np.ndarray, depth: np.ndarray) -> Observation:
+        assert self._renderer is not None, "the renderer is closed"
         eyes = self._renderer.scene.camera  # left and right eye; a mono render uses their mean
         position = (np.array(eyes[0].pos) + np.array(eyes[1].pos)) / 2
         forward = np.array(eyes[0].forward, dtype=float)

@@ -51,7 +51,7 @@ def check_reached(plan: JointPlan, target: str, goal: mink.SE3, region: str) -> 
     """Raise :class:`UnreachableTargetError` unless ``plan`` ends at ``goal`` (both tolerances)."""
     if not plan.reaches_goal:
         raise UnreachableTargetError(
-            target, goal.translation(), plan.position_error, plan.orientation_error, region
+            target, goal.translation().tolist(), plan.position_error, plan.orientation_error, region
         )
 
 

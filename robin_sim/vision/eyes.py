@@ -48,7 +48,9 @@ class Condition:
             ("camera_noise", self.camera_noise, noise.low, noise.high),
             ("blur", self.blur, 0.0, 10.0),
         ):
-            if not np.isfinite(value) or not low <= value <= high:
+            if not np.isfinite(value) or not (-np.inf if low is None else low) <= value <= (
+                np.inf if high is None else high
+            ):
                 raise ConditionError(f"{name} must lie in [{low:g}, {high:g}], got {value!r}")
 
 

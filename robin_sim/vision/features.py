@@ -39,11 +39,11 @@ def hog(image: np.ndarray) -> np.ndarray:
     hist = np.zeros((_CELLS * _CELLS, BINS), np.float64)
     np.add.at(hist, (cell_of.ravel(), low.ravel()), (magnitude * (1 - frac)).ravel())
     np.add.at(hist, (cell_of.ravel(), ((low + 1) % BINS).ravel()), (magnitude * frac).ravel())
-    hist = hist.reshape(_CELLS, _CELLS, BINS)
+    grid = hist.reshape(_CELLS, _CELLS, BINS)
     blocks = []
     for i in range(_CELLS - 1):
         for j in range(_CELLS - 1):
-            v = hist[i : i + 2, j : j + 2].ravel()
+            v = grid[i : i + 2, j : j + 2].ravel()
             v = v / (np.linalg.norm(v) + 1e-6)
             v = np.minimum(v, 0.2)
             blocks.append(v / (np.linalg.norm(v) + 1e-6))

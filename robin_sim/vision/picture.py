@@ -55,7 +55,11 @@ def reading_picture(
         raise ValueError(f"a reading picture must be at least as wide as high, got {size}")
     picture = np.zeros((height, width, 3), np.uint8)
     left = (width - height) // 2
-    scaled = view if height == side else cv2.resize(view, (height, height), cv2.INTER_LINEAR)
+    scaled = (
+        view
+        if height == side
+        else cv2.resize(view, (height, height), interpolation=cv2.INTER_LINEAR)
+    )
     picture[:, left : left + height] = scaled
     colour = box_colour(discarded)
     thickness = max(1, round(height / 60))

@@ -61,7 +61,7 @@ def find_hand(
     ``focal``: the focal length in pixels (to turn the hand's reach into pixels).
     """
     near = (depth > looked_at + SLAB[0]) & (depth < min(looked_at + SLAB[1], MAX_DEPTH))
-    candidates = (skin_mask(rgb) & near).astype(np.uint8)
+    candidates: np.ndarray = (skin_mask(rgb) & near).astype(np.uint8)
     candidates = cv2.morphologyEx(candidates, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8))
     height, width = candidates.shape
     yy, xx = np.mgrid[0:height, 0:width]
