@@ -21,12 +21,12 @@ ensure_gl_backend()
 
 import numpy as np  # noqa: E402
 
+from robin_sim.control.gaze import pose_head  # noqa: E402
 from robin_sim.render.renderer import FrameRenderer  # noqa: E402
 from robin_sim.vision.classifier import load_shipped  # noqa: E402
 from robin_sim.vision.dataset import SampleSpec  # noqa: E402
 from robin_sim.vision.eyes import Condition, EyeCameras  # noqa: E402
 from robin_sim.vision.features import hand_features  # noqa: E402
-from robin_sim.vision.gaze import pose_head  # noqa: E402
 from robin_sim.vision.reader import looked_at_depth  # noqa: E402
 from robin_sim.vision.render_set import SampleRenderer  # noqa: E402
 from robin_sim.vision.segment import find_hand  # noqa: E402

@@ -8,6 +8,7 @@ A subclass lives next to what raises it (``pil.task.scenario.ScenarioError``,
 
 from __future__ import annotations
 
+import errno
 from collections.abc import Iterable
 from typing import Any
 
@@ -37,12 +38,42 @@ class InvalidChoiceError(RobinPilError):
         self.choices = tuple(choices)
 
 
-def check_rate(rate: float, name: str = "detection rate") -> float:
-    """Return ``rate`` as a float if it lies in [0, 1], else raise a clear error."""
+# why a detection rate of 0 is refused where a task must finish (the CLI, sweeps)
+NEVER_DETECTED = "at rate 0 no gesture is ever read, so the task can never finish"
+
+
+def check_rate(rate: float, name: str = "detection rate", *, above_zero: bool = False) -> float:
+    """Return ``rate`` as a float if it lies in [0, 1] (``above_zero``: in (0, 1]), else raise
+    a clear error."""
+    valid = "(0, 1]" if above_zero else "[0, 1]"
     try:
         value = float(rate)
     except (TypeError, ValueError):
-        raise RobinPilError(f"{name} must be a number in [0, 1], got {quote(rate)}") from None
+        raise RobinPilError(f"{name} must be a number in {valid}, got {quote(rate)}") from None
     if not 0.0 <= value <= 1.0:
-        raise RobinPilError(f"{name} must lie in [0, 1] (e.g. 0.6 for 60 %), got {value}")
+        raise RobinPilError(f"{name} must lie in {valid} (e.g. 0.6 for 60 %), got {value}")
+    if above_zero and value == 0.0:
+        raise RobinPilError(f"{name} must lie in {valid}, got 0 ({NEVER_DETECTED})")
     return value
+
+
+# errno -> what to do about it, for a file the program could not write or read
+_OS_ADVICE: dict[int, str] = {
+    errno.ENOSPC: "the disk is full: free some space and run the command again",
+    errno.EDQUOT: "the disk quota is used up: free some space and run the command again",
+    errno.ENAMETOOLONG: "a file or folder name is too long: give a shorter --out",
+    errno.EROFS: "the disk is read-only: give an --out on a writable disk",
+    errno.EACCES: "permission denied: give an --out you can write to",
+    errno.EPERM: "permission denied: give an --out you can write to",
+    errno.EFBIG: "the file grew too large for its disk",
+    errno.EIO: "the disk reported an input/output error",
+}
+
+
+def os_error_line(error: OSError) -> str:
+    """One line for an ``OSError`` that reached the command line: the file, the system's
+    reason and what to do (files finished before it are kept)."""
+    where = quote(str(error.filename), 400) if error.filename is not None else "a file"
+    reason = error.strerror or type(error).__name__
+    advice = _OS_ADVICE.get(error.errno or 0, "")
+    return f"cannot write {where} ({reason}){'; ' + advice if advice else ''}"

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from pil.atomic import write_text_atomic
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.regular_files import FileTooLargeError, read_regular_text
 from pil.table import AssociationTable, merge_all, state_sort_key
 from pil.types import ACTIONS, Action, State
 
@@ -33,6 +34,9 @@ VERSION = 1
 SUPPORTED_VERSIONS = (1,)
 START_KEY = "start"
 _KEYS = ("format", "version", "counts", "rejected", "transitions")
+
+
+MAX_TABLE_BYTES = 50_000_000  # a saved table is a few KB
 
 
 class TableFileError(RobinPilError):
@@ -202,11 +206,13 @@ def load_table(path: str | os.PathLike[str]) -> AssociationTable:
     """Read a table saved by :func:`save_table`; raises :class:`TableFileError` if corrupt."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_regular_text(path, MAX_TABLE_BYTES)  # /dev/zero, a FIFO: refused at once
     except FileNotFoundError:
         raise _fail(str(path), "no such file") from None
     except UnicodeDecodeError:
         raise _fail(str(path), "not UTF-8 text") from None
+    except FileTooLargeError as error:
+        raise _fail(str(path), f"{error}, too large for a saved table") from None
     except OSError as error:
         raise _fail(str(path), f"cannot be read ({error})") from None
     return table_from_json(text, str(path))

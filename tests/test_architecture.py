@@ -144,6 +144,69 @@ def test_no_import_cycle(graph: dict[str, set[str]]) -> None:
     assert not found, "import cycles: " + "; ".join(" -> ".join(c) for c in found)
 
 
+def package_of(module: str, modules: Mapping[str, Path]) -> str:
+    """The subpackage a module belongs to (``robin_sim.robot.world`` -> ``robin_sim.robot``);
+    a loose module of a top package (``pil.learner``) belongs to the top package."""
+    parts = module.split(".")
+    for end in range(len(parts), 0, -1):
+        candidate = ".".join(parts[:end])
+        if candidate in modules and modules[candidate].name == "__init__.py" and end > 1:
+            return candidate
+    return parts[0]
+
+
+def package_graph(
+    graph: Mapping[str, set[str]], modules: Mapping[str, Path]
+) -> dict[str, set[str]]:
+    """Subpackage -> the subpackages its modules import (itself left out)."""
+    packages: dict[str, set[str]] = {}
+    for module, targets in graph.items():
+        mine = package_of(module, modules)
+        found = packages.setdefault(mine, set())
+        found.update(package_of(t, modules) for t in targets)
+        found.discard(mine)
+    return packages
+
+
+def test_no_import_cycle_between_packages(graph: dict[str, set[str]]) -> None:
+    """E.g. robot -> person -> robot (the person's hand belongs below both, in control)."""
+    found = cycles(package_graph(graph, module_files(ROOT)))
+    assert not found, "package cycles: " + "; ".join(" -> ".join(c) for c in found)
+
+
+def test_package_checker_finds_a_cycle_of_packages(tmp_path: Path) -> None:
+    for name, body in {
+        "robin_sim/__init__.py": "",
+        "robin_sim/robot/__init__.py": "",
+        "robin_sim/robot/world.py": "from robin_sim.person.hand import HumanHand\n",
+        "robin_sim/person/__init__.py": "",
+        "robin_sim/person/hand.py": "",
+        "robin_sim/person/body.py": "from robin_sim.robot import world\n",
+    }.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(body)
+    modules = module_files(tmp_path, ("robin_sim",))
+    assert cycles(import_graph(modules)) == []  # no module-level cycle ...
+    found = cycles(package_graph(import_graph(modules), modules))
+    assert found and set(found[0]) == {
+        "robin_sim.robot",
+        "robin_sim.person",
+    }  # ... but a package one
+
+
+def test_no_cli_module_imports_another_command(graph: dict[str, set[str]]) -> None:
+    """Commands share code through robin_sim.cli.options only; orchestration lives below."""
+    shared = {"robin_sim.cli", "robin_sim.cli.options"}
+    offenders = [
+        f"{module} imports {target}"
+        for module, targets in graph.items()
+        if module.startswith("robin_sim.cli.")
+        for target in sorted(targets)
+        if target.startswith("robin_sim.cli.") and target not in shared
+    ]
+    assert not offenders, "; ".join(offenders)
+
+
 def test_pil_imports_no_simulation() -> None:
     offenders = []
     for module, path in module_files(ROOT, ("pil",)).items():

@@ -58,7 +58,7 @@ def refused(argv: list[str], capsys: pytest.CaptureFixture[str], *needles: str) 
         (["--fps", "0"], ["--fps", "from 1 to 240", "'0'"]),
         (["--render-workers=-1"], ["--render-workers", "from 0 to 64", "'-1'"]),
         (["--seed=-1"], ["--seed", "from 0 to", "'-1'"]),
-        (["--rate", "1.5"], ["--rate", "[0, 1]", "'1.5'"]),
+        (["--rate", "1.5"], ["--rate", "(0, 1]", "'1.5'"]),
         (["--tables", "1000000000"], ["--tables", "from 1 to 1000", "'1000000000'"]),
         (["--system", "c9"], ["system", "'pil', 'c1'"]),
     ],

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import av
 import pytest
+from replay_rig import check_episode_replay
 
 from robin_sim.render.gl_backend import ensure_gl_backend
 
@@ -36,7 +37,7 @@ def _learner_only(config: EpisodeConfig) -> list[dict]:
 
 
 @pytest.mark.slow
-def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -> None:
+def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path, capsys) -> None:
     config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, width=160, height=120, fps=15,
                            progress=False)  # fmt: skip
     summary = run_episode(config)
@@ -64,6 +65,7 @@ def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path) -
     assert {c["check"] for c in checks} == {"in hand", "on palm"}
     assert all(c["agrees"] for c in checks), checks
     assert all(20 <= c["pixels"] <= c["leg_pixels"] for c in checks), checks  # MIN_PIXELS = 20
+    check_episode_replay(tmp_path, summary, capsys)  # robin-pil replay: the same frames
 
 
 @pytest.mark.slow
@@ -119,7 +121,7 @@ def test_episode_at_60_percent_runs_to_the_end_with_corrections(tmp_path: Path) 
 
 
 def test_bad_input_is_refused_before_anything_runs(tmp_path: Path) -> None:
-    with pytest.raises(Exception, match=r"\[0, 1\]"):
+    with pytest.raises(Exception, match=r"\(0, 1\]"):
         run_episode(EpisodeConfig(rate=1.5, out=tmp_path, video=False))
     with pytest.raises(Exception, match="system"):
         run_episode(EpisodeConfig(system="c9", out=tmp_path, video=False))

@@ -135,7 +135,7 @@ def test_same_seed_gives_identical_qpos() -> None:
 
 
 def test_the_vision_detectors_look_at_takes_the_head_over() -> None:
-    from robin_sim.vision.gaze import head_angles, head_qpos, look_at
+    from robin_sim.control.gaze import head_angles, head_qpos, look_at
 
     world = PhysicalWorld()
     world.head.attend(world.leg_position(3), "pointed")

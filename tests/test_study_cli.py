@@ -26,7 +26,7 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--rates", "1.5"], "must lie in [0, 1]"),
+        (["--rates", "1.5"], "must lie in (0, 1]"),
         (["--rates", "0.4,abc"], "'abc' is not a number"),
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got 0"),
         (["--seed", "-1"], "--seed must be a whole number from 0 to"),

@@ -62,8 +62,8 @@ def _ctrl_c_as_in_a_terminal() -> None:
     [
         (["--param", "dicsard=0.3"], "unknown learner parameter 'dicsard'; valid choices: "),
         (["--rates", ""], "empty grid: no detection rates given"),
-        (["--rates", "0.4,1.2"], "--rates must be a number in [0, 1], got '1.2'"),
-        (["--rates", "0.4,abc"], "--rates must be a number in [0, 1], got 'abc'"),
+        (["--rates", "0.4,1.2"], "--rates must be a number in (0, 1], got '1.2'"),
+        (["--rates", "0.4,abc"], "--rates must be a number in (0, 1], got 'abc'"),
         (["--systems", "pil,c7"], "unknown system 'c7'; valid choices: 'pil', 'c1', 'c2'"),
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got '0'"),
         (["--param", "discard="], "empty grid: --param discard has no values"),

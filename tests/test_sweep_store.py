@@ -79,7 +79,7 @@ def test_a_directory_is_bound_to_its_settings(tmp_path) -> None:
 def test_two_sweeps_cannot_write_one_directory(tmp_path) -> None:
     with (
         RunStore(tmp_path, MANIFEST_DATA),
-        pytest.raises(SweepStoreError, match="in use by another running sweep"),
+        pytest.raises(SweepStoreError, match="in use by another running robin-pil command"),
     ):
         RunStore(tmp_path, MANIFEST_DATA).__enter__()
     with RunStore(tmp_path, MANIFEST_DATA):  # the lock is released on close

@@ -128,7 +128,7 @@ def test_vision_detector_reads_the_physical_persons_hand() -> None:
     assert summary["detection_rate"] == pytest.approx(right / 6)
     assert sum(sum(row.values()) for row in summary["confusion"].values()) == 8
     # the head turned to the hand: both joints within the settle tolerance of the aim
-    from robin_sim.vision.gaze import head_angles, head_qpos
+    from robin_sim.control.gaze import head_angles, head_qpos
 
     aim = head_angles(world.model, world.data, world.data.site("human_palm_site").xpos)
     assert np.all(np.abs(head_qpos(world.model, world.data) - aim) < 0.02)

@@ -72,7 +72,7 @@ def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> N
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     assert done.returncode == 2
-    assert "robin-pil train-gestures: error: --samples must be a whole number >= 28" in done.stderr
+    assert "train-gestures: error: --samples must be a whole number from 28" in done.stderr
     assert not out.exists()
 
 

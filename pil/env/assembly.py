@@ -32,6 +32,7 @@ import numpy as np
 from dm_env import specs
 
 from pil.errors import RobinPilError, check_rate
+from pil.task.params import MAX_SEED
 from pil.task.parts import build_parts, check_params, resolve_scenario
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.runner import MAX_PERFORMANCES
@@ -87,8 +88,8 @@ class AssemblyEnv(dm_env.Environment):
         **params: Any,
     ) -> None:
         self.rate = check_rate(rate)
-        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-            raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
+        if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+            raise RobinPilError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
         if not callable(world):
             raise RobinPilError(f"world must be a factory of worlds (e.g. SymbolicWorld), got "
                                 f"{world!r}")  # fmt: skip
@@ -102,6 +103,8 @@ class AssemblyEnv(dm_env.Environment):
         self.stats = EnvStats()
         self.world: World | None = None
         self._done = True
+        self._state: State | None = None
+        self._started = False
 
     # -- specs ------------------------------------------------------------------------------
     def observation_spec(self) -> dict[str, specs.Array]:
@@ -125,8 +128,9 @@ class AssemblyEnv(dm_env.Environment):
         self.episode += 1
         self.world = self._make_world()
         body = None if self._make_body is None else self._make_body(self.world)
-        parts = build_parts(self._scenario, self.rate, self.seed + self.episode, body=body,
+        parts = build_parts(self._scenario, self.rate, self.run_seed(self.episode), body=body,
                             **self._values)  # fmt: skip
+        self._started = True
         self._person, self._detector = parts.person, parts.detector
         self._repeat_discarded = bool(parts.options["repeat_discarded"])
         self._limit = int(parts.options["max_actions_per_gesture"])
@@ -138,7 +142,7 @@ class AssemblyEnv(dm_env.Environment):
         self._next_instruction()
         return dm_env.restart(self._observation())
 
-    def step(self, action: int | np.integer | Action) -> dm_env.TimeStep:
+    def step(self, action: int | np.integer | np.ndarray | Action) -> dm_env.TimeStep:
         """Execute ``action`` for the current reading; the reward is the person's verdict."""
         if self._done:
             return self.reset()
@@ -169,12 +173,21 @@ class AssemblyEnv(dm_env.Environment):
 
     def state(self) -> State | None:
         """The current observation as a PIL state (None: discarded), for our agents."""
+        if not self._started:
+            raise RobinPilError("no observation yet: call reset() before state()")
         return self._state
 
+    def run_seed(self, episode: int) -> int:
+        """The run seed of episode ``episode``: ``seed + episode``, wrapped to stay a valid
+        seed (so that ``seed=2**63 - 1`` runs many episodes too)."""
+        return (self.seed + episode) % (MAX_SEED + 1)
+
     # -- internals --------------------------------------------------------------------------
-    def _action(self, action: int | np.integer | Action) -> Action:
+    def _action(self, action: int | np.integer | np.ndarray | Action) -> Action:
         if isinstance(action, Action):
             return action
+        if isinstance(action, np.ndarray) and action.shape == ():  # as action_spec() makes them
+            action = action[()]
         if isinstance(action, (bool, np.bool_)) or not isinstance(action, (int, np.integer)):
             raise RobinPilError(f"action must be an index 0-{len(ACTIONS) - 1} or an Action, "
                                 f"got {action!r}")  # fmt: skip

@@ -40,8 +40,12 @@ def _save(fig: Any, path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_name(path.name + ".partial")
-    fig.savefig(partial, dpi=120, format=path.suffix.lstrip(".") or "png")
-    partial.replace(path)
+    try:
+        fig.savefig(partial, dpi=120, format=path.suffix.lstrip(".") or "png")
+        partial.replace(path)
+    except BaseException:  # a full disk: no half figure left beside the finished files
+        partial.unlink(missing_ok=True)
+        raise
     return path
 
 

@@ -101,6 +101,8 @@ def run_people(system: str, mode: str, rate: float, seed: int, people: People,
         parts = []
         for i in range(len(names)):
             own = [t for k, table in enumerate(by_table) if k % len(names) == i for t in table]
+            if not own:  # fewer tables than people: this person builds none and costs nothing
+                continue
             sub = derive_seeds(int(np.random.SeedSequence([seed, i]).generate_state(1)[0] >> 1))
             learner = build_parts(scenario, rate, sub, **learner_values).learner
             parts.append(_run(plan_script(own, legs, scenario.spots), rate, sub, learner,
@@ -155,5 +157,5 @@ def write_people(rows: Sequence[Mapping[str, Any]], out: Any) -> list:
         intro=intro, group_by=("rate", "system", "mode"),
         metrics=("actions", "gestures", "rejected"), figure_metric="actions",
         baseline="shared", compare_by="mode", within=("rate", "system"),
-        ylabel="robot actions for 10 tables", figure_group_by=("rate", "run"),
+        ylabel=f"robot actions for {tables} tables", figure_group_by=("rate", "run"),
     )  # fmt: skip

@@ -9,17 +9,21 @@ serve ``robin-pil study``, sweeps over any parameter, and physical runs with ext
 from __future__ import annotations
 
 import csv
+import io
 import math
 import statistics
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, quote
+from pil.regular_files import FileTooLargeError, read_regular_text
 
 Row = Mapping[str, Any]
 DEFAULT_GROUP_BY: tuple[str, ...] = ("system", "rate")
 DEFAULT_METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
+MAX_RESULTS_BYTES = 2_000_000_000  # a results CSV read whole: 2 GB is millions of runs
+MAX_MAGNITUDE = 1e15  # no count or time of a run comes near; larger is a corrupt cell
 
 
 class ReportError(RobinPilError):
@@ -30,10 +34,12 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
     """The rows of a results CSV (values stay strings)."""
     path = Path(path)
     try:
-        with path.open(newline="", encoding="utf-8") as handle:
-            rows = list(csv.DictReader(handle))
+        text = read_regular_text(path, MAX_RESULTS_BYTES)
+        rows = list(csv.DictReader(io.StringIO(text, newline="")))
     except OSError as error:
         raise ReportError(f"{path}: cannot read the results: {error.strerror}") from None
+    except FileTooLargeError as error:
+        raise ReportError(f"{path}: {error}; a results file is a CSV of run rows") from None
     except UnicodeDecodeError as error:
         raise ReportError(
             f"{path}: not UTF-8 text (byte {error.start}); a results file is a UTF-8 CSV"
@@ -46,13 +52,20 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
 
 
 def number(value: Any, column: str = "value") -> float:
-    """``value`` as a float; a non-number raises naming the column."""
+    """``value`` as a float; a non-number, NaN, an infinity or a number beyond
+    :data:`MAX_MAGNITUDE` raises naming the column."""
     if isinstance(value, bool):
         return float(value)
     try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise ReportError(f"column {column!r} holds {value!r}, not a number") from None
+        result = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ReportError(f"column {column!r} holds {quote(value)}, not a number") from None
+    if not math.isfinite(result) or abs(result) > MAX_MAGNITUDE:
+        raise ReportError(
+            f"column {column!r} holds {quote(value)}, not a finite number of magnitude at "
+            f"most {MAX_MAGNITUDE:g} (a run's counts and times); fix or remove that row"
+        )
+    return result
 
 
 def sort_key(value: Any) -> tuple[int, float, str]:

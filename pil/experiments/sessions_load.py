@@ -9,14 +9,17 @@ naming the file. Pure Python: no MuJoCo.
 from __future__ import annotations
 
 import json
+import os
 import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.report import ReportError
+from pil.errors import quote
+from pil.experiments.report import ReportError, number
 
 SUMMARY_NAME = "summary.json"
+INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.files)
 COUNTED_STATUS = "finished"
 # measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
 MEASURES: dict[str, str] = {
@@ -111,7 +114,11 @@ def _number(value: Any, key: str, path: Path, *, nullable: bool) -> float | None
         return None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         kind = "a number or null" if nullable else "a number"
-        raise SessionsError(f"{path}: {key}: expected {kind}, got {value!r}")
+        raise SessionsError(f"{path}: {key}: expected {kind}, got {quote(value)}")
+    try:
+        number(value, key)  # NaN, infinities and 400-digit numbers are refused here
+    except ReportError as error:
+        raise SessionsError(f"{path}: {error}") from None
     return value
 
 
@@ -122,7 +129,7 @@ def _read_summary(path: Path) -> Mapping[str, Any]:
         raise SessionsError(f"{path}: cannot read the summary: {error.strerror}") from None
     except UnicodeDecodeError as error:
         raise SessionsError(f"{path}: not UTF-8 text (byte {error.start})") from None
-    except (json.JSONDecodeError, RecursionError) as error:
+    except (ValueError, RecursionError) as error:  # ValueError: bad JSON, a 5000-digit number
         where = getattr(error, "lineno", None)
         at = f" at line {where}" if where else ""
         raise SessionsError(f"{path}: not a JSON summary{at}; the file is corrupt or cut "
@@ -130,3 +137,20 @@ def _read_summary(path: Path) -> Mapping[str, Any]:
     if not isinstance(summary, Mapping):
         raise SessionsError(f"{path}: expected a JSON object (a session's summary)")
     return summary
+
+
+def unreported_sessions(folder: str | Path) -> list[tuple[str, str]]:
+    """Session folders under ``folder`` that hold no readable summary, as (folder relative to
+    ``folder``, why): a ``summary.json`` that is a dangling link, or an ``inputs.jsonl``
+    without a summary (a session killed before it ended). The report lists them."""
+    folder = Path(folder)
+    found = []
+    for root, _dirs, files in os.walk(folder):
+        here = Path(root)
+        where = here.relative_to(folder).as_posix()
+        if SUMMARY_NAME in files and not (here / SUMMARY_NAME).exists():
+            target = os.readlink(here / SUMMARY_NAME)
+            found.append((where, f"{SUMMARY_NAME} is a link to {target}, which does not exist"))
+        elif INPUTS_NAME in files and SUMMARY_NAME not in files:
+            found.append((where, f"no {SUMMARY_NAME}: the session was killed before it ended"))
+    return sorted(found)

@@ -31,12 +31,14 @@ from pil.experiments.sessions_load import (
     SESSION_COLUMNS,
     SessionsError,
     load_sessions,
+    unreported_sessions,
 )
 
 __all__ = [  # the reading is re-exported: the report's callers import from here only
     "COUNTED_STATUS", "EXPECTED", "MEASURES", "SESSION_COLUMNS", "SessionsError",
     "conditions_of", "is_within", "load_sessions", "participant_means", "report_markdown",
-    "session_tests", "study_groups", "summarize_sessions", "write_sessions_report",
+    "session_tests", "study_groups", "summarize_sessions", "unreported_sessions",
+    "write_sessions_report",
 ]  # fmt: skip
 
 
@@ -156,9 +158,14 @@ def _group_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     return results
 
 
-def report_markdown(rows: Sequence[Mapping[str, Any]], folder: str | Path) -> str:
+def report_markdown(
+    rows: Sequence[Mapping[str, Any]],
+    folder: str | Path,
+    unreported: Sequence[tuple[str, str]] = (),
+) -> str:
     """``report.md``: the counting rule; per scenario and protocol the per-condition table and
-    the tests; the sessions left out."""
+    the tests; the sessions left out and the ``unreported`` session folders (no readable
+    summary)."""
     counted = [r for r in rows if r["counted"]]
     left_out = [r for r in rows if not r["counted"]]
     lines = [
@@ -190,6 +197,10 @@ def report_markdown(rows: Sequence[Mapping[str, Any]], folder: str | Path) -> st
                                  [[r["participant"], r["session"], r["condition"], r["scenario"],
                                    r["status"], _legs_text(r), f"`{r['summary']}`"]
                                   for r in left_out]), ""]  # fmt: skip
+    if unreported:
+        body = [[f"`{where}`", why] for where, why in unreported]
+        lines += ["## Not reported (no readable summary)", "",
+                  markdown_table(["session folder", "why"], body), ""]  # fmt: skip
     return "\n".join(lines)
 
 
@@ -253,7 +264,7 @@ def write_sessions_report(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise SessionsError(f"--out {out}: cannot make the folder: {error.strerror}") from None
-    text = report_markdown(rows, folder)
+    text = report_markdown(rows, folder, unreported_sessions(folder))
     written = [write_text_atomic(out / "sessions.csv", rows_to_csv(rows, SESSION_COLUMNS))]
     written.append(write_text_atomic(out / "report.md", text))
     if not any(r["counted"] for r in rows):

@@ -10,6 +10,7 @@ import yaml
 
 from pil.task.parts import resolve_scenario
 from pil.task.scenario import Scenario, ScenarioError, find_scenario
+from pil.task.yaml_files import load_yaml_text, read_small_text
 
 
 def read_study_file(
@@ -20,8 +21,8 @@ def read_study_file(
     shipped assembly); errors name the file."""
     path = find_scenario(path)
     try:
-        raw = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as error:
+        raw = load_yaml_text(read_small_text(path))
+    except (OSError, ValueError, yaml.YAMLError) as error:  # ValueError: not UTF-8, too large
         raise ScenarioError(f"{path}: cannot read the {what}: {error}") from None
     if not isinstance(raw, Mapping):
         raise ScenarioError(f"{path}: expected a mapping with keys {', '.join(keys)}")

@@ -33,6 +33,7 @@ CONNECT_TIMEOUT = ParamSpec(
     0.1, 3600.0,
 )  # fmt: skip
 SCHEMES: tuple[str, ...] = ("tcp", "tls", "ws", "wss")
+TLS_SCHEMES: tuple[str, ...] = ("tls", "wss")  # these need Dask's TLS settings
 _SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it has
 
 
@@ -169,7 +170,7 @@ class DaskBackend(Backend):
         self.address = address
         try:
             self._client = Client(address, timeout=f"{timeout_s}s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as error:
+        except (OSError, TimeoutError, ValueError, TypeError) as error:  # TypeError: TLS unset
             problem = f"{type(error).__name__}: {error}"
         else:
             problem = ""
@@ -249,7 +250,23 @@ def check_address(address: str) -> str:
             f"--scheduler must be a Dask scheduler address SCHEME://HOST:PORT (scheme "
             f"{', '.join(SCHEMES)}), e.g. tcp://127.0.0.1:8786, got {quote(address)}"
         )
+    if scheme in TLS_SCHEMES and not _tls_configured():
+        raise SchedulerError(
+            f"--scheduler {quote(address)}: a {scheme}:// scheduler needs Dask's TLS settings "
+            "(distributed.comm.tls.ca-file, .client.cert and .client.key in the Dask config, "
+            "e.g. ~/.config/dask/distributed.yaml); none are set: configure them or use tcp://"
+        )
     return address if sep else f"tcp://{address}"
+
+
+def _tls_configured() -> bool:
+    """Whether Dask's configuration names a CA file or a client certificate for TLS."""
+    import dask.config  # imported here: the CLI must start fast
+
+    return any(
+        dask.config.get(key, None)
+        for key in ("distributed.comm.tls.ca-file", "distributed.comm.tls.client.cert")
+    )
 
 
 def make_backend(

@@ -15,8 +15,8 @@ when the directory is opened again. ``results.csv`` is rewritten whole through a
 file and ``os.replace``, so it is either the old or the new file, never half of one; its bytes
 depend only on the grid and the results, not on workers, order or retries.
 
-A lock (``fcntl.flock``, released by the kernel even after ``kill -9``) stops two sweeps from
-writing one directory at the same time.
+A lock on the directory (:class:`pil.folder_lock.FolderLock`, released by the kernel even
+after ``kill -9``) stops two sweeps, or a sweep and an episode, from writing it at once.
 """
 
 from __future__ import annotations
@@ -32,11 +32,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
-
-try:  # POSIX only; elsewhere the directory is not locked
-    import fcntl
-except ImportError:  # pragma: no cover - Windows
-    fcntl = None  # type: ignore[assignment]
+from pil.folder_lock import FolderInUseError, FolderLock
 
 MANIFEST = "sweep.json"
 JOURNAL = "runs.jsonl"
@@ -45,7 +41,6 @@ TIMINGS = "timings.csv"
 # metrics that measure the machine, not the run: kept in the journal and timings.csv only,
 # so that results.csv is the same bytes however and wherever the grid was executed
 TIMING_COLUMNS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
-LOCK = ".lock"
 FORMAT = 1
 STATUS_OK = "ok"
 STATUS_FAILED = "failed"
@@ -63,7 +58,13 @@ def read_journal(path: Path) -> tuple[list[dict[str, Any]], int]:
     """
     if not path.exists():
         return [], 0
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        raise SweepStoreError(
+            f"{path}: cannot read the journal ({error.strerror}); it must be the file the "
+            "sweep wrote; use another --out"
+        ) from None
     records: list[dict[str, Any]] = []
     intact = 0
     for number, line in enumerate(data.splitlines(keepends=True), start=1):
@@ -86,6 +87,12 @@ def read_journal(path: Path) -> tuple[list[dict[str, Any]], int]:
     return records, intact
 
 
+def is_done(record: Mapping[str, Any]) -> bool:
+    """Whether a journal record is a successful attempt: status ok and its metrics a mapping
+    (an ``ok`` record without metrics was not written by a finished run; it is run again)."""
+    return record.get("status") == STATUS_OK and isinstance(record.get("metrics"), dict)
+
+
 class RunStore:
     """A sweep directory opened for writing: use as a context manager.
 
@@ -99,13 +106,20 @@ class RunStore:
         self._records: list[dict[str, Any]] = []
         self._attempts: dict[str, int] = {}
         self._journal: io.BufferedWriter | None = None
-        self._lock: int | None = None
+        self._lock = FolderLock(self.directory)
 
     # --- opening and closing ----------------------------------------------------------------
     def __enter__(self) -> RunStore:
         if self.directory.exists() and not self.directory.is_dir():
             raise SweepStoreError(f"--out {self.directory} exists and is not a directory")
         self.directory.mkdir(parents=True, exist_ok=True)
+        for name in (MANIFEST, JOURNAL, RESULTS, TIMINGS):
+            path = self.directory / name
+            if (path.exists() or path.is_symlink()) and not path.is_file():
+                raise SweepStoreError(
+                    f"{path} is not a regular file (a folder, a dangling link or a device); "
+                    "the sweep writes its own files there: remove it or use another --out"
+                )
         self._take_lock()
         try:
             self._bind_manifest()
@@ -130,28 +144,26 @@ class RunStore:
         if self._journal is not None:
             self._journal.close()
             self._journal = None
-        if self._lock is not None:
-            os.close(self._lock)  # closing the descriptor releases the flock
-            self._lock = None
+        self._lock.release()
 
     def _take_lock(self) -> None:
-        self._lock = os.open(self.directory / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
-        if fcntl is None:
-            return
         try:
-            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            os.close(self._lock)
-            self._lock = None
-            raise SweepStoreError(f"{self.directory} is in use by another running sweep") from None
+            self._lock.acquire()
+        except FolderInUseError as error:
+            raise SweepStoreError(str(error)) from None
 
     def _bind_manifest(self) -> None:
         path = self.directory / MANIFEST
         if path.exists():
             try:
-                bound = json.loads(path.read_text())
-            except ValueError:
+                bound = json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
                 raise SweepStoreError(f"{path} is not valid JSON; remove the directory") from None
+            if not isinstance(bound, dict):
+                raise SweepStoreError(
+                    f"{path} holds {type(bound).__name__} JSON, not the sweep's settings "
+                    "(an object); remove the directory or use another --out"
+                )
             if bound != self.manifest:
                 diff = ", ".join(
                     f"{key}: {bound.get(key)!r} there, {self.manifest.get(key)!r} now"
@@ -173,7 +185,7 @@ class RunStore:
 
     def finished_ids(self) -> set[str]:
         """Ids of runs with a successful attempt (a resumed sweep skips them)."""
-        return {r["run_id"] for r in self._records if r.get("status") == STATUS_OK}
+        return {r["run_id"] for r in self._records if is_done(r)}
 
     def attempts(self, run_id: str) -> int:
         """How many attempts of ``run_id`` the journal holds."""
@@ -205,7 +217,7 @@ class RunStore:
         final: dict[str, dict[str, Any]] = {}
         for record in self._records:
             previous = final.get(record["run_id"])
-            if previous is None or previous.get("status") != STATUS_OK:
+            if previous is None or not is_done(previous):
                 final[record["run_id"]] = record
         rows, timings = [], []
         for run_id in sorted(set(run_ids) & set(final)):
@@ -213,6 +225,8 @@ class RunStore:
             row = dict(record.get("columns", {}))
             row["status"] = record.get("status", "")
             row["error"] = record.get("error", "")
+            if row["status"] == STATUS_OK and not is_done(record):
+                row["status"], row["error"] = STATUS_FAILED, "journal record without metrics"
             timing = {"run_id": run_id, "host": record.get("host"), "wall_s": record.get("wall_s")}
             for key, value in (record.get("metrics") or {}).items():
                 (timing if key in TIMING_COLUMNS else row).setdefault(key, value)

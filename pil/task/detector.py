@@ -191,19 +191,24 @@ class MeasuredErrors:
         return sum(row[-1] for row in self.rows) / len(GESTURES)
 
 
+MAX_MEASURED_BYTES = 1_000_000  # a measured error model is a few hundred bytes
+
+
 def load_measured(path: str) -> MeasuredErrors:
     """Read a measured error model file; any problem raises one :class:`DetectorError`."""
     import json
     from pathlib import Path
 
+    from pil.regular_files import read_regular_text
+
     what = f"measured error model {path!r}"
     try:
-        data = json.loads(Path(path).read_text())
+        data = json.loads(read_regular_text(Path(path), MAX_MEASURED_BYTES))
     except FileNotFoundError:
         raise DetectorError(
             f"{what}: no such file (robin-pil train-gestures writes one: measured.json)"
         ) from None
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError) as error:  # FileTooLargeError, UnicodeDecodeError: ValueErrors
         raise DetectorError(f"{what}: not readable JSON ({error})") from None
     valid = ", ".join(g.value for g in GESTURES)
     try:

@@ -15,7 +15,14 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from pil.errors import RobinPilError, quote
-from pil.task.detector import CAMERAS, MEASURED_PREFIX, NO_CAMERAS, DetectorError, check_confusion
+from pil.task.detector import (
+    CAMERAS,
+    MEASURED_PREFIX,
+    NO_CAMERAS,
+    DetectorError,
+    check_confusion,
+    load_measured,
+)
 
 MAX_TEXT = 4096  # longest text a matrix value may be given as
 _TRUE, _FALSE = ("true", "yes", "1", "on"), ("false", "no", "0", "off")
@@ -31,7 +38,8 @@ class ParamSpec:
     """One parameter: ``kind`` (int, float, bool, choice, matrix), its range or choices.
 
     ``optional``: None is a valid value (e.g. "the scenario file's"); ``low`` / ``high``
-    bound numbers (inclusive); ``choices`` lists a choice's valid names.
+    bound numbers (inclusive; ``low`` excluded when ``low_open``); ``choices`` lists a
+    choice's valid names.
     """
 
     name: str
@@ -43,6 +51,8 @@ class ParamSpec:
     choices: tuple[str, ...] = ()
     optional: bool = False
     empty: str = "the scenario's"  # what None (an empty value) means for an optional spec
+    low_open: bool = False  # ``low`` itself is not valid: (low, high]
+    why_low: str = ""  # said when a value at or below ``low`` is refused
 
     def __post_init__(self) -> None:
         if self.kind not in _KINDS:
@@ -69,11 +79,9 @@ class ParamSpec:
         noun = "a whole number" if self.kind == "int" else "a number"
         low, high = _show(self.low), _show(self.high)
         if self.low is not None and self.high is not None:
-            return (
-                f"{noun} from {low} to {high}"
-                if self.kind == "int"
-                else f"{noun} in [{low}, {high}]"
-            )
+            if self.kind == "int":
+                return f"{noun} from {low} to {high}"
+            return f"{noun} in {'(' if self.low_open else '['}{low}, {high}]"
         if self.low is not None:
             return f"{noun} >= {low}"
         return noun
@@ -96,8 +104,17 @@ class ParamSpec:
         except _InvalidValueError as problem:
             self._fail(value, label, str(problem))
         if converted is _BAD:
-            self._fail(value, label)
+            self._fail(value, label, self._why_bad(value))
         return converted
+
+    def _why_bad(self, value: Any) -> str:
+        """:attr:`why_low` when ``value`` is the excluded lower bound itself, else nothing."""
+        if not (self.low_open and self.why_low) or isinstance(value, bool):
+            return ""
+        try:
+            return self.why_low if float(value) == self.low else ""
+        except (TypeError, ValueError, OverflowError):
+            return ""
 
     def _fail(self, value: Any, label: str | None, reason: str = "") -> None:
         where = label or f"parameter {self.name!r}"
@@ -114,7 +131,8 @@ class _InvalidValueError(Exception):
 
 
 def _in_range(spec: ParamSpec, number: float) -> bool:
-    return (spec.low is None or number >= spec.low) and (spec.high is None or number <= spec.high)
+    above = spec.low is None or (number > spec.low if spec.low_open else number >= spec.low)
+    return above and (spec.high is None or number <= spec.high)
 
 
 def _to_int(spec: ParamSpec, value: Any) -> Any:
@@ -216,7 +234,10 @@ def _to_detector(spec: ParamSpec, value: Any) -> Any:
     text = value.strip()
     if text == CAMERAS and text not in spec.choices:
         raise _InvalidValueError(NO_CAMERAS)
-    if text in spec.choices or (text.startswith(MEASURED_PREFIX) and text[len(MEASURED_PREFIX) :]):
+    if text in spec.choices:
+        return text
+    if text.startswith(MEASURED_PREFIX) and text[len(MEASURED_PREFIX) :]:
+        load_measured(text[len(MEASURED_PREFIX) :])  # a missing or broken file: refused now
         return text
     return _BAD
 

@@ -19,7 +19,7 @@ from typing import Any
 from pil.agents.bandit import EPSILON, EPSILON_DECAY, EPSILON_DECAY_RANGE, EPSILON_RANGE
 from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
-from pil.errors import InvalidChoiceError
+from pil.errors import NEVER_DETECTED, InvalidChoiceError
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
@@ -169,7 +169,8 @@ SCENARIO = ParamSpec(
     empty="scenarios/assembly.yaml",
 )
 RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
-RATE = ParamSpec("rate", "float", 1.0, "gesture detection rate", 0.0, 1.0)
+RATE = ParamSpec("rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True,
+                 why_low=NEVER_DETECTED)  # fmt: skip
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
 REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
 

@@ -20,7 +20,13 @@ from typing import Any, TypeVar
 
 from pil.errors import RobinPilError
 from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
-from pil.task.yaml_files import find_shipped, read_yaml_mapping, reject_unknown, shipped_in
+from pil.task.yaml_files import (
+    find_shipped,
+    read_yaml_mapping,
+    reject_unknown,
+    shipped_in,
+    text_field,
+)
 from pil.types import START_ACTION, START_HAND, Action, Gesture, Hand, State
 from pil.validity import is_valid, why_invalid
 
@@ -203,7 +209,7 @@ def build_type(name: str, raw: object, source: str) -> HandoverType:
                 f"({why_invalid(state)})"
             )
     steps = tuple(Step(g, a, s) for (g, a), s in zip(pairs, states, strict=True))
-    return HandoverType(str(name), steps, str(raw.get("description", "")))
+    return HandoverType(str(name), steps, text_field(raw, "description", "", where, ScenarioError))
 
 
 def build_types(raw: object, source: str) -> tuple[HandoverType, ...]:
@@ -254,11 +260,12 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     layout = raw.get("layout", {})
     if not isinstance(layout, Mapping):
         raise ScenarioError(f"{path}: layout: expected a mapping (passed on to the world)")
+    text_field(raw, "description", "", str(path), ScenarioError)
     return Scenario(
         types=types,
         sequence=tuple(sequence_raw),
         layout=dict(layout),
-        name=str(raw.get("name", path.stem)),
+        name=text_field(raw, "name", path.stem, str(path), ScenarioError),
         source=str(path),
         **_check_assembly(raw, str(path)),
     )

@@ -1,5 +1,10 @@
 """YAML files of the task (scenarios, study protocols): finding shipped ones by name, reading
-a file's top-level mapping with one clear error for every way it can be broken."""
+a file's top-level mapping with one clear error for every way it can be broken.
+
+A task file is small: only regular files of at most :data:`MAX_YAML_BYTES` are read (a
+device such as ``/dev/zero`` or a huge file is refused at once), and YAML aliases are refused
+(a few hundred bytes of nested aliases expand to gigabytes: an "alias bomb").
+"""
 
 from __future__ import annotations
 
@@ -10,6 +15,28 @@ from typing import Any
 import yaml
 
 from pil.errors import RobinPilError, quote
+from pil.regular_files import FileTooLargeError, read_regular_text
+
+MAX_YAML_BYTES = 1_000_000  # a task file is a few KB; anything larger is a mistake or an attack
+MAX_TEXT = 2000  # characters of a name or a description in a task file
+
+
+class _NoAliasLoader(yaml.SafeLoader):
+    """The safe loader, refusing every alias (``*name``) before it is expanded."""
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        if self.check_event(yaml.AliasEvent):
+            event = self.peek_event()
+            raise yaml.composer.ComposerError(
+                None, None, "YAML aliases (*name) are not allowed in a task file; write the "
+                "value out", event.start_mark
+            )  # fmt: skip
+        return super().compose_node(parent, index)
+
+
+def load_yaml_text(text: str) -> Any:
+    """``text`` parsed as YAML like ``yaml.safe_load``, but with aliases refused."""
+    return yaml.load(text, Loader=_NoAliasLoader)  # a SafeLoader subclass
 
 
 def shipped_in(folder: Path) -> tuple[str, ...]:
@@ -39,7 +66,7 @@ def read_yaml_mapping(
     listed when the file cannot be read.
     """
     try:
-        text = path.read_text(encoding="utf-8")
+        text = read_small_text(path)
     except OSError as problem:
         raise error(
             f"{path}: cannot read the {kind}: {problem.strerror}; a file, or one of the shipped "
@@ -49,8 +76,10 @@ def read_yaml_mapping(
         raise error(
             f"{path}: not UTF-8 text (byte {problem.start}); a {kind} is a UTF-8 YAML file"
         ) from None
+    except FileTooLargeError as problem:
+        raise error(f"{path}: {problem}; a {kind} is a small YAML file") from None
     try:
-        raw = yaml.safe_load(text)
+        raw = load_yaml_text(text)
     except yaml.YAMLError as problem:
         mark = getattr(problem, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -70,3 +99,23 @@ def reject_unknown(
     for key in raw:
         if key not in valid:
             raise error(f"{where}: unknown key {quote(key)}; valid choices: " + ", ".join(valid))
+
+
+def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:
+    """A task file's text: :func:`pil.regular_files.read_regular_text` at the task files'
+    size limit."""
+    return read_regular_text(path, limit)
+
+
+def text_field(
+    raw: Mapping[str, Any], key: str, default: str, where: str, error: type[RobinPilError]
+) -> str:
+    """``raw[key]`` as a text of at most :data:`MAX_TEXT` characters (``default`` if absent;
+    a number is written as text); a list, a mapping or a longer text raises ``error``."""
+    value = raw.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, str | int | float):
+        raise error(f"{where}: {key}: expected a text, got {quote(value)}")
+    text = str(value)
+    if len(text) > MAX_TEXT:
+        raise error(f"{where}: {key}: at most {MAX_TEXT} characters, got {len(text)}")
+    return text

@@ -36,29 +36,45 @@ def run(args: argparse.Namespace) -> int:
         run_adaptation_study,
         write_adaptation,
     )
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, ADAPT_SYSTEMS)
     change = load_change(DEFAULT_CHANGE if args.change is None else args.change)
-    check_out_dir(args.out)
-    if args.seeds > 1:
-        from robin_sim.cli.options import run_seed_studies
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        if args.seeds > 1:
+            from robin_sim.cli.options import run_seed_studies
 
-        what = [change.name, change.from_table, change.gesture.value, change.action.value,
-                change.scenario.name]  # fmt: skip
-        settings = {"study": "adapt", "change": what, "rates": list(rates), "reps": args.reps,
-                    "systems": list(systems)}  # fmt: skip
-        return run_seed_studies(
-            args, "adaptation", settings,
-            lambda seed, step: run_adaptation_study(change, systems, rates, args.reps, seed,
-                                                    progress=step),
-            lambda _seed, rows, folder: write_adaptation(rows, change, folder),
-            within=("rate",), title="Adaptation to a changed mapping",
-            runs_per_seed=len(rates) * len(systems) * args.reps,
-        )  # fmt: skip
-    with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
-        rows = run_adaptation_study(change, systems, rates, args.reps, args.seed,
-                                    progress=bar.update)  # fmt: skip
-    written = write_adaptation(rows, change, args.out)
+            what = [
+                change.name,
+                change.from_table,
+                change.gesture.value,
+                change.action.value,
+                change.scenario.name,
+            ]
+            settings = {
+                "study": "adapt",
+                "change": what,
+                "rates": list(rates),
+                "reps": args.reps,
+                "systems": list(systems),
+            }
+            return run_seed_studies(
+                args,
+                "adaptation",
+                settings,
+                lambda seed, step: run_adaptation_study(
+                    change, systems, rates, args.reps, seed, progress=step
+                ),
+                lambda _seed, rows, folder: write_adaptation(rows, change, folder),
+                within=("rate",),
+                title="Adaptation to a changed mapping",
+                runs_per_seed=len(rates) * len(systems) * args.reps,
+            )
+        with progress_bar(len(rates) * len(systems) * args.reps, "adapt", args) as bar:
+            rows = run_adaptation_study(
+                change, systems, rates, args.reps, args.seed, progress=bar.update
+            )
+        written = write_adaptation(rows, change, args.out)
     print(f"{len(rows)} paired runs; wrote " + ", ".join(str(p) for p in written))
     return 0

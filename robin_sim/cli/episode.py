@@ -18,7 +18,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--tables", default=None,
         help="tables to assemble, 4 legs each (default: 1; with --scenario, the scenario's)",
     )  # fmt: skip
-    parser.add_argument("--rate", default=1.0, help="gesture detection rate in [0, 1]")
+    parser.add_argument("--rate", default=1.0, help="gesture detection rate in (0, 1]")
     parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
     parser.add_argument("--system", default="pil", help=_system_help())
     parser.add_argument("--scenario", default=None, help="assembly YAML to use")

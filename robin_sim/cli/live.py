@@ -135,6 +135,15 @@ def planned_folders(configs: list[Any]) -> Callable[[str], list[Path]]:
     return folders
 
 
+def questionnaires_of(args: argparse.Namespace) -> tuple[Any, ...]:
+    """The protocol's questionnaires (answered after each block); none without a protocol."""
+    if args.protocol is None:
+        return ()
+    from robin_sim.live.protocol import load_protocol
+
+    return load_protocol(args.protocol).questionnaires
+
+
 def run(args: argparse.Namespace) -> int:
     """Check everything, serve the page until the run ends; 130 when interrupted."""
     import asyncio
@@ -157,7 +166,7 @@ def run(args: argparse.Namespace) -> int:
     configs = session_configs(args)
     check_free(configs, planned_folders(configs))  # the advice names a free --session
     check_writable(configs[0].out_root / configs[0].participant)  # before the page is served
-    conductor = Conductor(configs)  # every session validated here
+    conductor = Conductor(configs, questionnaires_of(args))  # every session validated here
     token = None if is_loopback(host) else new_token()
     sock = bind(host, port)
     bound_port = sock.getsockname()[1]

@@ -11,7 +11,7 @@ import argparse
 import importlib
 import sys
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, os_error_line
 
 # command -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -36,6 +36,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "measured detection rate per camera condition (light x noise) and PIL's costs",
     ),
     "live": ("robin_sim.cli.live", "a browser page: a live person gestures, Robin learns"),
+    "replay": ("robin_sim.cli.replay", "re-render a recorded episode or live session to MP4"),
 }
 
 
@@ -57,7 +58,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; bad input ends with one clear message and exit code 2, Ctrl-C with 130."""
+    """Entry point; bad input, and a file that cannot be written (full disk), end with one clear
+    message and exit code 2, Ctrl-C with 130."""
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((arg for arg in argv if not arg.startswith("-")), None)
     try:
@@ -69,6 +71,9 @@ def main(argv: list[str] | None = None) -> int:
         return int(args._module.run(args) or 0)
     except RobinPilError as error:
         print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:  # a full disk, a too-long name, a folder made read-only mid-run
+        print(f"robin-pil {args.command}: error: {os_error_line(error)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)

@@ -19,10 +19,10 @@ def parse_rates(text: str) -> tuple[float, ...]:
             value = float(part)
         except ValueError:
             raise RobinPilError(
-                f"--rates: {part.strip()!r} is not a number; give rates in [0, 1] separated "
+                f"--rates: {part.strip()!r} is not a number; give rates in (0, 1] separated "
                 "by commas, e.g. 0.4,0.6,0.8,1.0"
             ) from None
-        rate = check_rate(value, f"--rates: detection rate {part.strip()}")
+        rate = check_rate(value, f"--rates: detection rate {part.strip()}", above_zero=True)
         if rate in rates:
             raise RobinPilError(
                 f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"

@@ -41,31 +41,41 @@ def run(args: argparse.Namespace) -> int:
         run_people_study,
         write_people,
     )
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, PEOPLE_SYSTEMS, only=PEOPLE_SYSTEMS)
     people = load_people(DEFAULT_PEOPLE if args.people is None else args.people)
     if args.tables is not None:
         people = People(people.scenario.with_changes(tables=args.tables), people.overrides)
-    check_out_dir(args.out)
-    if args.seeds > 1:
-        from robin_sim.cli.options import run_seed_studies
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        if args.seeds > 1:
+            from robin_sim.cli.options import run_seed_studies
 
-        settings = {"study": "people", "people": str(args.people),
-                    "tables": people.scenario.tables, "rates": list(rates),
-                    "reps": args.reps, "systems": list(systems)}  # fmt: skip
-        return run_seed_studies(
-            args, "people", settings,
-            lambda seed, step: run_people_study(people, systems, rates, args.reps, seed,
-                                                progress=step),
-            lambda _seed, rows, folder: write_people(rows, folder),
-            within=("rate", "system"),
-            title="Personal mappings: one shared table vs one per person",
-            runs_per_seed=len(rates) * len(systems) * args.reps,
-        )  # fmt: skip
-    with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
-        rows = run_people_study(people, systems, rates, args.reps, args.seed,
-                                progress=bar.update)  # fmt: skip
-    written = write_people(rows, args.out)
+            settings = {
+                "study": "people",
+                "people": str(args.people),
+                "tables": people.scenario.tables,
+                "rates": list(rates),
+                "reps": args.reps,
+                "systems": list(systems),
+            }
+            return run_seed_studies(
+                args,
+                "people",
+                settings,
+                lambda seed, step: run_people_study(
+                    people, systems, rates, args.reps, seed, progress=step
+                ),
+                lambda _seed, rows, folder: write_people(rows, folder),
+                within=("rate", "system"),
+                title="Personal mappings: one shared table vs one per person",
+                runs_per_seed=len(rates) * len(systems) * args.reps,
+            )
+        with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
+            rows = run_people_study(
+                people, systems, rates, args.reps, args.seed, progress=bar.update
+            )
+        written = write_people(rows, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0

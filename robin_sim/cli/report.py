@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -84,7 +85,12 @@ def run(args: argparse.Namespace) -> int:
 def run_folder(args: argparse.Namespace) -> int:
     """A folder: live sessions, else a study or sweep folder's results, else an error."""
     from pil.errors import RobinPilError
-    from pil.experiments.sessions_report import EXPECTED, load_sessions, write_sessions_report
+    from pil.experiments.sessions_report import (
+        EXPECTED,
+        load_sessions,
+        unreported_sessions,
+        write_sessions_report,
+    )
 
     folder = args.results
     rows = load_sessions(folder)  # a corrupt summary.json raises here, before anything is written
@@ -97,14 +103,25 @@ def run_folder(args: argparse.Namespace) -> int:
         out = args.out if args.out is not None else folder / "report"
         for path in write_sessions_report(rows, folder, out):
             print(path)
+        from pil.experiments.questionnaire_report import write_answers_report
+
+        for path in write_answers_report(folder, out):  # answers after the blocks, if any
+            print(path)
+        for where, why in unreported_sessions(folder):  # listed in report.md too
+            print(f"robin-pil report: not reported: {where}: {why}", file=sys.stderr)
         return 0
     for name in RESULTS_FILES:
         if (folder / name).is_file():
             args.results = folder / name
             return run(args)
+    unreported = unreported_sessions(folder)
+    found = (
+        f" ({len(unreported)} session folders have no readable summary, e.g. "
+        f"{unreported[0][0]}: {unreported[0][1]})" if unreported else ""
+    )  # fmt: skip
     raise RobinPilError(
-        f"{folder}: nothing to report; expected {EXPECTED}, or a study or sweep folder (with "
-        f"{' or '.join(RESULTS_FILES)}), or a results CSV"
+        f"{folder}: nothing to report{found}; expected {EXPECTED}, or a study or sweep folder "
+        f"(with {' or '.join(RESULTS_FILES)}), or a results CSV"
     )
 
 
@@ -167,6 +184,7 @@ def write_report(
         ReportError,
         check_columns,
         load_rows,
+        number,
         summary_markdown,
     )
     from pil.experiments.stats import (
@@ -179,6 +197,7 @@ def write_report(
     )
     from pil.experiments.study_tests import READINGS
     from pil.experiments.sweep_store import rows_to_csv
+    from pil.outdir import check_out_dir
 
     results, out = Path(results), Path(out)
     rows = load_rows(results)
@@ -196,7 +215,11 @@ def write_report(
     axes = grid_axes(rows)
     has_system = "system" in rows[0]
     group_by = [*axes, "system"] if has_system else axes
-    out.mkdir(parents=True, exist_ok=True)
+    numeric = [*metrics, *(["rate"] if "rate" in axes else [])]
+    for row in rows:  # every number checked before anything is written
+        for column in numeric:
+            number(row[column], column)
+    check_out_dir(out)
 
     lines = [
         f"# Report: {results.name}",

@@ -49,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--rates",
         default=None,
-        help="detection rates in [0, 1], comma separated (default: the paper's rates; with "
+        help="detection rates in (0, 1], comma separated (default: the paper's rates; with "
         "--detector measured:FILE the file's measured rate)",
     )
     parser.add_argument(
@@ -111,7 +111,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="comma-separated study systems (default: the paper's pil,c1,c2,c3,c4; also "
         "bandit, tamer)",
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")  # fmt: skip
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -120,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
 
     from pil.experiments.study import StudyConfig, run_study, write_outputs
     from pil.experiments.systems import PAPER_SYSTEMS, check_params, resolve_scenario
-    from pil.outdir import check_out_dir
+    from pil.outdir import claimed_out_dir
     from pil.task.params import ASSEMBLY, REPS, SEED
 
     params = {
@@ -140,21 +140,30 @@ def run(args: argparse.Namespace) -> int:
         params=params,
     )
     count = _seed_count(args.seeds)
-    check_out_dir(args.out)  # before the computation, not after it
-    if count > 1:
-        from pil.experiments.study_seeds import check_seeds, run_study_seeds
+    # before the computation; the folder stays locked until the files are written
+    with claimed_out_dir(args.out):
+        if count > 1:
+            from pil.experiments.study_seeds import check_seeds, run_study_seeds
 
-        check_seeds(config, count, args.out)
-        with tqdm(total=config.runs() * count, desc="study", unit="run", file=sys.stderr,
-                  disable=args.no_progress) as bar:  # fmt: skip
-            written = run_study_seeds(config, count, args.out, progress=bar.update)
-        print(f"{count} studies of {config.runs()} runs; wrote "
-              + ", ".join(str(p) for p in written))  # fmt: skip
-        return 0
-    with tqdm(total=config.runs(), desc="study", unit="run", file=sys.stderr,
-              disable=args.no_progress) as bar:  # fmt: skip
-        rows = run_study(config, progress=bar.update)
-    written = write_outputs(rows, config, args.out)
+            check_seeds(config, count, args.out)
+            with tqdm(
+                total=config.runs() * count,
+                desc="study",
+                unit="run",
+                file=sys.stderr,
+                disable=args.no_progress,
+            ) as bar:
+                written = run_study_seeds(config, count, args.out, progress=bar.update)
+            print(
+                f"{count} studies of {config.runs()} runs; wrote "
+                + ", ".join(str(p) for p in written)
+            )
+            return 0
+        with tqdm(
+            total=config.runs(), desc="study", unit="run", file=sys.stderr, disable=args.no_progress
+        ) as bar:
+            rows = run_study(config, progress=bar.update)
+        written = write_outputs(rows, config, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0
 
@@ -166,6 +175,7 @@ def _seed_count(text: str) -> int:
     try:
         count = int(str(text).strip())
     except ValueError:
-        raise RobinPilError(f"--seeds must be a whole number from 1 to {MAX_SEEDS}, got "
-                            f"{text!r}") from None  # fmt: skip
+        raise RobinPilError(
+            f"--seeds must be a whole number from 1 to {MAX_SEEDS}, got {text!r}"
+        ) from None
     return check_seed_count(count)

@@ -45,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     grid.add_argument(
         "--rates",
         default=None,
-        help=f"comma-separated detection rates in [0, 1] (default: {rates_text()}; 1.0 with "
+        help=f"comma-separated detection rates in (0, 1] (default: {rates_text()}; 1.0 with "
         "--detector vision, whose cameras measure the rate)",
     )
     grid.add_argument(

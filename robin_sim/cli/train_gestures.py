@@ -26,7 +26,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )  # fmt: skip
     parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
     parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
-    parser.add_argument("--workers", type=int, default=2, help="render processes (default: 2)")
+    parser.add_argument(
+        "--workers", type=int, default=None,
+        help="render processes, at most the CPU count (default: 2, or the CPU count if less)",
+    )  # fmt: skip
     parser.add_argument(
         "--install", action="store_true",
         help="copy the model, report and measured error model into the package",
@@ -38,16 +41,19 @@ def run(args: argparse.Namespace) -> int:
     """Render (resuming), train and report; bad input raises a RobinPilError (exit 2)."""
     from tqdm import tqdm
 
+    from pil.outdir import claimed_out_dir
     from robin_sim.vision.build import render_all, train_and_report
-    from robin_sim.vision.build_config import BuildConfig
+    from robin_sim.vision.build_config import BuildConfig, default_workers
     from robin_sim.vision.classifier import shipped_path
 
-    config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=args.workers)
+    workers = default_workers() if args.workers is None else args.workers
+    config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=workers)
     total = config.samples + config.heldout
-    with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
-              disable=args.quiet) as bar:  # fmt: skip
-        render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
-    result = train_and_report(config)
+    with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here
+        with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
+                  disable=args.quiet) as bar:  # fmt: skip
+            render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
+        result = train_and_report(config)
     if args.install:
         folder = shipped_path().parent
         for name in (shipped_path().name, "report.md", "confusion.png", "measured.json"):

@@ -41,16 +41,17 @@ def run(args: argparse.Namespace) -> int:
     """Validate, render (resuming), measure, study; print what was written."""
     from tqdm import tqdm
 
-    from robin_sim.vision.build_config import MIN_SAMPLES
+    from robin_sim.vision.build_config import MIN_SAMPLES, cpu_count
     from robin_sim.vision.conditions import run_conditions
 
     lighting = _numbers(args.lighting, "--lighting", 0.0, 5.0)
     noise = _numbers(args.noise, "--noise", 0.0, 128.0)
     if args.samples < MIN_SAMPLES:
         raise RobinPilError(f"--samples must be >= {MIN_SAMPLES}, got {args.samples}")
-    if args.reps < 2 or args.workers < 1:
+    if args.reps < 2 or not 1 <= args.workers <= cpu_count():
         raise RobinPilError(
-            f"--reps must be >= 2 and --workers >= 1, got {args.reps}, {args.workers}"
+            f"--reps must be >= 2 and --workers from 1 to {cpu_count()} (the CPUs here), got "
+            f"{args.reps}, {args.workers}"
         )
     total = len(lighting) * len(noise) * (-(-args.samples // 48) * 48)
     with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,

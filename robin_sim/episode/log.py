@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from pil.atomic import write_text_atomic
+from pil.atomic import write_text_reserved
 from robin_sim.closing import ClosesOnExit
 
 
@@ -50,9 +50,14 @@ class StepLog(ClosesOnExit):
             self._file.close()
 
 
-def write_json_atomic(path: Path, data: Mapping[str, Any]) -> None:
-    """Write ``data`` as indented JSON to ``path``, whole or not at all."""
-    write_text_atomic(path, json.dumps(_plain(data), indent=2) + "\n")
+SUMMARY_RESERVE = 16_384  # bytes a running summary holds: room for the final one on a full disk
+
+
+def write_json_atomic(path: Path, data: Mapping[str, Any], reserve: int = 0) -> None:
+    """Write ``data`` as indented JSON to ``path``, whole or not at all; ``reserve``: pad the
+    file to that many bytes, so that a later version can replace it in place on a full disk
+    (:func:`pil.atomic.write_text_reserved`)."""
+    write_text_reserved(path, json.dumps(_plain(data), indent=2) + "\n", reserve)
 
 
 def read_step_log(path: Path) -> list[dict[str, Any]]:

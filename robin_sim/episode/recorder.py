@@ -16,7 +16,7 @@ from __future__ import annotations
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Protocol
 
@@ -27,9 +27,10 @@ from robin_sim.control.simulator import Simulator
 from robin_sim.episode.view import EpisodeView
 from robin_sim.model.scene import SceneLayout
 from robin_sim.render.inset import INSET_LABEL, EyeInset, draw_eye_inset
-from robin_sim.render.overlay import draw_overlay
+from robin_sim.render.overlay import OverlayInfo, draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
 from robin_sim.render.renderer import FrameClock
+from robin_sim.render.state_log import StateLog, layout_dict
 from robin_sim.render.video import Mp4Writer
 
 
@@ -78,8 +79,17 @@ class VideoRecorder(ClosesOnExit):
         render_workers: int | None = None,
         eye_inset: bool = True,
         readings: ReadingInsets | None = None,
+        states: Path | None = None,
     ) -> None:
         self.view = view
+        # the state of every frame (``states``: where to save them for robin-pil replay)
+        self.states: StateLog | None = None
+        if states is not None:
+            self.states = StateLog(states, {
+                "kind": "episode", "layout": layout_dict(layout), "size": [width, height],
+                "fps": fps, "camera": camera, "shadows": shadows, "reflections": True,
+                "eye_inset": eye_inset, "overlay": True, "spots": [],
+            })  # fmt: skip
         self.eye: EyeInset | None = None
         self.readings = readings
         # eye views (and their labels) of frames still rendering
@@ -105,7 +115,7 @@ class VideoRecorder(ClosesOnExit):
         started = time.perf_counter()
         info = replace(self.view.info, sim_time=sim.time)
         state = FrameState.capture(sim.model, sim.data)
-        self._render_eye(state)
+        self._keep(state, due, info, self._render_eye(state))
         self.pool.submit(state, (info, due))
         self.timing.render_s += time.perf_counter() - started  # waits only when the pool is full
         self._write(self.pool.ready())
@@ -136,17 +146,24 @@ class VideoRecorder(ClosesOnExit):
             self.pool.close()
             raise
 
-    def _render_eye(self, state: FrameState) -> None:
+    def _render_eye(self, state: FrameState) -> str | None:
         """Render the eye's view of a frame's state (once per video frame, in this process), or
-        take the picture of a reading just made."""
+        take the picture of a reading just made; the inset's label (None: no inset)."""
         if self.eye is None:  # its time counts in VideoTiming.render_s (see _on_tick)
-            return
+            return None
         if self.readings is not None:
             picture = self.readings.inset_at(self._sim.time, self.eye.size)
             if picture is not None:
                 self._eye_views.append((picture, READING_LABEL))
-                return
+                return READING_LABEL
         self._eye_views.append((self.eye.render(state), INSET_LABEL))
+        return INSET_LABEL
+
+    def _keep(self, state: FrameState, due: int, info: OverlayInfo, eye: str | None) -> None:
+        """Note a frame's state and what is drawn on it for the states file."""
+        if self.states is not None:
+            shown = {k: v for k, v in asdict(info).items() if k != "sim_time"}  # the state's
+            self.states.add(state, due, {"info": shown, "eye": eye})
 
     def _draw_eye(self, pixels: np.ndarray) -> None:
         """Paste the eye view of the frame coming back (frames return in submission order)."""
@@ -168,7 +185,8 @@ class VideoRecorder(ClosesOnExit):
                 sim = self._sim
                 info = replace(self.view.info, sim_time=sim.time)
                 state = FrameState.capture(sim.model, sim.data)
-                self._render_eye(state)  # every frame submitted has its eye view
+                # every frame submitted has its eye view
+                self._keep(state, 1, info, self._render_eye(state))
                 self.pool.submit(state, (info, 1))
             self._write(self.pool.drain())
         finally:
@@ -178,3 +196,5 @@ class VideoRecorder(ClosesOnExit):
             started = time.perf_counter()
             self.writer.close()
             self.timing.encode_s += time.perf_counter() - started
+            if self.states is not None:
+                self.states.save()

@@ -21,14 +21,14 @@ from tqdm import tqdm
 
 from pil.errors import RobinPilError
 from pil.experiments.systems import SYSTEMS, test_parts
-from pil.outdir import check_out_dir
+from pil.outdir import claimed_out_dir
 from pil.task.parts import PERSON_PARAMS, RunParts
 from pil.task.records import StepRecord
 from pil.task.runner import steps
 from pil.types import Hand, hand_after
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeTask
 from robin_sim.episode.interrupts import InterruptGuard
-from robin_sim.episode.log import StepLog, write_json_atomic
+from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
 from robin_sim.episode.reading import vision_detector
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
@@ -81,17 +81,26 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
         check_frame_size(world.sim.model, config.width, config.height)
         camera_id(world.sim.model, config.camera)
     parts = episode_parts(config, task, world)  # a bad camera condition is refused here
-    with InterruptGuard() as guard:  # Ctrl-C / SIGTERM from here on: acted on between ticks
-        out = check_out_dir(config.out)  # the first thing written: the folder
+    # Ctrl-C / SIGTERM from here on: acted on between ticks
+    with InterruptGuard() as guard, ExitStack() as claim:
+        # the first thing written: the folder, locked (a second run into it is refused here)
+        out = claim.enter_context(claimed_out_dir(config.out))
         view = EpisodeView(table=parts.learner.table if config.policy_panel else None)
         totals = EpisodeTotals(timeout_s=float(task.values["handover_timeout"]))
         started = time.perf_counter()
         status, error, recorder = "running", "", None
         try:
+            # an earlier run's files are replaced now, so that a kill -9 leaves only this run's
+            write_json_atomic(out / SUMMARY_NAME, _summary(config, task, totals, parts, world,
+                                                           started, status, error, None),
+                              reserve=SUMMARY_RESERVE)  # fmt: skip
+            for stale in (LOG_NAME, VIDEO_NAME):
+                (out / stale).unlink(missing_ok=True)
             with ExitStack() as stack:
                 stack.callback(world.sim.add_observer(guard.check))
                 if config.video:
                     from robin_sim.episode.recorder import VideoRecorder  # needs the GL backend
+                    from robin_sim.render.state_log import STATES_NAME
 
                     recorder = stack.enter_context(
                         VideoRecorder(
@@ -101,6 +110,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             render_workers=config.render_workers,
                             eye_inset=config.eye_inset,
                             readings=parts.detector if task.vision is not None else None,
+                            states=out / STATES_NAME,
                         )
                     )  # fmt: skip
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
@@ -227,7 +237,7 @@ def _summary(
             "camera": config.camera,
             "size": [config.width, config.height],
             "fps": config.fps,
-            "frames": timing.frames_written,
+            "frames": recorder.writer.frames_written,  # after a full disk: the frames kept
             "render_s": round(timing.render_s, 3),
             "encode_s": round(timing.encode_s, 3),
         }

@@ -3,8 +3,11 @@
 A session starts when the participant's (controlling) tab connects; a protocol block first shows
 its instruction screen (phase ``instructions``) and starts on the tab's ``start`` message. When a
 session ends by itself (``finished``, or ``ended`` by the participant), the next block's screen
-follows; after the last one the run is over. A closed controlling tab stops the running session
-as ``closed``, a signal as ``interrupted``, and either ends the run: the server then stops.
+follows; after the last one the run is over. With questionnaires (the protocol's), each block that
+ends by itself is followed by them (phase ``questionnaire``), one at a time, before the next
+block; the answers go to the block's ``questionnaires.jsonl``. A closed controlling tab stops
+the running session as ``closed``, a signal as ``interrupted``, and either ends the run: the
+server then stops.
 """
 
 from __future__ import annotations
@@ -14,12 +17,15 @@ import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from robin_sim.live.experimenter import Command
+from robin_sim.live.commands import Command
 from robin_sim.live.inputs import LiveInputError, parse_input
+from robin_sim.live.questioning import Questioning
+from robin_sim.live.questionnaires import Questionnaire
 from robin_sim.live.session import Frame, LiveConfig, LiveSession
 
 LOG = logging.getLogger(__name__)
 POLL_S = 0.1  # how often the end of a running session is looked for
+ASKED_AFTER = ("finished", "ended")  # sessions followed by the questionnaires
 
 FrameSink = Callable[[Frame], None]
 
@@ -27,14 +33,19 @@ FrameSink = Callable[[Frame], None]
 class Conductor:
     """The sessions of one run, in order (each validated when the conductor is made)."""
 
-    def __init__(self, configs: Sequence[LiveConfig]) -> None:
+    def __init__(
+        self, configs: Sequence[LiveConfig], questionnaires: Sequence[Questionnaire] = ()
+    ) -> None:
         if not configs:
             raise ValueError("a live run needs at least one session")
         self.configs = tuple(config.checked() for config in configs)
         self.sessions = tuple(LiveSession(config) for config in self.configs)
         self.width, self.height = self.configs[0].width, self.configs[0].height
         self.index = 0
-        self.phase = "waiting"  # waiting | instructions | starting | running | done
+        # waiting | instructions | starting | running | questionnaire | done
+        self.phase = "waiting"
+        self.questionnaires = tuple(questionnaires)
+        self._questioning: Questioning | None = None  # the block's questionnaires, while shown
         self.results: list[dict[str, Any]] = []  # each ended session's final status
         self.outcome: str | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -61,6 +72,8 @@ class Conductor:
                  "out_dir": str(self.session.out_dir)}  # fmt: skip
         if self.phase == "running":
             return {**self.session.status(), **extra}
+        if self.phase == "questionnaire" and self._questioning is not None:
+            return {**self.results[-1], **extra, **self._questioning.status()}
         if self.phase == "done" and self.results:
             return {**self.results[-1], **extra, "phase": "done", "status": self.outcome}
         message = {
@@ -107,6 +120,10 @@ class Conductor:
         if self.phase == "running":
             self.session.receive(raw)  # parse_input, then submit; both logged
             return
+        if self.phase == "questionnaire" and self._questioning is not None:
+            if self._questioning.receive(raw):  # LiveInputError when not valid
+                await self._after_questions()
+            return
         item = parse_input(raw, self.width, self.height)
         if item.kind == "start" and self.phase == "instructions":
             await self._start()
@@ -125,6 +142,9 @@ class Conductor:
             return session.note(item.text)
         if item.kind == "end":
             await self._end("ended")
+            return None
+        if self.phase == "questionnaire" and item.kind == "next_block":
+            await self._after_questions()  # the experimenter skips the rest of them
             return None
         if self.phase != "running":
             raise LiveInputError(f"{item.kind}: no block is running now ({self.phase})")
@@ -175,10 +195,26 @@ class Conductor:
             if self.phase != "running" or session is not self.session:
                 return
             self._close(session)
-            if self.index + 1 < len(self.sessions):
-                await self._enter(self.index + 1)
-            else:
-                self._over_with(self.results[-1]["status"])
+            if self.questionnaires and session.status().get("status") in ASKED_AFTER:
+                self.phase = "questionnaire"
+                self._questioning = Questioning(self.questionnaires, session.out_dir,
+                                                self.configs[self.index])  # fmt: skip
+                return
+            await self._next()
+
+    async def _after_questions(self) -> None:
+        assert self._lock is not None
+        async with self._lock:
+            if self.phase == "questionnaire":
+                self._questioning = None
+                await self._next()
+
+    async def _next(self) -> None:
+        """The next block's screen, or the end of the run after the last block."""
+        if self.index + 1 < len(self.sessions):
+            await self._enter(self.index + 1)
+        else:
+            self._over_with(self.results[-1]["status"])
 
     def _close(self, session: LiveSession) -> None:
         if self._unsubscribe is not None:

@@ -29,6 +29,7 @@ from robin_sim.model.names import DEFAULT_CAMERA, EYE_CAMERA
 from robin_sim.model.scene import LEG_COLORS, SceneLayout
 from robin_sim.render.inset import EyeInset, draw_eye_inset, inset_size
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
+from robin_sim.render.state_log import StateLog, layout_dict
 from robin_sim.render.video import Mp4Writer
 
 JPEG_QUALITY = 80
@@ -155,9 +156,19 @@ class FrameStream(ClosesOnExit):
         spots: Iterable[tuple[float, float]] = (),
         on_state: Callable[[FrameState], None] | None = None,
         legs: Callable[[], Iterable[tuple[float, float, int]]] | None = None,
+        states: Path | None = None,
     ) -> None:
         self.hub, self.stats = hub, StreamStats()
         self.spots = tuple(spots)
+        self.states: StateLog | None = None  # every frame's state, for robin-pil replay
+        if states is not None:
+            self.states = StateLog(states, {
+                "kind": "live", "layout": layout_dict(layout), "size": [width, height],
+                "fps": video_fps, "camera": DEFAULT_CAMERA, "shadows": False,
+                "reflections": reflections, "eye_inset": eye_inset, "overlay": False,
+                "spots": [list(map(float, xy)) for xy in self.spots],
+                "leg_numbers": legs is not None,
+            })  # fmt: skip
         self.on_state = on_state  # e.g. the picker follows the frames
         self.legs = legs  # (x, y, leg) of each leg once on_state has seen the frame's state
         self._waiting: deque[FrameState] = deque()  # frames still rendering
@@ -185,6 +196,8 @@ class FrameStream(ClosesOnExit):
         started = time.perf_counter()
         captured = time.monotonic()
         state = FrameState.capture(model, data)
+        if self.states is not None:
+            self.states.add(state, copies)
         self._waiting.append(state)
         if self.eye_pool is not None:  # renders while this process renders the scene
             self.eye_pool.submit(state)
@@ -251,3 +264,5 @@ class FrameStream(ClosesOnExit):
             self.pool.close()
             if self.writer is not None:
                 self.writer.close()
+            if self.states is not None:
+                self.states.save()

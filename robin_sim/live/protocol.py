@@ -12,6 +12,7 @@ A protocol is YAML (see ``scenarios/protocols/reactive_vs_proactive.yaml`` and d
     blocks:                            # each condition's blocks (a condition may list its own)
       - {types: [A, B, C], repeat: 2}
     instructions: "Block {block} of {blocks}: you work with {label}."
+    questionnaires: [nasa-tlx, godspeed]   # optional: answered after each block
 
 :func:`load_protocol` checks every field; :meth:`Protocol.blocks_for` gives a participant's
 blocks in their order. Pure Python and YAML: nothing here imports MuJoCo.
@@ -35,10 +36,12 @@ from pil.task.scenario import (
     shipped_scenarios,
 )
 from pil.task.yaml_files import find_shipped, read_yaml_mapping, reject_unknown, shipped_in
+from robin_sim.live.questionnaires import Questionnaire, load_questionnaires
 
 PROTOCOLS_DIR = SCENARIOS_DIR / "protocols"
 PROTOCOL_KEYS: tuple[str, ...] = (
     "name", "description", "scenario", "conditions", "order", "blocks", "instructions",
+    "questionnaires",
 )  # fmt: skip
 CONDITION_KEYS: tuple[str, ...] = ("system", "label", "blocks", "instructions")
 BLOCK_KEYS: tuple[str, ...] = ("types", "repeat", "instructions")
@@ -96,6 +99,7 @@ class Protocol:
     order: str = "counterbalanced"
     description: str = ""
     source: str = "<protocol>"
+    questionnaires: tuple[Questionnaire, ...] = ()  # answered after each block, in this order
 
     def condition_order(self, participant: str) -> tuple[str, ...]:
         """The system keys in the order ``participant`` meets them."""
@@ -189,7 +193,8 @@ def load_protocol(path: str | Path) -> Protocol:
     instructions = _template(text, f"{source}: instructions")
     blocks = _blocks(raw.get("blocks"), scenario, f"{source}: blocks", required=True)
     conditions = _conditions(raw.get("conditions"), scenario, blocks, instructions, source)
-    return Protocol(name, scenario_name, conditions, order, description, source)
+    questionnaires = load_questionnaires(raw.get("questionnaires"), f"{source}: questionnaires")
+    return Protocol(name, scenario_name, conditions, order, description, source, questionnaires)
 
 
 def _scenario(value: Any, path: Path) -> tuple[str | None, Scenario]:

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from pil.experiments.systems import test_parts
 from pil.task.parts import RunParts
@@ -29,6 +30,7 @@ from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.person.body import PhysicalBody
 from robin_sim.render.renderer import check_frame_size
+from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, VIDEO_NAME = "log.jsonl", "episode.mp4"
@@ -83,6 +85,7 @@ class LiveRun(ClosesOnExit):
                 eye_worker=config.eye_worker, reflections=config.reflections,
                 spots=self.picker.spot_pixels(), on_state=self.picker.show,
                 legs=self.picker.leg_pixels,
+                states=out_dir / STATES_NAME,
             )  # fmt: skip
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says
@@ -103,3 +106,25 @@ class LiveRun(ClosesOnExit):
         finally:
             if self.log is not None:
                 self.log.close()
+
+
+def pacing_figures(run: LiveRun | None, speed: float, paused: bool) -> dict[str, Any]:
+    """The stream's and the pacer's figures of a running session now."""
+    stream = None if run is None else run.stream
+    pacer = None if run is None else run.pacer
+    stats = None if stream is None else stream.stats
+    figures: dict[str, Any] = {
+        "frames": 0, "stream_fps": None, "latency_ms": None, "frame_ms": None,
+        "behind_s": None if pacer is None else round(pacer.behind_s, 3),
+        "slips": None if pacer is None else pacer.slips,
+        "lag_s": None if pacer is None else round(pacer.lag_s, 3),
+        "speed": speed, "paused": paused,
+    }  # fmt: skip
+    if stats is not None and stats.frames:
+        figures.update(
+            frames=stats.frames,
+            stream_fps=None if stats.fps is None else round(stats.fps, 2),
+            latency_ms={"median": stats.latency_ms(0.5), "p95": stats.latency_ms(0.95)},
+            frame_ms=round((stats.render_s + stats.encode_s) / stats.frames * 1000, 1),
+        )
+    return figures

@@ -31,9 +31,10 @@ from typing import Any
 
 from aiohttp import WSMsgType, web
 
+from robin_sim.live.commands import parse_command
 from robin_sim.live.conductor import Conductor
 from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits, bind
-from robin_sim.live.experimenter import experimenter_view, parse_command
+from robin_sim.live.experimenter import experimenter_view
 from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
@@ -41,8 +42,10 @@ from robin_sim.live.session import Frame
 LOG = logging.getLogger(__name__)
 __all__ = ["LiveServer", "bind", "is_loopback", "new_token"]
 STATIC_DIR = Path(__file__).with_name("static")
-STATIC_TYPES = {"live.js": "text/javascript", "live.css": "text/css",
-                "experimenter.js": "text/javascript"}  # all /static/ serves
+STATIC_TYPES = {  # all /static/ serves
+    "live.js": "text/javascript", "live.css": "text/css", "experimenter.js": "text/javascript",
+    "questionnaire.js": "text/javascript", "questionnaire.css": "text/css",
+}  # fmt: skip
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB

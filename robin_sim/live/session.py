@@ -28,7 +28,6 @@ from pil.task.records import StepRecord
 from pil.task.runner import steps
 from pil.types import Gesture
 from robin_sim.live.config import LiveConfig
-from robin_sim.live.experimenter import pacing_figures
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
@@ -40,7 +39,7 @@ from robin_sim.live.inputs import (
 )
 from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.live.picking import Picker
-from robin_sim.live.run import LiveRun
+from robin_sim.live.run import LiveRun, pacing_figures
 from robin_sim.live.status import LiveStatus
 from robin_sim.person.body import PhysicalBody
 

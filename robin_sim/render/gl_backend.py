@@ -12,7 +12,13 @@ the rendering tests) therefore calls :func:`ensure_gl_backend` first, before imp
 
 Rules:
 
-* ``MUJOCO_GL`` already set by the user: respected as is, nothing is probed.
+* ``MUJOCO_GL`` set by the user to ``glfw`` or ``glx``: respected as is, nothing is probed.
+* Set to ``egl`` or ``osmesa``: probed once (a subprocess, about a second); when it cannot
+  make a context, the other headless backend is probed and used with one note on stderr, and
+  if neither works, :class:`GLBackendError` (exit 2) names both reasons.
+* ``PYOPENGL_PLATFORM`` left over with another value (e.g. ``osmesa`` in a shell where EGL is
+  chosen): set to the chosen backend with one note (MuJoCo's EGL and OSMesa modules refuse a
+  mismatched value).
 * Unset: EGL is probed in a short-lived subprocess (a failing EGL driver can abort the process
   that tries it, so the probe never runs in ours); if it cannot make a context, OSMesa is probed
   the same way and chosen with one message on stderr; if neither works, :class:`GLBackendError`.
@@ -33,6 +39,8 @@ from pil.errors import RobinPilError
 HEADLESS_BACKENDS: tuple[str, ...] = ("egl", "osmesa")
 VALID_BACKENDS: tuple[str, ...] = ("egl", "osmesa", "glfw", "glx")
 PROBE_TIMEOUT_S = 30.0
+# set to the backend once it has been probed in this process tree (children skip the probe)
+VERIFIED = "ROBIN_PIL_GL_VERIFIED"
 
 # Creates and frees a 16x16 context with the backend named in MUJOCO_GL (set by the caller).
 _PROBE_CODE = """
@@ -98,27 +106,38 @@ def ensure_gl_backend() -> str:
     if chosen and chosen not in VALID_BACKENDS:
         valid = ", ".join(VALID_BACKENDS)
         raise GLBackendError(f"MUJOCO_GL={chosen!r} is not a backend; valid choices: {valid}")
-    if not chosen:
-        egl_problem = _probe("egl")
-        if egl_problem is None:
-            chosen = "egl"
-        else:
-            osmesa_problem = _probe("osmesa")
-            if osmesa_problem is not None:
-                raise GLBackendError(
-                    "no headless OpenGL backend works: EGL failed "
-                    f"({egl_problem}); OSMesa failed ({osmesa_problem}). Install the Mesa "
-                    "EGL or OSMesa libraries (e.g. libegl1, libosmesa6)"
-                )
-            chosen = "osmesa"
-            print(
-                f"robin-pil: EGL rendering is unavailable ({egl_problem}); "
-                "using OSMesa (slower software rendering)",
-                file=sys.stderr,
-            )
-        os.environ["MUJOCO_GL"] = chosen
+    if not chosen or (chosen in HEADLESS_BACKENDS and os.environ.get(VERIFIED) != chosen):
+        chosen = _working_backend(chosen or None)
+        os.environ["MUJOCO_GL"] = os.environ[VERIFIED] = chosen
     if chosen in HEADLESS_BACKENDS:
+        platform = os.environ.get("PYOPENGL_PLATFORM", "").strip().lower()
+        if platform and platform != chosen and "OpenGL" not in sys.modules:
+            print(f"robin-pil: PYOPENGL_PLATFORM={platform} does not match the {chosen} "
+                  f"backend; using PYOPENGL_PLATFORM={chosen}", file=sys.stderr)  # fmt: skip
+            os.environ["PYOPENGL_PLATFORM"] = chosen
         os.environ.setdefault("PYOPENGL_PLATFORM", chosen)
         if "mujoco" in sys.modules:
             _bind_late(chosen)
     return chosen
+
+
+def _working_backend(asked: str | None) -> str:
+    """``asked`` (or EGL) if it makes a context, else the other headless backend with a note;
+    :class:`GLBackendError` naming both reasons when neither does."""
+    first = asked or "egl"
+    second = HEADLESS_BACKENDS[1 - HEADLESS_BACKENDS.index(first)]
+    first_problem = _probe(first)
+    if first_problem is None:
+        return first
+    second_problem = _probe(second)
+    names = {"egl": "EGL", "osmesa": "OSMesa"}
+    if second_problem is not None:
+        raise GLBackendError(
+            f"no headless OpenGL backend works: {names[first]} failed ({first_problem}); "
+            f"{names[second]} failed ({second_problem}). Install the Mesa EGL or OSMesa "
+            "libraries (e.g. libegl1, libosmesa6)"
+        )
+    why = f"MUJOCO_GL={asked} does not work here" if asked else "EGL rendering is unavailable"
+    slower = " (slower software rendering)" if second == "osmesa" else ""
+    print(f"robin-pil: {why} ({first_problem}); using {names[second]}{slower}", file=sys.stderr)
+    return second

@@ -10,6 +10,8 @@ them with PyAV); fragmented MP4 is also the layout browsers stream.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import os
 from fractions import Fraction
 from pathlib import Path
@@ -19,6 +21,7 @@ import numpy as np
 
 from pil.errors import RobinPilError
 from robin_sim.closing import ClosesOnExit
+from robin_sim.render.mp4_trim import trim_torn_tail
 
 CODEC = "libx264"
 PIX_FMT = "yuv420p"
@@ -61,6 +64,7 @@ class Mp4Writer(ClosesOnExit):
         self.height = height
         self.fps = int(fps)
         self.frames_written = 0
+        self._failure: OSError | None = None  # the write error that stopped the video, if any
         self._container = av.open(
             str(self.path),
             mode="w",
@@ -84,6 +88,8 @@ class Mp4Writer(ClosesOnExit):
     def write(self, frame: np.ndarray) -> None:
         """Encode one frame; its shape must be (height, width, 3) and dtype uint8."""
         if self._container is None:
+            if self._failure is not None:  # the disk filled up: say so again, not "closed"
+                raise OSError(self._failure.errno, self._failure.strerror, str(self.path))
             raise VideoError(f"video {str(self.path)!r} is already closed")
         expected = (self.height, self.width, 3)
         if frame.shape != expected or frame.dtype != np.uint8:
@@ -93,7 +99,11 @@ class Mp4Writer(ClosesOnExit):
             )
         video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
         video_frame.pts = self.frames_written
-        self._container.mux(self._stream.encode(video_frame))
+        try:
+            self._container.mux(self._stream.encode(video_frame))
+        except OSError as error:
+            self._give_up(error)
+            raise
         self.frames_written += 1
 
     def close(self) -> None:
@@ -102,9 +112,38 @@ class Mp4Writer(ClosesOnExit):
         if container is None:
             return
         try:
-            container.mux(self._stream.encode(None))
-        finally:
-            container.close()
+            try:
+                container.mux(self._stream.encode(None))
+            finally:
+                container.close()
+        except OSError as error:
+            self._container = container
+            self._give_up(error)
+            raise
+
+    def _give_up(self, error: OSError) -> None:
+        """After a failed write (a full disk): close without writing more and cut the file back
+        to its last whole fragment, so that it decodes to its end; ``frames_written`` becomes
+        the frames it still holds."""
+        container, self._container = self._container, None
+        self._failure = error
+        if container is not None:
+            with contextlib.suppress(Exception):
+                container.close()
+        if error.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG) and self.path.exists():
+            trim_torn_tail(self.path)
+            self.frames_written = count_frames(self.path)
+
+
+
+
+def count_frames(path: str | os.PathLike[str]) -> int:
+    """Video frames a file holds (packets read, nothing decoded); 0 if it does not open."""
+    try:
+        with av.open(str(path)) as container:
+            return sum(1 for p in container.demux(container.streams.video[0]) if p.size)
+    except (av.error.FFmpegError, IndexError, OSError):
+        return 0
 
 
 def probe_video(path: str | os.PathLike[str]) -> dict[str, object]:

@@ -2,7 +2,7 @@
 
 :class:`HeadController` joins the :class:`~robin_sim.control.simulator.Simulator` as a tick
 controller. Each tick it aims the left eye camera (``names.EYE_CAMERA``) at the attention
-point (:func:`robin_sim.vision.gaze.head_angles` taken from the eye's position, so that the
+point (:func:`robin_sim.control.gaze.head_angles` taken from the eye's position, so that the
 eye's optical axis passes through the point) and moves the head's position targets toward that
 aim with a speed and acceleration limit, inside the joint limits read from the model (less a
 small margin, so that a joint limit never becomes an active constraint). Only the two head
@@ -11,7 +11,7 @@ actuators are written: the arms, hands and legs never feel it.
 Attention is either a fixed point (:meth:`HeadController.attend`, e.g. the leg the person
 points at) or a named source that moves (:meth:`HeadController.attend_to`, e.g. the person's
 palm or the robot's own hand), re-read every tick. Whoever else commands the head (the vision
-detector's :func:`~robin_sim.vision.gaze.look_at`) is let be: the controller stops writing
+detector's :func:`~robin_sim.control.gaze.look_at`) is let be: the controller stops writing
 until the next ``attend`` call. Nothing here draws random numbers.
 """
 
@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from robin_sim.control.gaze import head_angles
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
-from robin_sim.vision.gaze import head_angles
 
 MAX_SPEED = 2.0  # rad/s, largest speed of a head target
 MAX_ACCEL = 8.0  # rad/s^2, largest change of that speed

@@ -18,11 +18,11 @@ import numpy as np
 
 from pil.task.world import Target
 from pil.types import Action
+from robin_sim.control.human_hand import HumanHand
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import pose
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout
-from robin_sim.person.hand import HumanHand
 from robin_sim.robot.actions import (
     CloseAction,
     Context,

@@ -24,12 +24,12 @@ from pil.errors import RobinPilError
 from pil.task.world import Outcome, Target, Watcher
 from pil.types import Action, Hand
 from robin_sim.control.hand_state import HandSensor
+from robin_sim.control.human_hand import HumanHand
 from robin_sim.control.simulator import HandTargets, Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
-from robin_sim.person.hand import HumanHand
 from robin_sim.robot.actions import (
     ActionResult,
     Context,

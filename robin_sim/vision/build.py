@@ -1,8 +1,9 @@
 """``train-gestures`` end to end: render the data set in parallel (resumable), train, report.
 
 Chunks are rendered by a ``spawn`` process pool (each worker builds its own scene and OpenGL
-context); a chunk file already in ``OUT/chunks`` is not rendered again, so an interrupted run
-(Ctrl-C or SIGTERM) resumes where it stopped. The held-out split has a third of the training
+context); a whole chunk file of the same seed already in ``OUT/chunks`` is not rendered
+again, so an interrupted run (Ctrl-C or SIGTERM) resumes where it stopped; a damaged chunk or
+one of another seed is rendered anew. The held-out split has a third of the training
 split's samples (at least one chunk).
 """
 
@@ -17,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from robin_sim.vision.build_config import BuildConfig
-from robin_sim.vision.dataset import CHUNK, chunk_path, chunks_for, load_split
+from robin_sim.vision.dataset import CHUNK, chunk_path, chunk_ready, chunks_for, load_split
 
 
 def _worker_init() -> None:
@@ -31,8 +32,9 @@ def _jobs(config: BuildConfig) -> list[tuple[str, int]]:
 
 
 def pending(config: BuildConfig) -> list[tuple[str, int]]:
-    """Chunks not rendered yet."""
-    return [job for job in _jobs(config) if not chunk_path(config.chunks, *job).exists()]
+    """Chunks not rendered yet (or damaged, or drawn from another seed)."""
+    return [job for job in _jobs(config) if not chunk_ready(chunk_path(config.chunks, *job),
+                                                            config.seed)]  # fmt: skip
 
 
 def render_all(config: BuildConfig, progress: Callable[[int], None] = lambda n: None) -> int:
@@ -104,8 +106,8 @@ def train_and_report(config: BuildConfig) -> dict[str, object]:
     from robin_sim.vision.report import write_report
     from robin_sim.vision.train import evaluate, fit
 
-    train = load_split(config.chunks, "train", config.samples)
-    heldout = load_split(config.chunks, "heldout", config.heldout)
+    train = load_split(config.chunks, "train", config.samples, config.seed)
+    heldout = load_split(config.chunks, "heldout", config.heldout, config.seed)
     model = fit(train, seed=config.seed)
     model_path = model.save(config.out / "gesture_model.npz")
     evaluation = evaluate(model, heldout)

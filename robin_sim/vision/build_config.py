@@ -2,14 +2,28 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import os
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from pil.errors import RobinPilError
+from pil.task.params import SEED
 from robin_sim.vision.dataset import CHUNK
 
 DEFAULT_SAMPLES = 2016  # 288 per class; the shipped model's
 MIN_SAMPLES = 7 * 4
+MAX_SAMPLES = 100_000  # about 50x the shipped model's set; hours of rendering on 2 cores
+
+
+def cpu_count() -> int:
+    """The CPUs this process may run on (its affinity mask, else the machine's count)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
+
+
+def default_workers() -> int:
+    """Render processes by default: 2, or fewer on a machine with fewer CPUs."""
+    return min(2, cpu_count())
 
 
 @dataclass(frozen=True, slots=True)
@@ -19,16 +33,23 @@ class BuildConfig:
     samples: int = DEFAULT_SAMPLES
     seed: int = 0
     out: Path = Path("out/gestures")
-    workers: int = 2
+    workers: int = field(default_factory=lambda: default_workers())
 
     def __post_init__(self) -> None:
-        if isinstance(self.samples, bool) or self.samples < MIN_SAMPLES:
+        SEED.parse(self.seed, "--seed")  # a negative or huge seed: refused here
+        samples_ok = isinstance(self.samples, int) and not isinstance(self.samples, bool)
+        if not samples_ok or not MIN_SAMPLES <= self.samples <= MAX_SAMPLES:
             raise RobinPilError(
-                f"--samples must be a whole number >= {MIN_SAMPLES} (4 of each of the 7 "
-                f"classes), got {self.samples!r}"
+                f"--samples must be a whole number from {MIN_SAMPLES} (4 of each of the 7 "
+                f"classes) to {MAX_SAMPLES}, got {self.samples!r}"
             )
-        if self.workers < 1:
-            raise RobinPilError(f"--workers must be >= 1, got {self.workers}")
+        cpus = cpu_count()
+        workers_ok = isinstance(self.workers, int) and not isinstance(self.workers, bool)
+        if not workers_ok or not 1 <= self.workers <= cpus:
+            raise RobinPilError(
+                f"--workers must be a whole number from 1 to {cpus} (the CPUs here: each "
+                f"worker renders with its own OpenGL context), got {self.workers!r}"
+            )
 
     @property
     def heldout(self) -> int:
@@ -41,4 +62,4 @@ class BuildConfig:
         return self.out / "chunks"
 
 
-__all__ = ["DEFAULT_SAMPLES", "MIN_SAMPLES", "BuildConfig"]
+__all__ = ["DEFAULT_SAMPLES", "MAX_SAMPLES", "MIN_SAMPLES", "BuildConfig", "cpu_count"]

@@ -8,6 +8,7 @@ shipped model is ``robin_sim/vision/data/gesture_model.npz`` (:func:`load_shippe
 
 from __future__ import annotations
 
+import zipfile
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -22,6 +23,7 @@ NO_GESTURE = "no_gesture"
 CLASSES: tuple[str, ...] = (*(p for p in HUMAN_VIS_POSES if p != "neutral"), NO_GESTURE)
 FORMAT = 2
 SHIPPED = "gesture_model.npz"
+MAX_LAYERS = 16
 
 
 class ModelFileError(RobinPilError):
@@ -80,17 +82,54 @@ class GestureModel:
                         f"gesture model {path}: format {int(z['format'])} or classes "
                         f"{z['classes'].tolist()} do not match this version ({FORMAT}, {CLASSES})"
                     )
-                return cls(
+                layers = int(z["layers"])
+                if not 1 <= layers <= MAX_LAYERS:
+                    raise ModelFileError(f"gesture model {path}: {layers} layers, not 1 to "
+                                         f"{MAX_LAYERS}")  # fmt: skip
+                model = cls(
                     mean=z["mean"].astype(np.float64),
                     scale=z["scale"].astype(np.float64),
-                    weights=tuple(z[f"w{k}"].astype(np.float64) for k in range(int(z["layers"]))),
-                    biases=tuple(z[f"b{k}"].astype(np.float64) for k in range(int(z["layers"]))),
+                    weights=tuple(z[f"w{k}"].astype(np.float64) for k in range(layers)),
+                    biases=tuple(z[f"b{k}"].astype(np.float64) for k in range(layers)),
                     threshold=float(z["threshold"]),
                     seed=int(z["seed"]),
                     samples=int(z["samples"]),
                 )
-        except (OSError, KeyError, ValueError) as error:
-            raise ModelFileError(f"cannot read gesture model {path}: {error}") from None
+        except (OSError, KeyError, ValueError, TypeError, EOFError, zipfile.BadZipFile) as error:
+            raise ModelFileError(
+                f"cannot read gesture model {path} ({type(error).__name__}: {error}); it is "
+                "damaged or not a model file: rebuild it with 'robin-pil train-gestures'"
+            ) from None
+        problem = model.problem()
+        if problem:
+            raise ModelFileError(
+                f"gesture model {path} is not usable: {problem}; rebuild it with "
+                "'robin-pil train-gestures'"
+            )
+        return model
+
+    def problem(self) -> str:
+        """What makes the model unusable (shapes that do not chain, values that are not
+        finite, a threshold outside [0, 1]), or an empty text when it is sound."""
+        features = self.mean.shape
+        if self.mean.ndim != 1 or self.scale.shape != features or not features[0]:
+            return f"mean {self.mean.shape} and scale {self.scale.shape} differ or are empty"
+        inputs = features[0]
+        for k, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
+            if w.ndim != 2 or w.shape[0] != inputs or b.shape != (w.shape[1],):
+                return (f"layer {k}: weights {w.shape} and biases {b.shape} do not take "
+                        f"{inputs} inputs (transposed or cut?)")  # fmt: skip
+            inputs = w.shape[1]
+        if inputs != len(CLASSES):
+            return f"the last layer has {inputs} outputs, not one per class ({len(CLASSES)})"
+        arrays = [self.mean, self.scale, *self.weights, *self.biases]
+        if not all(np.isfinite(a).all() for a in arrays):
+            return "some weights are NaN or infinite"
+        if not (self.scale > 0).all():
+            return "a feature scale is zero or negative"
+        if not 0.0 <= self.threshold <= 1.0:
+            return f"threshold {self.threshold} is not in [0, 1]"
+        return ""
 
 
 def shipped_path() -> Path:

@@ -25,7 +25,7 @@ import numpy as np
 
 from robin_sim.vision.build import Job, run_jobs
 from robin_sim.vision.classifier import GestureModel, load_shipped
-from robin_sim.vision.dataset import CHUNK, chunks_for, load_split
+from robin_sim.vision.dataset import CHUNK, chunk_ready, chunks_for, load_split
 from robin_sim.vision.report import measured
 from robin_sim.vision.train import evaluate
 
@@ -54,7 +54,7 @@ def render_conditions(
     for lighting, noise in conditions:
         for k in range(chunks_for(samples)):
             name = f"sweep-{tag(lighting, noise)}"
-            if (folder / f"{name}-{k:04d}.npz").exists():
+            if chunk_ready(folder / f"{name}-{k:04d}.npz", seed):
                 progress(CHUNK)
                 continue
             overrides = (("lighting", lighting), ("camera_noise", noise))

@@ -8,22 +8,34 @@ condition (light intensity and direction, sensor noise, blur). The *training* sp
 *held-out* split draw skin tones and light from disjoint ranges (:data:`SPLITS`), so the
 held-out accuracy measures conditions never trained on.
 
-A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels, and
-per-sample conditions; finished chunks are kept, so an interrupted run resumes.
+A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels,
+per-sample conditions and the seed it was drawn from; finished chunks are kept, so an
+interrupted run resumes. A chunk is reused only when it reads back whole and holds the run's
+seed (:func:`chunk_ready`): a run with another seed, or a damaged file, renders it anew.
 """
 
 from __future__ import annotations
 
 import os
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from pil.errors import RobinPilError
+from robin_sim.model import robot_spec
 from robin_sim.vision.classifier import CLASSES
 
 CHUNK = 48  # samples per chunk
 EYES = 2
+CHUNK_KEYS = ("features", "label", "sample", "eye", "found", "iou", "condition", "seed")
+# what reading a damaged .npz can raise (a truncated zip, a bad member, a missing key)
+_DAMAGED = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile)
+
+
+class ChunkError(RobinPilError):
+    """A chunk file of the data set that is damaged or was drawn from another seed."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,7 +63,7 @@ SPLITS: dict[str, Ranges] = {
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
 # and spots plus the hand's pointing offset), or anywhere in the person's working box.
-POINT_OFFSET = np.array([0.14, 0.0, 0.13])  # m, as robin_sim.person.hand.POINT_OFFSET
+POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
 PLACES = np.array([[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
                   + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)])  # fmt: skip
 BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.08]))  # m, x y z
@@ -123,13 +135,46 @@ def save_chunk(path: Path, arrays: dict[str, np.ndarray]) -> None:
     os.replace(partial, path)
 
 
-def load_split(folder: Path, split: str, samples: int) -> dict[str, np.ndarray]:
-    """The first ``samples`` samples of ``split`` from its chunk files, concatenated."""
+def read_chunk(path: Path, seed: int | None = None) -> dict[str, np.ndarray]:
+    """Every array of a chunk file; :class:`ChunkError` when it is damaged, lacks a key or
+    (``seed`` given) was drawn from another seed."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {key: z[key] for key in CHUNK_KEYS}
+    except _DAMAGED as error:
+        raise ChunkError(
+            f"chunk {path} is damaged or incomplete ({type(error).__name__}: {error}); run "
+            "the command again: a damaged chunk is rendered anew"
+        ) from None
+    if seed is not None and int(arrays["seed"]) != seed:
+        raise ChunkError(
+            f"chunk {path} was drawn with seed {int(arrays['seed'])}, not {seed}; run the "
+            "command again (its chunks are rendered anew) or give another --out"
+        )
+    return arrays
+
+
+def chunk_ready(path: Path, seed: int) -> bool:
+    """Whether ``path`` holds a whole chunk drawn from ``seed`` (so it need not be rendered)."""
+    if not path.is_file():
+        return False
+    try:
+        read_chunk(path, seed)
+    except ChunkError:
+        return False
+    return True
+
+
+def load_split(
+    folder: Path, split: str, samples: int, seed: int | None = None
+) -> dict[str, np.ndarray]:
+    """The first ``samples`` samples of ``split`` from its chunk files, concatenated (each
+    checked by :func:`read_chunk`)."""
     parts: dict[str, list[np.ndarray]] = {}
     for k in range(chunks_for(samples)):
-        with np.load(chunk_path(folder, split, k), allow_pickle=False) as z:
-            for key in z.files:
-                parts.setdefault(key, []).append(z[key])
+        for key, value in read_chunk(chunk_path(folder, split, k), seed).items():
+            if key != "seed":
+                parts.setdefault(key, []).append(value)
     data = {key: np.concatenate(value) for key, value in parts.items()}
     keep = data["sample"] < samples
     return {key: value[keep] for key, value in data.items()}

@@ -25,14 +25,14 @@ import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import Feedback, Gesture
+from robin_sim.control.gaze import look_at
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
 from robin_sim.person.gestures import GestureDisplay, pose_for
 from robin_sim.person.hand_poses import Performance
-from robin_sim.vision.classifier import NO_GESTURE, GestureModel, load_shipped
+from robin_sim.vision.classifier import NO_GESTURE, GestureModel, ModelFileError, load_shipped
 from robin_sim.vision.condition_params import CONDITION_PARAMS
 from robin_sim.vision.eyes import Condition, EyeCameras
-from robin_sim.vision.gaze import look_at
 from robin_sim.vision.picture import reading_picture
 from robin_sim.vision.reader import Reading, read_views, see
 from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
@@ -92,6 +92,9 @@ class VisionDetector:
         self.condition = Condition(lighting=lighting, camera_noise=camera_noise)
         self.display = display
         self.gesture_model = gesture_model or load_shipped()
+        problem = self.gesture_model.problem()  # NaN weights would read every gesture wrong
+        if problem:
+            raise ModelFileError(f"gesture model not usable: {problem}")
         self.eyes = EyeCameras(sim.model)
         self.rng = np.random.default_rng(seed)
         self.vary_performance = vary_performance

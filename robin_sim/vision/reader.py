@@ -15,11 +15,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from robin_sim.control.gaze import pose_head
 from robin_sim.model import names
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE, GestureModel
 from robin_sim.vision.eyes import Condition, EyeCameras, EyeView
 from robin_sim.vision.features import hand_features
-from robin_sim.vision.gaze import pose_head
 from robin_sim.vision.segment import HandRegion, find_hand
 
 

@@ -135,6 +135,7 @@ def render_chunk(
             "found": np.array(found, bool),
             "iou": np.repeat(np.array(ious), 2),
             "condition": np.repeat(np.array(conditions), 2, axis=0),
+            "seed": np.int64(seed),  # a run with another seed does not reuse this chunk
         },
     )
     return CHUNK

@@ -44,9 +44,12 @@ class Served:
 
 
 def start_server(
-    configs: Sequence[LiveConfig], token: str | None = None, **server_options: Any
+    configs: Sequence[LiveConfig],
+    token: str | None = None,
+    questionnaires: Sequence[Any] = (),
+    **server_options: Any,
 ) -> Served:
-    conductor = Conductor(configs)
+    conductor = Conductor(configs, questionnaires)
     server = LiveServer(conductor, token=token, **server_options)
     sock = bind("127.0.0.1", 0)
     port = sock.getsockname()[1]

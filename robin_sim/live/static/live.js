@@ -56,6 +56,10 @@
     } else if (message.type === "error") {
       live.errors.push(message.message);
       showError(message.message);
+      const questions = $("q-error");
+      if (live.status && live.status.phase === "questionnaire" && questions) {
+        questions.textContent = message.message;
+      }
     } else if (message.type === "role") {
       setRole(message.role, false);
     }
@@ -122,6 +126,7 @@
       (status.blocks > 1 ? ` · block ${status.block_number} of ${status.blocks}` : "");
     showPolicy(status.policy);
     showScreen(status);
+    if (window.robinQuestionnaire) window.robinQuestionnaire.show(status);
     updateControls();
   }
 
@@ -239,7 +244,8 @@
   }
 
   function updateControls() {
-    const running = live.status && !["instructions", "done"].includes(live.status.phase);
+    const running = live.status &&
+      !["instructions", "questionnaire", "done"].includes(live.status.phase);
     const usable = live.connected && live.role === "control";
     for (const button of document.querySelectorAll("#controls button")) {
       button.disabled = !(usable && running);

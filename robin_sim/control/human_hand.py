@@ -18,14 +18,12 @@ import numpy as np
 
 from robin_sim.control.simulator import Simulator
 from robin_sim.control.trajectory import CartesianPath, pose, through
-from robin_sim.model import names
+from robin_sim.model import names, robot_spec
 
 HAND_SPEED = 0.35  # m/s peak, free hand
 CARRY_SPEED = 0.25  # m/s peak while a leg lies on the palm
 TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
-# The pointing hand: toward the person and above the pointed place, low enough that its
-# fingertips stay a few centimetres below the robot's open fingers at home.
-POINT_OFFSET = np.array([0.14, 0.0, 0.13])  # m
+POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
 # A palm held out under the robot's hand first draws back and down, so it never sweeps into a
 # held leg on its way to point somewhere.
 POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m

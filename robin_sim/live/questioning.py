@@ -1,0 +1,101 @@
+"""The questionnaires after one block: shown one at a time, each answer saved as it comes.
+
+:class:`Questioning` is the conductor's ``questionnaire`` phase for one block. Its status tells
+the page which questionnaire to show (its items and scales); the page sends::
+
+    {"type": "answers", "questionnaire": "nasa-tlx", "answers": {"mental": 55, ...}}
+
+which is checked (every item, on its scale) and appended to the block's
+``questionnaires.jsonl``: participant, session, condition, block, protocol, the questionnaire,
+its answers and scores, and the wall time. :class:`LiveInputError` says what was wrong.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Sequence
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from pil.errors import quote
+from robin_sim.live.config import LiveConfig
+from robin_sim.live.inputs import LiveInputError
+from robin_sim.live.questionnaires import Questionnaire, QuestionnaireError
+
+QUESTIONNAIRES_NAME = "questionnaires.jsonl"
+MAX_ANSWER_BYTES = 16 * 1024  # a questionnaire's answers are a few hundred bytes
+
+
+class Questioning:
+    """The block's questionnaires in order; :meth:`receive` takes the page's answers."""
+
+    def __init__(
+        self, questionnaires: Sequence[Questionnaire], folder: Path, config: LiveConfig
+    ) -> None:
+        self.questionnaires, self.folder, self.config = tuple(questionnaires), folder, config
+        self.index = 0
+        self.shown_at = time.monotonic()
+
+    @property
+    def current(self) -> Questionnaire:
+        return self.questionnaires[self.index]
+
+    def status(self) -> dict[str, Any]:
+        """The page's status fields while a questionnaire is shown."""
+        return {"phase": "questionnaire", "turn": "participant", "robot_doing": "",
+                "message": "please answer the questionnaire",
+                "questionnaire": self.current.as_dict(),
+                "questionnaire_number": self.index + 1,
+                "questionnaires": len(self.questionnaires)}  # fmt: skip
+
+    def receive(self, raw: str | bytes) -> bool:
+        """Check and save one page message; True once the block's last one is answered."""
+        message = _decode(raw)
+        name = message.get("questionnaire")
+        if name != self.current.name:
+            raise LiveInputError(f"answers: the questionnaire shown is {self.current.name!r}, "
+                                 f"got {quote(name)}")  # fmt: skip
+        try:
+            answers = self.current.check_answers(message.get("answers"))
+        except QuestionnaireError as error:
+            raise LiveInputError(str(error)) from None
+        self._save(answers)
+        self.index += 1
+        self.shown_at = time.monotonic()
+        return self.index >= len(self.questionnaires)
+
+    def _save(self, answers: dict[str, int]) -> None:
+        config, questionnaire = self.config, self.current
+        entry = {
+            "participant": config.participant, "session": self.folder.name,
+            "condition": config.system, "block": config.block, "protocol": config.protocol,
+            "questionnaire": questionnaire.name, "kind": questionnaire.kind,
+            "answers": answers, "scores": questionnaire.scores(answers),
+            "seconds_to_answer": round(time.monotonic() - self.shown_at, 1),
+            "utc": datetime.now(UTC).isoformat(timespec="seconds"),
+        }  # fmt: skip
+        try:
+            with (self.folder / QUESTIONNAIRES_NAME).open("a", encoding="utf-8") as file:
+                file.write(json.dumps(entry) + "\n")
+                file.flush()
+        except OSError as error:  # the page is told; the answers stay on it to send again
+            raise LiveInputError(f"the answers could not be saved ({error.strerror}); tell the "
+                                 "experimenter") from None  # fmt: skip
+
+
+def _decode(raw: str | bytes) -> dict[str, Any]:
+    if len(raw) > MAX_ANSWER_BYTES:
+        raise LiveInputError(f"answers: message of {len(raw)} bytes is too long (at most "
+                             f"{MAX_ANSWER_BYTES})")  # fmt: skip
+    try:
+        message = json.loads(raw)
+    except (ValueError, RecursionError):
+        raise LiveInputError("answers: not a JSON message; send {\"type\": \"answers\", "
+                             "\"questionnaire\": NAME, \"answers\": {ITEM: NUMBER, ...}}") from None
+    if not isinstance(message, dict) or message.get("type") != "answers":
+        kind = message.get("type") if isinstance(message, dict) else None
+        raise LiveInputError(f"{kind or 'message'}: a questionnaire is shown; answer it first "
+                             "(send type 'answers')")  # fmt: skip
+    return message

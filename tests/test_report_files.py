@@ -1,0 +1,116 @@
+"""``robin-pil report`` on hostile files: every bad number refused before anything is written,
+session folders without a readable summary listed, an unwritable --out one clear line."""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from pathlib import Path
+
+import pytest
+from test_sessions_report import summary, write
+
+from robin_sim.cli.main import main
+
+GOOD = "system,rate,gestures,actions\npil,1.0,3,4\nc1,1.0,4,6\npil,1.0,3,5\nc1,1.0,5,6\n"
+
+
+def refused(argv: list[str], capsys: pytest.CaptureFixture[str], *needles: str) -> str:
+    code = main(argv)
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert code == 2, err
+    assert len(lines) == 1 and lines[0].startswith("robin-pil report: error: "), err
+    for needle in needles:
+        assert needle in lines[0], (needle, lines[0])
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("cell", "column"),
+    [("nan", "gestures"), ("inf", "gestures"), ("-inf", "actions"), ("9" * 400, "gestures"),
+     ("1e400", "actions"), ("abc", "rate")],
+)  # fmt: skip
+def test_a_bad_csv_cell_is_refused_and_nothing_is_written(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], cell: str, column: str
+) -> None:
+    rows = GOOD.splitlines()
+    header = rows[0].split(",")
+    cells = rows[2].split(",")
+    cells[header.index(column)] = cell
+    results = tmp_path / "results.csv"
+    results.write_text("\n".join([rows[0], rows[1], ",".join(cells), *rows[3:]]) + "\n")
+    out = tmp_path / "report"
+    refused(["report", str(results), "--out", str(out)], capsys, repr(column))
+    assert not out.exists()  # no empty folder, no summary.md of a refused file
+
+
+def test_a_good_csv_still_reports(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    results = tmp_path / "results.csv"
+    results.write_text(GOOD)
+    assert main(["report", str(results), "--out", str(tmp_path / "r")]) == 0
+    assert "pil" in (tmp_path / "r" / "summary.md").read_text()
+
+
+def test_an_unwritable_or_too_long_out_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    results = tmp_path / "results.csv"
+    results.write_text(GOOD)
+    for out in ("/proc/robin-pil-x", str(tmp_path / ("x" * 300)), str(results / "sub")):
+        refused(["report", str(results), "--out", out], capsys, "--out")
+
+
+@pytest.mark.parametrize("text", ["NaN", "Infinity", "-Infinity", "9" * 400, "9" * 5000])
+def test_a_bad_number_in_a_session_summary_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], text: str
+) -> None:
+    write(tmp_path / "live", summary("P01", "s1", "pil", {}))
+    path = write(tmp_path / "live", summary("P02", "s1", "pil", {}))
+    path.write_text(path.read_text().replace('"gestures": 14', f'"gestures": {text}'))
+    out = tmp_path / "report"
+    refused(["report", str(tmp_path / "live"), "--out", str(out)], capsys, "P02")
+    assert not out.exists()
+
+
+def test_dangling_and_killed_sessions_are_listed(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    live = tmp_path / "live"
+    for k, condition in enumerate(["pil", "pil", "proactive", "proactive"]):
+        write(live, summary(f"P0{k}", "s1", condition, {"gestures": 10 + k}))
+    dangling = live / "P05" / "s1"
+    dangling.mkdir(parents=True)
+    (dangling / "summary.json").symlink_to(tmp_path / "gone.json")
+    killed = live / "P06" / "s1"
+    killed.mkdir(parents=True)
+    (killed / "inputs.jsonl").write_text(json.dumps({"t": 0}) + "\n")
+    out = tmp_path / "report"
+    assert main(["report", str(live), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "P05/s1" in err and "does not exist" in err
+    assert "P06/s1" in err and "killed" in err
+    report = (out / "report.md").read_text()
+    assert "## Not reported" in report and "`P05/s1`" in report and "`P06/s1`" in report
+
+
+def test_a_device_or_fifo_as_results_is_refused_at_once(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    fifo = tmp_path / "results.csv"
+    os.mkfifo(fifo)
+    started = time.monotonic()
+    for path in ("/dev/zero", str(fifo)):
+        refused(["report", path, "--out", str(tmp_path / "r")], capsys, "not a regular file")
+    assert time.monotonic() - started < 10
+    assert not (tmp_path / "r").exists()
+
+
+def test_a_folder_of_killed_sessions_only_says_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    killed = tmp_path / "live" / "P01" / "s1"
+    killed.mkdir(parents=True)
+    (killed / "inputs.jsonl").write_text("{}\n")
+    refused(["report", str(tmp_path / "live")], capsys, "nothing to report", "P01/s1", "killed")
