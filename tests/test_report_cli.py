@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 from scipy.stats import ttest_rel
 
+from pil.experiments.results_report import grid_axes, with_physical, write_report
 from pil.experiments.sweep_exec import execute_run
 from pil.experiments.sweep_grid import build_grid, load_target
 from pil.experiments.sweep_store import RunStore, make_record, rows_to_csv
 from robin_sim.cli import main as cli
-from robin_sim.cli.report import grid_axes, with_physical, write_report
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

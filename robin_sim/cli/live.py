@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from robin_sim.cli.options import parse_port
 
 MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-character name
 
@@ -56,18 +57,6 @@ def _system_help() -> str:
     from pil.experiments.systems import SYSTEM_SPECS
 
     return f"the learner system (default: %(default)s), one of {', '.join(SYSTEM_SPECS)}"
-
-
-def parse_port(text: str) -> int:
-    """``--port`` as a whole number in [0, 65535]."""
-    try:
-        port = int(str(text).strip())
-    except ValueError:
-        raise RobinPilError(f"--port must be a whole number from 1 to 65535 (0: any free "
-                            f"port), got {quote(text)}") from None  # fmt: skip
-    if not 0 <= port <= 65535:
-        raise RobinPilError(f"--port must lie from 1 to 65535 (0: any free port), got {port}")
-    return port
 
 
 def parse_speed(text: str) -> float:

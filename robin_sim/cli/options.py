@@ -8,7 +8,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError, check_rate, quote
 
 
 def parse_rates(text: str) -> tuple[float, ...]:
@@ -126,3 +126,15 @@ def run_seed_studies(
     written = write_tests_over_seeds(args.out, seeds, within, title)
     print(f"{len(seeds)} studies; wrote " + ", ".join(str(p) for p in written))
     return 0
+
+
+def parse_port(text: str) -> int:
+    """``--port`` as a whole number in [0, 65535]."""
+    try:
+        port = int(str(text).strip())
+    except ValueError:
+        raise RobinPilError(f"--port must be a whole number from 1 to 65535 (0: any free "
+                            f"port), got {quote(text)}") from None  # fmt: skip
+    if not 0 <= port <= 65535:
+        raise RobinPilError(f"--port must lie from 1 to 65535 (0: any free port), got {port}")
+    return port

@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
 
         check_display()  # before the states are read
     elif args.serve:
-        from robin_sim.cli.live import parse_port
+        from robin_sim.cli.options import parse_port
 
         port = parse_port(args.port)
     else:

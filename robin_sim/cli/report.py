@@ -1,13 +1,6 @@
 """``robin-pil report``: summary table, paired tests and figures for a results CSV.
 
-Works on a sweep's ``results.csv`` and on a study CSV. The grouping follows the grid that was
-run: detection rate plus every parameter the sweep varied (the columns a sweep writes between
-``rate`` and ``rep``). Failed runs are counted and left out of the statistics. For physical
-runs (a ``legs_delivered`` column) the report adds the share of legs delivered (in %) and the
-physical failures per rate. The baseline is compared with every other system per grid cell:
-a sweep gives every system of one cell and repetition the same seed, so the runs pair by
-``rep`` and ``seed`` (paired t and Wilcoxon, :mod:`pil.experiments.stats`); where they do not
-(a failed run, another seed) Welch's test is used and ``tests.csv`` says so.
+Works on a sweep's ``results.csv`` and on a study CSV (:mod:`pil.experiments.results_report`).
 
 Given a folder instead, the report looks at what it holds: live sessions
 (``<participant>/<session>/summary.json`` with a ``"live"`` block, from ``robin-pil live``) get
@@ -18,15 +11,11 @@ reported from its ``runs.csv`` / ``results.csv``; anything else is refused namin
 from __future__ import annotations
 
 import argparse
-import re
 import sys
-from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
 
-METRICS: tuple[str, ...] = ("total_gestures", "total_actions", "gestures", "actions")
-PHYSICAL_METRICS: tuple[str, ...] = ("legs_delivered_percent", "physical_failures")
-BASELINE = "pil"
+from pil.experiments.results_report import BASELINE, METRICS
+
 RESULTS_FILES: tuple[str, ...] = ("results.csv", "runs.csv")  # a sweep's, a study's
 
 
@@ -77,6 +66,8 @@ def run(args: argparse.Namespace) -> int:
     if baseline not in systems:  # asked for by name: an unknown one is an error
         raise InvalidChoiceError("baseline system", baseline, systems)
     out = args.out if args.out is not None else args.results.parent / "report"
+    from pil.experiments.results_report import write_report
+
     for path in write_report(args.results, out, metrics=metrics, baseline=baseline):
         print(path)
     return 0
@@ -123,153 +114,3 @@ def run_folder(args: argparse.Namespace) -> int:
         f"{folder}: nothing to report{found}; expected {EXPECTED}, or a study or sweep folder "
         f"(with {' or '.join(RESULTS_FILES)}), or a results CSV"
     )
-
-
-def grid_axes(rows: Sequence[Mapping[str, Any]]) -> list[str]:
-    """``rate`` plus the swept parameters (sweep columns between rate and rep, > 1 value)."""
-    columns = list(rows[0])
-    axes = ["rate"] if "rate" in columns else []
-    if {"run_id", "rate", "rep"} <= set(columns):
-        between = columns[columns.index("rate") + 1 : columns.index("rep")]
-        axes += [c for c in between if len({str(r[c]) for r in rows}) > 1]
-    return axes
-
-
-def with_physical(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """Physical rows plus ``legs_delivered_percent`` (100 x legs delivered / legs of the task).
-
-    The task's legs are ``legs_total`` where the run wrote it, else ``tables`` x
-    ``legs_per_table`` (a column where the sweep set it, else 4); without either the run's own
-    ``legs_delivered_fraction`` is used. Rows without ``legs_delivered`` (learner runs) are
-    returned unchanged.
-    """
-    from pil.experiments.report import number
-    from pil.task.scenario import ASSEMBLY_DEFAULTS
-
-    out = []
-    for row in rows:
-        row = dict(row)
-        if "legs_delivered" in row:
-            if row.get("legs_total") not in (None, ""):
-                legs = number(row["legs_total"], "legs_total")
-                delivered = number(row["legs_delivered"], "legs_delivered")
-                fraction = delivered / legs if legs > 0 else float("nan")
-            elif row.get("tables") not in (None, ""):
-                per_table = row.get("legs_per_table")
-                legs = number(row["tables"], "tables") * (
-                    number(per_table, "legs_per_table")
-                    if per_table not in (None, "")
-                    else ASSEMBLY_DEFAULTS["legs_per_table"]
-                )
-                delivered = number(row["legs_delivered"], "legs_delivered")
-                fraction = delivered / legs if legs > 0 else float("nan")
-            else:
-                fraction = number(row.get("legs_delivered_fraction"), "legs_delivered_fraction")
-            row["legs_delivered_percent"] = 100.0 * fraction
-        out.append(row)
-    return out
-
-
-def write_report(
-    results: str | Path,
-    out: str | Path,
-    *,
-    metrics: Sequence[str] | None = None,
-    baseline: str = BASELINE,
-) -> list[Path]:
-    """Write ``summary.md``, ``tests.csv`` and one PNG per metric (and swept cell) to ``out``."""
-    from pil.atomic import write_text_atomic
-    from pil.experiments.figures import plot_metric
-    from pil.experiments.report import (
-        ReportError,
-        check_columns,
-        load_rows,
-        number,
-        summary_markdown,
-    )
-    from pil.experiments.stats import (
-        WILCOXON,
-        compare,
-        csv_columns,
-        describe_tests,
-        measures,
-        tests_markdown,
-    )
-    from pil.experiments.study_tests import READINGS
-    from pil.experiments.sweep_store import rows_to_csv
-    from pil.outdir import check_out_dir
-
-    results, out = Path(results), Path(out)
-    rows = load_rows(results)
-    failed = [r for r in rows if r.get("status", "ok") != "ok"]
-    rows = with_physical([r for r in rows if r.get("status", "ok") == "ok"])
-    if not rows:
-        raise ReportError(f"{results}: all {len(failed)} runs failed; nothing to summarise")
-    physical = "legs_delivered" in rows[0]
-    if metrics is None:
-        metrics = [m for m in METRICS if m in rows[0]]
-        metrics += [m for m in PHYSICAL_METRICS if physical and m in rows[0]]
-    check_columns(rows, metrics)
-    if not metrics:
-        raise ReportError(f"{results}: none of the metrics {', '.join(METRICS)} is a column")
-    axes = grid_axes(rows)
-    has_system = "system" in rows[0]
-    group_by = [*axes, "system"] if has_system else axes
-    numeric = [*metrics, *(["rate"] if "rate" in axes else [])]
-    for row in rows:  # every number checked before anything is written
-        for column in numeric:
-            number(row[column], column)
-    check_out_dir(out)
-
-    lines = [
-        f"# Report: {results.name}",
-        "",
-        f"{len(rows)} runs summarised; {len(failed)} failed runs left out.",
-        "",
-    ]
-    if failed:
-        lines += (
-            ["Failed runs:", ""]
-            + [f"- `{r.get('run_id', '?')}`: {r.get('error', '')}" for r in failed[:20]]
-            + [""]
-        )
-    lines += ["## Summary (mean ± sd)", "", summary_markdown(rows, group_by, metrics), ""]
-    if physical:
-        counts = [m for m in PHYSICAL_METRICS if m in rows[0]]
-        lines += ["## Physical outcome per rate", "", summary_markdown(rows, group_by, counts), ""]
-    written = [out / "summary.md"]
-    systems = {str(r["system"]) for r in rows} if has_system else set()
-    if baseline in systems and len(systems) > 1:
-        pair_by = [c for c in ("rep", "seed") if c in rows[0]]
-        tests = compare(rows, baseline, compare_by="system", within=axes,
-                        metrics=measures(metrics, READINGS), pair_by=pair_by)  # fmt: skip
-        lines += [
-            f"## Paired tests: {baseline} against each other system",
-            "",
-            describe_tests(tests) + " All rows in `tests.csv`.",
-            "",
-            tests_markdown([t for t in tests if t["test"] != WILCOXON], within=axes),
-            "",
-        ]
-        write_text_atomic(out / "tests.csv", rows_to_csv(tests, csv_columns(axes)))
-        written.append(out / "tests.csv")
-    else:
-        lines += [f"No tests: the results hold no {baseline!r} rows next to other systems.", ""]
-    write_text_atomic(out / "summary.md", "\n".join(lines))
-
-    if has_system and axes and axes[0] == "rate":
-        cells = _cells(rows, axes[1:])
-        for metric in metrics:
-            for label, members in cells.items():
-                name = f"{metric}{label}.png"
-                written.append(plot_metric(members, metric, out / name, ("rate", "system")))
-    return written
-
-
-def _cells(rows: Sequence[Mapping[str, Any]], names: Sequence[str]) -> dict[str, list[Any]]:
-    """Rows split by the values of ``names`` -> file-name suffix (``""`` when no names)."""
-    cells: dict[str, list[Any]] = {}
-    for row in rows:
-        label = "".join(f"_{n}={row[n]}" for n in names)
-        cells.setdefault(re.sub(r"[^\w=.+-]", "_", label), []).append(row)
-    return dict(sorted(cells.items()))

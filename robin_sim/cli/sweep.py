@@ -209,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
     for run_id in tally.failed_ids[:10]:
         _say(f"  failed: {run_id}")
     if not args.no_report and tally.ok + len(specs) - len(todo) > 0:
-        from robin_sim.cli.report import write_report
+        from pil.experiments.results_report import write_report
 
         try:
             for path in write_report(results, args.out / "report"):
