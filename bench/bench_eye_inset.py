@@ -1,106 +1,100 @@
-"""What the eye inset costs a video frame, against the same frame without it, in one run.
+"""What the eye inset costs a one-handover episode with video: with and without it, side by side.
 
-    python bench/bench_eye_inset.py [--frames 30] [--repeats 5]
+    python bench/bench_eye_inset.py [--size 640x480] [--fps 30] [--repeats 3] [--smoke]
 
-States come from a real PhysicalWorld while the person points at each leg and the head follows
-(so the eye view changes). Per frame, three cases are timed on the same states: the 640x480
-front-camera render with the overlay (the frame without inset), the 160x120 left-eye render of
-:class:`robin_sim.render.inset.EyeInset` alone, and the frame with the inset (main render,
-overlay, eye render, paste). Each figure is the median over ``--repeats`` runs of ``--frames``
-frames; the ratio is with-inset over without, measured in the same run. All rendering here is
-in this process (the episode renders the main frame in worker processes; the eye view is always
-rendered in the main process, once per video frame).
+Each run is a fresh ``robin-pil episode --scenario one_handover`` process (the same seed, so
+the same episode); runs with and without the inset (``--no-eye-inset``) alternate, so that a
+busy machine slows both alike. Per case the table gives the median over ``--repeats`` runs of
+the episode's wall time, the time it waited on rendering (``summary.json``'s
+``video.render_s``) and the wall time per video frame; the last column is the ratio of the
+medians, with the inset over without (the aim: at most 1.10). ``--smoke`` runs one tiny pair
+(160x120 at 5 fps) to check that the bench still works.
 """
 
 from __future__ import annotations
 
-from robin_sim.render.gl_backend import ensure_gl_backend
+import argparse
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
-BACKEND = ensure_gl_backend()  # before mujoco is imported
+import smoke  # bench/smoke.py: --smoke
 
-import argparse  # noqa: E402
-import statistics  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
-
-import mujoco  # noqa: E402
-
-from pil.task.world import Target  # noqa: E402
-from pil.types import Gesture  # noqa: E402
-from robin_sim.model.scene import build_model  # noqa: E402
-from robin_sim.person.body import PhysicalBody  # noqa: E402
-from robin_sim.render.inset import EyeInset, draw_eye_inset  # noqa: E402
-from robin_sim.render.overlay import OverlayInfo, draw_overlay  # noqa: E402
-from robin_sim.render.pool import FrameState  # noqa: E402
-from robin_sim.render.worker import apply_state, warmed_renderer  # noqa: E402
-from robin_sim.robot.world import PhysicalWorld  # noqa: E402
-
-WIDTH, HEIGHT = 640, 480
+CASES = {"without inset": ["--no-eye-inset"], "with inset": []}
 
 
-def states(count: int) -> list[FrameState]:
-    """``count`` frame states, 0.2 s apart, while the person points at the legs in turn."""
-    world = PhysicalWorld()
-    body = PhysicalBody(world)
-    found: list[FrameState] = []
-    leg = 0
-    while len(found) < count:
-        body.perform(Gesture.POINTING, Target("leg", leg % world.leg_count))
-        leg += 1
-        for _ in range(5):
-            world.run(0.2)
-            found.append(FrameState.capture(world.model, world.data))
-    return found[:count]
+def run_episode(out: Path, size: str, fps: int, extra: list[str]) -> dict:
+    """One episode in a fresh process; its summary."""
+    argv = [
+        sys.executable,
+        "-m",
+        "robin_sim.cli.main",
+        "episode",
+        "--scenario",
+        "one_handover",
+        "--size",
+        size,
+        "--fps",
+        str(fps),
+        "--no-verify",
+        "--no-progress",
+        "--json",
+        "--out",
+        str(out),
+        *extra,
+    ]
+    subprocess.run(argv, check=True, stdout=subprocess.DEVNULL)
+    return json.loads((out / "summary.json").read_text())
 
 
-def median_ms(
-    action: Callable[[FrameState], None], frames: list[FrameState], repeats: int
-) -> float:
-    """Median over ``repeats`` runs of the mean ms per frame of ``action``."""
-    runs = []
-    for _ in range(repeats):
-        started = time.perf_counter()
-        for state in frames:
-            action(state)
-        runs.append(1e3 * (time.perf_counter() - started) / len(frames))
-    return statistics.median(runs)
+def measure(size: str, fps: int, repeats: int) -> dict[str, list[dict]]:
+    """Summaries of ``repeats`` runs of each case, the cases alternating."""
+    found: dict[str, list[dict]] = {case: [] for case in CASES}
+    with tempfile.TemporaryDirectory() as folder:
+        for k in range(repeats):
+            for case, extra in CASES.items():
+                out = Path(folder) / f"{k}_{case.replace(' ', '_')}"
+                summary = run_episode(out, size, fps, extra)
+                found[case].append(summary)
+                print(
+                    f"  run {k + 1}/{repeats} {case}: {summary['wall_time_s']:.1f} s wall",
+                    file=sys.stderr,
+                    flush=True,
+                )
+    return found
+
+
+def table(found: dict[str, list[dict]]) -> str:
+    """The markdown table of the medians."""
+    rows = [
+        "| case | wall s | render wait s | frames | ms per frame | vs. without |",
+        "|---|---|---|---|---|---|",
+    ]
+    base = statistics.median(s["wall_time_s"] for s in found["without inset"])
+    for case, summaries in found.items():
+        wall = statistics.median(s["wall_time_s"] for s in summaries)
+        render = statistics.median(s["video"]["render_s"] for s in summaries)
+        frames = summaries[0]["video"]["frames"]
+        rows.append(
+            f"| {case} | {wall:.1f} | {render:.1f} | {frames} | "
+            f"{1e3 * wall / frames:.1f} | {wall / base:.2f}x |"
+        )
+    return "\n".join(rows)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--frames", type=int, default=30)
-    parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
-    frames = states(args.frames)
-    model = build_model(None)
-    data = mujoco.MjData(model)
-    main_renderer = warmed_renderer(model, (WIDTH, HEIGHT), "front", False)
-    eye = EyeInset(None, WIDTH, HEIGHT)
-    info = OverlayInfo(step=1, sim_time=0.0)
-
-    def without(state: FrameState) -> None:
-        apply_state(model, data, state)
-        draw_overlay(main_renderer.render(data), info)
-
-    def eye_only(state: FrameState) -> None:
-        eye.render(state)
-
-    def with_inset(state: FrameState) -> None:
-        apply_state(model, data, state)
-        frame = draw_overlay(main_renderer.render(data), info)
-        draw_eye_inset(frame, eye.render(state))
-
-    plain = median_ms(without, frames, args.repeats)
-    eye_ms = median_ms(eye_only, frames, args.repeats)
-    inset = median_ms(with_inset, frames, args.repeats)
-    print(f"GL backend {BACKEND}; {args.frames} frames, median of {args.repeats} runs")
-    print("| case | ms per frame | vs. without inset |")
-    print("|---|---|---|")
-    print(f"| 640x480 frame + overlay, no inset | {plain:.1f} | 1.00x |")
-    print(f"| 160x120 eye view alone | {eye_ms:.1f} | {eye_ms / plain:.2f}x |")
-    print(f"| 640x480 frame + overlay + eye inset | {inset:.1f} | {inset / plain:.2f}x |")
-    main_renderer.close()
-    eye.close()
+    parser.add_argument("--size", default="640x480", help="video size (default: %(default)s)")
+    parser.add_argument("--fps", type=int, default=30, help="video rate (default: %(default)s)")
+    parser.add_argument("--repeats", type=int, default=3, help="runs per case (default: 3)")
+    args = smoke.parse_args(parser, size="160x120", fps=5, repeats=1)
+    size, fps, repeats = args.size, args.fps, args.repeats
+    found = measure(size, fps, repeats)
+    print(f"one_handover episode, {size} at {fps} fps, median of {repeats} run(s) per case")
+    print(table(found))
 
 
 if __name__ == "__main__":

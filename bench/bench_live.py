@@ -25,6 +25,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -95,11 +97,15 @@ def with_browser(config: LiveConfig, seconds: float, browser: Any) -> dict[str, 
         )
         x, y = leg_pixel(config)
         box = page.locator("#scene").bounding_box()
-        page.mouse.click(box["x"] + (x + 0.5) * box["width"] / config.width,
-                         box["y"] + (y + 0.5) * box["height"] / config.height)  # fmt: skip
+        page.mouse.click(
+            box["x"] + (x + 0.5) * box["width"] / config.width,
+            box["y"] + (y + 0.5) * box["height"] / config.height,
+        )
         page.wait_for_timeout(WARMUP_S * 1000)
-        read = "() => [performance.now(), window.robinLive.received, window.robinLive.drawn, " \
-               "window.robinLive.latencies.length]"  # fmt: skip
+        read = (
+            "() => [performance.now(), window.robinLive.received, window.robinLive.drawn, "
+            "window.robinLive.latencies.length]"
+        )
         t0, received0, drawn0, _ = page.evaluate(read)
         page.wait_for_timeout(seconds * 1000)
         t1, received1, drawn1, count = page.evaluate(read)
@@ -123,26 +129,31 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--speed", type=float, default=1.0)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, runs=1, seconds=1.0)
     from playwright.sync_api import sync_playwright
 
     rows: list[dict[str, float]] = []
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, headless=True,
-                                             args=["--no-sandbox"])  # fmt: skip
+        browser = playwright.chromium.launch(
+            executable_path=CHROMIUM, headless=True, args=["--no-sandbox"]
+        )
         for run in range(args.runs):
             base = LiveConfig(out_root=Path(folder), speed=args.speed)
             row = engine_alone(replace(base, session=f"alone{run}"), args.seconds)
             row |= with_browser(replace(base, session=f"page{run}"), args.seconds, browser)
             rows.append(row)
-            print(f"run {run + 1}: " + ", ".join(f"{k} {v:.1f}" for k, v in row.items()),
-                  file=sys.stderr)  # fmt: skip
+            print(
+                f"run {run + 1}: " + ", ".join(f"{k} {v:.1f}" for k, v in row.items()),
+                file=sys.stderr,
+            )
         browser.close()
     median = {key: statistics.median(row[key] for row in rows) for key in rows[0]}
     load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
-    print(f"\nlive stream, 640x480 at 15 frames/s, speed {args.speed:g}x, "
-          f"{args.runs} runs of {args.seconds:g} s (median); load average {load} on "
-          f"{os.cpu_count()} CPUs\n")  # fmt: skip
+    print(
+        f"\nlive stream, 640x480 at 15 frames/s, speed {args.speed:g}x, "
+        f"{args.runs} runs of {args.seconds:g} s (median); load average {load} on "
+        f"{os.cpu_count()} CPUs\n"
+    )
     print(f"| {'figure':<34} | {'median':>8} | {'runs':<24} |")
     print(f"|{'-' * 36}|{'-' * 10}|{'-' * 26}|")
     for key, value in median.items():

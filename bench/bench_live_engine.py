@@ -25,6 +25,8 @@ printed as a table with the ratio to the baseline.
 
 from __future__ import annotations
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
@@ -60,8 +62,7 @@ CASES: dict[str, dict[str, object]] = {
 
 def one_run(root: Path, name: str, seconds: float, fps: int, **options: object) -> dict:
     """One session of ``seconds`` wall time after the first click; its live figures."""
-    config = LiveConfig(scenario="one_handover", out_root=root, session=name, fps=fps,
-                        **options)  # type: ignore[arg-type]  # fmt: skip
+    config = LiveConfig(scenario="one_handover", out_root=root, session=name, fps=fps, **options)  # type: ignore[arg-type]
     session = LiveSession(config)
     session.start()
     driver = Driver(session)
@@ -111,7 +112,7 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=8.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--fps", type=int, default=15)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, seconds=1.0, repeats=1)
     costs = part_costs()
     print("| part of a frame | ms |\n|---|---|")
     for name, ms in costs.items():
@@ -122,27 +123,35 @@ def main() -> None:
             for k, (case, options) in enumerate(CASES.items()):
                 live = one_run(Path(tmp), f"r{round_}c{k}", args.seconds, args.fps, **options)
                 results[case].append(live)
-                print(f"round {round_ + 1} {case}: {live['stream_fps']} frames/s, "
-                      f"latency {live['latency_ms']} ms, behind {live['behind_s']} s",
-                      flush=True)  # fmt: skip
+                print(
+                    f"round {round_ + 1} {case}: {live['stream_fps']} frames/s, "
+                    f"latency {live['latency_ms']} ms, behind {live['behind_s']} s",
+                    flush=True,
+                )
 
     def median(case: str, key: str, sub: str | None = None) -> float:
         values = [r[key][sub] if sub else r[key] for r in results[case]]
         return statistics.median(values)
 
     base = median(list(CASES)[-1], "stream_fps")
-    print(f"\n{BACKEND} rendering, {os.cpu_count()} CPUs, 640x480, target {args.fps} frames/s at 1x"
-          f" real time; medians of {args.repeats} runs of {args.seconds:.0f} s\n")  # fmt: skip
-    print("| case | frames/s | vs baseline | latency median ms | latency p95 ms | behind s "
-          "| ms a frame (physics thread) |")  # fmt: skip
+    print(
+        f"\n{BACKEND} rendering, {os.cpu_count()} CPUs, 640x480, target {args.fps} frames/s at 1x"
+        f" real time; medians of {args.repeats} runs of {args.seconds:.0f} s\n"
+    )
+    print(
+        "| case | frames/s | vs baseline | latency median ms | latency p95 ms | behind s "
+        "| ms a frame (physics thread) |"
+    )
     print("|---|---|---|---|---|---|---|")
     for case in CASES:
         fps = median(case, "stream_fps")
         latency = median(case, "latency_ms", "median"), median(case, "latency_ms", "p95")
         behind = median(case, "behind_s")
         busy = median(case, "frame_ms")
-        print(f"| {case} | {fps:.1f} | {fps / base:.2f}x | {latency[0]:.0f} | {latency[1]:.0f} "
-              f"| {behind:.2f} | {busy:.0f} |")  # fmt: skip
+        print(
+            f"| {case} | {fps:.1f} | {fps / base:.2f}x | {latency[0]:.0f} | {latency[1]:.0f} "
+            f"| {behind:.2f} | {busy:.0f} |"
+        )
 
 
 if __name__ == "__main__":

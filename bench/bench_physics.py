@@ -20,6 +20,7 @@ from collections.abc import Callable
 
 import mujoco
 import numpy as np
+import smoke  # bench/smoke.py: --smoke
 
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture
@@ -68,7 +69,7 @@ def handover(world: PhysicalWorld) -> dict[Action, float]:
     for action in HANDOVER:
         before = world.time
         body.perform(GESTURE_OF[action], target if action is Action.OBJECT else None)
-        world.execute(action, target if action is Action.OBJECT else None, True)
+        world.execute(action, target if action is Action.OBJECT else None, None)
         assert world.last_result is not None and world.last_result.succeeded, action
         body.show_feedback(Feedback.OK)
         body.after_feedback(Feedback.OK)
@@ -103,8 +104,8 @@ def controlled_run(
 def held_leg_state() -> tuple[mujoco.MjModel, mujoco.MjData]:
     """The scene with leg 0 grasped and lifted (a contact-rich state for the raw ceiling)."""
     world = PhysicalWorld()
-    world.execute(Action.OBJECT, Target("leg", 0), True)
-    world.execute(Action.CLOSE, None, True)
+    world.execute(Action.OBJECT, Target("leg", 0), None)
+    world.execute(Action.CLOSE, None, None)
     here = world.sim.commanded_site_pose()
     up = pose(here.translation() + np.array([0.0, 0.0, 0.15]), here.rotation().wxyz)
     world.sim.execute(world.sim.plan(through([here, up])))
@@ -128,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=5, help="runs per figure (median)")
     parser.add_argument("--steps", type=int, default=5000, help="mj_step calls per raw run")
-    args = parser.parse_args(argv)
+    args = smoke.parse_args(parser, argv, repeats=1, steps=200)
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 

@@ -1,11 +1,14 @@
-"""Can Robin see the pointing hand? Pointing read right per leg and spot, per hand height.
+"""Can Robin see the pointing hand? Pointing read right per leg and spot, per arm state.
 
-Run: ``python bench/bench_pointing_view.py [--tries 10] [--raise 0,0.15,0.2] [--heldout 336]``.
-For each height the drawn-back pointing hand is raised to (``POINT_RAISE``, m), the person
-points ``--tries`` times at each of the default table's four legs and four spots (a new
-performance each time, arm at home), Robin reads the gesture with its eye cameras, and the
-table prints how often it read "pointing" and how often both eyes found the hand. The robot's
-own left upper arm hides a hand held low above the left legs and spots.
+Run: ``python bench/bench_pointing_view.py [--tries 5] [--states home,open] [--raise 0.2]
+[--heldout 336]``. The arm is brought by real actions to each state it is in when the person
+points during an episode (:mod:`robin_sim.vision.arm_states`: home, at a leg, closed on it,
+holding it over the palm, after the open over the palm, holding a leg over a spot, after the
+open over the spot); there the person points ``--tries`` times at each leg on the table and each
+spot (a new performance each time), Robin reads the gesture with its eye cameras, and the table
+prints how often it read "pointing", how often both eyes found the hand and the smallest hand
+box (pixels tall; Robin's own hand in the way cuts the box short). ``--raise`` sets how far
+the drawn-back pointing hand is raised (``POINT_RAISE``, m; a comma list).
 
 ``--heldout N``: the shipped model on the first N samples of the held-out split (skin tones and
 light never trained on, all seven classes) rendered where the data set put them and again with
@@ -18,11 +21,13 @@ from __future__ import annotations
 import argparse
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from dataclasses import replace  # noqa: E402
+from dataclasses import dataclass, field, replace  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -30,6 +35,7 @@ import robin_sim.person.body as body_module  # noqa: E402
 from pil.task.world import Target  # noqa: E402
 from pil.types import Gesture  # noqa: E402
 from robin_sim.robot.world import PhysicalWorld  # noqa: E402
+from robin_sim.vision.arm_states import ARM_STATES, arm_states, on_table  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE, load_shipped  # noqa: E402
 from robin_sim.vision.dataset import PLACES, POINT_OFFSET, sample_spec  # noqa: E402
 from robin_sim.vision.detector import VisionDetector  # noqa: E402
@@ -39,25 +45,45 @@ from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES  # noqa: E4
 TARGETS = [Target("leg", k) for k in range(4)] + [Target("spot", k) for k in range(4)]
 
 
-def measure(raise_by: float, tries: int) -> tuple[list[int], list[int], int]:
-    """(read right, both eyes found) per target, and the person's contacts with the robot."""
+@dataclass
+class StateRow:
+    """One arm state's counts: per target (read right, tries), both eyes found, box heights."""
+
+    state: str
+    right: dict[str, int] = field(default_factory=dict)
+    tries: dict[str, int] = field(default_factory=dict)
+    both: int = 0
+    heights: list[int] = field(default_factory=list)
+
+
+def measure(raise_by: float, tries: int, states: set[str]) -> tuple[list[StateRow], int]:
+    """Per arm state the counts of :class:`StateRow`, and the person's contacts with the robot."""
     body_module.POINT_RAISE = raise_by  # the body reads it at each pointing
     world = PhysicalWorld()
-    world.start_table(0)
     body = body_module.PhysicalBody(world)
     detector = VisionDetector(world.sim, display=body.display, seed=1)
-    right, found = [], []
-    for target in TARGETS:
-        ok = both = 0
-        for _ in range(tries):
-            body.perform(Gesture.POINTING, target)
-            ok += detector.detect(Gesture.POINTING) is Gesture.POINTING
-            both += all(box is not None for box in detector.records[-1].boxes)
-            body.rest()
-        right.append(ok)
-        found.append(both)
-    detector.close()
-    return right, found, world.person_contacts.events
+    rows = []
+    try:
+        for state in arm_states(world, body):
+            if state not in states:
+                continue
+            row = StateRow(state)
+            for target in TARGETS:
+                if not on_table(world, target):
+                    continue
+                name = f"{target.kind} {target.index}"
+                row.right[name], row.tries[name] = 0, tries
+                for _ in range(tries):
+                    body.perform(Gesture.POINTING, target)
+                    row.right[name] += detector.detect(Gesture.POINTING) is Gesture.POINTING
+                    boxes = detector.records[-1].boxes
+                    row.both += all(box is not None for box in boxes)
+                    row.heights.append(min((b[3] for b in boxes if b is not None), default=0))
+                    body.rest()
+            rows.append(row)
+    finally:
+        detector.close()
+    return rows, world.person_contacts.events
 
 
 def heldout(samples: int, moved: bool) -> tuple[float, float, float]:
@@ -91,10 +117,11 @@ def heldout(samples: int, moved: bool) -> tuple[float, float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--tries", type=int, default=10)
-    parser.add_argument("--raise", dest="heights", default="0,0.15,0.2", help="m, comma list")
+    parser.add_argument("--tries", type=int, default=5)
+    parser.add_argument("--states", default=",".join(ARM_STATES), help="arm states, comma list")
+    parser.add_argument("--raise", dest="heights", default="0.2", help="m, comma list")
     parser.add_argument("--heldout", type=int, default=0, help="held-out samples (0: skip)")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, tries=1, heights="0", heldout=0)
     if args.heldout:
         print("| held-out samples' hand | hands found | accuracy (7 classes) | in context |")
         print("|---|---|---|---|")
@@ -102,18 +129,24 @@ def main() -> None:
             found, right, in_context = heldout(args.heldout, moved)
             print(f"| {where} | {found:.1%} | {right:.1%} | {in_context:.1%} |", flush=True)
     names = [f"{t.kind} {t.index}" for t in TARGETS]
-    print("| raised (m) | " + " | ".join(names) + " | all | both eyes found | contacts |")
-    print("|---" * (len(names) + 4) + "|")
     for text in args.heights.split(","):
         started = time.perf_counter()
-        right, found, contacts = measure(float(text), args.tries)
-        cells = " | ".join(f"{r}/{args.tries}" for r in right)
-        total = len(TARGETS) * args.tries
-        print(
-            f"| {float(text):g} | {cells} | {sum(right)}/{total} | {sum(found)}/{total} "
-            f"| {contacts} |  ({time.perf_counter() - started:.0f} s)",
-            flush=True,
-        )
+        rows, contacts = measure(float(text), args.tries, set(args.states.split(",")))
+        print(f"\ndrawn-back hand raised {float(text):g} m, {args.tries} tries per cell")
+        head = " | ".join(names) + " | all | both eyes found | smallest box (px) |"
+        print("| arm state | " + head)
+        print("|---" * (len(names) + 4) + "|")
+        for row in rows:
+            cells = " | ".join(
+                f"{row.right[n]}/{row.tries[n]}" if n in row.right else "-" for n in names
+            )
+            total = sum(row.tries.values())
+            print(
+                f"| {row.state} | {cells} | {sum(row.right.values())}/{total} "
+                f"| {row.both}/{total} | {min(row.heights)} |",
+                flush=True,
+            )
+        print(f"person contacts: {contacts}  ({time.perf_counter() - started:.0f} s)")
 
 
 if __name__ == "__main__":

@@ -13,6 +13,8 @@ Without ``--model`` the project scene is used when it exists, else a small built
 
 from __future__ import annotations
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
@@ -74,7 +76,7 @@ def main() -> None:
     parser.add_argument("--model", help="MJCF scene to render (default: the project scene)")
     parser.add_argument("--frames", type=int, default=10, help="frames per timed run")
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per figure")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, frames=2, repeats=1)
     model, source = load_model(args.model)
     data = mujoco.MjData(model)
     mujoco.mj_resetData(model, data)

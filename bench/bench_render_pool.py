@@ -13,6 +13,8 @@ baseline, and the cost of moving one 640x480 frame through a pipe (what a worker
 
 from __future__ import annotations
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 BACKEND = ensure_gl_backend()  # before mujoco is imported
@@ -112,7 +114,7 @@ def main() -> None:
     parser.add_argument(
         "--threads", type=int, nargs="+", default=[0, 1], help="llvmpipe threads per worker"
     )
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, frames=3, repeats=1, workers=[0, 1], threads=[0])
     rollout = Rollout()
     model, data = rollout.model, rollout.data
 

@@ -14,6 +14,8 @@ import random
 import statistics
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.experiments.study import StudyConfig, run_study
 
 
@@ -43,8 +45,9 @@ def baseline(decisions: int) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
-    args = parser.parse_args()
-    config = StudyConfig()
+    parser.add_argument("--reps", type=int, default=StudyConfig.reps, help="study repetitions")
+    args = smoke.parse_args(parser, repeats=1, reps=1)
+    config = StudyConfig(reps=args.reps)
     times, base_times = [], []
     decisions = 0
     for _ in range(args.repeats):
@@ -56,10 +59,14 @@ def main() -> None:
     med, base = statistics.median(times), statistics.median(base_times)
     print(f"default study: {config.runs()} runs, {decisions} robot decisions per study")
     print(f"{'what':<28}{'median s':>10}{'min s':>10}{'max s':>10}{'decisions/s':>14}")
-    print(f"{'study computation':<28}{med:>10.3f}{min(times):>10.3f}{max(times):>10.3f}"
-          f"{decisions / med:>14,.0f}")  # fmt: skip
-    print(f"{'baseline (draw + lookup)':<28}{base:>10.4f}{min(base_times):>10.4f}"
-          f"{max(base_times):>10.4f}{decisions / base:>14,.0f}")  # fmt: skip
+    print(
+        f"{'study computation':<28}{med:>10.3f}{min(times):>10.3f}{max(times):>10.3f}"
+        f"{decisions / med:>14,.0f}"
+    )
+    print(
+        f"{'baseline (draw + lookup)':<28}{base:>10.4f}{min(base_times):>10.4f}"
+        f"{max(base_times):>10.4f}{decisions / base:>14,.0f}"
+    )
     print(f"ratio study / baseline: {med / base:.1f}x")
 
 

@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.experiments.sweep_backends import Backend, DaskBackend, LocalBackend
 from pil.experiments.sweep_exec import execute
 from pil.experiments.sweep_grid import (
@@ -105,8 +107,7 @@ def specs_for(
 ) -> tuple[str, list[RunSpec]]:
     """The run function and the runs of a grid of ``kind``."""
     target = load_target(kind)
-    grid = build_grid(target, systems=systems, rates=rates, reps=reps, tables=tables,
-                      params=params)  # fmt: skip
+    grid = build_grid(target, systems=systems, rates=rates, reps=reps, tables=tables, params=params)
     return target.function, grid.runs()
 
 
@@ -164,15 +165,22 @@ def main() -> None:
     parser.add_argument("--physical-repeats", type=int, default=3)
     parser.add_argument("--physical-legs", type=int, default=1, help="legs per physical run")
     parser.add_argument("--no-dask", action="store_true")
-    args = parser.parse_args()
+    args = smoke.parse_args(
+        parser, repeats=1, learner_reps=1, physical_runs=1, physical_repeats=1, no_dask=True
+    )
 
     load_before = os.getloadavg()
     cluster = None
     if not args.no_dask:
         from distributed import LocalCluster
 
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None)  # fmt: skip
+        cluster = LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+        )
     address = None if cluster is None else cluster.scheduler_address
     try:
         function, specs = specs_for("learner", args.learner_reps, 10)
@@ -189,8 +197,9 @@ def main() -> None:
             function, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
             ordered = longest_first(specs, load_target("physical"))
             try:
-                rows += bench_kind("physical", function, specs, args.physical_repeats, address,
-                                   ordered)  # fmt: skip
+                rows += bench_kind(
+                    "physical", function, specs, args.physical_repeats, address, ordered
+                )
             except RuntimeError as error:
                 physical_note = f"physical: not measured ({error})"
     finally:
@@ -201,8 +210,10 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     for kind, executor, n, seconds, busy, speedup in rows:
         busy_text = "n/a" if busy != busy else f"{100 * busy:.0f} %"
-        print(f"| {kind} | {executor} | {n} | {seconds:.2f} | {seconds / n:.3f} | "
-              f"{n / seconds:.1f} | {speedup} | {busy_text} |")  # fmt: skip
+        print(
+            f"| {kind} | {executor} | {n} | {seconds:.2f} | {seconds / n:.3f} | "
+            f"{n / seconds:.1f} | {speedup} | {busy_text} |"
+        )
     print(
         f"\nmedians of {args.repeats} (learner) / {args.physical_repeats} (physical) sweeps; "
         "workers busy = time inside runs / (sweep time x workers)"

@@ -15,6 +15,8 @@ import argparse
 import statistics
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -38,7 +40,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--reads", type=int, default=40)
     parser.add_argument("--size", type=int, default=112, help="eye image side, pixels")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, reads=2)
     scene = SampleRenderer()
     eyes = EyeCameras(scene.model, size=args.size)
     model = load_shipped()

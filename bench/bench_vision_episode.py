@@ -16,6 +16,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import smoke  # bench/smoke.py: --smoke
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
@@ -30,9 +32,13 @@ def one(scenario: Path, detector: str, video: bool) -> tuple[float, float, int]:
     """(wall s, simulated s, readings) of one episode."""
     with tempfile.TemporaryDirectory() as folder:
         config = EpisodeConfig(
-            scenario=scenario, out=Path(folder), video=video, verify=False, progress=False,
+            scenario=scenario,
+            out=Path(folder),
+            video=video,
+            verify=False,
+            progress=False,
             params={"detector": detector},
-        )  # fmt: skip
+        )
         started = time.perf_counter()
         summary = run_episode(config)
         wall = time.perf_counter() - started
@@ -46,14 +52,16 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--video", action="store_true")
     parser.add_argument("--scenario", type=Path, default=SCENARIOS_DIR / "one_handover.yaml")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, repeats=1)
     runs: dict[str, list[tuple[float, float, int]]] = {d: [] for d in DETECTORS}
     for _ in range(args.repeats):
         for detector in DETECTORS:  # in turns: load changes hit both alike
             runs[detector].append(one(args.scenario, detector, args.video))
     walls = {d: statistics.median(r[0] for r in runs[d]) for d in DETECTORS}
-    print(f"{args.scenario.name}, {'video 640x480' if args.video else 'no video'}, "
-          f"median of {args.repeats}")  # fmt: skip
+    print(
+        f"{args.scenario.name}, {'video 640x480' if args.video else 'no video'}, "
+        f"median of {args.repeats}"
+    )
     print("| detector | wall s | simulated s | × real time | readings | wall × exact |")
     print("|---|---|---|---|---|---|")
     for detector in DETECTORS:

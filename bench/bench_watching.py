@@ -13,6 +13,8 @@ import argparse
 import statistics
 import time
 
+import smoke  # bench/smoke.py: --smoke
+
 from pil.task.world import Intent, Target
 from pil.types import Action, Feedback, Gesture
 from robin_sim.person.body import PhysicalBody
@@ -48,7 +50,7 @@ def handover(watching: bool) -> tuple[float, float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="runs per variant (median)")
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, repeats=1)
     runs: dict[bool, list[tuple[float, float]]] = {True: [], False: []}
     for _ in range(args.repeats):  # interleaved, so load from other processes hits both
         for watching in (False, True):

@@ -40,8 +40,10 @@ class Anticipation:
     @property
     def reason(self) -> str:
         """Why the robot acts now (for the log)."""
-        return (f"anticipated {self.state.gesture.value} (P={self.share:.2f} of "
-                f"{self.evidence}); best action")  # fmt: skip
+        return (
+            f"anticipated {self.state.gesture.value} (P={self.share:.2f} of "
+            f"{self.evidence}); best action"
+        )
 
 
 def check_threshold(threshold: float, min_count: int) -> tuple[float, int]:

@@ -200,8 +200,13 @@ class Learner:
         if not self.proactive:
             return None
         candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
-        return _anticipate(self.table, self._last_ok, candidates, self.proactive_threshold,
-                           self.proactive_min_count)  # fmt: skip
+        return _anticipate(
+            self.table,
+            self._last_ok,
+            candidates,
+            self.proactive_threshold,
+            self.proactive_min_count,
+        )
 
     # -- section III-B ----------------------------------------------------------------------
     def correct(self, state: State, previous_state: State | None) -> State | None:

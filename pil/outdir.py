@@ -33,9 +33,10 @@ def check_out_dir(path: str | os.PathLike[str], label: str = "--out") -> Path:
             if parent.exists() or parent.is_symlink():
                 if not parent.is_dir():
                     where = (
-                        "is a file" if parent == out
+                        "is a file"
+                        if parent == out
                         else f"lies under the file {quote(str(parent))}"
-                    )  # fmt: skip
+                    )
                     raise OutDirError(f"{label} {shown} {where}; give a folder (new or existing)")
                 break
         out.mkdir(parents=True, exist_ok=True)

@@ -78,8 +78,9 @@ def _source_id(previous: State | None) -> int:
 def _check_count(count: object, what: str) -> None:
     """A count must be a whole number >= 0 (not a bool, not a float such as 1.5 or 1.0)."""
     if isinstance(count, bool) or not isinstance(count, int) or count < 0:
-        raise RobinPilError(f"{what} must be a whole number >= 0 (counts never decrease), "
-                            f"got {count!r}")  # fmt: skip
+        raise RobinPilError(
+            f"{what} must be a whole number >= 0 (counts never decrease), got {count!r}"
+        )
 
 
 class AssociationTable:

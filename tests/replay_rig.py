@@ -40,8 +40,9 @@ def decoded_frames(path: Path, count: int) -> list[np.ndarray]:
 def frames_match(a: np.ndarray, b: np.ndarray) -> bool:
     """Whether two decoded frames are the same render, within the tolerance above."""
     difference = np.abs(a - b)
-    return bool(difference.mean() <= MEAN_LEVELS and (difference <= PIXEL_LEVELS).mean()
-                >= PIXEL_SHARE)  # fmt: skip
+    return bool(
+        difference.mean() <= MEAN_LEVELS and (difference <= PIXEL_LEVELS).mean() >= PIXEL_SHARE
+    )
 
 
 def check_episode_replay(out: Path, summary: dict, capsys: object, seconds: float = 6.0) -> None:
@@ -51,7 +52,11 @@ def check_episode_replay(out: Path, summary: dict, capsys: object, seconds: floa
     from robin_sim.cli.main import main
 
     assert sorted(p.name for p in out.iterdir()) == [
-        "episode.jsonl", "episode.mp4", STATES_NAME, "summary.json"]  # fmt: skip
+        "episode.jsonl",
+        "episode.mp4",
+        STATES_NAME,
+        "summary.json",
+    ]
     assert "states" not in json.dumps(summary)  # the summary is as before: no new field
     recorded = load_states(out / STATES_NAME)
     assert recorded.video_frames == summary["video"]["frames"]
@@ -73,9 +78,18 @@ def check_episode_replay(out: Path, summary: dict, capsys: object, seconds: floa
     assert "exists already" in capsys.readouterr().err  # type: ignore[attr-defined]
 
 
-META = {"kind": "episode", "layout": layout_dict(None), "size": [160, 120], "fps": 10,
-        "camera": "front", "shadows": False, "reflections": False, "eye_inset": True,
-        "overlay": False, "spots": []}  # fmt: skip
+META = {
+    "kind": "episode",
+    "layout": layout_dict(None),
+    "size": [160, 120],
+    "fps": 10,
+    "camera": "front",
+    "shadows": False,
+    "reflections": False,
+    "eye_inset": True,
+    "overlay": False,
+    "spots": [],
+}
 
 
 def recorded_run(folder: Path, frames: int = 6) -> Path:
@@ -101,8 +115,9 @@ def serving(path: Path) -> Iterator[int]:
     sock = bind("127.0.0.1", 0)
     loop = asyncio.new_event_loop()
     stop = asyncio.Event()
-    thread = threading.Thread(target=loop.run_until_complete,
-                              args=(serve_replay(recorded, sock, stop),), daemon=True)
+    thread = threading.Thread(
+        target=loop.run_until_complete, args=(serve_replay(recorded, sock, stop),), daemon=True
+    )
     thread.start()
     try:
         yield sock.getsockname()[1]

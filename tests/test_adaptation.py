@@ -21,8 +21,11 @@ from robin_sim.cli.main import main
 
 def test_the_shipped_change_and_its_script() -> None:
     change = load_change()
-    assert (change.from_table, change.gesture, change.action) == (6, Gesture.GIVE_ME,
-                                                                  Action.LOCATION)  # fmt: skip
+    assert (change.from_table, change.gesture, change.action) == (
+        6,
+        Gesture.GIVE_ME,
+        Action.LOCATION,
+    )
     scenario = change.scenario
     script = changed_script(scenario, change, derive_seeds(0)["test_draw"])
     first_changed = (change.from_table - 1) * scenario.legs_per_table
@@ -32,8 +35,12 @@ def test_the_shipped_change_and_its_script() -> None:
             assert item.intent.action is wanted
     a = scenario.type_named("A")
     remapped = remap(a, Gesture.GIVE_ME, Action.LOCATION)
-    assert [s.action for s in remapped.steps] == [Action.OBJECT, Action.CLOSE, Action.LOCATION,
-                                                  Action.OPEN]  # fmt: skip
+    assert [s.action for s in remapped.steps] == [
+        Action.OBJECT,
+        Action.CLOSE,
+        Action.LOCATION,
+        Action.OPEN,
+    ]
     assert remapped.steps[3].state.previous_action is Action.LOCATION  # states recomputed
 
 
@@ -72,11 +79,25 @@ def test_halving_adapts_sooner_and_pre_training_makes_a_stronger_habit() -> None
 
 
 def test_adapt_command_writes_csv_summary_and_figure(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
-    argv = ["adapt", "--systems", "pil,pil-halve", "--reps", "2", "--rates", "1.0",
-            "--out", str(tmp_path), "--no-progress"]  # fmt: skip
+    argv = [
+        "adapt",
+        "--systems",
+        "pil,pil-halve",
+        "--reps",
+        "2",
+        "--rates",
+        "1.0",
+        "--out",
+        str(tmp_path),
+        "--no-progress",
+    ]
     assert main(argv) == 0
-    assert {p.name for p in tmp_path.iterdir()} == {"adaptation.csv", "adaptation.md",
-                                                    "adaptation.png", "tests.csv"}  # fmt: skip
+    assert {p.name for p in tmp_path.iterdir()} == {
+        "adaptation.csv",
+        "adaptation.md",
+        "adaptation.png",
+        "tests.csv",
+    }
     text = (tmp_path / "adaptation.md").read_text()
     assert "| lost_rejections | - | 1.0 | pil | pil-halve | paired t | 2 | rep+seed |" in text
     assert main(["adapt", "--systems", "pil,robot", "--out", str(tmp_path / "x")]) == 2

@@ -164,10 +164,21 @@ def test_sweep_refuses_bad_scenarios_seeds_and_connections(
 
 def test_scheduler_not_an_address_prints_no_traceback(tmp_path: Path) -> None:
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", "sweep", "--scheduler", "notanaddress",
-         "--out", str(tmp_path / "s"), "--quiet"],
-        capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "sweep",
+            "--scheduler",
+            "notanaddress",
+            "--out",
+            str(tmp_path / "s"),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert done.returncode == 2
     assert done.stderr.strip().count("\n") == 0 and "Traceback" not in done.stderr
     assert "Exception ignored" not in done.stderr

@@ -39,12 +39,14 @@ def test_tuning_seeds_are_disjoint_from_the_evaluation_seeds(seed: int) -> None:
 def test_the_grid_and_the_choice_of_the_best() -> None:
     names = {learner: [s.name for s in grid(learner)] for learner in ("pil", "bandit", "tamer")}
     assert names["bandit"][:4] == ["eps=0", "eps=0.05", "eps=0.1", "eps=0.1/(1+t/5)"]
-    assert all(len(v) == 8 and sum(n.endswith("+memory") for n in v) == 4
-               for v in names.values())  # fmt: skip
+    assert all(len(v) == 8 and sum(n.endswith("+memory") for n in v) == 4 for v in names.values())
     assert len(pil_references()) == 2 * len(RULES) - len(SAME_WITH_MEMORY)
     a, b, c = (Setting("tamer", n) for n in "abc")
-    scores = [Score(a, 40, 0, 300.0, 9, 250.0), Score(b, 30, 10, 200.0, 9, 240.0),
-              Score(c, 40, 0, 300.0, 9, 249.0)]  # fmt: skip
+    scores = [
+        Score(a, 40, 0, 300.0, 9, 250.0),
+        Score(b, 30, 10, 200.0, 9, 240.0),
+        Score(c, 40, 0, 300.0, 9, 249.0),
+    ]
     assert choose_best(scores).setting is c  # b got stuck; a and c tie on actions
 
 
@@ -57,8 +59,11 @@ def test_the_command_writes_its_table_and_its_p_values_are_scipys(
     code = main(["baselines", *argv, "--seed", "3", "--out", str(out), "--no-progress"])
     assert code == 0 and "evaluation runs; tuned: pil " in capsys.readouterr().out
     assert {p.name for p in out.iterdir()} == {
-        "baselines.csv", "tuning.csv", "tests.csv", "summary.md"
-    }  # fmt: skip
+        "baselines.csv",
+        "tuning.csv",
+        "tests.csv",
+        "summary.md",
+    }
     runs, tests, tuning = (_read(out / f) for f in ("baselines.csv", "tests.csv", "tuning.csv"))
     tuning_seeds, seeds = split_seeds(3, 2, 4)
     assert {int(r["seed"]) for r in runs} == set(seeds)  # evaluation seeds only
@@ -75,10 +80,14 @@ def test_the_command_writes_its_table_and_its_p_values_are_scipys(
             }
     paired = [t for t in tests if t["test"] == "paired t" and t["p"] != "nan"]
     assert paired and all(t["pairing"] == "rep" for t in tests)
+
     def values(test: dict[str, str], variant: str) -> dict[str, float]:
         rate = float(test["rate"])
-        return {r["rep"]: float(r[test["measure"]]) for r in runs
-                if r["variant"] == variant and float(r["rate"]) == rate}  # fmt: skip
+        return {
+            r["rep"]: float(r[test["measure"]])
+            for r in runs
+            if r["variant"] == variant and float(r["rate"]) == rate
+        }
 
     for t in paired:
         a, b = values(t, t["system_a"]), values(t, t["system_b"])

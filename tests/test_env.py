@@ -105,9 +105,13 @@ def test_any_world_can_be_plugged_in() -> None:
 
 @pytest.mark.parametrize(
     ("kwargs", "message"),
-    [({"rate": 1.5}, "detection rate"), ({"seed": -2}, "seed must be"),
-     ({"world": SymbolicWorld()}, "world must be a factory"), ({"colour": 1}, "parameter")],
-)  # fmt: skip
+    [
+        ({"rate": 1.5}, "detection rate"),
+        ({"seed": -2}, "seed must be"),
+        ({"world": SymbolicWorld()}, "world must be a factory"),
+        ({"colour": 1}, "parameter"),
+    ],
+)
 def test_bad_settings_are_refused(kwargs: dict, message: str) -> None:
     with pytest.raises(RobinPilError, match=message):
         AssemblyEnv(**kwargs)

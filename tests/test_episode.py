@@ -24,8 +24,18 @@ from robin_sim.episode.log import read_step_log  # noqa: E402
 from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 
 ONE_HANDOVER = SCENARIOS_DIR / "one_handover.yaml"
-DECISION_KEYS = ("t", "gesture_count", "true_gesture", "detected_gesture", "corrected_gesture",
-                 "state", "action", "feedback", "delivered", "legs_delivered")  # fmt: skip
+DECISION_KEYS = (
+    "t",
+    "gesture_count",
+    "true_gesture",
+    "detected_gesture",
+    "corrected_gesture",
+    "state",
+    "action",
+    "feedback",
+    "delivered",
+    "legs_delivered",
+)
 
 
 def _learner_only(config: EpisodeConfig) -> list[dict]:
@@ -38,8 +48,9 @@ def _learner_only(config: EpisodeConfig) -> list[dict]:
 
 @pytest.mark.slow
 def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path, capsys) -> None:
-    config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, width=160, height=120, fps=15,
-                           progress=False)  # fmt: skip
+    config = EpisodeConfig(
+        scenario=ONE_HANDOVER, out=tmp_path, width=160, height=120, fps=15, progress=False
+    )
     summary = run_episode(config)
     assert summary["status"] == "finished"
     assert summary["legs_delivered"] == 1 and summary["legs_to_person"] == 1
@@ -93,8 +104,9 @@ def test_the_default_episode_delivers_every_leg_without_touching_the_person(
 
 @pytest.mark.slow
 def test_physical_decisions_equal_the_learner_only_run(tmp_path: Path) -> None:
-    config = EpisodeConfig(tables=1, seed=3, out=tmp_path, video=False, verify=False,
-                           progress=False)  # fmt: skip
+    config = EpisodeConfig(
+        tables=1, seed=3, out=tmp_path, video=False, verify=False, progress=False
+    )
     summary = run_episode(config)
     assert summary["status"] == "finished" and summary["physical_failures"] == 0
     physical = read_step_log(tmp_path / "episode.jsonl")
@@ -107,8 +119,9 @@ def test_physical_decisions_equal_the_learner_only_run(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_episode_at_60_percent_runs_to_the_end_with_corrections(tmp_path: Path) -> None:
-    config = EpisodeConfig(tables=1, rate=0.6, seed=1, out=tmp_path, video=False, verify=False,
-                           progress=False)  # fmt: skip
+    config = EpisodeConfig(
+        tables=1, rate=0.6, seed=1, out=tmp_path, video=False, verify=False, progress=False
+    )
     summary = run_episode(config)
     assert summary["status"] == "finished"
     assert summary["legs_delivered"] == 4
@@ -134,8 +147,14 @@ def test_bad_input_is_refused_before_anything_runs(tmp_path: Path) -> None:
 def test_a_vision_episode_reads_gestures_and_thumbs_with_the_eye_cameras(tmp_path: Path) -> None:
     """``--detector vision``: every gesture and every thumb after a finished action is read
     from the eye cameras; readings are logged with their confidence and summarised."""
-    config = EpisodeConfig(scenario=ONE_HANDOVER, out=tmp_path, video=False, verify=False,
-                           progress=False, params={"detector": "vision"})  # fmt: skip
+    config = EpisodeConfig(
+        scenario=ONE_HANDOVER,
+        out=tmp_path,
+        video=False,
+        verify=False,
+        progress=False,
+        params={"detector": "vision"},
+    )
     summary = run_episode(config)
     assert summary["status"] == "finished" and summary["legs_delivered"] == 1
     vision = summary["vision"]

@@ -18,8 +18,10 @@ def test_each_step_is_one_complete_line_on_disk_as_soon_as_it_is_written(tmp_pat
         log.write({"t": 1, "action": Action.OBJECT, "pos": np.array([0.5, 0.25])})
         # flushed: another reader sees the complete line while the log is still open
         assert json.loads(path.read_text().splitlines()[0]) == {
-            "t": 1, "action": "object", "pos": [0.5, 0.25]
-        }  # fmt: skip
+            "t": 1,
+            "action": "object",
+            "pos": [0.5, 0.25],
+        }
         log.write({"t": 2, "gesture": Gesture.GIVE_ME, "n": np.int64(3), "ok": np.bool_(True)})
     assert read_step_log(path) == [
         {"t": 1, "action": "object", "pos": [0.5, 0.25]},

@@ -37,12 +37,14 @@ def _decode(path: Path) -> list[np.ndarray]:
         return [f.to_ndarray(format="rgb24") for f in container.decode(video=0)]
 
 
-def _direct_eye(state: FrameState) -> np.ndarray:
-    """The eye camera's view of ``state`` rendered on its own at the inset's size."""
+def _direct_eye(state: FrameState, reflections: bool = False) -> np.ndarray:
+    """The eye camera's view of ``state`` rendered on its own at the inset's size (as the
+    video's inset: no floor reflection)."""
     model = build_model(None)
     data = mujoco.MjData(model)
     apply_state(model, data, state)
-    with FrameRenderer(model, *inset_size(WIDTH, HEIGHT), names.EYE_CAMERA, shadows=False) as r:
+    size = inset_size(WIDTH, HEIGHT)
+    with FrameRenderer(model, *size, names.EYE_CAMERA, False, reflections) as r:
         r.render(data)  # warm-up (llvmpipe's first frame differs by a level or two)
         return r.render(data)
 
@@ -60,7 +62,7 @@ def test_drawn_inset_is_the_eye_render_exactly() -> None:
     state = FrameState.capture(world.model, world.data)
     with EyeInset(None, WIDTH, HEIGHT) as eye:
         view = eye.render(state)
-    direct = _direct_eye(state)
+    direct = _direct_eye(state, reflections=True)
     assert np.abs(view.astype(int) - direct).max() <= 2  # levels: the same render
     frame = np.zeros((HEIGHT, WIDTH, 3), np.uint8)
     draw_eye_inset(frame, view)
@@ -72,7 +74,8 @@ def test_drawn_inset_is_the_eye_render_exactly() -> None:
 
 
 @pytest.mark.slow
-def test_video_frames_carry_the_eye_view(tmp_path: Path) -> None:
+@pytest.mark.parametrize(("fps", "workers"), [(10, 0), (30, 1)])
+def test_video_frames_carry_the_eye_view(tmp_path: Path, fps: int, workers: int) -> None:
     from robin_sim.episode.recorder import VideoRecorder
     from robin_sim.person.body import PhysicalBody
     from robin_sim.robot.world import PhysicalWorld
@@ -81,7 +84,7 @@ def test_video_frames_carry_the_eye_view(tmp_path: Path) -> None:
     body = PhysicalBody(world)
     world.head.attend(world.leg_position(2), "pointed")
     world.run(0.8)  # the head turns to the table first
-    kwargs = dict(width=WIDTH, height=HEIGHT, fps=10, render_workers=0)
+    kwargs = dict(width=WIDTH, height=HEIGHT, fps=fps, render_workers=workers)
     with_inset = VideoRecorder(world.sim, EpisodeView(), tmp_path / "eye.mp4", **kwargs)
     without = VideoRecorder(
         world.sim, EpisodeView(), tmp_path / "plain.mp4", eye_inset=False, **kwargs
@@ -99,9 +102,11 @@ def test_video_frames_carry_the_eye_view(tmp_path: Path) -> None:
     eye_frames, plain_frames = _decode(tmp_path / "eye.mp4"), _decode(tmp_path / "plain.mp4")
     assert len(eye_frames) == len(plain_frames) == len(states) >= 10
     x0, y0, x1, y1 = inset_box(WIDTH, HEIGHT)
-    for i in (0, len(states) // 2, len(states) - 1):
+    every = with_inset.eye_every  # the inset refreshes at EYE_FPS: 1 in 3 frames at 30 fps
+    assert every == max(1, round(fps / 10))
+    for i in (0, 1, len(states) // 2, len(states) - 1):
         shown = eye_frames[i][y0:y1, x0:x1].astype(float)
-        direct = _direct_eye(states[i])
+        direct = _direct_eye(states[i - i % every])  # rendered with its frame, by the worker
         assert np.abs(shown - direct).mean() < CODEC_TOLERANCE, i
         plain = plain_frames[i][y0:y1, x0:x1].astype(float)
         assert np.abs(shown - plain).mean() > 4 * CODEC_TOLERANCE, i  # the inset is there

@@ -30,8 +30,11 @@ def small_disk(tmp_path: Path) -> Iterator[Callable[[int, int], Path]]:
     def make(size_kb: int, free_kb: int) -> Path:
         point = tmp_path / f"disk{len(mounts)}"
         point.mkdir()
-        done = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size_kb}k", "tmpfs",
-                               str(point)], capture_output=True, text=True)  # fmt: skip
+        done = subprocess.run(
+            ["mount", "-t", "tmpfs", "-o", f"size={size_kb}k", "tmpfs", str(point)],
+            capture_output=True,
+            text=True,
+        )
         if done.returncode != 0:
             pytest.skip(f"cannot mount a small tmpfs here (needs root): {done.stderr.strip()}")
         mounts.append(point)
@@ -132,8 +135,21 @@ def test_an_episode_on_a_full_disk_leaves_a_summary_and_a_playable_video(
     small_disk: Callable[[int, int], Path], capsys: pytest.CaptureFixture[str]
 ) -> None:
     out = small_disk(96, 96) / "ep"
-    argv = ["episode", "--scenario", "one_handover", "--no-verify", "--quiet", "--size",
-            "160x120", "--fps", "10", "--render-workers", "0", "--out", str(out)]  # fmt: skip
+    argv = [
+        "episode",
+        "--scenario",
+        "one_handover",
+        "--no-verify",
+        "--quiet",
+        "--size",
+        "160x120",
+        "--fps",
+        "10",
+        "--render-workers",
+        "0",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 2
     line = last_line(capsys.readouterr().err)
     assert line.startswith("robin-pil episode: error: cannot write") and "episode.mp4" in line

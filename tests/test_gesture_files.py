@@ -24,11 +24,19 @@ def write_chunk(folder: Path, split: str, k: int, seed: int) -> Path:
     rows = 2 * CHUNK
     samples = np.repeat(np.arange(k * CHUNK, (k + 1) * CHUNK), 2)
     path = chunk_path(folder, split, k)
-    save_chunk(path, {
-        "features": np.zeros((rows, 4), np.float32), "label": samples % 7, "sample": samples,
-        "eye": np.tile([0, 1], CHUNK), "found": np.ones(rows, bool), "iou": np.ones(rows),
-        "condition": np.zeros((rows, 4)), "seed": np.int64(seed),
-    })  # fmt: skip
+    save_chunk(
+        path,
+        {
+            "features": np.zeros((rows, 4), np.float32),
+            "label": samples % 7,
+            "sample": samples,
+            "eye": np.tile([0, 1], CHUNK),
+            "found": np.ones(rows, bool),
+            "iou": np.ones(rows),
+            "condition": np.zeros((rows, 4)),
+            "seed": np.int64(seed),
+        },
+    )
     return path
 
 
@@ -65,10 +73,16 @@ def broken_models(tmp_path: Path) -> dict[str, Path]:
     cut = tmp_path / "cut.npz"
     data = shipped_path().read_bytes()
     cut.write_bytes(data[: len(data) // 2])
-    transposed = GestureModel(model.mean, model.scale, tuple(w.T for w in model.weights),
-                              model.biases, model.threshold)  # fmt: skip
-    nan = GestureModel(model.mean, model.scale, (model.weights[0] * np.nan, *model.weights[1:]),
-                       model.biases, model.threshold)  # fmt: skip
+    transposed = GestureModel(
+        model.mean, model.scale, tuple(w.T for w in model.weights), model.biases, model.threshold
+    )
+    nan = GestureModel(
+        model.mean,
+        model.scale,
+        (model.weights[0] * np.nan, *model.weights[1:]),
+        model.biases,
+        model.threshold,
+    )
     return {
         "cut": cut,
         "transposed": transposed.save(tmp_path / "transposed.npz"),
@@ -84,9 +98,7 @@ def broken_models(tmp_path: Path) -> dict[str, Path]:
         ("nan", "NaN or infinite"),
     ],
 )
-def test_a_damaged_gesture_model_is_refused_clearly(
-    tmp_path: Path, kind: str, needle: str
-) -> None:
+def test_a_damaged_gesture_model_is_refused_clearly(tmp_path: Path, kind: str, needle: str) -> None:
     with pytest.raises(ModelFileError, match=needle) as caught:
         GestureModel.load(broken_models(tmp_path)[kind])
     assert "train-gestures" in str(caught.value)
@@ -99,8 +111,13 @@ def test_the_vision_detector_refuses_a_nan_model(tmp_path: Path) -> None:
     from robin_sim.vision.detector import VisionDetector
 
     model = load_shipped()
-    nan = GestureModel(model.mean, model.scale, model.weights,
-                       (model.biases[0], model.biases[1] * np.nan), model.threshold)  # fmt: skip
+    nan = GestureModel(
+        model.mean,
+        model.scale,
+        model.weights,
+        (model.biases[0], model.biases[1] * np.nan),
+        model.threshold,
+    )
     world = PhysicalWorld()
     body = PhysicalBody(world)
     with pytest.raises(ModelFileError, match="NaN or infinite"):
@@ -122,8 +139,9 @@ def test_the_vision_detector_refuses_a_nan_model(tmp_path: Path) -> None:
 def test_train_gestures_refuses_bad_options_with_exit_2(
     option: list[str], needle: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    code = main(["train-gestures", "--quiet", "--samples", "28", "--out", str(tmp_path / "g"),
-                 *option])  # fmt: skip
+    code = main(
+        ["train-gestures", "--quiet", "--samples", "28", "--out", str(tmp_path / "g"), *option]
+    )
     err = capsys.readouterr().err.strip()
     assert code == 2, err
     assert err.count("\n") == 0 and needle in err, err

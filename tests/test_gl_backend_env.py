@@ -33,10 +33,18 @@ def no_osmesa(tmp_path: Path) -> Path:
 
 
 def run(argv: list[str], **env: str) -> subprocess.CompletedProcess[str]:
-    base = {k: v for k, v in os.environ.items()
-            if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "ROBIN_PIL_GL_VERIFIED")}  # fmt: skip
-    return subprocess.run([sys.executable, *argv], capture_output=True, text=True, timeout=180,
-                          env={**base, "PYTHONPATH": str(ROOT), **env})  # fmt: skip
+    base = {
+        k: v
+        for k, v in os.environ.items()
+        if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "ROBIN_PIL_GL_VERIFIED")
+    }
+    return subprocess.run(
+        [sys.executable, *argv],
+        capture_output=True,
+        text=True,
+        timeout=180,
+        env={**base, "PYTHONPATH": str(ROOT), **env},
+    )
 
 
 def test_mujoco_gl_osmesa_without_osmesa_falls_back_to_egl(no_osmesa: Path) -> None:
@@ -56,9 +64,21 @@ def test_a_leftover_pyopengl_platform_is_corrected_with_a_note() -> None:
 
 def test_no_working_backend_is_one_line_exit_2(no_osmesa: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
-    done = run(["-m", "robin_sim.cli.main", "episode", "--scenario", "one_handover", "--quiet",
-                "--out", str(out)], MUJOCO_GL="osmesa", LD_LIBRARY_PATH=str(no_osmesa),
-               __EGL_VENDOR_LIBRARY_FILENAMES="/nonexistent/egl_vendor.json")  # fmt: skip
+    done = run(
+        [
+            "-m",
+            "robin_sim.cli.main",
+            "episode",
+            "--scenario",
+            "one_handover",
+            "--quiet",
+            "--out",
+            str(out),
+        ],
+        MUJOCO_GL="osmesa",
+        LD_LIBRARY_PATH=str(no_osmesa),
+        __EGL_VENDOR_LIBRARY_FILENAMES="/nonexistent/egl_vendor.json",
+    )
     assert done.returncode == 2, done.stderr
     lines = [line for line in done.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("robin-pil episode: error: no headless"), lines

@@ -59,19 +59,42 @@ def test_a_missing_measured_file_is_refused_before_the_first_run(
         argv = [*SWEEP, "--rates", "1.0", "--workers", "1", "--out", str(out)]
         refused([*argv, "--param", f"detector=exact,measured:{value}"], capsys, needle, value)
         assert not out.exists()
-    refused(["episode", "--no-video", "--quiet", "--detector", "measured:/nonexistent",
-             "--out", str(out)], capsys, "no such file")  # fmt: skip
+    refused(
+        [
+            "episode",
+            "--no-video",
+            "--quiet",
+            "--detector",
+            "measured:/nonexistent",
+            "--out",
+            str(out),
+        ],
+        capsys,
+        "no such file",
+    )
     assert not out.exists()
 
 
 def test_a_tls_scheduler_without_tls_settings_is_one_line_at_once(tmp_path: Path) -> None:
     started = time.monotonic()
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", *SWEEP, "--scheduler", "tls://127.0.0.1:1",
-         "--connect-timeout", "1", "--out", str(tmp_path / "s")],
-        capture_output=True, text=True, timeout=60,
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            *SWEEP,
+            "--scheduler",
+            "tls://127.0.0.1:1",
+            "--connect-timeout",
+            "1",
+            "--out",
+            str(tmp_path / "s"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
         env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT), "HOME": str(tmp_path)},
-    )  # fmt: skip
+    )
     assert done.returncode == 2, done.stderr
     assert done.stderr.strip().count("\n") == 0 and "Traceback" not in done.stderr, done.stderr
     assert "TLS settings" in done.stderr and "tcp://" in done.stderr
@@ -98,9 +121,36 @@ def test_devices_and_fifos_as_input_files_are_refused_at_once(
     out = tmp_path / "out"
     started = time.monotonic()
     for path in ("/dev/zero", str(fifo)):
-        refused(["transfer", "--table", path, "--reps", "1", "--rates", "1.0", "--no-progress",
-                 "--out", str(out)], capsys, "not a regular file")  # fmt: skip
-        refused([*SWEEP, "--rates", "1.0", "--workers", "1", "--out", str(out), "--param",
-                 f"detector=measured:{path}"], capsys, "not a regular file")  # fmt: skip
+        refused(
+            [
+                "transfer",
+                "--table",
+                path,
+                "--reps",
+                "1",
+                "--rates",
+                "1.0",
+                "--no-progress",
+                "--out",
+                str(out),
+            ],
+            capsys,
+            "not a regular file",
+        )
+        refused(
+            [
+                *SWEEP,
+                "--rates",
+                "1.0",
+                "--workers",
+                "1",
+                "--out",
+                str(out),
+                "--param",
+                f"detector=measured:{path}",
+            ],
+            capsys,
+            "not a regular file",
+        )
     assert time.monotonic() - started < 20
     assert not out.exists()

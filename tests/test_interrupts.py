@@ -24,8 +24,17 @@ from robin_sim.render.video import probe_video
 
 pytestmark = pytest.mark.slow
 
-ARGV = ["episode", "--scenario", "one_handover", "--size", "160x120", "--fps", "10",
-        "--no-verify", "--quiet"]  # fmt: skip
+ARGV = [
+    "episode",
+    "--scenario",
+    "one_handover",
+    "--size",
+    "160x120",
+    "--fps",
+    "10",
+    "--no-verify",
+    "--quiet",
+]
 
 
 def _lines(path: Path) -> list[dict]:
@@ -49,10 +58,20 @@ MOMENTS: dict[str, Callable[[Path], bool]] = {
 def interrupt(tmp_path: Path, moment: str, how: signal.Signals, workers: str = "2") -> dict:
     out = tmp_path / "out"
     process = subprocess.Popen(
-        [sys.executable, "-m", "robin_sim.cli.main", *ARGV, "--render-workers", workers,
-         "--out", str(out)],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            *ARGV,
+            "--render-workers",
+            workers,
+            "--out",
+            str(out),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
     try:
         deadline = time.monotonic() + 240
         while not MOMENTS[moment](out):

@@ -24,9 +24,14 @@ def loopback_check() -> HostCheck:
 
 @pytest.mark.parametrize(
     "netloc",
-    [f"127.0.0.1:{PORT}", f"localhost:{PORT}", f"LocalHost:{PORT}", f"[::1]:{PORT}",
-     f"127.0.0.2:{PORT}"],
-)  # fmt: skip
+    [
+        f"127.0.0.1:{PORT}",
+        f"localhost:{PORT}",
+        f"LocalHost:{PORT}",
+        f"[::1]:{PORT}",
+        f"127.0.0.2:{PORT}",
+    ],
+)
 def test_loopback_names_with_the_port_are_allowed(netloc: str) -> None:
     assert loopback_check().allows(netloc)
 
@@ -57,8 +62,14 @@ def test_origin_must_be_this_server_not_the_requests_own_host() -> None:
     check = loopback_check()
     assert check.allows_origin(f"http://127.0.0.1:{PORT}")
     assert check.allows_origin(f"http://localhost:{PORT}")
-    for origin in (f"http://evil.example:{PORT}", "null", f"https://127.0.0.1:{PORT}",
-                   f"http://127.0.0.1:{PORT}/path", "http://127.0.0.1", "file://"):  # fmt: skip
+    for origin in (
+        f"http://evil.example:{PORT}",
+        "null",
+        f"https://127.0.0.1:{PORT}",
+        f"http://127.0.0.1:{PORT}/path",
+        "http://127.0.0.1",
+        "file://",
+    ):
         assert not check.allows_origin(origin), origin
 
 
@@ -124,7 +135,6 @@ def test_write_check_leaves_nothing_and_refuses_a_file(tmp_path: Path) -> None:
     assert (tmp_path / "file").read_text() == "kept"
 
 
-
 def test_accept_out_of_descriptors_is_one_line_once(caplog) -> None:
     import asyncio
     import errno
@@ -137,10 +147,13 @@ def test_accept_out_of_descriptors_is_one_line_once(caplog) -> None:
     try:
         caplog.set_level(logging.WARNING)
         for _ in range(50):  # what asyncio reports on every failed accept() retry
-            connections.loop_exception(loop, {
-                "message": "socket.accept() out of system resource",
-                "exception": OSError(errno.EMFILE, "Too many open files"),
-            })  # fmt: skip
+            connections.loop_exception(
+                loop,
+                {
+                    "message": "socket.accept() out of system resource",
+                    "exception": OSError(errno.EMFILE, "Too many open files"),
+                },
+            )
     finally:
         loop.close()
     assert len(caplog.records) == 1 and not caplog.records[0].exc_info

@@ -35,10 +35,10 @@ GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
 @pytest.mark.parametrize(
     ("raw", "message"),
     [
-        ("hello", f"message is not JSON; .* with \"type\" one of {KINDS}"),
+        ("hello", f'message is not JSON; .* with "type" one of {KINDS}'),
         (b"\xff\xfe", "message is not JSON"),
         ("", "message is not JSON"),
-        ("[1, 2]", f"must be a JSON object with a \"type\" \\({KINDS}\\), got a JSON list"),
+        ("[1, 2]", f'must be a JSON object with a "type" \\({KINDS}\\), got a JSON list'),
         ('"point"', "got a JSON str"),
         ("{}", f"message type missing is unknown; valid choices: {KINDS}"),
         ('{"type": "wave"}', f"message type 'wave' is unknown; valid choices: {KINDS}"),
@@ -59,7 +59,7 @@ GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
         ("x" * 5000, "too long \\(at most 4096\\)"),
         (42, "message must be JSON text, got int"),
     ],
-)  # fmt: skip
+)
 def test_junk_messages_get_one_clear_error(raw: object, message: str) -> None:
     with pytest.raises(LiveInputError, match=message):
         parse_input(raw, W, H)  # type: ignore[arg-type]

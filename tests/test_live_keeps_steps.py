@@ -22,8 +22,15 @@ TYPE_A = (("point", "object"), ("grasp", "close"), ("give_me", "human"), ("relea
 
 
 def test_end_during_the_carry_to_the_bin_keeps_the_approved_open(tmp_path: Path) -> None:
-    config = LiveConfig(handover_types=("A",), out_root=tmp_path, session="s1", speed=3.0,
-                        fps=10, feedback_window=3.0, video=False)  # fmt: skip
+    config = LiveConfig(
+        handover_types=("A",),
+        out_root=tmp_path,
+        session="s1",
+        speed=3.0,
+        fps=10,
+        feedback_window=3.0,
+        video=False,
+    )
     session = LiveSession(config)
     session.start()
     driver = Driver(session)
@@ -57,8 +64,9 @@ def test_end_during_the_carry_to_the_bin_keeps_the_approved_open(tmp_path: Path)
 
 
 def test_a_paused_session_holds_physics_and_still_ends_on_end(tmp_path: Path) -> None:
-    config = LiveConfig(scenario="one_handover", out_root=tmp_path, session="s1", speed=3.0,
-                        fps=10, video=False)  # fmt: skip
+    config = LiveConfig(
+        scenario="one_handover", out_root=tmp_path, session="s1", speed=3.0, fps=10, video=False
+    )
     session = LiveSession(config)
     session.start()
     driver = Driver(session)

@@ -20,8 +20,19 @@ from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
-DECISION_KEYS = ("t", "gesture_count", "true_gesture", "state", "action", "feedback",
-                 "proactive", "delivered", "legs_delivered", "handover", "step")  # fmt: skip
+DECISION_KEYS = (
+    "t",
+    "gesture_count",
+    "true_gesture",
+    "state",
+    "action",
+    "feedback",
+    "proactive",
+    "delivered",
+    "legs_delivered",
+    "handover",
+    "step",
+)
 
 
 class ActsAtOnce:
@@ -59,8 +70,12 @@ def test_live_decisions_equal_the_studys_with_the_proactive_robot() -> None:
     scenario = resolve_scenario(None, values)
     seed = 1  # the proactive robot anticipates in this one table (test_proactive_episode)
     study = learner_parts("proactive", 1.0, seed, scenario, values)
-    expected = [r.to_dict() for r in steps(study.learner, study.person, study.detector,
-                                           SymbolicWorld(), **study.options)]  # fmt: skip
+    expected = [
+        r.to_dict()
+        for r in steps(
+            study.learner, study.person, study.detector, SymbolicWorld(), **study.options
+        )
+    ]
     assert any(e["proactive"] for e in expected)
     world = PhysicalWorld()
     body = PhysicalBody(world, seed=seed)
@@ -75,8 +90,9 @@ def test_live_decisions_equal_the_studys_with_the_proactive_robot() -> None:
     brain = ActsAtOnce(participant, script)
     world.sim.add_observer(brain)
     got = []
-    for record in steps(parts.learner, participant, parts.detector, world, observer=brain,
-                        **parts.options):  # fmt: skip
+    for record in steps(
+        parts.learner, participant, parts.detector, world, observer=brain, **parts.options
+    ):
         participant.legs_delivered = record.legs_delivered
         got.append(record.to_dict())
     assert [{k: e[k] for k in DECISION_KEYS} for e in got] == [

@@ -54,8 +54,11 @@ def test_the_camera_model_matches_the_rendered_image(picker: Picker) -> None:
 
 @pytest.mark.parametrize(("x", "y"), [(5.0, 5.0), (600.0, 460.0), (0.0, 479.9)])
 def test_a_click_on_the_floor_or_the_sky_is_refused(picker: Picker, x: float, y: float) -> None:
-    with pytest.raises(LiveInputError, match=r"not on a leg or a spot\. Click one of the "
-                       r"numbered legs \(1-4\) or spots \(1-4, the rings on the table\)") as error:
+    with pytest.raises(
+        LiveInputError,
+        match=r"not on a leg or a spot\. Click one of the "
+        r"numbered legs \(1-4\) or spots \(1-4, the rings on the table\)",
+    ) as error:
         picker.pick(x, y)
     assert "(of " not in str(error.value) and "geom" not in str(error.value)  # plain words
 

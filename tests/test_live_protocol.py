@@ -74,8 +74,9 @@ def test_counterbalanced_for_participants_1_to_4(tmp_path: Path) -> None:
     firsts = [protocol.blocks_for(f"P{n}")[0].condition for n in (1, 2, 3, 4)]
     assert firsts == ["pil", "proactive", "pil", "proactive"]
     blocks = protocol.blocks_for("P1")
-    assert blocks[0] == Block(0, "pil", ("A", "B", "C"), "Block 1 of 4: Robot A, 3 legs (A, B, C).",
-                              "Robot A")  # fmt: skip
+    assert blocks[0] == Block(
+        0, "pil", ("A", "B", "C"), "Block 1 of 4: Robot A, 3 legs (A, B, C).", "Robot A"
+    )
     assert blocks[3].instructions == "Block 4 of 4: Robot B, 3 legs (A, B, C)."
     assert protocol.condition_order("P2") == ("proactive", "pil")
 
@@ -131,8 +132,10 @@ blocks:
     assert protocol.name == "mine"  # the file's stem when the name is not given
     blocks = protocol.blocks_for("P7")
     assert [(b.condition, b.handover_types) for b in blocks] == [
-        ("pil", ("C", "B", "A")), ("proactive", ("A",)), ("proactive", ("B", "C"))
-    ]  # fmt: skip
+        ("pil", ("C", "B", "A")),
+        ("proactive", ("A",)),
+        ("proactive", ("B", "C")),
+    ]
     assert blocks[0].instructions.startswith("Block 1 of 3: you work with Robot A.")
     assert [b.instructions for b in blocks[1:]] == ["Now Robot B.", "Last: Robot B (2)"]
 
@@ -140,9 +143,10 @@ blocks:
 def test_scenario_beside_the_protocol_file(tmp_path: Path) -> None:
     scenario = load_scenario("table_one").source
     (tmp_path / "task.yaml").write_text(
-        Path(scenario).read_text().replace("handover_types.yaml", str(Path(scenario).parent
-                                                                      / "handover_types.yaml"))
-    )  # fmt: skip
+        Path(scenario)
+        .read_text()
+        .replace("handover_types.yaml", str(Path(scenario).parent / "handover_types.yaml"))
+    )
     path = write(tmp_path, GOOD.replace("ORDER", "fixed").replace("table_one", "task.yaml"))
     assert load_protocol(path).scenario == str(tmp_path / "task.yaml")
 
@@ -168,46 +172,77 @@ REFUSALS = [
     ("name: [unclosed", r"p\.yaml: malformed YAML at line 1"),
     ("- a list", r"p\.yaml: expected a mapping at the top level$"),
     (BASE.replace("order:", "ordre:"), r"p\.yaml: unknown key 'ordre'; valid choices: name, "),
-    (GOOD.replace("ORDER", "random"),
-     r"p\.yaml: order: unknown order 'random'; valid choices: fixed, counterbalanced, "
-     r"latin-square"),
-    (BASE.replace("system: proactive", "system: anticipating"),
-     rf"p\.yaml: conditions\[1\]\.system: unknown system 'anticipating'; valid choices: "
-     rf"{SYSTEMS}$"),
-    (BASE.replace("label: Robot B", "label: Robot B, colour: red"),
-     r"conditions\[1\]: unknown key 'colour'; valid choices: system, label, blocks, "
-     r"instructions"),
-    (BASE.replace("[A, B, C]", "[A, B, Z]"),
-     rf"p\.yaml: blocks\[0\]\.types: unknown handover type 'Z'; valid choices "
-     rf"\(scenario .*table_one\.yaml\): {TYPES}$"),
+    (
+        GOOD.replace("ORDER", "random"),
+        r"p\.yaml: order: unknown order 'random'; valid choices: fixed, counterbalanced, "
+        r"latin-square",
+    ),
+    (
+        BASE.replace("system: proactive", "system: anticipating"),
+        rf"p\.yaml: conditions\[1\]\.system: unknown system 'anticipating'; valid choices: "
+        rf"{SYSTEMS}$",
+    ),
+    (
+        BASE.replace("label: Robot B", "label: Robot B, colour: red"),
+        r"conditions\[1\]: unknown key 'colour'; valid choices: system, label, blocks, "
+        r"instructions",
+    ),
+    (
+        BASE.replace("[A, B, C]", "[A, B, Z]"),
+        rf"p\.yaml: blocks\[0\]\.types: unknown handover type 'Z'; valid choices "
+        rf"\(scenario .*table_one\.yaml\): {TYPES}$",
+    ),
     (BASE.replace("[A, B, C]", "[]"), r"blocks\[0\]\.types: expected a list of 1 to 100 handover"),
-    (BASE.replace("  - {types: [A, B, C], repeat: 2}\n", "  []\n"),
-     r"p\.yaml: blocks: expected a non-empty list of blocks"),
-    (BASE.replace("blocks:\n  - {types: [A, B, C], repeat: 2}\n", ""),
-     r"p\.yaml: blocks: expected a non-empty list of blocks"),
-    (BASE.replace("repeat: 2", "repeat: 0"),
-     r"blocks\[0\]\.repeat: expected a whole number from 1 to 100, got 0"),
+    (
+        BASE.replace("  - {types: [A, B, C], repeat: 2}\n", "  []\n"),
+        r"p\.yaml: blocks: expected a non-empty list of blocks",
+    ),
+    (
+        BASE.replace("blocks:\n  - {types: [A, B, C], repeat: 2}\n", ""),
+        r"p\.yaml: blocks: expected a non-empty list of blocks",
+    ),
+    (
+        BASE.replace("repeat: 2", "repeat: 0"),
+        r"blocks\[0\]\.repeat: expected a whole number from 1 to 100, got 0",
+    ),
     (BASE.replace("repeat: 2", "repeat: true"), r"blocks\[0\]\.repeat: .* got True"),
-    (BASE.replace("repeat: 2", "times: 2"),
-     r"blocks\[0\]: unknown key 'times'; valid choices: types, repeat, instructions"),
-    (BASE.replace("{label},", "{robot},"),
-     r"instructions: unknown placeholder \{robot\}; valid choices: \{label\}, \{block\}, "
-     r"\{blocks\}, \{handovers\}, \{types\}"),
+    (
+        BASE.replace("repeat: 2", "times: 2"),
+        r"blocks\[0\]: unknown key 'times'; valid choices: types, repeat, instructions",
+    ),
+    (
+        BASE.replace("{label},", "{robot},"),
+        r"instructions: unknown placeholder \{robot\}; valid choices: \{label\}, \{block\}, "
+        r"\{blocks\}, \{handovers\}, \{types\}",
+    ),
     (BASE.replace("{label},", "{label,"), r"p\.yaml: instructions: .*literal braces"),
-    (BASE.replace("instructions: \"", "instructions: \"\"\n#\""),
-     r"p\.yaml: instructions: expected a non-empty text, got ''"),
-    (BASE.replace("system: proactive, label: Robot B", "system: pil, label: Robot B"),
-     r"conditions: system 'pil' is given twice"),
+    (
+        BASE.replace('instructions: "', 'instructions: ""\n#"'),
+        r"p\.yaml: instructions: expected a non-empty text, got ''",
+    ),
+    (
+        BASE.replace("system: proactive, label: Robot B", "system: pil, label: Robot B"),
+        r"conditions: system 'pil' is given twice",
+    ),
     (BASE.replace("label: Robot B", "label: Robot A"), r"conditions: label 'Robot A' is given"),
-    (BASE.replace("conditions:\n  - {system: pil, label: Robot A}\n"
-                  "  - {system: proactive, label: Robot B}\n", "conditions: []\n"),
-     rf"p\.yaml: conditions: expected a non-empty list of conditions.*systems: {SYSTEMS}$"),
-    (BASE.replace("  - {system: pil, label: Robot A}", "  - 3"),
-     r"conditions\[0\]: expected a system key or a mapping"),
-    (BASE.replace("table_one", "no_such_task"),
-     r"p\.yaml: scenario: no scenario 'no_such_task' \(neither a file beside the protocol nor "
-     r"a shipped scenario\); valid choices: a YAML path or .*table_one"),
-]  # fmt: skip
+    (
+        BASE.replace(
+            "conditions:\n  - {system: pil, label: Robot A}\n"
+            "  - {system: proactive, label: Robot B}\n",
+            "conditions: []\n",
+        ),
+        rf"p\.yaml: conditions: expected a non-empty list of conditions.*systems: {SYSTEMS}$",
+    ),
+    (
+        BASE.replace("  - {system: pil, label: Robot A}", "  - 3"),
+        r"conditions\[0\]: expected a system key or a mapping",
+    ),
+    (
+        BASE.replace("table_one", "no_such_task"),
+        r"p\.yaml: scenario: no scenario 'no_such_task' \(neither a file beside the protocol nor "
+        r"a shipped scenario\); valid choices: a YAML path or .*table_one",
+    ),
+]
 
 
 @pytest.mark.parametrize(("text", "message"), REFUSALS)

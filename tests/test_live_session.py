@@ -31,8 +31,14 @@ TYPE_A = (("point", "object"), ("grasp", "close"), ("give_me", "human"), ("relea
 
 
 def _config(tmp_path: Path, **changes: object) -> LiveConfig:
-    values = dict(scenario="one_handover", out_root=tmp_path, session="s1", speed=SPEED, fps=FPS,
-                  feedback_window=3.0)  # fmt: skip
+    values = dict(
+        scenario="one_handover",
+        out_root=tmp_path,
+        session="s1",
+        speed=SPEED,
+        fps=FPS,
+        feedback_window=3.0,
+    )
     return LiveConfig(**{**values, **changes})  # type: ignore[arg-type]
 
 

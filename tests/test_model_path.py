@@ -33,9 +33,13 @@ def test_prints_the_other_models(which: str, capsys: pytest.CaptureFixture) -> N
 def test_works_from_another_folder(tmp_path: Path) -> None:
     result = subprocess.run(
         [sys.executable, "-m", "robin_sim.cli.main", "model-path"],
-        cwd=tmp_path, capture_output=True, text=True, timeout=60, check=False,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
         env={**os.environ, "PYTHONSAFEPATH": "1"},  # nothing from the folder it runs in
-    )  # fmt: skip
+    )
     assert result.returncode == 0, result.stderr
     assert Path(result.stdout.strip()) == names.SCENE_XML.resolve()
 

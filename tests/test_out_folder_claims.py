@@ -44,8 +44,9 @@ def earlier(tmp_path: Path) -> Path:
 @pytest.fixture()
 def held(earlier: Path) -> Iterator[Path]:
     """``earlier`` locked by another process for the test's duration."""
-    holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(earlier)], env=env(),
-                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(earlier)], env=env(), stdout=subprocess.PIPE, text=True
+    )
     try:
         assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
         yield earlier
@@ -68,28 +69,70 @@ def assert_untouched(out: Path) -> None:
 def test_an_episode_into_a_folder_in_use_is_refused(
     held: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    refused_in_use(["episode", "--scenario", "one_handover", "--no-video", "--no-verify",
-                    "--quiet", "--out", str(held)], capsys)  # fmt: skip
+    refused_in_use(
+        [
+            "episode",
+            "--scenario",
+            "one_handover",
+            "--no-video",
+            "--no-verify",
+            "--quiet",
+            "--out",
+            str(held),
+        ],
+        capsys,
+    )
     assert_untouched(held)
 
 
 def test_a_study_and_a_sweep_into_a_folder_in_use_are_refused(
     held: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    refused_in_use(["study", "--reps", "1", "--rates", "1.0", "--tables", "1",
-                    "--no-progress", "--out", str(held)], capsys)  # fmt: skip
-    refused_in_use(["people", "--reps", "1", "--rates", "1.0", "--no-progress",
-                    "--out", str(held)], capsys)  # fmt: skip
-    refused_in_use(["sweep", "--reps", "1", "--systems", "pil", "--rates", "1.0", "--workers",
-                    "1", "--quiet", "--no-report", "--out", str(held)], capsys)  # fmt: skip
+    refused_in_use(
+        [
+            "study",
+            "--reps",
+            "1",
+            "--rates",
+            "1.0",
+            "--tables",
+            "1",
+            "--no-progress",
+            "--out",
+            str(held),
+        ],
+        capsys,
+    )
+    refused_in_use(
+        ["people", "--reps", "1", "--rates", "1.0", "--no-progress", "--out", str(held)], capsys
+    )
+    refused_in_use(
+        [
+            "sweep",
+            "--reps",
+            "1",
+            "--systems",
+            "pil",
+            "--rates",
+            "1.0",
+            "--workers",
+            "1",
+            "--quiet",
+            "--no-report",
+            "--out",
+            str(held),
+        ],
+        capsys,
+    )
     assert_untouched(held)
 
 
 def test_the_lock_is_released_when_its_holder_is_killed(earlier: Path) -> None:
     from pil.folder_lock import FolderLock
 
-    holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(earlier)], env=env(),
-                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    holder = subprocess.Popen(
+        [sys.executable, "-c", HOLDER, str(earlier)], env=env(), stdout=subprocess.PIPE, text=True
+    )
     assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
     holder.send_signal(signal.SIGKILL)
     holder.wait()
@@ -103,9 +146,12 @@ def test_a_killed_episode_leaves_its_own_summary_and_a_second_run_is_refused(
     earlier: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     argv = ["episode", "--scenario", "one_handover", "--no-video", "--no-verify", "--quiet"]
-    first = subprocess.Popen([sys.executable, "-m", "robin_sim.cli.main", *argv, "--seed", "0",
-                              "--out", str(earlier)], env=env(), stdout=subprocess.DEVNULL,
-                             stderr=subprocess.PIPE)  # fmt: skip
+    first = subprocess.Popen(
+        [sys.executable, "-m", "robin_sim.cli.main", *argv, "--seed", "0", "--out", str(earlier)],
+        env=env(),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     log = earlier / "episode.jsonl"
     deadline = time.monotonic() + 240
     try:

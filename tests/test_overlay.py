@@ -50,13 +50,19 @@ def test_lines_name_every_field() -> None:
     assert any("(not detected)" in line for line in undetected)
 
 
-def test_text_panel_changes_the_top_left_only() -> None:
+def test_text_panel_changes_its_box_near_the_top_left_only() -> None:
+    from robin_sim.render.overlay import TEXT_PANEL_LEFT, text_panel_box
+
     frame = draw_overlay(background(), INFO)
     changed = np.any(frame != background(), axis=2)
-    rows, cols = np.nonzero(changed)
-    assert changed[:150, :250].mean() > 0.5  # darkened panel with text
-    assert rows.max() < 170 and cols.max() < 320  # nothing drawn elsewhere without a policy
-    panel = frame[10:150, 5:250].astype(int).sum(axis=2)
+    x0, y0, x1, y1 = text_panel_box(frame.shape, overlay_lines(INFO))
+    assert x0 == round(TEXT_PANEL_LEFT * frame.shape[1]) > 100 and y0 == 0  # the head is left
+    assert 200 < x1 - x0 < 320 and 100 < y1 < 170
+    assert changed[y0:y1, x0:x1].mean() > 0.9  # darkened panel with text
+    outside = changed.copy()
+    outside[y0:y1, x0:x1] = False
+    assert not outside.any()  # nothing drawn elsewhere without a policy or spots
+    panel = frame[y0:y1, x0:x1].astype(int).sum(axis=2)
     assert np.sum(panel > 600) > 500  # white text pixels on the dark panel
 
 

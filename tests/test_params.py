@@ -21,10 +21,19 @@ def test_text_and_typed_values_convert_alike() -> None:
 
 @pytest.mark.parametrize(
     ("name", "value"),
-    [("discard", "nan"), ("discard", "inf"), ("discard", True), ("patience", "2.5"),
-     ("patience", "1e400"), ("tables", "1001"), ("repeat_discarded", 2), ("detector", " "),
-     ("confusion", "[[1, 0, 0, 0]]"), ("spots", 0)],
-)  # fmt: skip
+    [
+        ("discard", "nan"),
+        ("discard", "inf"),
+        ("discard", True),
+        ("patience", "2.5"),
+        ("patience", "1e400"),
+        ("tables", "1001"),
+        ("repeat_discarded", 2),
+        ("detector", " "),
+        ("confusion", "[[1, 0, 0, 0]]"),
+        ("spots", 0),
+    ],
+)
 def test_out_of_range_or_wrong_type_is_refused_naming_the_range(name: str, value: object) -> None:
     spec = PARAMS[name]
     with pytest.raises(ParamError) as caught:

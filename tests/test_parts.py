@@ -37,10 +37,12 @@ def test_same_seed_same_decisions_in_another_world() -> None:
     scenario = load_scenario().with_changes(tables=1)
     first = build_parts(scenario, 0.6, seed=8)
     second = build_parts(scenario, 0.6, seed=8)
-    symbolic = list(steps(first.learner, first.person, first.detector, SymbolicWorld(),
-                          **first.options))  # fmt: skip
-    measured = list(steps(second.learner, second.person, second.detector, MeasuringWorld(),
-                          **second.options))  # fmt: skip
+    symbolic = list(
+        steps(first.learner, first.person, first.detector, SymbolicWorld(), **first.options)
+    )
+    measured = list(
+        steps(second.learner, second.person, second.detector, MeasuringWorld(), **second.options)
+    )
     assert [r._replace(detail="") for r in measured] == [r._replace(detail="") for r in symbolic]
     assert any(r.detail.startswith("moved for Target") for r in measured)
 
@@ -64,8 +66,9 @@ def test_parameter_values_from_text_are_converted() -> None:
     from pil.errors import RobinPilError
     from pil.task.parts import check_params
 
-    values = check_params({"discard": "0.3", "repeat_discarded": "false", "patience": "2",
-                           "legs_per_table": 3.0})  # fmt: skip
+    values = check_params(
+        {"discard": "0.3", "repeat_discarded": "false", "patience": "2", "legs_per_table": 3.0}
+    )
     assert values["discard"] == 0.3 and values["repeat_discarded"] is False
     assert values["patience"] == 2 and values["legs_per_table"] == 3
     with pytest.raises(

@@ -49,11 +49,27 @@ def test_a_table_per_person_pays_off_only_in_the_long_run() -> None:
 
 
 def test_people_command(tmp_path: Path) -> None:
-    argv = ["people", "--systems", "pil", "--reps", "2", "--rates", "1.0", "--tables", "4",
-            "--out", str(tmp_path), "--no-progress"]  # fmt: skip
+    argv = [
+        "people",
+        "--systems",
+        "pil",
+        "--reps",
+        "2",
+        "--rates",
+        "1.0",
+        "--tables",
+        "4",
+        "--out",
+        str(tmp_path),
+        "--no-progress",
+    ]
     assert main(argv) == 0
-    assert {p.name for p in tmp_path.iterdir()} == {"people.csv", "people.md", "people.png",
-                                                    "tests.csv"}  # fmt: skip
+    assert {p.name for p in tmp_path.iterdir()} == {
+        "people.csv",
+        "people.md",
+        "people.png",
+        "tests.csv",
+    }
     tests = (tmp_path / "tests.csv").read_text().splitlines()
     assert tests[0].startswith("measure,reading,rate,system,system_a,system_b,test,n,pairing,")
     assert ",shared,per-person,paired t,2,rep+seed," in tests[1]

@@ -22,12 +22,18 @@ def test_script_follows_the_types_with_legs_tables_and_targets(scenario) -> None
     assert len(script) == 6 + 5 + 4 + 6 + 4
     c_steps = script[:6]
     assert [s.intent.target for s in c_steps] == [
-        Target("leg", 1), Target("leg", 0), None, None, Target("spot", 0), None
-    ]  # fmt: skip
+        Target("leg", 1),
+        Target("leg", 0),
+        None,
+        None,
+        Target("spot", 0),
+        None,
+    ]
     f_steps = script[6:11]  # leg 1 of table 0: the spot is changed from 2 to 1
     assert [s.intent.target for s in f_steps if s.intent.action is Action.LOCATION] == [
-        Target("spot", 2), Target("spot", 1)
-    ]  # fmt: skip
+        Target("spot", 2),
+        Target("spot", 1),
+    ]
     g_steps = script[15:21]  # leg 3, the last of the table: a double point stays on leg 3
     assert g_steps[0].intent.target == Target("leg", 3) == g_steps[1].intent.target
     # ... and a double location stays on spot 3: spots 0-2 may hold legs placed earlier

@@ -14,8 +14,17 @@ from pil.task.world import SymbolicWorld
 from robin_sim.cli.main import main
 from robin_sim.episode.log import read_step_log
 
-DECISION_KEYS = ("t", "gesture_count", "true_gesture", "state", "action", "feedback",
-                 "proactive", "delivered", "legs_delivered")  # fmt: skip
+DECISION_KEYS = (
+    "t",
+    "gesture_count",
+    "true_gesture",
+    "state",
+    "action",
+    "feedback",
+    "proactive",
+    "delivered",
+    "legs_delivered",
+)
 
 
 @pytest.mark.slow
@@ -23,8 +32,15 @@ def test_a_proactive_episode_runs_to_the_end_and_acts_before_gestures(tmp_path: 
     """Seed 1, one table, no video: the anticipations happen physically, as in the study."""
     from robin_sim.episode.run import EpisodeConfig, run_episode
 
-    config = EpisodeConfig(tables=1, seed=1, system="proactive", out=tmp_path, video=False,
-                           verify=False, progress=False)  # fmt: skip
+    config = EpisodeConfig(
+        tables=1,
+        seed=1,
+        system="proactive",
+        out=tmp_path,
+        video=False,
+        verify=False,
+        progress=False,
+    )
     summary = run_episode(config)
     assert summary["status"] == "finished" and summary["system"] == "proactive"
     assert summary["legs_delivered"] == 4 and summary["legs_to_person"] >= 1
@@ -42,8 +58,12 @@ def test_a_proactive_episode_runs_to_the_end_and_acts_before_gestures(tmp_path: 
     values = check_params({"tables": 1})
     parts = learner_parts("proactive", 1.0, 1, resolve_scenario(None, values), values)
     assert summary["gestures"] == len(parts.person.script) - summary["anticipated_ok"]
-    symbolic = [r.to_dict() for r in steps(parts.learner, parts.person, parts.detector,
-                                           SymbolicWorld(), **parts.options)]  # fmt: skip
+    symbolic = [
+        r.to_dict()
+        for r in steps(
+            parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options
+        )
+    ]
     assert [{k: e[k] for k in DECISION_KEYS} for e in log] == [
         {k: e[k] for k in DECISION_KEYS} for e in symbolic
     ]
@@ -58,8 +78,20 @@ def test_the_episode_help_lists_every_system(capsys: pytest.CaptureFixture) -> N
 
 def test_study_command_compares_proactive_with_pil(tmp_path: Path) -> None:
     out = tmp_path / "study"
-    code = main(["study", "--systems", "pil,proactive", "--reps", "3", "--rates", "0.6,1.0",
-                 "--out", str(out), "--no-progress"])  # fmt: skip
+    code = main(
+        [
+            "study",
+            "--systems",
+            "pil,proactive",
+            "--reps",
+            "3",
+            "--rates",
+            "0.6,1.0",
+            "--out",
+            str(out),
+            "--no-progress",
+        ]
+    )
     assert code == 0
     text = (out / "summary.md").read_text()
     assert "## Proactive vs reactive PIL" in text and "gestures saved" in text
@@ -73,11 +105,21 @@ def test_the_overlay_shows_an_anticipation_as_no_gesture() -> None:
     from robin_sim.render.overlay import overlay_lines
 
     record = StepRecord(
-        t=7, gesture_count=6, table=0, handover=1, handover_type="C", step=2,
-        true_gesture=Gesture.GRASP, detected_gesture=None, intended_action=Action.CLOSE,
-        legs_delivered=1, state=State(Gesture.GRASP, Action.OBJECT, Hand.FREE),
-        action=Action.CLOSE, exploited=True, proactive=True,
-    )  # fmt: skip
+        t=7,
+        gesture_count=6,
+        table=0,
+        handover=1,
+        handover_type="C",
+        step=2,
+        true_gesture=Gesture.GRASP,
+        detected_gesture=None,
+        intended_action=Action.CLOSE,
+        legs_delivered=1,
+        state=State(Gesture.GRASP, Action.OBJECT, Hand.FREE),
+        action=Action.CLOSE,
+        exploited=True,
+        proactive=True,
+    )
     view = EpisodeView()
     view.decided(record)
     lines = overlay_lines(view.info)

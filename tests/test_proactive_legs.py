@@ -24,8 +24,9 @@ def test_an_anticipated_delivery_raises_the_leg_count() -> None:
     found = 0
     for seed in (0, 1):
         parts = build_parts(scenario, 1.0, derive_seeds(seed), **values)
-        records = list(steps(parts.learner, parts.person, parts.detector, SymbolicWorld(),
-                             **parts.options))  # fmt: skip
+        records = list(
+            steps(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+        )
         legs = 0
         for record in records:
             legs += record.delivered

@@ -34,19 +34,31 @@ questionnaires:
 
 def test_presets_nasa_tlx_raw_and_godspeed_scales() -> None:
     tlx, godspeed = load_questionnaires(["nasa-tlx", "godspeed"], "here")
-    assert [i.id for i in tlx.items] == ["mental", "physical", "temporal", "performance",
-                                         "effort", "frustration"]  # fmt: skip
+    assert [i.id for i in tlx.items] == [
+        "mental",
+        "physical",
+        "temporal",
+        "performance",
+        "effort",
+        "frustration",
+    ]
     assert {(i.minimum, i.maximum, i.step) for i in tlx.items} == {(0, 100, 5)}
-    answers = tlx.check_answers(dict(zip([i.id for i in tlx.items], [50, 60, 70, 80, 40, 75],
-                                         strict=True)))  # fmt: skip
+    answers = tlx.check_answers(
+        dict(zip([i.id for i in tlx.items], [50, 60, 70, 80, 40, 75], strict=True))
+    )
     assert tlx.scores(answers) == {"raw_tlx": pytest.approx(62.5)}
     scales = [i.scale for i in godspeed.items]
     assert {s: scales.count(s) for s in dict.fromkeys(scales)} == {
-        "anthropomorphism": 5, "animacy": 6, "likeability": 5, "perceived_intelligence": 5,
-        "perceived_safety": 3}  # fmt: skip
+        "anthropomorphism": 5,
+        "animacy": 6,
+        "likeability": 5,
+        "perceived_intelligence": 5,
+        "perceived_safety": 3,
+    }
     assert {(i.minimum, i.maximum) for i in godspeed.items} == {(1, 5)}
-    ratings = {i.id: (5 if i.scale == "likeability" else 1 + k % 2)
-               for k, i in enumerate(godspeed.items)}  # fmt: skip
+    ratings = {
+        i.id: (5 if i.scale == "likeability" else 1 + k % 2) for k, i in enumerate(godspeed.items)
+    }
     scores = godspeed.scores(godspeed.check_answers(ratings))
     assert scores["likeability"] == 5.0
     assert scores["perceived_safety"] == pytest.approx(5 / 3)  # its items rated 2, 1, 2
@@ -56,16 +68,37 @@ def test_presets_nasa_tlx_raw_and_godspeed_scales() -> None:
     ("answers", "expected"),
     [
         ({"mental": 50}, "please answer every question"),
-        ({**dict.fromkeys(["mental", "physical", "temporal", "performance", "effort",
-                            "frustration"], 50), "mental": 57}, "in steps of 5"),
-        ({**dict.fromkeys(["mental", "physical", "temporal", "performance", "effort",
-                            "frustration"], 50), "effort": 105}, "from 0 to 100"),
-        ({**dict.fromkeys(["mental", "physical", "temporal", "performance", "effort",
-                            "frustration"], 50), "effort": True}, "whole number"),
+        (
+            {
+                **dict.fromkeys(
+                    ["mental", "physical", "temporal", "performance", "effort", "frustration"], 50
+                ),
+                "mental": 57,
+            },
+            "in steps of 5",
+        ),
+        (
+            {
+                **dict.fromkeys(
+                    ["mental", "physical", "temporal", "performance", "effort", "frustration"], 50
+                ),
+                "effort": 105,
+            },
+            "from 0 to 100",
+        ),
+        (
+            {
+                **dict.fromkeys(
+                    ["mental", "physical", "temporal", "performance", "effort", "frustration"], 50
+                ),
+                "effort": True,
+            },
+            "whole number",
+        ),
         ({"mood": 3}, "unknown item 'mood'"),
         ([1, 2], "must be an object"),
     ],
-)  # fmt: skip
+)
 def test_bad_answers_are_refused_with_the_reason(answers, expected: str) -> None:
     (tlx,) = load_questionnaires(["nasa-tlx"], "here")
     with pytest.raises(QuestionnaireError, match=expected):
@@ -83,7 +116,7 @@ def test_bad_answers_are_refused_with_the_reason(answers, expected: str) -> None
         ("  - nasa-tlx\n  - nasa-tlx\n", "'nasa-tlx' is listed twice"),
         ("  {}\n", "expected a non-empty list"),
     ],
-)  # fmt: skip
+)
 def test_protocol_questionnaires_are_checked_at_load(tmp_path: Path, yaml: str, expected) -> None:
     path = tmp_path / "p.yaml"
     path.write_text(PROTOCOL + yaml)
@@ -98,40 +131,69 @@ def test_cli_refuses_a_bad_questionnaire_before_serving(tmp_path: Path, capsys) 
     path = tmp_path / "p.yaml"
     path.write_text(PROTOCOL + "  - {name: t, items: [{id: a, text: A}], points: 12}\n")
     out = tmp_path / "out"
-    assert main(["live", "--protocol", str(path), "--participant", "P01", "--out", str(out),
-                 "--no-browser", "--port", "0"]) == 2  # fmt: skip
+    assert (
+        main(
+            [
+                "live",
+                "--protocol",
+                str(path),
+                "--participant",
+                "P01",
+                "--out",
+                str(out),
+                "--no-browser",
+                "--port",
+                "0",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "points: expected a whole number from 2 to 11, got 12" in err and not out.exists()
 
 
 def test_answers_are_saved_one_line_each_and_wrong_messages_refused(tmp_path: Path) -> None:
     path = tmp_path / "p.yaml"
-    path.write_text(PROTOCOL + "  - nasa-tlx\n  - {name: ease, points: 5, items: "
-                    "[{id: clear, text: Robin understood me.}]}\n")  # fmt: skip
+    path.write_text(
+        PROTOCOL + "  - nasa-tlx\n  - {name: ease, points: 5, items: "
+        "[{id: clear, text: Robin understood me.}]}\n"
+    )
     protocol = load_protocol(path)
     config = LiveConfig(participant="P03", system="proactive", block=1, protocol=str(path))
     asking = Questioning(protocol.questionnaires, tmp_path, config)
     assert asking.status()["questionnaire"]["name"] == "nasa-tlx"
-    for message, expected in (("[" * 3000, "not a JSON message"), ('{"type": "end"}', "answer it"),
-                              ('{"type": "answers", "questionnaire": "ease"}', "is 'nasa-tlx'")):
+    for message, expected in (
+        ("[" * 3000, "not a JSON message"),
+        ('{"type": "end"}', "answer it"),
+        ('{"type": "answers", "questionnaire": "ease"}', "is 'nasa-tlx'"),
+    ):
         with pytest.raises(LiveInputError, match=expected):
             asking.receive(message)
     tlx = dict.fromkeys([i.id for i in protocol.questionnaires[0].items], 30)
-    assert not asking.receive(json.dumps({"type": "answers", "questionnaire": "nasa-tlx",
-                                          "answers": tlx}))  # fmt: skip
+    assert not asking.receive(
+        json.dumps({"type": "answers", "questionnaire": "nasa-tlx", "answers": tlx})
+    )
     assert asking.receive(b'{"type": "answers", "questionnaire": "ease", "answers": {"clear": 4}}')
     lines = [json.loads(x) for x in (tmp_path / QUESTIONNAIRES_NAME).read_text().splitlines()]
     assert [(x["questionnaire"], x["scores"]) for x in lines] == [
-        ("nasa-tlx", {"raw_tlx": 30.0}), ("ease", {"clear": 4.0, "mean": 4.0})]  # fmt: skip
-    assert {(x["participant"], x["condition"], x["block"]) for x in lines} == {("P03",
-                                                                                "proactive", 1)}
+        ("nasa-tlx", {"raw_tlx": 30.0}),
+        ("ease", {"clear": 4.0, "mean": 4.0}),
+    ]
+    assert {(x["participant"], x["condition"], x["block"]) for x in lines} == {
+        ("P03", "proactive", 1)
+    }
 
 
 def _write(folder: Path, participant: str, condition: str, block: int, tlx: float) -> None:
     session = folder / participant / f"block{block + 1}-{condition}"
     session.mkdir(parents=True, exist_ok=True)
-    entry = {"participant": participant, "condition": condition, "block": block,
-             "questionnaire": "nasa-tlx", "scores": {"raw_tlx": tlx}}  # fmt: skip
+    entry = {
+        "participant": participant,
+        "condition": condition,
+        "block": block,
+        "questionnaire": "nasa-tlx",
+        "scores": {"raw_tlx": tlx},
+    }
     with (session / QUESTIONNAIRES_NAME).open("a") as file:
         file.write(json.dumps(entry) + "\n")
 

@@ -55,10 +55,12 @@ def test_states_round_trip_with_geometry_changes_kept_only_where_they_change(
         (lambda d: (d / "file.txt").write_text("x") and d / "file.txt", "is a file"),
         (lambda d: d, "is not a run's folder"),
         (lambda d: (d / "summary.json").write_text("{}") and d, "has no states.npz"),
-        (lambda d: ((d / "a").mkdir(), (d / "a" / STATES_NAME).write_text("x"), d)[-1],
-         "holds 1 recorded runs"),
+        (
+            lambda d: ((d / "a").mkdir(), (d / "a" / STATES_NAME).write_text("x"), d)[-1],
+            "holds 1 recorded runs",
+        ),
     ],
-)  # fmt: skip
+)
 def test_bad_dir_is_refused_with_exit_2(tmp_path: Path, capsys, make, expected: str) -> None:
     folder = make(tmp_path)
     before = sorted(p.name for p in tmp_path.rglob("*"))
@@ -87,13 +89,23 @@ def test_replay_of_a_live_session_renders_the_frames_of_its_video(tmp_path: Path
     from robin_sim.live.config import LiveConfig
     from robin_sim.live.session import LiveSession
 
-    session = LiveSession(LiveConfig(scenario="one_handover", out_root=tmp_path, session="s1",
-                                     speed=3.0, fps=10, width=160, height=120))  # fmt: skip
+    session = LiveSession(
+        LiveConfig(
+            scenario="one_handover",
+            out_root=tmp_path,
+            session="s1",
+            speed=3.0,
+            fps=10,
+            width=160,
+            height=120,
+        )
+    )
     session.start()
     try:
         deadline = time.monotonic() + 90
-        while (session.latest_frame() is None or session.latest_frame().seq < 20) and \
-                time.monotonic() < deadline:  # fmt: skip
+        while (
+            session.latest_frame() is None or session.latest_frame().seq < 20
+        ) and time.monotonic() < deadline:
             time.sleep(0.1)
     finally:
         summary = session.stop("ended")
@@ -141,9 +153,11 @@ def test_the_scrub_page_serves_each_frame_rendered_again(tmp_path: Path) -> None
             shown = cv2.imdecode(np.frombuffer(body, np.uint8), cv2.IMREAD_COLOR)[:, :, ::-1]
             assert shown.shape == (120, 160, 3)
             # the same pixels JPEG-encoded here give the same bytes: the frame is the render's
-            ok, again = cv2.imencode(".jpg", cv2.cvtColor(pixels.astype(np.uint8),
-                                                          cv2.COLOR_RGB2BGR),
-                                     [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
+            ok, again = cv2.imencode(
+                ".jpg",
+                cv2.cvtColor(pixels.astype(np.uint8), cv2.COLOR_RGB2BGR),
+                [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY],
+            )
             assert ok and again.tobytes() == body
         assert np.abs(expected[0] - expected[1]).mean() > 2.0  # the frames differ: it can fail
         assert headers["x-frame-options"] == "DENY"

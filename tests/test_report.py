@@ -49,7 +49,7 @@ def test_summary_over_any_grouping_column(results: Path) -> None:
         ("0.1", "c1"),
         ("0.3", "pil"),
         ("0.3", "c1"),
-    ]  # fmt: skip  (numbers by value, text in the order first seen)
+    ]  # numbers by value, text in the order first seen
     pil = stats[0]
     assert pil["n"] == 4 and pil["legs_mean"] == 39.5
     assert math.isclose(pil["legs_sd"], 1.2909944, rel_tol=1e-6)
@@ -72,8 +72,11 @@ def test_rows_without_a_pairing_key_get_welch_tests_matching_scipy(results: Path
 
 
 def test_identical_constant_groups_give_no_p_value() -> None:
-    rows = [{"system": s, "rate": "1.0", "rep": str(i), "g": "220"}
-            for s in ("pil", "c1") for i in range(3)]  # fmt: skip
+    rows = [
+        {"system": s, "rate": "1.0", "rep": str(i), "g": "220"}
+        for s in ("pil", "c1")
+        for i in range(3)
+    ]
     tests = compare(rows, "pil", metrics=("g",))
     assert all(math.isnan(t["p"]) for t in tests)
     assert "n/a" in table_of_tests(tests)

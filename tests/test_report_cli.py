@@ -46,28 +46,36 @@ def test_report_follows_the_grid(results, tmp_path) -> None:
     assert "24 runs summarised; 0 failed runs left out." in summary
     assert "| rate | discard | system | n | total_gestures | total_actions |" in summary
     rows = read(results)
-    cell = [float(r["total_gestures"]) for r in rows
-            if (r["rate"], r["discard"], r["system"]) == ("0.6", "0.3", "c1")]  # fmt: skip
+    cell = [
+        float(r["total_gestures"])
+        for r in rows
+        if (r["rate"], r["discard"], r["system"]) == ("0.6", "0.3", "c1")
+    ]
     mean, sd = statistics.fmean(cell), statistics.stdev(cell)
     assert f"| 0.6 | 0.3 | c1 | 3 | {mean:.1f} ± {sd:.1f} |" in summary
     assert "## Paired tests: pil against each other system" in summary
     assert "samples paired by rep+seed" in summary
     tests = read(tmp_path / "tests.csv")
     assert len(tests) == 2 * 2 * 4 * 2  # rates x discard values x metrics x (t, Wilcoxon)
-    assert {(t["system_a"], t["system_b"], t["pairing"]) for t in tests} == {("pil", "c1",
-                                                                               "rep+seed")}
+    assert {(t["system_a"], t["system_b"], t["pairing"]) for t in tests} == {
+        ("pil", "c1", "rep+seed")
+    }
     assert list(tests[0])[:4] == ["measure", "reading", "rate", "discard"]
     checked = 0
     for t in tests:  # the sweep's systems of one cell and repetition share the seed: paired
         if t["test"] != "paired t" or t["p"] == "nan":
             continue
-        column = {("gestures", "training included"): "total_gestures",
-                  ("actions", "training included"): "total_actions"}.get(
-                      (t["measure"], t["reading"]), t["measure"])  # fmt: skip
+        column = {
+            ("gestures", "training included"): "total_gestures",
+            ("actions", "training included"): "total_actions",
+        }.get((t["measure"], t["reading"]), t["measure"])
 
         def side(system: str, t: dict = t, column: str = column) -> list[float]:
-            cell = [r for r in rows if (r["rate"], r["discard"], r["system"])
-                    == (t["rate"], t["discard"], system)]  # fmt: skip
+            cell = [
+                r
+                for r in rows
+                if (r["rate"], r["discard"], r["system"]) == (t["rate"], t["discard"], system)
+            ]
             return [float(r[column]) for r in sorted(cell, key=lambda r: int(r["rep"]))]
 
         assert float(t["p"]) == pytest.approx(ttest_rel(side("pil"), side("c1")).pvalue)
@@ -101,16 +109,48 @@ def test_failed_runs_are_listed_and_left_out(results, tmp_path) -> None:
 
 
 def test_physical_runs_get_delivered_fraction_and_failures(tmp_path) -> None:
-    columns = ["run_id", "system", "rate", "tables", "rep", "seed", "status", "error",
-               "total_gestures", "total_actions", "legs", "legs_delivered",
-               "physical_failures"]  # fmt: skip
+    columns = [
+        "run_id",
+        "system",
+        "rate",
+        "tables",
+        "rep",
+        "seed",
+        "status",
+        "error",
+        "total_gestures",
+        "total_actions",
+        "legs",
+        "legs_delivered",
+        "physical_failures",
+    ]
     rows = []
     for rate, delivered in (("0.6", (6, 7)), ("1.0", (8, 8))):
         for system in ("pil", "c1"):
             for rep, legs_delivered in enumerate(delivered):
-                rows.append(dict(zip(columns, [f"{system}|rate={rate}|rep={rep}", system, rate,
-                    "2", rep, 1, "ok", "", 10 + rep, 12 + rep, 8, legs_delivered,
-                    8 - legs_delivered], strict=True)))  # fmt: skip
+                rows.append(
+                    dict(
+                        zip(
+                            columns,
+                            [
+                                f"{system}|rate={rate}|rep={rep}",
+                                system,
+                                rate,
+                                "2",
+                                rep,
+                                1,
+                                "ok",
+                                "",
+                                10 + rep,
+                                12 + rep,
+                                8,
+                                legs_delivered,
+                                8 - legs_delivered,
+                            ],
+                            strict=True,
+                        )
+                    )
+                )
     path = tmp_path / "results.csv"
     path.write_text(rows_to_csv(rows, columns))
     write_report(path, tmp_path / "report")
@@ -132,6 +172,16 @@ def test_physical_runs_get_delivered_fraction_and_failures(tmp_path) -> None:
 
 def test_grid_axes_of_a_study_csv_are_the_rate_only() -> None:
     assert grid_axes([{"system": "pil", "rate": "0.6", "discard": "0.3"}]) == ["rate"]
-    sweep = [{"run_id": "a", "system": "pil", "rate": "0.6", "tables": "1", "x": str(i),
-              "rep": "0", "seed": "1"} for i in range(2)]  # fmt: skip
+    sweep = [
+        {
+            "run_id": "a",
+            "system": "pil",
+            "rate": "0.6",
+            "tables": "1",
+            "x": str(i),
+            "rep": "0",
+            "seed": "1",
+        }
+        for i in range(2)
+    ]
     assert grid_axes(sweep) == ["rate", "x"]  # tables takes one value: not an axis

@@ -29,9 +29,15 @@ def refused(argv: list[str], capsys: pytest.CaptureFixture[str], *needles: str) 
 
 @pytest.mark.parametrize(
     ("cell", "column"),
-    [("nan", "gestures"), ("inf", "gestures"), ("-inf", "actions"), ("9" * 400, "gestures"),
-     ("1e400", "actions"), ("abc", "rate")],
-)  # fmt: skip
+    [
+        ("nan", "gestures"),
+        ("inf", "gestures"),
+        ("-inf", "actions"),
+        ("9" * 400, "gestures"),
+        ("1e400", "actions"),
+        ("abc", "rate"),
+    ],
+)
 def test_a_bad_csv_cell_is_refused_and_nothing_is_written(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], cell: str, column: str
 ) -> None:

@@ -70,9 +70,11 @@ def test_table_one_passes_through_the_papers_states() -> None:
     records = list(steps(Learner(7), person, Detector(1.0, 0, deck_size=14), SymbolicWorld()))
     approved = [r.state_key for r in records if r.feedback is Feedback.OK]
     assert approved[:4] == [
-        "pointing|open|free", "grasp|object|free", "give me|close|occupied",
+        "pointing|open|free",
+        "grasp|object|free",
+        "give me|close|occupied",
         "release|human|occupied",
-    ]  # fmt: skip
+    ]
     assert approved[11:13] == ["give me|close|occupied", "pointing|human|occupied"]
     assert records[-1].legs_delivered == 3 and records[-1].gesture_count == 14
 
@@ -106,8 +108,9 @@ def test_same_seed_same_records(scenario: Scenario) -> None:
 
 
 def test_repeat_requests_and_json_records(scenario: Scenario) -> None:
-    records = list(steps(*parts(scenario, 0.4, 2, discard=1.0), SymbolicWorld(),
-                         repeat_discarded=True))  # fmt: skip
+    records = list(
+        steps(*parts(scenario, 0.4, 2, discard=1.0), SymbolicWorld(), repeat_discarded=True)
+    )
     repeats = [r for r in records if r.is_repeat]
     assert repeats and all(r.detected_gesture is None and r.feedback is None for r in repeats)
     line = json.dumps(records[0].to_dict())
@@ -181,8 +184,15 @@ def test_the_observer_sees_each_decision_before_the_world_acts(scenario: Scenari
     assert got == acted  # each complete record, as yielded
     assert [a.feedback for a in answers] == [r.feedback for r in acted]
     assert all(s.feedback is None and s.succeeded is None for s in seen)
-    answer = {"feedback": None, "succeeded": None, "delivered": False, "legs_delivered": 0,
-              "interrupted": False, "detail": "", "feedback_read": None}  # fmt: skip
+    answer = {
+        "feedback": None,
+        "succeeded": None,
+        "delivered": False,
+        "legs_delivered": 0,
+        "interrupted": False,
+        "detail": "",
+        "feedback_read": None,
+    }
     assert [s._replace(**answer) for s in seen] == [r._replace(**answer) for r in acted]
     assert acted[0].target == Target("leg", 0) or acted[0].target == Target("leg", 1)
     assert json.loads(json.dumps(acted[0].to_dict()))["target"]["kind"] == "leg"

@@ -71,8 +71,12 @@ def test_balanced_draw_uses_each_type_equally_often_and_depends_on_the_seed() ->
 
 
 def test_states_along_tracks_hand_and_previous_action() -> None:
-    pairs = [(Gesture.POINTING, Action.OBJECT), (Gesture.GRASP, Action.CLOSE),
-             (Gesture.RELEASE, Action.OPEN), (Gesture.POINTING, Action.OBJECT)]  # fmt: skip
+    pairs = [
+        (Gesture.POINTING, Action.OBJECT),
+        (Gesture.GRASP, Action.CLOSE),
+        (Gesture.RELEASE, Action.OPEN),
+        (Gesture.POINTING, Action.OBJECT),
+    ]
     states = states_along(pairs)
     assert states[1] == State("grasp", "object", "free")
     assert states[2] == State("release", "close", "occupied")

@@ -26,21 +26,49 @@ from pil.experiments.sessions_report import (
 from robin_sim.cli.main import main
 
 
-def summary(participant: str, session: str, condition: str, values: dict[str, Any],
-            status: str = "finished", block: int | None = 1) -> dict[str, Any]:  # fmt: skip
+def summary(
+    participant: str,
+    session: str,
+    condition: str,
+    values: dict[str, Any],
+    status: str = "finished",
+    block: int | None = 1,
+) -> dict[str, Any]:
     """A summary.json in the live contract's shape (episode fields plus the "live" block)."""
-    fields = {"gestures": 14, "actions": 20, "rejected": 4, "interrupted_actions": 1,
-              "sim_time_s": 120.0, "mean_handover_s": 30.0, "legs_delivered": 3}  # fmt: skip
+    fields = {
+        "gestures": 14,
+        "actions": 20,
+        "rejected": 4,
+        "interrupted_actions": 1,
+        "sim_time_s": 120.0,
+        "mean_handover_s": 30.0,
+        "legs_delivered": 3,
+    }
     fields.update(values)
     return {
-        "status": status, "error": "", "system": condition, "rate": 1.0, "seed": 0,
-        "scenario": "table_one", "tables": 1, "legs_total": 3, **fields,
-        "live": {"participant": participant, "session": session, "condition": condition,
-                 "block": block, "protocol": "reactive_vs_proactive",
-                 "handover_types": ["A", "B", "C"], "inputs": 40, "inputs_rejected": 2,
-                 "frames_streamed": 1800, "stream_fps": 15.0,
-                 "started_utc": "2026-12-01T12:00:00Z"},
-    }  # fmt: skip
+        "status": status,
+        "error": "",
+        "system": condition,
+        "rate": 1.0,
+        "seed": 0,
+        "scenario": "table_one",
+        "tables": 1,
+        "legs_total": 3,
+        **fields,
+        "live": {
+            "participant": participant,
+            "session": session,
+            "condition": condition,
+            "block": block,
+            "protocol": "reactive_vs_proactive",
+            "handover_types": ["A", "B", "C"],
+            "inputs": 40,
+            "inputs_rejected": 2,
+            "frames_streamed": 1800,
+            "stream_fps": 15.0,
+            "started_utc": "2026-12-01T12:00:00Z",
+        },
+    }
 
 
 def write(root: Path, data: dict[str, Any]) -> Path:
@@ -53,22 +81,32 @@ def write(root: Path, data: dict[str, Any]) -> Path:
 
 # within-subject: (participant, condition, block, gestures, actions, mean handover s)
 WITHIN = [
-    ("P01", "pil", 1, 20, 30, 41.0), ("P01", "pil", 2, 16, 24, 35.0),
+    ("P01", "pil", 1, 20, 30, 41.0),
+    ("P01", "pil", 2, 16, 24, 35.0),
     ("P01", "proactive", 3, 14, 26, 30.5),
-    ("P02", "proactive", 1, 15, 27, 31.0), ("P02", "pil", 2, 19, 25, 38.0),
-    ("P03", "pil", 1, 22, 33, 44.0), ("P03", "proactive", 2, 13, 29, 29.0),
-    ("P04", "proactive", 1, 17, 22, None), ("P04", "pil", 2, 18, 21, 36.5),
-]  # fmt: skip
+    ("P02", "proactive", 1, 15, 27, 31.0),
+    ("P02", "pil", 2, 19, 25, 38.0),
+    ("P03", "pil", 1, 22, 33, 44.0),
+    ("P03", "proactive", 2, 13, 29, 29.0),
+    ("P04", "proactive", 1, 17, 22, None),
+    ("P04", "pil", 2, 18, 21, 36.5),
+]
 
 
 @pytest.fixture
 def within_folder(tmp_path: Path) -> Path:
     root = tmp_path / "live"
     for participant, condition, block, gestures, actions, handover in WITHIN:
-        values = {"gestures": gestures, "actions": actions, "mean_handover_s": handover,
-                  "sim_time_s": 100.0 + gestures * 3.5, "rejected": actions - gestures}  # fmt: skip
-        write(root, summary(participant, f"block{block}-{condition}", condition, values,
-                            block=block))  # fmt: skip
+        values = {
+            "gestures": gestures,
+            "actions": actions,
+            "mean_handover_s": handover,
+            "sim_time_s": 100.0 + gestures * 3.5,
+            "rejected": actions - gestures,
+        }
+        write(
+            root, summary(participant, f"block{block}-{condition}", condition, values, block=block)
+        )
     # an unfinished session: listed, not counted
     write(root, summary("P02", "block3-proactive", "proactive", {"gestures": 99}, "ended", 3))
     episode = root / "P01" / "episode-test" / "summary.json"  # no "live" block: not a session
@@ -78,8 +116,11 @@ def within_folder(tmp_path: Path) -> Path:
 
 
 def counted(rows: list[dict[str, Any]], condition: str, measure: str) -> list[float]:
-    return [r[measure] for r in rows
-            if r["counted"] and r["condition"] == condition and r[measure] is not None]  # fmt: skip
+    return [
+        r[measure]
+        for r in rows
+        if r["counted"] and r["condition"] == condition and r[measure] is not None
+    ]
 
 
 def test_means_and_sds_match_numpy(within_folder: Path) -> None:
@@ -107,8 +148,11 @@ def test_paired_t_tests_match_scipy(within_folder: Path) -> None:
     expected = stats.ttest_rel(pil_g, pro_g)
     gestures = tests["gestures"]
     assert (gestures["test"], gestures["a"], gestures["b"], gestures["n"]) == (
-        "paired", "pil", "proactive", 4
-    )  # fmt: skip
+        "paired",
+        "pil",
+        "proactive",
+        4,
+    )
     assert gestures["t"] == pytest.approx(expected.statistic, rel=1e-12)
     assert gestures["p"] == pytest.approx(expected.pvalue, rel=1e-12)
     assert gestures["mean_a"] == pytest.approx(np.mean(pil_g))
@@ -123,8 +167,10 @@ def test_paired_t_tests_match_scipy(within_folder: Path) -> None:
 
 def test_between_subject_gets_welch(tmp_path: Path) -> None:
     root = tmp_path / "between"
-    data = {"pil": {"P01": 20, "P03": 23, "P05": 19}, "proactive": {"P02": 14, "P04": 17,
-                                                                    "P06": 12}}  # fmt: skip
+    data = {
+        "pil": {"P01": 20, "P03": 23, "P05": 19},
+        "proactive": {"P02": 14, "P04": 17, "P06": 12},
+    }
     for condition, by in data.items():
         for participant, gestures in by.items():
             write(root, summary(participant, "s1", condition, {"gestures": gestures}))
@@ -167,12 +213,19 @@ def test_cli_writes_csv_report_and_figure(within_folder: Path, capsys: Any) -> N
     ]
     first = table[0]
     assert (first["participant"], first["block"], first["condition"], first["gestures"]) == (
-        "P01", "1", "pil", "20"
-    )  # fmt: skip
+        "P01",
+        "1",
+        "pil",
+        "20",
+    )
     assert first["summary"] == "P01/block1-pil/summary.json"
     assert first["handover_types"] == "A B C" and first["stream_fps"] == "15.0"
-    assert next(r for r in table if r["participant"] == "P04" and r["condition"] ==
-                "proactive")["mean_handover_s"] == ""  # fmt: skip
+    assert (
+        next(r for r in table if r["participant"] == "P04" and r["condition"] == "proactive")[
+            "mean_handover_s"
+        ]
+        == ""
+    )
     report = (out / "report.md").read_text()
     assert "status `finished`" in report and "## Paired t-tests (within-subject)" in report
     assert "| P02 | block3-proactive | proactive | table_one | ended | 3 / 3 |" in report
@@ -186,8 +239,11 @@ def test_cli_writes_csv_report_and_figure(within_folder: Path, capsys: Any) -> N
 
 
 def test_default_out_is_inside_the_folder_and_end_to_end(within_folder: Path) -> None:
-    done = subprocess.run([sys.executable, "-m", "robin_sim.cli.main", "report",
-                           str(within_folder)], capture_output=True, text=True)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-m", "robin_sim.cli.main", "report", str(within_folder)],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 0, done.stderr
     assert (within_folder / "report" / "sessions.csv").is_file()
     assert len(load_sessions(within_folder)) == 10  # the report folder adds no sessions
@@ -221,14 +277,20 @@ def test_an_out_path_that_is_a_file_is_refused(within_folder: Path, capsys: Any)
     [
         ('{"status": "finished", "live": {', "not a JSON summary at line 1; the file is corrupt"),
         ("[1, 2]", "expected a JSON object"),
-        (json.dumps({**summary("P09", "x", "pil", {}), "gestures": "many"}),
-         "gestures: expected a number, got 'many'"),
-        (json.dumps({k: v for k, v in summary("P09", "x", "pil", {}).items() if k != "actions"}),
-         "missing field 'actions'; a live summary has gestures, actions"),
-        (json.dumps({**summary("P09", "x", "pil", {}), "live": {"participant": "P09"}}),
-         "live.session: expected a non-empty text, got None"),
+        (
+            json.dumps({**summary("P09", "x", "pil", {}), "gestures": "many"}),
+            "gestures: expected a number, got 'many'",
+        ),
+        (
+            json.dumps({k: v for k, v in summary("P09", "x", "pil", {}).items() if k != "actions"}),
+            "missing field 'actions'; a live summary has gestures, actions",
+        ),
+        (
+            json.dumps({**summary("P09", "x", "pil", {}), "live": {"participant": "P09"}}),
+            "live.session: expected a non-empty text, got None",
+        ),
     ],
-)  # fmt: skip
+)
 def test_a_corrupt_summary_is_named_and_nothing_written(
     within_folder: Path, capsys: Any, text: str, message: str
 ) -> None:
@@ -252,8 +314,11 @@ def test_sessions_refuse_csv_options(tmp_path: Path, capsys: Any) -> None:
 
 def test_study_folders_and_csvs_still_report(tmp_path: Path, capsys: Any) -> None:
     lines = ["rep,system,rate,total_gestures,total_actions,gestures,actions"]
-    lines += [f"{r},{s},1.0,{10 + r + k},{20 + r},{10 + r + k},{20 + r * k}"
-              for r in range(3) for k, s in enumerate(("pil", "c1"))]  # fmt: skip
+    lines += [
+        f"{r},{s},1.0,{10 + r + k},{20 + r},{10 + r + k},{20 + r * k}"
+        for r in range(3)
+        for k, s in enumerate(("pil", "c1"))
+    ]
     (tmp_path / "runs.csv").write_text("\n".join(lines) + "\n")
     assert main(["report", str(tmp_path)]) == 0
     assert (tmp_path / "report" / "summary.md").is_file()
@@ -275,8 +340,9 @@ def test_one_condition_is_summarised_without_tests(tmp_path: Path, capsys: Any) 
     assert (tmp_path / "report" / "sessions.png").read_bytes().startswith(b"\x89PNG")
 
 
-def test_only_unfinished_sessions_are_listed_and_the_report_goes_on(tmp_path: Path,
-                                                                     capsys: Any) -> None:
+def test_only_unfinished_sessions_are_listed_and_the_report_goes_on(
+    tmp_path: Path, capsys: Any
+) -> None:
     write(tmp_path, summary("P01", "a", "pil", {"legs_delivered": 1}, status="ended"))
     assert main(["report", str(tmp_path)]) == 0
     report = (tmp_path / "report" / "report.md").read_text()
@@ -298,7 +364,9 @@ def test_scenarios_are_split_and_one_value_shows_n_without_sd(tmp_path: Path) ->
     rows = load_sessions(tmp_path)
     entries = summarize_sessions(rows)
     assert [(e["scenario"], e["condition"], e["n"]) for e in entries] == [
-        ("assembly", "pil", 1), ("one_handover", "pil", 1)]
+        ("assembly", "pil", 1),
+        ("one_handover", "pil", 1),
+    ]
     assert [e["gestures_mean"] for e in entries] == [16.0, 4.0]  # never pooled to 10
     assert all(math.isnan(e["gestures_sd"]) for e in entries)
     assert main(["report", str(tmp_path)]) == 0

@@ -104,8 +104,18 @@ def test_step_size_has_one_range_the_registry_and_tamer_agree() -> None:
 
 def test_a_bad_step_size_on_the_command_line_exits_2(tmp_path, capsys) -> None:
     out = tmp_path / "sweep"
-    code = main(["sweep", "--systems", "tamer", "--param", "step_size=0.5,1.5", "--out",
-                 str(out), "--quiet"])  # fmt: skip
+    code = main(
+        [
+            "sweep",
+            "--systems",
+            "tamer",
+            "--param",
+            "step_size=0.5,1.5",
+            "--out",
+            str(out),
+            "--quiet",
+        ]
+    )
     assert code == 2
     error = capsys.readouterr().err
     assert error.count("\n") == 1 and "step_size must be a number in [0, 1], got '1.5'" in error

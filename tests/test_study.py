@@ -37,9 +37,14 @@ def test_outputs_are_written_and_readable(tmp_path: Path) -> None:
     assert len(rows) == SMALL.runs() == 2 * 2 * 5
     written = write_outputs(rows, SMALL, tmp_path)
     assert {p.name for p in written} == {
-        "runs.csv", "claim_runs.csv", "tests.csv", "summary.md", "gestures.png", "actions.png",
+        "runs.csv",
+        "claim_runs.csv",
+        "tests.csv",
+        "summary.md",
+        "gestures.png",
+        "actions.png",
         "training.png",
-    }  # fmt: skip
+    }
     back = load_rows(tmp_path / "runs.csv")
     assert list(back[0]) == list(STUDY_COLUMNS) and len(back) == 20
     summary = (tmp_path / "summary.md").read_text()

@@ -13,13 +13,30 @@ from robin_sim.cli.main import main
 
 def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.CaptureFixture) -> None:
     out = tmp_path / "study"
-    code = main(["study", "--reps", "2", "--tables", "2", "--rates", "0.6,1.0", "--out", str(out),
-                 "--no-progress"])  # fmt: skip
+    code = main(
+        [
+            "study",
+            "--reps",
+            "2",
+            "--tables",
+            "2",
+            "--rates",
+            "0.6,1.0",
+            "--out",
+            str(out),
+            "--no-progress",
+        ]
+    )
     assert code == 0
     assert {p.name for p in out.iterdir()} == {
-        "runs.csv", "claim_runs.csv", "tests.csv", "summary.md", "gestures.png", "actions.png",
+        "runs.csv",
+        "claim_runs.csv",
+        "tests.csv",
+        "summary.md",
+        "gestures.png",
+        "actions.png",
         "training.png",
-    }  # fmt: skip
+    }
     assert "20 runs" in capsys.readouterr().out
 
 
@@ -47,8 +64,9 @@ def test_bad_input_exits_2_with_one_clear_message(
 
 def test_study_cli_imports_fast_without_mujoco() -> None:
     code = "import sys, robin_sim.cli.study, pil.experiments.study; print('mujoco' in sys.modules)"
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            check=True)  # fmt: skip
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
     assert result.stdout.strip() == "False"
 
 
@@ -60,8 +78,9 @@ def test_study_command_never_loads_mujoco(tmp_path: Path) -> None:
         f"{str(tmp_path)!r}, '--no-progress'])\n"
         "print(code, 'mujoco' in sys.modules)\n"
     )
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            check=True)  # fmt: skip
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
     assert result.stdout.split()[-2:] == ["0", "False"]
 
 
@@ -90,8 +109,20 @@ def test_bad_out_is_refused_before_anything_runs(
 
 def test_study_runs_the_baselines_beside_pil(tmp_path: Path) -> None:
     out = tmp_path / "baselines"
-    argv = ["study", "--systems", "pil,bandit,tamer", "--reps", "2", "--tables", "1",
-            "--rates", "0.6", "--out", str(out), "--no-progress"]  # fmt: skip
+    argv = [
+        "study",
+        "--systems",
+        "pil,bandit,tamer",
+        "--reps",
+        "2",
+        "--tables",
+        "1",
+        "--rates",
+        "0.6",
+        "--out",
+        str(out),
+        "--no-progress",
+    ]
     assert main(argv) == 0
     text = (out / "summary.md").read_text()
     for system in ("bandit", "tamer"):

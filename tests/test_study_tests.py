@@ -20,8 +20,18 @@ pytestmark = pytest.mark.slow  # a real study of 130 short runs
 def study(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A real small study, run through the command line."""
     out = tmp_path_factory.mktemp("study")
-    argv = ["study", "--reps", "10", "--tables", "3", "--rates", "0.4,1.0", "--out", str(out),
-            "--no-progress"]  # fmt: skip
+    argv = [
+        "study",
+        "--reps",
+        "10",
+        "--tables",
+        "3",
+        "--rates",
+        "0.4,1.0",
+        "--out",
+        str(out),
+        "--no-progress",
+    ]
     assert main(argv) == 0
     return out
 
@@ -38,8 +48,11 @@ def test_paired_p_values_equal_ttest_rel_on_runs_csv_matched_by_rep_and_rate(stu
             continue
 
         def side(system: str, t: dict = t, column: str = column_of[key]) -> dict[str, float]:
-            return {r["rep"]: float(r[column]) for r in runs
-                    if r["system"] == system and r["rate"] == t["rate"]}  # fmt: skip
+            return {
+                r["rep"]: float(r[column])
+                for r in runs
+                if r["system"] == system and r["rate"] == t["rate"]
+            }
 
         a, b = side(t["system_a"]), side(t["system_b"])
         reps = sorted(a, key=int)
@@ -76,8 +89,14 @@ def test_the_claim_section_follows_the_corrected_tests(study: Path) -> None:
     held, tried = claim_verdicts(tests)[reading]
     assert tried == 4 and held > 0  # 40 %: gestures and actions, vs c1 and c2
     # the raw p of a comparison stays, its Holm-adjusted p crosses 0.05: the verdict follows
-    target = next(t for t in tests if t["reading"] == reading and t["test"] == PAIRED_T
-                  and float(t["p_holm"]) < 0.05 and float(t["mean_diff"]) > 0)  # fmt: skip
+    target = next(
+        t
+        for t in tests
+        if t["reading"] == reading
+        and t["test"] == PAIRED_T
+        and float(t["p_holm"]) < 0.05
+        and float(t["mean_diff"]) > 0
+    )
     target["p_holm"] = "0.06"
     assert claim_verdicts(tests)[reading] == (held - 1, tried)
     assert float(target["p"]) < 0.05

@@ -68,10 +68,12 @@ def _ctrl_c_as_in_a_terminal() -> None:
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got '0'"),
         (["--param", "discard="], "empty grid: --param discard has no values"),
         (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "not both"),
-        (["--connect-timeout", "1", "--scheduler", "tcp://127.0.0.1:PORT"],
-         "cannot reach the Dask scheduler at 'tcp://127.0.0.1:PORT' within 1 s"),
+        (
+            ["--connect-timeout", "1", "--scheduler", "tcp://127.0.0.1:PORT"],
+            "cannot reach the Dask scheduler at 'tcp://127.0.0.1:PORT' within 1 s",
+        ),
     ],
-)  # fmt: skip
+)
 def test_bad_input_is_one_clear_error_before_anything_starts(
     robin, capsys, tmp_path, argv, message
 ) -> None:
@@ -140,8 +142,20 @@ def test_failed_runs_are_recorded_retried_and_tried_again_on_rerun(robin, capsys
     assert "8 failed runs left out" in (out / "report" / "summary.md").read_text()
 
 
-KILL_GRID = ["--systems", "pil,c1,c2", "--rates", "0.6,1.0", "--reps", "5", "--tables", "1",
-             "--run-function", "sweep_test_runs:paced_run", "--param", "delay=0.1"]  # fmt: skip
+KILL_GRID = [
+    "--systems",
+    "pil,c1,c2",
+    "--rates",
+    "0.6,1.0",
+    "--reps",
+    "5",
+    "--tables",
+    "1",
+    "--run-function",
+    "sweep_test_runs:paced_run",
+    "--param",
+    "delay=0.1",
+]
 
 
 @pytest.mark.slow
@@ -230,9 +244,26 @@ def test_local_pool_and_dask_give_byte_identical_results(robin, tmp_path, schedu
 def test_physical_kind_runs_real_episodes_and_reports_legs(robin, capsys, tmp_path) -> None:
     """One real physical episode (1 table of 1 leg, about 10-20 s) through the whole sweep."""
     out = tmp_path / "physical"
-    argv = ["sweep", "--kind", "physical", "--systems", "pil", "--rates", "1.0", "--reps", "1",
-            "--tables", "1", "--param", "legs_per_table=1", "--workers", "1", "--quiet",
-            "--out", out]  # fmt: skip
+    argv = [
+        "sweep",
+        "--kind",
+        "physical",
+        "--systems",
+        "pil",
+        "--rates",
+        "1.0",
+        "--reps",
+        "1",
+        "--tables",
+        "1",
+        "--param",
+        "legs_per_table=1",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        out,
+    ]
     assert robin(*argv) == 0
     (row,) = rows(out)
     assert row["run_id"] == "pil|rate=1.0|tables=1|legs_per_table=1|rep=0000"

@@ -25,9 +25,22 @@ pytestmark = pytest.mark.slow
 
 TESTS_DIR = Path(__file__).resolve().parent
 DASK = shutil.which("dask") or str(Path(sys.executable).with_name("dask"))
-GRID = ["--systems", "pil,c1", "--rates", "0.6,1.0", "--reps", "4", "--tables", "1",
-        "--run-function", "sweep_test_runs:paced_run", "--param", "delay=0.5",
-        "--no-report", "--quiet"]  # fmt: skip
+GRID = [
+    "--systems",
+    "pil,c1",
+    "--rates",
+    "0.6,1.0",
+    "--reps",
+    "4",
+    "--tables",
+    "1",
+    "--run-function",
+    "sweep_test_runs:paced_run",
+    "--param",
+    "delay=0.5",
+    "--no-report",
+    "--quiet",
+]
 ENV = {**os.environ, "PYTHONPATH": str(TESTS_DIR)}
 
 
@@ -39,9 +52,12 @@ def free_port() -> int:
 
 def start(*argv: str) -> subprocess.Popen[bytes]:
     return subprocess.Popen(
-        argv, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        argv,
+        env=ENV,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
         start_new_session=True,
-    )  # fmt: skip
+    )
 
 
 def stop(process: subprocess.Popen[bytes]) -> None:
@@ -51,8 +67,7 @@ def stop(process: subprocess.Popen[bytes]) -> None:
 
 
 def scheduler(port: int) -> subprocess.Popen[bytes]:
-    process = start(DASK, "scheduler", "--host", "127.0.0.1", "--port", str(port),
-                    "--no-dashboard")  # fmt: skip
+    process = start(DASK, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard")
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
         with socket.socket() as probe:
@@ -64,16 +79,37 @@ def scheduler(port: int) -> subprocess.Popen[bytes]:
 
 
 def worker(port: int) -> subprocess.Popen[bytes]:
-    return start(DASK, "worker", f"tcp://127.0.0.1:{port}", "--nthreads", "2",
-                 "--no-dashboard", "--host", "127.0.0.1")  # fmt: skip
+    return start(
+        DASK,
+        "worker",
+        f"tcp://127.0.0.1:{port}",
+        "--nthreads",
+        "2",
+        "--no-dashboard",
+        "--host",
+        "127.0.0.1",
+    )
 
 
 def sweep(out: Path, port: int) -> subprocess.Popen[bytes]:
     return subprocess.Popen(
-        [sys.executable, "-m", "robin_sim.cli.main", "sweep", *GRID,
-         "--scheduler", f"tcp://127.0.0.1:{port}", "--connect-timeout", "20", "--out", str(out)],
-        env=ENV, stderr=subprocess.PIPE, start_new_session=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "sweep",
+            *GRID,
+            "--scheduler",
+            f"tcp://127.0.0.1:{port}",
+            "--connect-timeout",
+            "20",
+            "--out",
+            str(out),
+        ],
+        env=ENV,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
 
 
 def journal(out: Path) -> list[dict]:

@@ -112,8 +112,9 @@ def test_bad_grids_raise_one_clear_error(learner, changes, message) -> None:
 
 
 def test_tables_can_be_swept_as_a_parameter(learner) -> None:
-    grid = build_grid(learner, systems=["pil"], rates=[1.0], reps=1, params=["tables=1,2"],
-                      tables=None)  # fmt: skip
+    grid = build_grid(
+        learner, systems=["pil"], rates=[1.0], reps=1, params=["tables=1,2"], tables=None
+    )
     assert [dict(run.params)["tables"] for run in grid.runs()] == [1, 2]
 
 
@@ -149,8 +150,9 @@ def test_physical_runs_start_longest_expected_first() -> None:
     from robin_sim.episode.physical_run import expected_cost
 
     target = load_target("physical")
-    grid = build_grid(target, systems=["pil"], rates=[0.6, 1.0], reps=4, tables=1,
-                      params=["legs_per_table=1"])  # fmt: skip
+    grid = build_grid(
+        target, systems=["pil"], rates=[0.6, 1.0], reps=4, tables=1, params=["legs_per_table=1"]
+    )
     runs = grid.runs()
     ordered = longest_first(runs, target)
     assert sorted(r.run_id for r in ordered) == [r.run_id for r in runs]

@@ -33,10 +33,17 @@ def test_transfer_command_from_its_own_saved_table(tmp_path: Path, capsys) -> No
     first = tmp_path / "first"
     argv = ["transfer", "--systems", "pil", "--reps", "2", "--rates", "1.0", "--no-progress"]
     assert main([*argv, "--out", str(first)]) == 0
-    assert {p.name for p in first.iterdir()} == {"transfer.csv", "transfer.md", "transfer.png",
-                                                 "tests.csv", "assembly_table.json"}  # fmt: skip
-    assert "| actions | - | 1.0 | pil | scratch | table | paired t | 2 | rep+seed |" in (
-        first / "transfer.md").read_text()
+    assert {p.name for p in first.iterdir()} == {
+        "transfer.csv",
+        "transfer.md",
+        "transfer.png",
+        "tests.csv",
+        "assembly_table.json",
+    }
+    assert (
+        "| actions | - | 1.0 | pil | scratch | table | paired t | 2 | rep+seed |"
+        in (first / "transfer.md").read_text()
+    )
     second = tmp_path / "second"
     assert main([*argv, "--table", str(first / "assembly_table.json"), "--out", str(second)]) == 0
     assert "the saved table" in (second / "transfer.md").read_text()

@@ -29,25 +29,40 @@ def _dimmer(path: Path) -> Path:
 @pytest.mark.slow
 def test_conditions_are_compared_paired_by_repetition(tmp_path: Path) -> None:
     rows = [
-        {"lighting": 1.0, "camera_noise": 0.0, "detection_rate": 0.84, "discarded": 0.1,
-         "feedback_misread": 0.0, "hands_found": 1.0, "measured_file": str(SHIPPED)},
-        {"lighting": 0.25, "camera_noise": 0.0, "detection_rate": 0.56, "discarded": 0.4,
-         "feedback_misread": 0.0, "hands_found": 1.0,
-         "measured_file": str(_dimmer(tmp_path / "dim.json"))},
-    ]  # fmt: skip
+        {
+            "lighting": 1.0,
+            "camera_noise": 0.0,
+            "detection_rate": 0.84,
+            "discarded": 0.1,
+            "feedback_misread": 0.0,
+            "hands_found": 1.0,
+            "measured_file": str(SHIPPED),
+        },
+        {
+            "lighting": 0.25,
+            "camera_noise": 0.0,
+            "detection_rate": 0.56,
+            "discarded": 0.4,
+            "feedback_misread": 0.0,
+            "hands_found": 1.0,
+            "measured_file": str(_dimmer(tmp_path / "dim.json")),
+        },
+    ]
     rows, dice, runs = study_costs(rows, reps=4, seed=0)
     written = write_outputs(tmp_path, rows, dice, 4, runs)
     assert {p.name for p in written} >= {"conditions_runs.csv", "tests.csv", "conditions.md"}
     back = load_rows(tmp_path / "conditions_runs.csv")
     tests = load_rows(tmp_path / "tests.csv")
     assert {(t["system_a"], t["system_b"], t["pairing"]) for t in tests} == {
-        ("l1-n0", "l0.25-n0", "rep+seed")}  # fmt: skip
+        ("l1-n0", "l0.25-n0", "rep+seed")
+    }
     for measure in ("gestures", "actions"):
         (t,) = [t for t in tests if t["measure"] == measure and t["test"] == "paired t"]
 
         def side(condition: str, measure: str = measure) -> list[float]:
-            cell = sorted((r for r in back if r["condition"] == condition),
-                          key=lambda r: int(r["rep"]))  # fmt: skip
+            cell = sorted(
+                (r for r in back if r["condition"] == condition), key=lambda r: int(r["rep"])
+            )
             return [float(r[measure]) for r in cell]
 
         assert float(t["p"]) == pytest.approx(ttest_rel(side("l1-n0"), side("l0.25-n0")).pvalue)

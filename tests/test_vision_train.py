@@ -64,13 +64,41 @@ def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
     assert CHUNK > 0
 
 
+def test_a_factor_level_fixes_one_field_of_every_sample() -> None:
+    """The factor bench's override sets the field; ``lift`` raises the hand where it is held;
+    the splits hold jitter at 1 and lift at 0 (the shipped model's data set)."""
+    from dataclasses import replace
+
+    from robin_sim.vision.factors import FACTORS
+
+    for i in range(50):
+        spec = sample_spec(0, "heldout", i)
+        assert spec.jitter == 1.0 and spec.lift == 0.0
+        np.testing.assert_array_equal(spec.held_at, spec.hand)
+        for field, levels in FACTORS.values():
+            fixed = replace(spec, **{field: levels[-1]})
+            assert getattr(fixed, field) == levels[-1]
+        lifted = replace(spec, lift=0.12)
+        np.testing.assert_allclose(lifted.held_at - spec.hand, [0.0, 0.0, 0.12])
+
+
 def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> None:
     out = tmp_path / "g"
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "3",
-         "--out", str(out)],
-        capture_output=True, text=True, check=False,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "train-gestures",
+            "--samples",
+            "3",
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 2
     assert "train-gestures: error: --samples must be a whole number from 28" in done.stderr
     assert not out.exists()
@@ -111,10 +139,20 @@ def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -
 
 def test_vision_conditions_rejects_bad_lists_with_exit_2(tmp_path: Path) -> None:
     done = subprocess.run(
-        [sys.executable, "-m", "robin_sim.cli.main", "vision-conditions", "--lighting", "dim",
-         "--out", str(tmp_path / "v")],
-        capture_output=True, text=True, check=False,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "vision-conditions",
+            "--lighting",
+            "dim",
+            "--out",
+            str(tmp_path / "v"),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert done.returncode == 2
     assert "robin-pil vision-conditions: error: --lighting: give numbers" in done.stderr
 
@@ -125,8 +163,19 @@ def test_interrupted_training_keeps_finished_chunks_and_resumes(tmp_path: Path) 
     import time
 
     out = tmp_path / "g"
-    command = [sys.executable, "-m", "robin_sim.cli.main", "train-gestures", "--samples", "96",
-               "--out", str(out), "--workers", "1", "--quiet"]  # fmt: skip
+    command = [
+        sys.executable,
+        "-m",
+        "robin_sim.cli.main",
+        "train-gestures",
+        "--samples",
+        "96",
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 240
     while not list((out / "chunks").glob("train-*.npz")) and time.monotonic() < deadline:

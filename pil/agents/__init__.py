@@ -27,20 +27,32 @@ def _memory(params: Mapping[str, Any], own: bool) -> bool:
 
 
 def _pil(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
-    return Learner(seed, table=table, correction=bool(params.get("correction", True)),
-                   exploration=str(params.get("exploration", DEFAULT_RULE)),
-                   step_memory=_memory(params, Learner.STEP_MEMORY_OWN))  # fmt: skip
+    return Learner(
+        seed,
+        table=table,
+        correction=bool(params.get("correction", True)),
+        exploration=str(params.get("exploration", DEFAULT_RULE)),
+        step_memory=_memory(params, Learner.STEP_MEMORY_OWN),
+    )
 
 
 def _bandit(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
-    return BanditAgent(seed, epsilon=params.get("epsilon", EPSILON),
-                       epsilon_decay=params.get("epsilon_decay", EPSILON_DECAY), table=table,
-                       step_memory=_memory(params, BanditAgent.STEP_MEMORY_OWN))  # fmt: skip
+    return BanditAgent(
+        seed,
+        epsilon=params.get("epsilon", EPSILON),
+        epsilon_decay=params.get("epsilon_decay", EPSILON_DECAY),
+        table=table,
+        step_memory=_memory(params, BanditAgent.STEP_MEMORY_OWN),
+    )
 
 
 def _tamer(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
-    return TamerAgent(seed, step_size=params.get("step_size", STEP_SIZE), table=table,
-                      step_memory=_memory(params, TamerAgent.STEP_MEMORY_OWN))  # fmt: skip
+    return TamerAgent(
+        seed,
+        step_size=params.get("step_size", STEP_SIZE),
+        table=table,
+        step_memory=_memory(params, TamerAgent.STEP_MEMORY_OWN),
+    )
 
 
 AGENTS: dict[str, AgentFactory] = {"pil": _pil, "bandit": _bandit, "tamer": _tamer}

@@ -91,8 +91,9 @@ class AssemblyEnv(dm_env.Environment):
         if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
             raise RobinPilError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
         if not callable(world):
-            raise RobinPilError(f"world must be a factory of worlds (e.g. SymbolicWorld), got "
-                                f"{world!r}")  # fmt: skip
+            raise RobinPilError(
+                f"world must be a factory of worlds (e.g. SymbolicWorld), got {world!r}"
+            )
         self.seed = seed
         self._values = check_params(params)
         self._scenario = resolve_scenario(scenario, self._values)
@@ -110,8 +111,9 @@ class AssemblyEnv(dm_env.Environment):
     def observation_spec(self) -> dict[str, specs.Array]:
         """Three scalars (int64) or, with ``one_hot``, three one-hot float32 vectors."""
         if self.one_hot:
-            return {k: specs.BoundedArray((n,), np.float32, 0.0, 1.0, name=k)
-                    for k, n in _SIZES.items()}  # fmt: skip
+            return {
+                k: specs.BoundedArray((n,), np.float32, 0.0, 1.0, name=k) for k, n in _SIZES.items()
+            }
         return {k: specs.BoundedArray((), np.int64, 0, n - 1, name=k) for k, n in _SIZES.items()}
 
     def action_spec(self) -> specs.DiscreteArray:
@@ -128,8 +130,9 @@ class AssemblyEnv(dm_env.Environment):
         self.episode += 1
         self.world = self._make_world()
         body = None if self._make_body is None else self._make_body(self.world)
-        parts = build_parts(self._scenario, self.rate, self.run_seed(self.episode), body=body,
-                            **self._values)  # fmt: skip
+        parts = build_parts(
+            self._scenario, self.rate, self.run_seed(self.episode), body=body, **self._values
+        )
         self._started = True
         self._person, self._detector = parts.person, parts.detector
         self._repeat_discarded = bool(parts.options["repeat_discarded"])
@@ -189,8 +192,9 @@ class AssemblyEnv(dm_env.Environment):
         if isinstance(action, np.ndarray) and action.shape == ():  # as action_spec() makes them
             action = action[()]
         if isinstance(action, (bool, np.bool_)) or not isinstance(action, (int, np.integer)):
-            raise RobinPilError(f"action must be an index 0-{len(ACTIONS) - 1} or an Action, "
-                                f"got {action!r}")  # fmt: skip
+            raise RobinPilError(
+                f"action must be an index 0-{len(ACTIONS) - 1} or an Action, got {action!r}"
+            )
         if not 0 <= int(action) < len(ACTIONS):
             names = ", ".join(f"{i} {a.value}" for i, a in enumerate(ACTIONS))
             raise RobinPilError(f"action index {int(action)} out of range; valid: {names}")

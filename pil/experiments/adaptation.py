@@ -55,8 +55,10 @@ def load_change(path: str | Path = DEFAULT_CHANGE) -> MappingChange:
         raise ScenarioError(f"{path}: change: expected the keys {', '.join(_CHANGE_KEYS)}")
     first = change["from_table"]
     if isinstance(first, bool) or not isinstance(first, int) or not 2 <= first <= scenario.tables:
-        raise ScenarioError(f"{path}: change.from_table: expected a whole number from 2 to "
-                            f"{scenario.tables} (the test tables), got {first!r}")  # fmt: skip
+        raise ScenarioError(
+            f"{path}: change.from_table: expected a whole number from 2 to "
+            f"{scenario.tables} (the test tables), got {first!r}"
+        )
     try:
         gesture, action = Gesture.parse(change["gesture"]), Action.parse(change["action"])
     except ValueError as error:
@@ -70,8 +72,10 @@ def remap(handover_type: HandoverType, gesture: Gesture, action: Action) -> Hand
         f"{s.gesture.value} -> {(action if s.gesture is gesture else s.action).value}"
         for s in handover_type.steps
     ]
-    raw = {"steps": texts, "description": f"{handover_type.description} ({gesture.value} -> "
-           f"{action.value})"}  # fmt: skip
+    raw = {
+        "steps": texts,
+        "description": f"{handover_type.description} ({gesture.value} -> {action.value})",
+    }
     return build_type(handover_type.name, raw, "mapping change")
 
 
@@ -97,13 +101,15 @@ def run_adaptation(
     scenario = change.scenario
     training = training_for(system, rate, seed, scenario, values, cache)
     control = test_parts(system, rate, seed, scenario, values, cache, training)
-    base = run(control.learner, control.person, control.detector, SymbolicWorld(),
-               **control.options)  # fmt: skip
+    base = run(
+        control.learner, control.person, control.detector, SymbolicWorld(), **control.options
+    )
     parts = test_parts(system, rate, seed, scenario, values, cache, training)
     seeds = derive_seeds(seed)
     script = changed_script(scenario, change, seeds["test_draw"])
-    person = ScriptedPerson(script, seeds["test_person"], silent_ok=values["silent_ok"],
-                            patience=values["patience"])  # fmt: skip
+    person = ScriptedPerson(
+        script, seeds["test_person"], silent_ok=values["silent_ok"], patience=values["patience"]
+    )
     changed_from = change.from_table - 1
     habit, main = math.nan, None
     seen: set[tuple[int, int]] = set()
@@ -116,9 +122,10 @@ def run_adaptation(
             continue
         if main is None:  # at the change: the gesture's state with the strongest old habit
             table = parts.learner.table
-            habit, main = max(((table.count(st, old), st) for st, old in
-                               _old_states(scenario, change.gesture)),
-                              key=lambda pair: pair[0])  # fmt: skip
+            habit, main = max(
+                ((table.count(st, old), st) for st, old in _old_states(scenario, change.gesture)),
+                key=lambda pair: pair[0],
+            )
         if record.true_gesture is not change.gesture or record.action is None:
             continue
         if adapted_after == adapted_after:
@@ -134,23 +141,32 @@ def run_adaptation(
         rejections += record.feedback is Feedback.NOT_OK
     assert last is not None
     return {
-        "system": system, "rate": rate, "seed": int(seed),
-        "gestures": last.gesture_count, "actions": last.t,
-        "control_gestures": base.gestures, "control_actions": base.actions,
+        "system": system,
+        "rate": rate,
+        "seed": int(seed),
+        "gestures": last.gesture_count,
+        "actions": last.t,
+        "control_gestures": base.gestures,
+        "control_actions": base.actions,
         "extra_gestures": last.gesture_count - base.gestures,
         "extra_actions": last.t - base.actions,
-        "habit": habit, "habit_state": "" if main is None else main.key(),
+        "habit": habit,
+        "habit_state": "" if main is None else main.key(),
         "adapted": adapted_after == adapted_after,
-        "instructions_to_adapt": adapted_after, "lost_rejections": rejections,
-        "from_table": change.from_table, "gesture": change.gesture.value,
+        "instructions_to_adapt": adapted_after,
+        "lost_rejections": rejections,
+        "from_table": change.from_table,
+        "gesture": change.gesture.value,
         "action": change.action.value,
-    }  # fmt: skip
+    }
 
 
 def _old_states(scenario: Scenario, gesture: Gesture) -> list[tuple[Any, Action]]:
     """The states in which ``gesture`` is performed before the change, with its action then."""
-    return sorted({(s.state, s.action) for t in scenario.types for s in t.steps
-                   if s.gesture is gesture}, key=lambda pair: pair[0].key())  # fmt: skip
+    return sorted(
+        {(s.state, s.action) for t in scenario.types for s in t.steps if s.gesture is gesture},
+        key=lambda pair: pair[0].key(),
+    )
 
 
 def run_adaptation_study(
@@ -186,31 +202,52 @@ def adapted_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
 
     body = []
     for (rate, system), members in group_rows(rows, ["rate", "system"]).items():
-        took = [number(r["instructions_to_adapt"]) for r in members
-                if str(r["adapted"]) == "True"]  # fmt: skip
+        took = [number(r["instructions_to_adapt"]) for r in members if str(r["adapted"]) == "True"]
         habit = mean_sd([number(r["habit"]) for r in members])
         mean, sd = mean_sd(took)
-        body.append([rate, system, f"{len(took)} of {len(members)}",
-                     "n/a" if not took else f"{mean:.1f} ± {sd:.1f}",
-                     f"{habit[0]:.1f} ± {habit[1]:.1f}"])  # fmt: skip
+        body.append(
+            [
+                rate,
+                system,
+                f"{len(took)} of {len(members)}",
+                "n/a" if not took else f"{mean:.1f} ± {sd:.1f}",
+                f"{habit[0]:.1f} ± {habit[1]:.1f}",
+            ]
+        )
     return "## Adapted within the run\n\n" + markdown_table(
-        ["rate", "system", "adapted", "instructions in the habit state until exploited",
-         "old habit (count at the change)"], body)  # fmt: skip
+        [
+            "rate",
+            "system",
+            "adapted",
+            "instructions in the habit state until exploited",
+            "old habit (count at the change)",
+        ],
+        body,
+    )
 
 
 def write_adaptation(rows: Sequence[Mapping[str, Any]], change: MappingChange, out: Any) -> list:
     """``adaptation.csv``, ``adaptation.md`` and ``adaptation.png`` under ``out``."""
     from pil.experiments.outputs import write_small_study
 
-    intro = (f"From test table {change.from_table} on, {change.gesture.value!r} means "
-             f"{change.action.value!r}. `extra_*`: the cost against the same run without the "
-             "change (same seeds); `lost_rejections`: not-OKs on instructions with the gesture "
-             "until the new action is exploited (or to the end); `habit`: the old action's count "
-             "in the gesture's states at the change.")  # fmt: skip
+    intro = (
+        f"From test table {change.from_table} on, {change.gesture.value!r} means "
+        f"{change.action.value!r}. `extra_*`: the cost against the same run without the "
+        "change (same seeds); `lost_rejections`: not-OKs on instructions with the gesture "
+        "until the new action is exploited (or to the end); `habit`: the old action's count "
+        "in the gesture's states at the change."
+    )
     return write_small_study(
-        rows, out, "adaptation", title="Adaptation to a changed mapping", intro=intro,
+        rows,
+        out,
+        "adaptation",
+        title="Adaptation to a changed mapping",
+        intro=intro,
         group_by=("rate", "system"),
         metrics=("extra_actions", "extra_gestures", "lost_rejections", "habit"),
-        figure_metric="extra_actions", baseline="pil", compare_by="system",
-        ylabel="extra robot actions caused by the change", extra=adapted_markdown(rows),
-    )  # fmt: skip
+        figure_metric="extra_actions",
+        baseline="pil",
+        compare_by="system",
+        ylabel="extra robot actions caused by the change",
+        extra=adapted_markdown(rows),
+    )

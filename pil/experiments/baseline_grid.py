@@ -56,8 +56,12 @@ class Setting:
 
     def describe(self) -> str:
         """The parameters as ``key=value`` text (``defaults`` when none are set)."""
-        return " ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
-                        for k, v in self.params.items()) or "defaults"  # fmt: skip
+        return (
+            " ".join(
+                f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in self.params.items()
+            )
+            or "defaults"
+        )
 
 
 def _memory_name(memory: str) -> str:
@@ -74,16 +78,22 @@ def grid(learner: str) -> tuple[Setting, ...]:
     for memory in MEMORY:
         tag = _memory_name(memory)
         if learner == "pil":
-            out += [Setting("pil", f"{rule}{tag}", {"exploration": rule, "step_memory": memory})
-                    for rule in RULES]  # fmt: skip
+            out += [
+                Setting("pil", f"{rule}{tag}", {"exploration": rule, "step_memory": memory})
+                for rule in RULES
+            ]
         elif learner == "bandit":
-            out += [Setting("bandit", f"eps={e:g}{tag}", {"epsilon": e, "step_memory": memory})
-                    for e in EPSILONS]  # fmt: skip
+            out += [
+                Setting("bandit", f"eps={e:g}{tag}", {"epsilon": e, "step_memory": memory})
+                for e in EPSILONS
+            ]
             decay = {"epsilon": DECAY_EPSILON, "epsilon_decay": DECAY_TAU, "step_memory": memory}
             out.append(Setting("bandit", f"eps={DECAY_EPSILON:g}/(1+t/{DECAY_TAU:g}){tag}", decay))
         else:
-            out += [Setting("tamer", f"step={s:g}{tag}", {"step_size": s, "step_memory": memory})
-                    for s in STEP_SIZES]  # fmt: skip
+            out += [
+                Setting("tamer", f"step={s:g}{tag}", {"step_size": s, "step_memory": memory})
+                for s in STEP_SIZES
+            ]
     return tuple(out)
 
 
@@ -139,8 +149,9 @@ def score(setting: Setting, rows: Sequence[Mapping[str, Any]], stuck: int = 0) -
     gestures = [float(r["total_gestures"]) for r in rows]
     sd = statistics.stdev(actions) if len(actions) > 1 else 0.0
     mean = statistics.fmean(actions) if actions else math.nan
-    return Score(setting, len(rows), stuck, mean, sd,
-                 statistics.fmean(gestures) if gestures else math.nan)  # fmt: skip
+    return Score(
+        setting, len(rows), stuck, mean, sd, statistics.fmean(gestures) if gestures else math.nan
+    )
 
 
 def choose_best(scores: Sequence[Score]) -> Score:

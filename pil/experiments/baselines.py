@@ -43,9 +43,17 @@ from pil.task.params import REPS, SEED
 from pil.task.runner import RunnerError
 
 RUN_COLUMNS: tuple[str, ...] = ("variant", "setting", "rep", *ROW_COLUMNS)
-TUNING_COLUMNS: tuple[str, ...] = ("learner", "setting", "params", "runs", "stuck",
-                                   "mean_total_actions", "sd_total_actions",
-                                   "mean_total_gestures", "chosen")  # fmt: skip
+TUNING_COLUMNS: tuple[str, ...] = (
+    "learner",
+    "setting",
+    "params",
+    "runs",
+    "stuck",
+    "mean_total_actions",
+    "sd_total_actions",
+    "mean_total_gestures",
+    "chosen",
+)
 METRICS = measures(("total_actions", "total_gestures"))
 _TUNED = ("exploration", "step_memory", "epsilon", "epsilon_decay", "step_size")
 
@@ -70,8 +78,10 @@ class BaselineConfig:
         SEED.parse(self.seed, "seed")
         for name in self.params or {}:
             if name in _TUNED:
-                raise RobinPilError(f"parameter {name!r} is set by the tuning grid and the "
-                                    f"table; give only others (e.g. tables, discard)")  # fmt: skip
+                raise RobinPilError(
+                    f"parameter {name!r} is set by the tuning grid and the "
+                    f"table; give only others (e.g. tables, discard)"
+                )
 
     def runs(self) -> int:
         """How many runs :func:`run_baselines` makes (at most: equal settings run once)."""
@@ -123,13 +133,16 @@ def run_baselines(
     tuning_seeds, seeds = split_seeds(config.seed, config.tuning_reps, config.reps)
     scores: dict[str, list[Score]] = {}
     for learner in LEARNERS:
-        scores[learner] = [score(s, *_run(s, tuning_seeds, config, progress))
-                           for s in grid(learner)]  # fmt: skip
+        scores[learner] = [
+            score(s, *_run(s, tuning_seeds, config, progress)) for s in grid(learner)
+        ]
     best = {learner: choose_best(found) for learner, found in scores.items()}
     variants: list[tuple[str, Setting]] = [(f"pil:{s.name}", s) for s in pil_references()]
     for learner in BASELINES:
-        variants += [(f"{learner}:tuned", best[learner].setting),
-                     (f"{learner}:default", default_setting(learner))]  # fmt: skip
+        variants += [
+            (f"{learner}:tuned", best[learner].setting),
+            (f"{learner}:default", default_setting(learner)),
+        ]
     rows: list[dict[str, Any]] = []
     done: dict[tuple[str, str], list[dict[str, Any]]] = {}
     for variant, setting in variants:
@@ -137,8 +150,10 @@ def run_baselines(
         if key not in done:
             found, stuck = _run(setting, seeds, config, progress)
             if stuck:
-                raise RunnerError(f"{variant} ({setting.describe()}): {stuck} evaluation runs "
-                                  "had a step that never ended; the table needs every run")
+                raise RunnerError(
+                    f"{variant} ({setting.describe()}): {stuck} evaluation runs "
+                    "had a step that never ended; the table needs every run"
+                )
             done[key] = found
         rows += [{"variant": variant, **r} for r in done[key]]
     return BaselineResult(rows, scores, best, tuning_seeds, seeds)
@@ -156,15 +171,27 @@ def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
         if variant in pil:
             continue
         subset = [r for r in rows if r["variant"] in (variant, *pil)]
-        results += compare(subset, variant, compare_by="variant", within=("rate",),
-                           metrics=METRICS, pair_by=("rep",))  # fmt: skip
+        results += compare(
+            subset,
+            variant,
+            compare_by="variant",
+            within=("rate",),
+            metrics=METRICS,
+            pair_by=("rep",),
+        )
     pairs = [(f"{v}+memory", v) for v in pil if f"{v}+memory" in pil]  # what the memory does
     pairs += [(f"{learner}:tuned", f"{learner}:default") for learner in BASELINES]
     for pair in pairs:
         subset = [r for r in rows if r["variant"] in pair]
         if {str(r["variant"]) for r in subset} == set(pair):
-            results += compare(subset, pair[0], compare_by="variant", within=("rate",),
-                               metrics=METRICS, pair_by=("rep",))  # fmt: skip
+            results += compare(
+                subset,
+                pair[0],
+                compare_by="variant",
+                within=("rate",),
+                metrics=METRICS,
+                pair_by=("rep",),
+            )
     families: dict[tuple[str, str], list[int]] = {}
     for i, r in enumerate(results):
         families.setdefault((r["test"], r["measure"]), []).append(i)
@@ -188,12 +215,19 @@ def tuning_rows(result: BaselineResult) -> list[dict[str, Any]]:
     out = []
     for learner, found in result.scores.items():
         for s in found:
-            out.append({"learner": learner, "setting": s.setting.name,
-                        "params": s.setting.describe(), "runs": s.runs, "stuck": s.stuck,
-                        "mean_total_actions": round(s.actions, 3),
-                        "sd_total_actions": round(s.actions_sd, 3),
-                        "mean_total_gestures": round(s.gestures, 3),
-                        "chosen": s is result.best[learner]})  # fmt: skip
+            out.append(
+                {
+                    "learner": learner,
+                    "setting": s.setting.name,
+                    "params": s.setting.describe(),
+                    "runs": s.runs,
+                    "stuck": s.stuck,
+                    "mean_total_actions": round(s.actions, 3),
+                    "sd_total_actions": round(s.actions_sd, 3),
+                    "mean_total_gestures": round(s.gestures, 3),
+                    "chosen": s is result.best[learner],
+                }
+            )
     return out
 
 
@@ -201,8 +235,9 @@ def _cell(r: Mapping[str, Any]) -> str:
     if math.isnan(r["p_holm"]):
         return f"{r['mean_diff']:+.1f} (no spread)"
     star = " *" if r["p_holm"] < 0.05 else ""
-    return (f"{r['mean_diff']:+.1f} [{r['ci_low']:+.1f}, {r['ci_high']:+.1f}] "
-            f"p={r['p_holm']:.2g}{star}")  # fmt: skip
+    return (
+        f"{r['mean_diff']:+.1f} [{r['ci_low']:+.1f}, {r['ci_high']:+.1f}] p={r['p_holm']:.2g}{star}"
+    )
 
 
 def _matrix(tests: Sequence[Mapping[str, Any]], measure: str, rates: Sequence[float]) -> str:
@@ -211,16 +246,23 @@ def _matrix(tests: Sequence[Mapping[str, Any]], measure: str, rates: Sequence[fl
         if r["measure"] == measure and r["test"] == "paired t":
             cells.setdefault((r["system_a"], r["system_b"]), {})[float(r["rate"])] = _cell(r)
     body = [[a, b, *(row.get(rate, "") for rate in rates)] for (a, b), row in cells.items()]
-    return markdown_table(["a", "b",
-                           *(f"{rate:g}" for rate in rates)], body)  # fmt: skip
+    return markdown_table(["a", "b", *(f"{rate:g}" for rate in rates)], body)
 
 
 def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence[Any]) -> str:
     """``summary.md``: tuning, the table's means, and the paired tests against PIL."""
     rates = sorted({float(r["rate"]) for r in result.rows})
-    tuning_body = [[r["learner"], r["setting"] + (" (chosen)" if r["chosen"] else ""), r["runs"],
-                    r["stuck"], f"{r['mean_total_actions']:.1f} ± {r['sd_total_actions']:.1f}",
-                    f"{r['mean_total_gestures']:.1f}"] for r in tuning_rows(result)]  # fmt: skip
+    tuning_body = [
+        [
+            r["learner"],
+            r["setting"] + (" (chosen)" if r["chosen"] else ""),
+            r["runs"],
+            r["stuck"],
+            f"{r['mean_total_actions']:.1f} ± {r['sd_total_actions']:.1f}",
+            f"{r['mean_total_gestures']:.1f}",
+        ]
+        for r in tuning_rows(result)
+    ]
     chosen = ", ".join(f"{k}: {v.setting.name}" for k, v in result.best.items())
     parts = [
         "# Baselines: tuned on held-out seeds, paired against PIL under every exploration rule",

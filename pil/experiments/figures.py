@@ -140,13 +140,24 @@ def plot_rules(
     for ax, (i, quantity) in zip(axes, enumerate(("gestures", "actions")), strict=True):
         xs = range(len(rates))
         offset = (series - 1) / 2
-        ax.bar([x - offset * width for x in xs], [paper[r][i] for r in rates], width,
-               label="paper", color="black")  # fmt: skip
+        ax.bar(
+            [x - offset * width for x in xs],
+            [paper[r][i] for r in rates],
+            width,
+            label="paper",
+            color="black",
+        )
         for j, (rule, figures) in enumerate(by_rule.items(), start=1):
             means = [figures.get(r, {}).get(quantity, float("nan")) for r in rates]
             sds = [figures.get(r, {}).get(f"{quantity}_sd", 0.0) for r in rates]
-            ax.bar([x + (j - offset) * width for x in xs], means, width, yerr=sds, capsize=2,
-                   label=rule)  # fmt: skip
+            ax.bar(
+                [x + (j - offset) * width for x in xs],
+                means,
+                width,
+                yerr=sds,
+                capsize=2,
+                label=rule,
+            )
         ax.set_xticks(list(xs), [f"{r * 100:.0f} %" for r in rates])
         ax.set_xlabel("detection rate")
         ax.set_title(quantity)

@@ -26,8 +26,9 @@ def sort_runs(
     ``column`` in the order of ``values`` (e.g. the mode or start), then repetition."""
     order = {s: i for i, s in enumerate(systems)}
     rank = {v: i for i, v in enumerate(values)}
-    rows.sort(key=lambda r: (r["rate"], order[r["system"]], rank[r[column]] if column else 0,
-                             r["rep"]))  # fmt: skip
+    rows.sort(
+        key=lambda r: (r["rate"], order[r["system"]], rank[r[column]] if column else 0, r["rep"])
+    )
     return rows
 
 
@@ -44,8 +45,9 @@ def small_study_tests(
     metrics: Sequence[str],
 ) -> list[dict]:
     """The small study's ``tests.csv`` rows (paired by :data:`PAIR_BY`, Holm per test)."""
-    return compare(rows, baseline, compare_by=compare_by, within=within, metrics=metrics,
-                   pair_by=PAIR_BY)  # fmt: skip
+    return compare(
+        rows, baseline, compare_by=compare_by, within=within, metrics=metrics, pair_by=PAIR_BY
+    )
 
 
 def write_small_study(
@@ -76,14 +78,25 @@ def write_small_study(
 
     out = Path(out)
     tests = small_study_tests(rows, baseline, compare_by, within, metrics)
-    text = "\n".join([
-        f"# {title}", "", intro, "", "## Mean ± sd", "",
-        summary_markdown(rows, group_by, metrics), "",
-        f"## Paired tests: {baseline} against each other {compare_by}", "",
-        describe_tests(tests) + " All rows in `tests.csv`.", "",
-        tests_markdown([t for t in tests if t["test"] != WILCOXON], within), "",
-        *([extra, ""] if extra else []),
-    ])  # fmt: skip
+    text = "\n".join(
+        [
+            f"# {title}",
+            "",
+            intro,
+            "",
+            "## Mean ± sd",
+            "",
+            summary_markdown(rows, group_by, metrics),
+            "",
+            f"## Paired tests: {baseline} against each other {compare_by}",
+            "",
+            describe_tests(tests) + " All rows in `tests.csv`.",
+            "",
+            tests_markdown([t for t in tests if t["test"] != WILCOXON], within),
+            "",
+            *([extra, ""] if extra else []),
+        ]
+    )
     written = [write_text_atomic(out / f"{name}.csv", rep_rows_text(rows))]
     written.append(write_text_atomic(out / f"{name}.md", text))
     written.append(write_text_atomic(out / "tests.csv", csv_text(tests, csv_columns(within))))

@@ -24,16 +24,21 @@ from pil.experiments.stats import PAIRED_T, WELCH, mean_ci
 SETTINGS_FILE = "settings.json"  # written last: a seed folder with it holds a finished run
 MAX_SEEDS = 1000
 OVER_SEEDS_COLUMNS: tuple[str, ...] = (
-    "test", "seeds", "mean_diff", "ci_low", "ci_high", "seeds_a_more", "seeds_a_less",
+    "test",
+    "seeds",
+    "mean_diff",
+    "ci_low",
+    "ci_high",
+    "seeds_a_more",
+    "seeds_a_less",
     "seeds_untestable",
-)  # fmt: skip
+)
 
 
 def check_seed_count(count: Any, option: str = "--seeds") -> int:
     """``count`` as a whole number of seeds from 1 to :data:`MAX_SEEDS`."""
     if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= MAX_SEEDS:
-        raise RobinPilError(f"{option} must be a whole number from 1 to {MAX_SEEDS}, got "
-                            f"{count!r}")  # fmt: skip
+        raise RobinPilError(f"{option} must be a whole number from 1 to {MAX_SEEDS}, got {count!r}")
     return count
 
 
@@ -92,8 +97,9 @@ def tests_over_seeds(
     seeds' paired t-tests (Welch where unpaired): the mean difference a - b over seeds with
     its 95 % interval, the seeds where a needs significantly more / less, and those where
     the test had no spread to work on (``seeds_untestable``)."""
-    rows = [dict(t) for tests in tests_by_seed.values() for t in tests
-            if t["test"] in (PAIRED_T, WELCH)]  # fmt: skip
+    rows = [
+        dict(t) for tests in tests_by_seed.values() for t in tests if t["test"] in (PAIRED_T, WELCH)
+    ]
     if not rows:
         return []
     keys = ["measure", "reading", *within, "system_a", "system_b"]
@@ -103,17 +109,27 @@ def tests_over_seeds(
         mean, low, high = mean_ci([d for d in diffs if not math.isnan(d)])
 
         def significant(sign: int, members: list[Row] = members) -> int:
-            return sum(1 for m in members if not math.isnan(number(m["p_holm"]))
-                       and number(m["p_holm"]) < 0.05
-                       and sign * number(m["mean_diff"]) > 0)  # fmt: skip
+            return sum(
+                1
+                for m in members
+                if not math.isnan(number(m["p_holm"]))
+                and number(m["p_holm"]) < 0.05
+                and sign * number(m["mean_diff"]) > 0
+            )
 
-        out.append({
-            **dict(zip(keys, key, strict=True)),
-            "test": "/".join(sorted({str(m["test"]) for m in members})), "seeds": len(members),
-            "mean_diff": mean, "ci_low": low, "ci_high": high,
-            "seeds_a_more": significant(1), "seeds_a_less": significant(-1),
-            "seeds_untestable": sum(1 for m in members if math.isnan(number(m["p_holm"]))),
-        })  # fmt: skip
+        out.append(
+            {
+                **dict(zip(keys, key, strict=True)),
+                "test": "/".join(sorted({str(m["test"]) for m in members})),
+                "seeds": len(members),
+                "mean_diff": mean,
+                "ci_low": low,
+                "ci_high": high,
+                "seeds_a_more": significant(1),
+                "seeds_a_less": significant(-1),
+                "seeds_untestable": sum(1 for m in members if math.isnan(number(m["p_holm"]))),
+            }
+        )
     return out
 
 
@@ -129,16 +145,39 @@ def interval(mean: float, low: float, high: float, spec: str = ".1f") -> str:
     return f"{mean:{spec}} [{low:{spec}}, {high:{spec}}]"
 
 
-def over_seeds_markdown(rows: Sequence[Mapping[str, Any]], within: Sequence[str] = ("rate",)
-                        ) -> str:  # fmt: skip
+def over_seeds_markdown(
+    rows: Sequence[Mapping[str, Any]], within: Sequence[str] = ("rate",)
+) -> str:
     """A table of :func:`tests_over_seeds` rows."""
-    header = ["measure", "reading", *within, "a", "b", "test", "seeds",
-              "a − b over seeds [95 % CI]", "seeds a more (Holm p < 0.05)", "seeds a less",
-              "seeds untestable"]
-    body = [[r["measure"], r["reading"] or "-", *(r[c] for c in within), r["system_a"],
-             r["system_b"], r["test"], r["seeds"],
-             interval(r["mean_diff"], r["ci_low"], r["ci_high"]), r["seeds_a_more"],
-             r["seeds_a_less"], r["seeds_untestable"]] for r in rows]  # fmt: skip
+    header = [
+        "measure",
+        "reading",
+        *within,
+        "a",
+        "b",
+        "test",
+        "seeds",
+        "a − b over seeds [95 % CI]",
+        "seeds a more (Holm p < 0.05)",
+        "seeds a less",
+        "seeds untestable",
+    ]
+    body = [
+        [
+            r["measure"],
+            r["reading"] or "-",
+            *(r[c] for c in within),
+            r["system_a"],
+            r["system_b"],
+            r["test"],
+            r["seeds"],
+            interval(r["mean_diff"], r["ci_low"], r["ci_high"]),
+            r["seeds_a_more"],
+            r["seeds_a_less"],
+            r["seeds_untestable"],
+        ]
+        for r in rows
+    ]
     return markdown_table(header, body)
 
 
@@ -151,15 +190,20 @@ def write_tests_over_seeds(
 
     tests_by_seed = {s: load_rows(seed_folder(out, s) / "tests.csv") for s in seeds}
     over = tests_over_seeds(tests_by_seed, within)
-    text = "\n".join([
-        f"# {title} over {len(seeds)} seeds", "",
-        f"Master seeds {seeds[0]}-{seeds[-1]}, each the whole study in `seed_<n>/` (its own "
-        "CSV, summary and tests.csv). Per comparison: the seeds' paired-t mean differences "
-        "a - b, their mean with a 95 % t-interval over seeds (the seeds are independent "
-        "studies), and the seeds where a is significantly above / below b (Holm-adjusted "
-        "p < 0.05 within the seed).", "",
-        over_seeds_markdown(over, within), "",
-    ])  # fmt: skip
+    text = "\n".join(
+        [
+            f"# {title} over {len(seeds)} seeds",
+            "",
+            f"Master seeds {seeds[0]}-{seeds[-1]}, each the whole study in `seed_<n>/` (its own "
+            "CSV, summary and tests.csv). Per comparison: the seeds' paired-t mean differences "
+            "a - b, their mean with a 95 % t-interval over seeds (the seeds are independent "
+            "studies), and the seeds where a is significantly above / below b (Holm-adjusted "
+            "p < 0.05 within the seed).",
+            "",
+            over_seeds_markdown(over, within),
+            "",
+        ]
+    )
     return [
         write_text_atomic(out / "seeds_tests.csv", csv_text(over, over_seeds_columns(within))),
         write_text_atomic(out / "seeds.md", text),

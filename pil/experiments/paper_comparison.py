@@ -27,8 +27,13 @@ def _figures(runs: Mapping[tuple[float, str], tuple[float, float]]) -> Figures:
         gestures = [g for (r, _), (g, _a) in runs.items() if r == rate]
         actions = [a for (r, _), (_g, a) in runs.items() if r == rate]
         (g_mean, g_sd), (a_mean, a_sd) = mean_sd(gestures), mean_sd(actions)
-        out[rate] = {"gestures": g_mean, "gestures_sd": g_sd, "actions": a_mean,
-                     "actions_sd": a_sd, "n": len(gestures)}  # fmt: skip
+        out[rate] = {
+            "gestures": g_mean,
+            "gestures_sd": g_sd,
+            "actions": a_mean,
+            "actions_sd": a_sd,
+            "n": len(gestures),
+        }
     return out
 
 

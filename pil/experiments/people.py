@@ -70,20 +70,34 @@ def person_types(people: People, name: str, types: Sequence[HandoverType]) -> li
     return out
 
 
-def _run(script: Sequence[Any], rate: float, seeds: Mapping[str, int], learner: Any,
-         values: Mapping[str, Any]) -> RunStats:  # fmt: skip
-    person = ScriptedPerson(script, seeds["test_person"], silent_ok=values["silent_ok"],
-                            patience=values["patience"])  # fmt: skip
-    detector = Detector(rate, seeds["test_detector"], model=values["detector"],
-                        deck_size=len(script), discard=values["discard"],
-                        confusion=values["confusion"])  # fmt: skip
-    options = {"repeat_discarded": bool(values["repeat_discarded"]),
-               "max_actions_per_gesture": values["max_actions_per_gesture"]}  # fmt: skip
+def _run(
+    script: Sequence[Any],
+    rate: float,
+    seeds: Mapping[str, int],
+    learner: Any,
+    values: Mapping[str, Any],
+) -> RunStats:
+    person = ScriptedPerson(
+        script, seeds["test_person"], silent_ok=values["silent_ok"], patience=values["patience"]
+    )
+    detector = Detector(
+        rate,
+        seeds["test_detector"],
+        model=values["detector"],
+        deck_size=len(script),
+        discard=values["discard"],
+        confusion=values["confusion"],
+    )
+    options = {
+        "repeat_discarded": bool(values["repeat_discarded"]),
+        "max_actions_per_gesture": values["max_actions_per_gesture"],
+    }
     return run(learner, person, detector, SymbolicWorld(), **options)
 
 
-def run_people(system: str, mode: str, rate: float, seed: int, people: People,
-               values: Mapping[str, Any]) -> dict[str, Any]:  # fmt: skip
+def run_people(
+    system: str, mode: str, rate: float, seed: int, people: People, values: Mapping[str, Any]
+) -> dict[str, Any]:
     """One run of the whole assembly by the people taking turns, in ``mode``."""
     spec = SYSTEM_SPECS[check_system(system)]
     learner_values = {**values, **spec.params}
@@ -91,8 +105,10 @@ def run_people(system: str, mode: str, rate: float, seed: int, people: People,
     legs = scenario.legs_per_table
     seeds = derive_seeds(seed)
     types = scenario.draw_types(scenario.tables * legs, seeds["test_draw"])
-    by_table = [person_types(people, names[k % len(names)], types[k * legs:(k + 1) * legs])
-                for k in range(scenario.tables)]  # fmt: skip
+    by_table = [
+        person_types(people, names[k % len(names)], types[k * legs : (k + 1) * legs])
+        for k in range(scenario.tables)
+    ]
     if mode == "shared":
         script = plan_script([t for table in by_table for t in table], legs, scenario.spots)
         learner = build_parts(scenario, rate, seeds, **learner_values).learner
@@ -105,14 +121,22 @@ def run_people(system: str, mode: str, rate: float, seed: int, people: People,
                 continue
             sub = derive_seeds(int(np.random.SeedSequence([seed, i]).generate_state(1)[0] >> 1))
             learner = build_parts(scenario, rate, sub, **learner_values).learner
-            parts.append(_run(plan_script(own, legs, scenario.spots), rate, sub, learner,
-                              learner_values))  # fmt: skip
+            parts.append(
+                _run(plan_script(own, legs, scenario.spots), rate, sub, learner, learner_values)
+            )
     return {
-        "system": system, "mode": mode, "run": f"{system} {mode}", "rate": rate,
-        "seed": int(seed), "people": len(names), "tables": scenario.tables,
-        "gestures": sum(p.gestures for p in parts), "actions": sum(p.actions for p in parts),
-        "rejected": sum(p.rejected for p in parts), "legs": sum(p.legs for p in parts),
-    }  # fmt: skip
+        "system": system,
+        "mode": mode,
+        "run": f"{system} {mode}",
+        "rate": rate,
+        "seed": int(seed),
+        "people": len(names),
+        "tables": scenario.tables,
+        "gestures": sum(p.gestures for p in parts),
+        "actions": sum(p.actions for p in parts),
+        "rejected": sum(p.rejected for p in parts),
+        "legs": sum(p.legs for p in parts),
+    }
 
 
 def run_people_study(
@@ -148,14 +172,24 @@ def write_people(rows: Sequence[Mapping[str, Any]], out: Any) -> list:
     from pil.experiments.outputs import write_small_study
 
     tables = rows[0]["tables"] if rows else "?"
-    intro = (f"Two people take turns over {tables} tables, one table each; B means location by "
-             "give me, A human. "
-             "`shared`: one table for both; `per-person`: one table each. Costs summed over "
-             "both people.")  # fmt: skip
+    intro = (
+        f"Two people take turns over {tables} tables, one table each; B means location by "
+        "give me, A human. "
+        "`shared`: one table for both; `per-person`: one table each. Costs summed over "
+        "both people."
+    )
     return write_small_study(
-        rows, out, "people", title="Personal mappings: one shared table vs one per person",
-        intro=intro, group_by=("rate", "system", "mode"),
-        metrics=("actions", "gestures", "rejected"), figure_metric="actions",
-        baseline="shared", compare_by="mode", within=("rate", "system"),
-        ylabel=f"robot actions for {tables} tables", figure_group_by=("rate", "run"),
-    )  # fmt: skip
+        rows,
+        out,
+        "people",
+        title="Personal mappings: one shared table vs one per person",
+        intro=intro,
+        group_by=("rate", "system", "mode"),
+        metrics=("actions", "gestures", "rejected"),
+        figure_metric="actions",
+        baseline="shared",
+        compare_by="mode",
+        within=("rate", "system"),
+        ylabel=f"robot actions for {tables} tables",
+        figure_group_by=("rate", "run"),
+    )

@@ -37,9 +37,11 @@ def proactive_figures(
     rows = [r for r in rows if str(r["system"]) in (BASELINE, PROACTIVE)]
     if not rows or {str(r["system"]) for r in rows} != {BASELINE, PROACTIVE}:
         return []
-    p_of = {(str(t["rate"]), t["measure"]): float(t["p_holm"]) for t in tests
-            if t["system_b"] == PROACTIVE and t["reading"] == TEST_TABLES
-            and t["test"] == PAIRED_T}  # fmt: skip
+    p_of = {
+        (str(t["rate"]), t["measure"]): float(t["p_holm"])
+        for t in tests
+        if t["system_b"] == PROACTIVE and t["reading"] == TEST_TABLES and t["test"] == PAIRED_T
+    }
     out = []
     for (rate,), members in group_rows(rows, ["rate"]).items():
         base, pro = _by_rep(members, BASELINE), _by_rep(members, PROACTIVE)
@@ -49,15 +51,20 @@ def proactive_figures(
             return [number(side[k][name], name) for k in reps]
 
         saved = [b - p for b, p in zip(col(base, "gestures"), col(pro, "gestures"), strict=True)]
-        wasted = [a - k for a, k in zip(col(pro, "anticipated"), col(pro, "anticipated_ok"),
-                                        strict=True)]  # fmt: skip
+        wasted = [
+            a - k for a, k in zip(col(pro, "anticipated"), col(pro, "anticipated_ok"), strict=True)
+        ]
         entry: dict[str, float] = {"rate": number(rate, "rate"), "n": float(len(reps))}
         for name, values in (
-            ("pil_gestures", col(base, "gestures")), ("gestures", col(pro, "gestures")),
-            ("saved", saved), ("anticipated", col(pro, "anticipated")),
-            ("let_happen", col(pro, "anticipated_ok")), ("wasted", wasted),
-            ("pil_actions", col(base, "actions")), ("actions", col(pro, "actions")),
-        ):  # fmt: skip
+            ("pil_gestures", col(base, "gestures")),
+            ("gestures", col(pro, "gestures")),
+            ("saved", saved),
+            ("anticipated", col(pro, "anticipated")),
+            ("let_happen", col(pro, "anticipated_ok")),
+            ("wasted", wasted),
+            ("pil_actions", col(base, "actions")),
+            ("actions", col(pro, "actions")),
+        ):
             entry[f"{name}_mean"], entry[f"{name}_sd"] = mean_sd(values)
         entry["p_gestures"] = p_of.get((rate, "gestures"), math.nan)
         entry["p_actions"] = p_of.get((rate, "actions"), math.nan)
@@ -75,11 +82,30 @@ def proactive_markdown(figures: Sequence[dict[str, float]]) -> str:
     def ms(entry: dict[str, float], name: str) -> str:
         return f"{entry[f'{name}_mean']:.1f} ± {entry[f'{name}_sd']:.1f}"
 
-    header = ["rate", "n", "gestures pil", "gestures proactive", "gestures saved",
-              "anticipated", "let happen", "actions wasted", "actions pil",
-              "actions proactive", "p gestures", "p actions"]  # fmt: skip
-    names = ("pil_gestures", "gestures", "saved", "anticipated", "let_happen", "wasted",
-             "pil_actions", "actions")  # fmt: skip
+    header = [
+        "rate",
+        "n",
+        "gestures pil",
+        "gestures proactive",
+        "gestures saved",
+        "anticipated",
+        "let happen",
+        "actions wasted",
+        "actions pil",
+        "actions proactive",
+        "p gestures",
+        "p actions",
+    ]
+    names = (
+        "pil_gestures",
+        "gestures",
+        "saved",
+        "anticipated",
+        "let_happen",
+        "wasted",
+        "pil_actions",
+        "actions",
+    )
     body = [
         [
             f"{e['rate']:g}",
@@ -106,8 +132,14 @@ def plot_proactive(figures: Sequence[dict[str, float]], path: str | Path) -> Pat
         (width / 2, "wasted", "actions wasted (stopped anticipations)"),
     )
     for shift, name, label in bars:
-        ax.bar([i + shift for i in x], [e[f"{name}_mean"] for e in figures], width,
-               yerr=[e[f"{name}_sd"] for e in figures], capsize=3, label=label)  # fmt: skip
+        ax.bar(
+            [i + shift for i in x],
+            [e[f"{name}_mean"] for e in figures],
+            width,
+            yerr=[e[f"{name}_sd"] for e in figures],
+            capsize=3,
+            label=label,
+        )
     ax.set_xticks(x, [f"{e['rate'] * 100:.0f} %" for e in figures])
     ax.set_xlabel("detection rate")
     ax.set_ylabel("per run (test tables)")

@@ -26,8 +26,7 @@ from pil.experiments.sessions_load import SessionsError
 QUESTIONNAIRES_NAME = "questionnaires.jsonl"
 REQUIRED = ("participant", "condition", "questionnaire", "scores")
 SUMMARY_COLUMNS = ("questionnaire", "score", "condition", "participants", "mean", "sd")
-TEST_COLUMNS = ("questionnaire", "score", "a", "b", "n", "mean_a", "mean_b", "t", "p_t",
-                "w", "p_w")  # fmt: skip
+TEST_COLUMNS = ("questionnaire", "score", "a", "b", "n", "mean_a", "mean_b", "t", "p_t", "w", "p_w")
 
 
 def load_answers(folder: str | Path) -> list[dict[str, Any]]:
@@ -48,8 +47,10 @@ def load_answers(folder: str | Path) -> list[dict[str, Any]]:
                 row = None
             bad = not isinstance(row, dict) or any(k not in row for k in REQUIRED)
             if bad or not isinstance(row["scores"], Mapping):
-                raise SessionsError(f"{path}:{number}: not a questionnaire record (a JSON object "
-                                    "with " + ", ".join(REQUIRED) + ")")  # fmt: skip
+                raise SessionsError(
+                    f"{path}:{number}: not a questionnaire record (a JSON object "
+                    "with " + ", ".join(REQUIRED) + ")"
+                )
             rows.append({**row, "file": path.relative_to(folder).as_posix()})
     return rows
 
@@ -62,9 +63,12 @@ def participant_scores(rows: Sequence[Mapping[str, Any]]) -> dict[tuple[str, str
             if isinstance(value, (int, float)) and not isinstance(value, bool):
                 by = values.setdefault((row["questionnaire"], score), {})
                 by.setdefault(row["condition"], {}).setdefault(row["participant"], []).append(
-                    float(value))  # fmt: skip
-    return {key: {c: {p: statistics.fmean(v) for p, v in people.items()}
-                  for c, people in by.items()} for key, by in values.items()}  # fmt: skip
+                    float(value)
+                )
+    return {
+        key: {c: {p: statistics.fmean(v) for p, v in people.items()} for c, people in by.items()}
+        for key, by in values.items()
+    }
 
 
 def summarize_answers(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
@@ -73,9 +77,16 @@ def summarize_answers(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]
     for (questionnaire, score), by in participant_scores(rows).items():
         for condition in sorted(by):
             values = list(by[condition].values())
-            out.append({"questionnaire": questionnaire, "score": score, "condition": condition,
-                        "participants": len(values), "mean": statistics.fmean(values),
-                        "sd": statistics.stdev(values) if len(values) > 1 else None})  # fmt: skip
+            out.append(
+                {
+                    "questionnaire": questionnaire,
+                    "score": score,
+                    "condition": condition,
+                    "participants": len(values),
+                    "mean": statistics.fmean(values),
+                    "sd": statistics.stdev(values) if len(values) > 1 else None,
+                }
+            )
     return out
 
 
@@ -93,15 +104,25 @@ def paired_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
             xs, ys = [by[a][p] for p in both], [by[b][p] for p in both]
             # one pair or none: no test, whatever its difference
             t_test, w_test = paired(xs, ys) if len(both) > 1 else (_untested(), _untested())
-            out.append({"questionnaire": questionnaire, "score": score, "a": a, "b": b,
-                        "n": len(both), "mean_a": statistics.fmean(xs) if xs else math.nan,
-                        "mean_b": statistics.fmean(ys) if ys else math.nan,
-                        "t": t_test["statistic"], "p_t": t_test["p"],
-                        "w": w_test["statistic"], "p_w": w_test["p"],
-                        "mean_diff": t_test.get("mean_diff", math.nan),
-                        "ci_low": t_test.get("ci_low", math.nan),
-                        "ci_high": t_test.get("ci_high", math.nan),
-                        "d_z": t_test.get("effect_size", math.nan)})  # fmt: skip
+            out.append(
+                {
+                    "questionnaire": questionnaire,
+                    "score": score,
+                    "a": a,
+                    "b": b,
+                    "n": len(both),
+                    "mean_a": statistics.fmean(xs) if xs else math.nan,
+                    "mean_b": statistics.fmean(ys) if ys else math.nan,
+                    "t": t_test["statistic"],
+                    "p_t": t_test["p"],
+                    "w": w_test["statistic"],
+                    "p_w": w_test["p"],
+                    "mean_diff": t_test.get("mean_diff", math.nan),
+                    "ci_low": t_test.get("ci_low", math.nan),
+                    "ci_high": t_test.get("ci_high", math.nan),
+                    "d_z": t_test.get("effect_size", math.nan),
+                }
+            )
     for name in {r["questionnaire"] for r in out}:  # Holm within each questionnaire
         family = [r for r in out if r["questionnaire"] == name]
         for key in ("p_t", "p_w"):
@@ -118,34 +139,78 @@ def answers_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """``questionnaires.md``: the counting rule, the per-condition table, the paired tests."""
     people = len({r["participant"] for r in rows})
     lines = [
-        "# Questionnaires", "",
+        "# Questionnaires",
+        "",
         f"{len(rows)} questionnaires answered by {people} participants after their blocks. "
         "A participant's value in a condition is the mean over their blocks in it; every "
         "answered questionnaire counts (finished or not). NASA-TLX raw = the mean of its six "
-        "ratings (0-100); Godspeed: the mean of each scale's items (1-5).", "",
-        "## Per condition (mean ± sd over participants; no sd for n = 1)", "",
-        markdown_table(["questionnaire", "score", "condition", "n", "mean ± sd"],
-                       [[s["questionnaire"], s["score"], s["condition"], s["participants"],
-                         _mean_sd(s["mean"], s["sd"])] for s in summarize_answers(rows)]),
+        "ratings (0-100); Godspeed: the mean of each scale's items (1-5).",
         "",
-    ]  # fmt: skip
+        "## Per condition (mean ± sd over participants; no sd for n = 1)",
+        "",
+        markdown_table(
+            ["questionnaire", "score", "condition", "n", "mean ± sd"],
+            [
+                [
+                    s["questionnaire"],
+                    s["score"],
+                    s["condition"],
+                    s["participants"],
+                    _mean_sd(s["mean"], s["sd"]),
+                ]
+                for s in summarize_answers(rows)
+            ],
+        ),
+        "",
+    ]
     tests = paired_tests(rows)
     if tests:
-        lines += ["## Paired tests (participants who rated both conditions)", "",
-                  "Paired t (`scipy.stats.ttest_rel`) and Wilcoxon signed-rank "
-                  "(`scipy.stats.wilcoxon`) via `pil.experiments.stats.paired`; mean difference "
-                  "a - b with its 95 % CI and Cohen's d_z; p Holm-adjusted within each "
-                  "questionnaire (statsmodels); n/a with fewer than two pairs or no varying "
-                  "difference; p < 0.05 marked *, raw and adjusted alike.", "",
-                  markdown_table(["questionnaire", "score", "a", "b", "n", "mean (a)",
-                                  "mean (b)", "a - b [95 % CI]", "d_z", "t", "p (t, Holm)",
-                                  "W", "p (W, Holm)"],
-                                 [[r["questionnaire"], r["score"], r["a"], r["b"], r["n"],
-                                   _number(r["mean_a"]), _number(r["mean_b"]), _diff(r),
-                                   _number(r["d_z"]), _number(r["t"]),
-                                   f"{_p(r['p_t'])} ({_p(r['p_t_holm'])})", _number(r["w"], 1),
-                                   f"{_p(r['p_w'])} ({_p(r['p_w_holm'])})"]
-                                  for r in tests]), ""]  # fmt: skip
+        lines += [
+            "## Paired tests (participants who rated both conditions)",
+            "",
+            "Paired t (`scipy.stats.ttest_rel`) and Wilcoxon signed-rank "
+            "(`scipy.stats.wilcoxon`) via `pil.experiments.stats.paired`; mean difference "
+            "a - b with its 95 % CI and Cohen's d_z; p Holm-adjusted within each "
+            "questionnaire (statsmodels); n/a with fewer than two pairs or no varying "
+            "difference; p < 0.05 marked *, raw and adjusted alike.",
+            "",
+            markdown_table(
+                [
+                    "questionnaire",
+                    "score",
+                    "a",
+                    "b",
+                    "n",
+                    "mean (a)",
+                    "mean (b)",
+                    "a - b [95 % CI]",
+                    "d_z",
+                    "t",
+                    "p (t, Holm)",
+                    "W",
+                    "p (W, Holm)",
+                ],
+                [
+                    [
+                        r["questionnaire"],
+                        r["score"],
+                        r["a"],
+                        r["b"],
+                        r["n"],
+                        _number(r["mean_a"]),
+                        _number(r["mean_b"]),
+                        _diff(r),
+                        _number(r["d_z"]),
+                        _number(r["t"]),
+                        f"{_p(r['p_t'])} ({_p(r['p_t_holm'])})",
+                        _number(r["w"], 1),
+                        f"{_p(r['p_w'])} ({_p(r['p_w_holm'])})",
+                    ]
+                    for r in tests
+                ],
+            ),
+            "",
+        ]
     else:
         lines += ["No paired tests: the answers hold fewer than two conditions.", ""]
     return "\n".join(lines)
@@ -163,9 +228,10 @@ def write_answers_report(folder: str | Path, out: str | Path) -> list[Path]:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     table = summarize_answers(rows)
-    return [write_text_atomic(out / "questionnaires.md", answers_markdown(rows)),
-            write_text_atomic(out / "questionnaires.csv",
-                              rows_to_csv(table, SUMMARY_COLUMNS))]  # fmt: skip
+    return [
+        write_text_atomic(out / "questionnaires.md", answers_markdown(rows)),
+        write_text_atomic(out / "questionnaires.csv", rows_to_csv(table, SUMMARY_COLUMNS)),
+    ]
 
 
 def _mean_sd(mean: float, sd: float | None) -> str:

@@ -139,8 +139,14 @@ def write_report(
     systems = {str(r["system"]) for r in rows} if has_system else set()
     if baseline in systems and len(systems) > 1:
         pair_by = [c for c in ("rep", "seed") if c in rows[0]]
-        tests = compare(rows, baseline, compare_by="system", within=axes,
-                        metrics=measures(metrics, READINGS), pair_by=pair_by)  # fmt: skip
+        tests = compare(
+            rows,
+            baseline,
+            compare_by="system",
+            within=axes,
+            metrics=measures(metrics, READINGS),
+            pair_by=pair_by,
+        )
         lines += [
             f"## Paired tests: {baseline} against each other system",
             "",

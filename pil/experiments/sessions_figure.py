@@ -35,8 +35,11 @@ def plot_paired(conditions: Sequence[str], panels: Sequence[Panel], path: str | 
     for ax, panel in zip(flat, panels, strict=False):
         people = sorted({p for by in panel.participants.values() for p in by})
         for person in people:
-            points = [(i, panel.participants[c][person]) for i, c in enumerate(conditions)
-                      if person in panel.participants.get(c, {})]  # fmt: skip
+            points = [
+                (i, panel.participants[c][person])
+                for i, c in enumerate(conditions)
+                if person in panel.participants.get(c, {})
+            ]
             ax.plot(*zip(*points, strict=True), color="0.6", marker="o", markersize=3, lw=1)
         ax.errorbar(
             [x + 0.08 for x in xs],

@@ -34,13 +34,29 @@ MEASURES: dict[str, str] = {
 NULLABLE: tuple[str, ...] = ("mean_handover_s",)  # null when no leg was delivered
 LIVE_REQUIRED: tuple[str, ...] = ("participant", "session", "condition")
 LIVE_OPTIONAL: tuple[str, ...] = (
-    "block", "protocol", "handover_types", "inputs", "inputs_rejected", "frames_streamed",
-    "stream_fps", "started_utc",
-)  # fmt: skip
+    "block",
+    "protocol",
+    "handover_types",
+    "inputs",
+    "inputs_rejected",
+    "frames_streamed",
+    "stream_fps",
+    "started_utc",
+)
 SESSION_COLUMNS: tuple[str, ...] = (
-    "participant", "session", "condition", "block", "scenario", "protocol", "status", "counted",
-    *MEASURES, "legs_total", *LIVE_OPTIONAL[2:], "summary",
-)  # fmt: skip
+    "participant",
+    "session",
+    "condition",
+    "block",
+    "scenario",
+    "protocol",
+    "status",
+    "counted",
+    *MEASURES,
+    "legs_total",
+    *LIVE_OPTIONAL[2:],
+    "summary",
+)
 EXPECTED = (
     f"a folder of live sessions (<participant>/<session>/{SUMMARY_NAME} files whose summary "
     'has a "live" block, as robin-pil live writes them under out/live)'
@@ -64,8 +80,14 @@ def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
         summary = _read_summary(path)
         if "live" in summary:
             rows.append(session_row(summary, path, folder))
-    rows.sort(key=lambda r: (_natural(r["participant"]), r["block"] is None, r["block"] or 0,
-                             _natural(r["session"])))  # fmt: skip
+    rows.sort(
+        key=lambda r: (
+            _natural(r["participant"]),
+            r["block"] is None,
+            r["block"] or 0,
+            _natural(r["session"]),
+        )
+    )
     return rows
 
 
@@ -98,8 +120,9 @@ def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[st
     row["status"], row["counted"] = status, status == COUNTED_STATUS
     for key in MEASURES:
         if key not in summary:
-            raise SessionsError(f"{path}: missing field {key!r}; a live summary has "
-                                + ", ".join(MEASURES))  # fmt: skip
+            raise SessionsError(
+                f"{path}: missing field {key!r}; a live summary has " + ", ".join(MEASURES)
+            )
         row[key] = _number(summary[key], key, path, nullable=key in NULLABLE)
     row["legs_total"] = summary.get("legs_total")
     for key in LIVE_OPTIONAL[2:]:
@@ -132,8 +155,10 @@ def _read_summary(path: Path) -> Mapping[str, Any]:
     except (ValueError, RecursionError) as error:  # ValueError: bad JSON, a 5000-digit number
         where = getattr(error, "lineno", None)
         at = f" at line {where}" if where else ""
-        raise SessionsError(f"{path}: not a JSON summary{at}; the file is corrupt or cut "
-                            "short (remove it or rerun the session)") from None  # fmt: skip
+        raise SessionsError(
+            f"{path}: not a JSON summary{at}; the file is corrupt or cut "
+            "short (remove it or rerun the session)"
+        ) from None
     if not isinstance(summary, Mapping):
         raise SessionsError(f"{path}: expected a JSON object (a session's summary)")
     return summary

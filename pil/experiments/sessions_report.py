@@ -35,11 +35,22 @@ from pil.experiments.sessions_load import (
 )
 
 __all__ = [  # the reading is re-exported: the report's callers import from here only
-    "COUNTED_STATUS", "EXPECTED", "MEASURES", "SESSION_COLUMNS", "SessionsError",
-    "conditions_of", "is_within", "load_sessions", "participant_means", "report_markdown",
-    "session_tests", "study_groups", "summarize_sessions", "unreported_sessions",
+    "COUNTED_STATUS",
+    "EXPECTED",
+    "MEASURES",
+    "SESSION_COLUMNS",
+    "SessionsError",
+    "conditions_of",
+    "is_within",
+    "load_sessions",
+    "participant_means",
+    "report_markdown",
+    "session_tests",
+    "study_groups",
+    "summarize_sessions",
+    "unreported_sessions",
     "write_sessions_report",
-]  # fmt: skip
+]
 
 
 def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
@@ -96,9 +107,13 @@ def summarize_sessions(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]
         for condition in conditions_of(members_of_group):
             members = [r for r in members_of_group if r["condition"] == condition]
             people = len({r["participant"] for r in members})
-            entry: dict[str, Any] = {"scenario": group[0], "protocol": group[1] or None,
-                                     "condition": condition, "n": len(members),
-                                     "participants": people}  # fmt: skip
+            entry: dict[str, Any] = {
+                "scenario": group[0],
+                "protocol": group[1] or None,
+                "condition": condition,
+                "n": len(members),
+                "participants": people,
+            }
             for measure in MEASURES:
                 values = [float(r[measure]) for r in members if r[measure] is not None]
                 mean, sd = mean_sd(values)
@@ -150,11 +165,19 @@ def _group_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
                     warnings.filterwarnings("ignore", "Precision loss", RuntimeWarning)
                     test = ttest_rel(xs, ys) if within else ttest_ind(xs, ys, equal_var=False)
                 t, p = float(test.statistic), float(test.pvalue)
-            results.append({
-                "test": "paired" if within else "welch", "measure": measure, "a": a, "b": b,
-                "n": n, "mean_a": statistics.fmean(xs) if xs else math.nan,
-                "mean_b": statistics.fmean(ys) if ys else math.nan, "t": t, "p": p,
-            })  # fmt: skip
+            results.append(
+                {
+                    "test": "paired" if within else "welch",
+                    "measure": measure,
+                    "a": a,
+                    "b": b,
+                    "n": n,
+                    "mean_a": statistics.fmean(xs) if xs else math.nan,
+                    "mean_b": statistics.fmean(ys) if ys else math.nan,
+                    "t": t,
+                    "p": p,
+                }
+            )
     return results
 
 
@@ -191,16 +214,34 @@ def report_markdown(
             lines += [f"Sessions of {_group_text(group)}.", ""]
         lines += _group_lines(_in_group(rows, group), level)
     if left_out:
-        lines += ["## Left out (not finished)", "",
-                  markdown_table(["participant", "session", "condition", "scenario", "status",
-                                  "legs", "summary"],
-                                 [[r["participant"], r["session"], r["condition"], r["scenario"],
-                                   r["status"], _legs_text(r), f"`{r['summary']}`"]
-                                  for r in left_out]), ""]  # fmt: skip
+        lines += [
+            "## Left out (not finished)",
+            "",
+            markdown_table(
+                ["participant", "session", "condition", "scenario", "status", "legs", "summary"],
+                [
+                    [
+                        r["participant"],
+                        r["session"],
+                        r["condition"],
+                        r["scenario"],
+                        r["status"],
+                        _legs_text(r),
+                        f"`{r['summary']}`",
+                    ]
+                    for r in left_out
+                ],
+            ),
+            "",
+        ]
     if unreported:
         body = [[f"`{where}`", why] for where, why in unreported]
-        lines += ["## Not reported (no readable summary)", "",
-                  markdown_table(["session folder", "why"], body), ""]  # fmt: skip
+        lines += [
+            "## Not reported (no readable summary)",
+            "",
+            markdown_table(["session folder", "why"], body),
+            "",
+        ]
     return "\n".join(lines)
 
 
@@ -217,10 +258,9 @@ def _group_lines(rows: Sequence[Mapping[str, Any]], level: str) -> list[str]:
     lines = [f"{level} Per condition (mean ± sd over counted sessions; n = 1: the value)", ""]
     header = ["condition", "sessions", "participants", *MEASURES.values()]
     body = [
-        [s["condition"], s["n"], s["participants"]]
-        + [_mean_sd_text(s, m) for m in MEASURES]
+        [s["condition"], s["n"], s["participants"]] + [_mean_sd_text(s, m) for m in MEASURES]
         for s in summarize_sessions(rows)
-    ]  # fmt: skip
+    ]
     lines += [markdown_table(header, body), ""]
     tests = _group_tests(rows)
     if not tests:
@@ -273,11 +313,16 @@ def write_sessions_report(
     labelled = [{**r, "condition": _label(r, len(groups))} for r in rows]
     summary = {_label(s, len(groups)): s for s in summarize_sessions(rows)}
     panels = [
-        Panel(title, participant_means(labelled, measure),
-              {c: (s[f"{measure}_mean"], _sd_or_zero(s[f"{measure}_sd"]))
-               for c, s in summary.items()})
+        Panel(
+            title,
+            participant_means(labelled, measure),
+            {
+                c: (s[f"{measure}_mean"], _sd_or_zero(s[f"{measure}_sd"]))
+                for c, s in summary.items()
+            },
+        )
         for measure, title in MEASURES.items()
-    ]  # fmt: skip
+    ]
     written.append(plot_paired(list(summary), panels, out / "sessions.png"))
     return written
 
@@ -300,8 +345,18 @@ def _tests_table(tests: Sequence[Mapping[str, Any]]) -> str:
     for r in tests:
         p_text = "n/a" if math.isnan(r["p"]) else f"{r['p']:.3g}{' *' if r['p'] < 0.05 else ''}"
         t_text = "n/a" if math.isnan(r["t"]) else f"{r['t']:.2f}"
-        body.append([MEASURES[r["measure"]], r["a"], r["b"], r["n"], f"{r['mean_a']:.2f}",
-                     f"{r['mean_b']:.2f}", t_text, p_text])  # fmt: skip
+        body.append(
+            [
+                MEASURES[r["measure"]],
+                r["a"],
+                r["b"],
+                r["n"],
+                f"{r['mean_a']:.2f}",
+                f"{r['mean_b']:.2f}",
+                t_text,
+                p_text,
+            ]
+        )
     return markdown_table(header, body)
 
 

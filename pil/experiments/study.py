@@ -141,9 +141,14 @@ def claim_config(config: StudyConfig) -> StudyConfig | None:
     if not rates or not {"pil", *CLAIM_SYSTEMS} <= set(config.systems):
         return None
     repeat = bool(check_params(dict(config.params))["repeat_discarded"])
-    return StudyConfig(rates=rates, reps=config.reps, seed=config.seed,
-                       systems=("pil", *CLAIM_SYSTEMS), scenario=config.scenario,
-                       params={**config.params, "repeat_discarded": not repeat})  # fmt: skip
+    return StudyConfig(
+        rates=rates,
+        reps=config.reps,
+        seed=config.seed,
+        systems=("pil", *CLAIM_SYSTEMS),
+        scenario=config.scenario,
+        params={**config.params, "repeat_discarded": not repeat},
+    )
 
 
 def all_tests(rows: Sequence[Row], claim: Sequence[Row] | None = None) -> list[dict[str, Any]]:
@@ -184,8 +189,12 @@ def summary_text(
     ]
     figures = training_figures(rows)
     if figures:
-        parts += ["", f"## Training (5 tables): ours ({values['exploration']}) vs the paper", "",
-                  training_markdown(figures)]  # fmt: skip
+        parts += [
+            "",
+            f"## Training (5 tables): ours ({values['exploration']}) vs the paper",
+            "",
+            training_markdown(figures),
+        ]
     if by_rule:
         parts += [
             "",
@@ -211,8 +220,11 @@ def summary_text(
             "tables only; a discarded gesture repeated by the person (the project's reading, "
             "`--discarded repeated`) or corrected as an invalid state (the paper's section I, "
             f"`--discarded corrected`). This study ran `{ran}`"
-            + (", the other reading re-ran pil, c1 and c2 on the same seeds "
-               "(`claim_runs.csv`)." if rerun else "."),
+            + (
+                ", the other reading re-ran pil, c1 and c2 on the same seeds (`claim_runs.csv`)."
+                if rerun
+                else "."
+            ),
             "",
             claim_markdown(tests, ran),
         ]
@@ -223,7 +235,8 @@ def summary_text(
             "## Paired tests: PIL against each other system",
             "",
             "Every system and rate of one repetition shares its seed (handover order, detector "
-            "deck), so the runs pair by repetition. " + describe_tests(main)
+            "deck), so the runs pair by repetition. "
+            + describe_tests(main)
             + " All rows in `tests.csv`.",
             "",
             tests_markdown([t for t in main if t["test"] == PAIRED_T]),
@@ -265,14 +278,20 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
         written.append(write_text_atomic(out / "claim_runs.csv", csv_text(claim)))
     if tests:
         written.append(write_text_atomic(out / "tests.csv", csv_text(tests, csv_columns())))
-    written.append(write_text_atomic(out / "summary.md", summary_text(rows, config, by_rule,
-                                                                      tests)))  # fmt: skip
+    written.append(
+        write_text_atomic(out / "summary.md", summary_text(rows, config, by_rule, tests))
+    )
     for metric, name in (("total_gestures", "gestures"), ("total_actions", "actions")):
         written.append(
-            plot_metric(rows, metric, out / f"{name}.png", ("rate", "system"),
-                        title=f"{name} to assemble the tables (mean ± sd)",
-                        ylabel=f"number of {name}")
-        )  # fmt: skip
+            plot_metric(
+                rows,
+                metric,
+                out / f"{name}.png",
+                ("rate", "system"),
+                title=f"{name} to assemble the tables (mean ± sd)",
+                ylabel=f"number of {name}",
+            )
+        )
     if by_rule:
         written.append(plot_rules(by_rule, PAPER_TRAINING, out / "training.png"))
     proactive = proactive_figures(rows, tests)

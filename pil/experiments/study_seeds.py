@@ -46,9 +46,14 @@ def settings(config: StudyConfig) -> dict[str, Any]:
     values = check_params(dict(config.params))
     scenario = resolve_scenario(config.scenario, values)
     values.update({key: getattr(scenario, key) for key in SCENARIO_KEYS})
-    return {"study": "study", "rates": list(config.rates), "reps": config.reps,
-            "systems": list(config.systems), "scenario": scenario.name,
-            "params": values}  # fmt: skip
+    return {
+        "study": "study",
+        "rates": list(config.rates),
+        "reps": config.reps,
+        "systems": list(config.systems),
+        "scenario": scenario.name,
+        "params": values,
+    }
 
 
 def seeds_of(config: StudyConfig, count: int) -> list[int]:
@@ -70,13 +75,22 @@ def figure_rows(seed: int, rows: Sequence[Row]) -> list[dict[str, Any]]:
         for i, name in enumerate(FIGURES):
             paper = PAPER_TRAINING[rate][i]
             diff = 100.0 * (fig[name] - paper) / paper
-            out.append({"seed": seed, "rate": rate, "measure": name, "ours": fig[name],
-                        "paper": paper, "diff_percent": diff})  # fmt: skip
+            out.append(
+                {
+                    "seed": seed,
+                    "rate": rate,
+                    "measure": name,
+                    "ours": fig[name],
+                    "paper": paper,
+                    "diff_percent": diff,
+                }
+            )
     return out
 
 
-def _figures_markdown(rows: Sequence[Mapping[str, Any]], by_seed: Mapping[int, Sequence[Row]]
-                      ) -> list[str]:  # fmt: skip
+def _figures_markdown(
+    rows: Sequence[Mapping[str, Any]], by_seed: Mapping[int, Sequence[Row]]
+) -> list[str]:
     body, means, inside = [], [], 0
     for rate in sorted({r["rate"] for r in rows}):
         for name in FIGURES:
@@ -86,14 +100,27 @@ def _figures_markdown(rows: Sequence[Mapping[str, Any]], by_seed: Mapping[int, S
             diff = mean_ci([r["diff_percent"] for r in mine])
             means.append(abs(diff[0]))
             inside += ours[1] <= paper <= ours[2]
-            body.append([f"{rate * 100:.0f} %", name, interval(*ours), paper,
-                         interval(*diff, spec="+.1f") + " %",
-                         f"{min(r['diff_percent'] for r in mine):+.1f} / "
-                         f"{max(r['diff_percent'] for r in mine):+.1f} %"])  # fmt: skip
+            body.append(
+                [
+                    f"{rate * 100:.0f} %",
+                    name,
+                    interval(*ours),
+                    paper,
+                    interval(*diff, spec="+.1f") + " %",
+                    f"{min(r['diff_percent'] for r in mine):+.1f} / "
+                    f"{max(r['diff_percent'] for r in mine):+.1f} %",
+                ]
+            )
     worst = [worst_difference(training_figures(rows)) for rows in by_seed.values()]
     within = sum(1 for w in worst if w <= 5.0)
-    header = ["rate", "figure", "ours: mean over seeds [95 % CI]", "paper",
-              "difference [95 % CI]", "seeds' lowest / highest"]  # fmt: skip
+    header = [
+        "rate",
+        "figure",
+        "ours: mean over seeds [95 % CI]",
+        "paper",
+        "difference [95 % CI]",
+        "seeds' lowest / highest",
+    ]
     return [
         markdown_table(header, body),
         "",
@@ -107,8 +134,12 @@ def _figures_markdown(rows: Sequence[Mapping[str, Any]], by_seed: Mapping[int, S
 def _labelled(tests: Sequence[Row], discarded: str) -> list[Row]:
     """``tests`` with the study's own readings naming its discard reading, as the claim
     section of each seed's summary does."""
-    return [{**t, "reading": f"{t['reading']}; discarded {discarded}"}
-            if ";" not in str(t["reading"]) else t for t in tests]  # fmt: skip
+    return [
+        {**t, "reading": f"{t['reading']}; discarded {discarded}"}
+        if ";" not in str(t["reading"])
+        else t
+        for t in tests
+    ]
 
 
 def _claim_markdown(tests_by_seed: Mapping[int, Sequence[Row]], discarded: str) -> list[str]:
@@ -118,21 +149,33 @@ def _claim_markdown(tests_by_seed: Mapping[int, Sequence[Row]], discarded: str) 
     readings = sorted({r for v in verdicts.values() for r in v})
     if not readings:
         return []
-    lines = ["| reading | seeds where it holds in full | comparisons held (all seeds) |",
-             "|---|---|---|"]  # fmt: skip
+    lines = [
+        "| reading | seeds where it holds in full | comparisons held (all seeds) |",
+        "|---|---|---|",
+    ]
     for reading in readings:
         found = [v[reading] for v in verdicts.values() if reading in v]
         full = sum(1 for held, tried in found if held == tried)
-        lines.append(f"| {reading} | {full} of {len(found)} | "
-                     f"{sum(h for h, _ in found)} of {sum(t for _, t in found)} |")  # fmt: skip
-    return ["", "## The paper's claim over seeds", "",
-            "Per seed, a comparison holds when PIL needs more with Holm-adjusted p < 0.05 in "
-            "both the paired t-test and the Wilcoxon test (each seed's summary.md).", "",
-            *lines, "", over_seeds_markdown(over)]  # fmt: skip
+        lines.append(
+            f"| {reading} | {full} of {len(found)} | "
+            f"{sum(h for h, _ in found)} of {sum(t for _, t in found)} |"
+        )
+    return [
+        "",
+        "## The paper's claim over seeds",
+        "",
+        "Per seed, a comparison holds when PIL needs more with Holm-adjusted p < 0.05 in "
+        "both the paired t-test and the Wilcoxon test (each seed's summary.md).",
+        "",
+        *lines,
+        "",
+        over_seeds_markdown(over),
+    ]
 
 
-def _proactive_markdown(by_seed: Mapping[int, Sequence[Row]],
-                        tests_by_seed: Mapping[int, Sequence[Row]]) -> list[str]:  # fmt: skip
+def _proactive_markdown(
+    by_seed: Mapping[int, Sequence[Row]], tests_by_seed: Mapping[int, Sequence[Row]]
+) -> list[str]:
     figures = {s: proactive_figures(rows, tests_by_seed[s]) for s, rows in by_seed.items()}
     if not all(figures.values()):
         return []
@@ -146,19 +189,35 @@ def _proactive_markdown(by_seed: Mapping[int, Sequence[Row]],
         cells.append(interval(*mean_ci([e["pil_actions_mean"] - e["actions_mean"] for e in per])))
         cells.append(f"{sum(1 for e in per if e['p_actions'] < 0.05)} of {len(per)}")
         body.append(cells)
-    table = markdown_table(["rate", "gestures saved", "actions wasted", "gestures pil",
-                            "gestures proactive", "seeds: gestures differ (Holm p < 0.05)",
-                            "actions pil − proactive", "seeds: actions differ"],
-                           body)  # fmt: skip
-    return ["", "## Proactive vs reactive PIL over seeds", "",
-            "Each seed's mean per run (test tables), then the mean over seeds [95 % CI].", "",
-            table]  # fmt: skip
+    table = markdown_table(
+        [
+            "rate",
+            "gestures saved",
+            "actions wasted",
+            "gestures pil",
+            "gestures proactive",
+            "seeds: gestures differ (Holm p < 0.05)",
+            "actions pil − proactive",
+            "seeds: actions differ",
+        ],
+        body,
+    )
+    return [
+        "",
+        "## Proactive vs reactive PIL over seeds",
+        "",
+        "Each seed's mean per run (test tables), then the mean over seeds [95 % CI].",
+        "",
+        table,
+    ]
 
 
 def run_study_seeds(
-    config: StudyConfig, count: int, out: str | Path,
+    config: StudyConfig,
+    count: int,
+    out: str | Path,
     progress: Callable[[int], None] | None = None,
-) -> list[Path]:  # fmt: skip
+) -> list[Path]:
     """Run (or resume) ``count`` studies and write the over-seeds outputs; their paths."""
     out = Path(out)
     seeds = seeds_of(config, count)
@@ -167,11 +226,14 @@ def run_study_seeds(
         return dataclasses.replace(config, seed=seed)
 
     by_seed = run_seeds(
-        out, seeds, settings(config), "runs.csv",
+        out,
+        seeds,
+        settings(config),
+        "runs.csv",
         lambda seed: run_study(one(seed), progress),
         lambda seed, rows, folder: write_outputs(rows, one(seed), folder),
         skipped=(lambda _seed: progress(config.runs())) if progress else None,
-    )  # fmt: skip
+    )
     tests_by_seed: dict[int, Sequence[Row]] = {}
     for seed in seeds:
         path = seed_folder(out, seed) / "tests.csv"
@@ -190,19 +252,29 @@ def run_study_seeds(
         "means (the seeds are independent studies).",
     ]
     if figures:
-        parts += ["", "## The paper's eight training figures over seeds", "",
-                  *_figures_markdown(figures, by_seed)]  # fmt: skip
+        parts += [
+            "",
+            "## The paper's eight training figures over seeds",
+            "",
+            *_figures_markdown(figures, by_seed),
+        ]
     parts += _claim_markdown(tests_by_seed, discard)
     parts += _proactive_markdown(by_seed, tests_by_seed)
     if over:
-        parts += ["", "## Every paired comparison over seeds", "",
-                  "PIL against each other system; the seeds' paired-t mean differences.", "",
-                  over_seeds_markdown(over)]  # fmt: skip
+        parts += [
+            "",
+            "## Every paired comparison over seeds",
+            "",
+            "PIL against each other system; the seeds' paired-t mean differences.",
+            "",
+            over_seeds_markdown(over),
+        ]
     written = []
     if figures:
         written.append(write_text_atomic(out / "seeds.csv", csv_text(figures, SEEDS_COLUMNS)))
     if over:
-        written.append(write_text_atomic(out / "seeds_tests.csv",
-                                         csv_text(over, over_seeds_columns())))  # fmt: skip
+        written.append(
+            write_text_atomic(out / "seeds_tests.csv", csv_text(over, over_seeds_columns()))
+        )
     written.append(write_text_atomic(out / "summary.md", "\n".join(parts) + "\n"))
     return written

@@ -55,8 +55,14 @@ def study_tests(rows: Sequence[Row], suffix: str = "") -> list[dict[str, Any]]:
     systems = {str(r["system"]) for r in rows}
     if BASELINE not in systems or len(systems) < 2:
         return []
-    return compare(rows, BASELINE, compare_by="system", within=("rate",),
-                   metrics=study_measures(suffix), pair_by=PAIR_BY)  # fmt: skip
+    return compare(
+        rows,
+        BASELINE,
+        compare_by="system",
+        within=("rate",),
+        metrics=study_measures(suffix),
+        pair_by=PAIR_BY,
+    )
 
 
 def claim_rows(tests: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
@@ -113,15 +119,32 @@ def claim_markdown(tests: Sequence[Mapping[str, Any]], discarded: str = "") -> s
         ref = paired_t if paired_t is not None else wil
         assert ref is not None
         yes = paired_t is not None and wil is not None and _costlier(paired_t) and _costlier(wil)
-        body.append([
-            reading, f"{number(rate) * 100:.0f} %", measure, other,
-            f"{float(ref['mean_diff']):+.1f} [{float(ref['ci_low']):+.1f}, "
-            f"{float(ref['ci_high']):+.1f}]",
-            _p(paired_t), _p(wil), "yes" if yes else "no",
-        ])  # fmt: skip
+        body.append(
+            [
+                reading,
+                f"{number(rate) * 100:.0f} %",
+                measure,
+                other,
+                f"{float(ref['mean_diff']):+.1f} [{float(ref['ci_low']):+.1f}, "
+                f"{float(ref['ci_high']):+.1f}]",
+                _p(paired_t),
+                _p(wil),
+                "yes" if yes else "no",
+            ]
+        )
     table = markdown_table(
-        ["reading", "rate", "measure", "vs", "PIL − condition [95 % CI]",
-         "p paired t (Holm)", "p Wilcoxon (Holm)", "PIL costlier"], body)  # fmt: skip
+        [
+            "reading",
+            "rate",
+            "measure",
+            "vs",
+            "PIL − condition [95 % CI]",
+            "p paired t (Holm)",
+            "p Wilcoxon (Holm)",
+            "PIL costlier",
+        ],
+        body,
+    )
     verdicts = [
         f"- {reading}: PIL costlier (both tests, Holm-adjusted p < 0.05) in {held} of {tried} "
         f"comparisons; the claim {'holds' if held == tried else 'does not hold in full'}."

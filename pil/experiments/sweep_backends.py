@@ -29,9 +29,13 @@ WORKERS = ParamSpec(
     "workers", "int", None, "local worker processes", 1, 1024, optional=True, empty="all cores"
 )
 CONNECT_TIMEOUT = ParamSpec(
-    "connect_timeout", "float", DEFAULT_CONNECT_TIMEOUT_S, "seconds to reach the scheduler",
-    0.1, 3600.0,
-)  # fmt: skip
+    "connect_timeout",
+    "float",
+    DEFAULT_CONNECT_TIMEOUT_S,
+    "seconds to reach the scheduler",
+    0.1,
+    3600.0,
+)
 SCHEMES: tuple[str, ...] = ("tcp", "tls", "ws", "wss")
 TLS_SCHEMES: tuple[str, ...] = ("tls", "wss")  # these need Dask's TLS settings
 _SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it has

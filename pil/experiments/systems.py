@@ -116,12 +116,32 @@ class _Descriptions(Mapping[str, str]):
 
 SYSTEMS: Mapping[str, str] = _Descriptions()
 ROW_COLUMNS: tuple[str, ...] = (
-    "system", "rate", "seed", "scenario", "legs", "handovers", "gestures", "actions",
-    "train_gestures", "train_actions", "total_gestures", "total_actions", "corrections",
-    "repeats", "misdetections", "discarded", "rejected", "exploited", "anticipated",
-    "anticipated_ok", "scripted_gestures",
-    "train_corrections", "train_repeats", "train_rejected", *PARAMS,
-)  # fmt: skip
+    "system",
+    "rate",
+    "seed",
+    "scenario",
+    "legs",
+    "handovers",
+    "gestures",
+    "actions",
+    "train_gestures",
+    "train_actions",
+    "total_gestures",
+    "total_actions",
+    "corrections",
+    "repeats",
+    "misdetections",
+    "discarded",
+    "rejected",
+    "exploited",
+    "anticipated",
+    "anticipated_ok",
+    "scripted_gestures",
+    "train_corrections",
+    "train_repeats",
+    "train_rejected",
+    *PARAMS,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -151,8 +171,9 @@ def simulate(
     cache: MutableMapping[Any, Any] | None = None,
 ) -> tuple[Learner, RunStats]:
     """One learner-only run of ``phase`` ("train" or "test") at ``rate``."""
-    parts = build_parts(scenario, rate, seeds, phase=phase, table=table, manual=manual,
-                        cache=cache, **values)  # fmt: skip
+    parts = build_parts(
+        scenario, rate, seeds, phase=phase, table=table, manual=manual, cache=cache, **values
+    )
     stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
     learner = parts.learner
     return learner, stats
@@ -211,8 +232,17 @@ def test_parts(
     table = None if training is None else training.table.copy()
     seeds = derive_seeds(seed)
     values = {**values, **spec.params}
-    parts = build_parts(scenario, rate, seeds, phase="test", table=table,
-                        manual=spec.manual, cache=cache, body=body, **values)  # fmt: skip
+    parts = build_parts(
+        scenario,
+        rate,
+        seeds,
+        phase="test",
+        table=table,
+        manual=spec.manual,
+        cache=cache,
+        body=body,
+        **values,
+    )
     if spec.agent == "pil":
         return parts
     agent = AGENTS[spec.agent](seeds["test_learner"], table, values)

@@ -37,8 +37,12 @@ def _learner_values(system: str, values: Mapping[str, Any]) -> dict[str, Any]:
     return {**values, **spec.params}
 
 
-def assembly_table(scenario: Scenario, rate: float, seed: int, values: Mapping[str, Any],
-                   ) -> AssociationTable:  # fmt: skip
+def assembly_table(
+    scenario: Scenario,
+    rate: float,
+    seed: int,
+    values: Mapping[str, Any],
+) -> AssociationTable:
     """The table a PIL run leaves after assembling ``scenario``'s test tables."""
     parts = build_parts(scenario, rate, derive_seeds(seed), **values)
     run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
@@ -60,12 +64,19 @@ def run_transfer(
     parts = build_parts(task, rate, derive_seeds(seed), table=used, **learner_values)
     stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
     return {
-        "system": system, "start": start, "run": f"{system} from {start}", "rate": rate,
-        "seed": int(seed), "task": task.name,
-        "gestures": stats.gestures, "actions": stats.actions, "rejected": stats.rejected,
-        "corrections": stats.corrections, "repeats": stats.repeats,
+        "system": system,
+        "start": start,
+        "run": f"{system} from {start}",
+        "rate": rate,
+        "seed": int(seed),
+        "task": task.name,
+        "gestures": stats.gestures,
+        "actions": stats.actions,
+        "rejected": stats.rejected,
+        "corrections": stats.corrections,
+        "repeats": stats.repeats,
         "transferred_approvals": 0 if used is None else table.total(),  # type: ignore[union-attr]
-    }  # fmt: skip
+    }
 
 
 def run_transfer_study(
@@ -98,8 +109,9 @@ def run_transfer_study(
             for system in systems:
                 table = given
                 if table is None:
-                    table = assembly_table(assembly, rate, run_seed,
-                                           _learner_values(system, values))  # fmt: skip
+                    table = assembly_table(
+                        assembly, rate, run_seed, _learner_values(system, values)
+                    )
                     if save_first is not None and rep == 0 and rate == rates[0]:
                         save_table(table, save_first)
                 for start in STARTS:
@@ -116,12 +128,22 @@ def write_transfer(rows: Sequence[Mapping[str, Any]], out: Any, source: str) -> 
     """``transfer.csv``, ``transfer.md`` and ``transfer.png`` under ``out``."""
     from pil.experiments.outputs import write_small_study
 
-    intro = ("The second task (tidying 10 rounds of 4 legs onto spots) from an empty table "
-             f"(`scratch`) and from {source} (`table`); same seeds in both.")  # fmt: skip
+    intro = (
+        "The second task (tidying 10 rounds of 4 legs onto spots) from an empty table "
+        f"(`scratch`) and from {source} (`table`); same seeds in both."
+    )
     return write_small_study(
-        rows, out, "transfer", title="Transfer to a second task", intro=intro,
-        group_by=("rate", "system", "start"), metrics=("actions", "gestures", "rejected"),
+        rows,
+        out,
+        "transfer",
+        title="Transfer to a second task",
+        intro=intro,
+        group_by=("rate", "system", "start"),
+        metrics=("actions", "gestures", "rejected"),
         figure_group_by=("rate", "run"),
-        figure_metric="actions", baseline="scratch", compare_by="start",
-        within=("rate", "system"), ylabel="robot actions to tidy 10 rounds",
-    )  # fmt: skip
+        figure_metric="actions",
+        baseline="scratch",
+        compare_by="start",
+        within=("rate", "system"),
+        ylabel="robot actions to tidy 10 rounds",
+    )

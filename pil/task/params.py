@@ -28,10 +28,25 @@ from pil.task.param_spec import MAX_TEXT, ParamError, ParamSpec, spec_for
 from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD
 
 __all__ = [  # the spec type is re-exported: callers import parameters from here only
-    "ASSEMBLY", "ASSEMBLY_DEFAULTS", "DRAWS", "MAX_COUNT", "MAX_LEGS", "MAX_SEED", "MAX_TABLES",
-    "MAX_TEXT", "PARAMS", "RATE", "REPS", "RUN_OPTIONS", "SCENARIO", "SEED", "ParamError",
-    "ParamSpec", "parse_all", "spec_for",
-]  # fmt: skip
+    "ASSEMBLY",
+    "ASSEMBLY_DEFAULTS",
+    "DRAWS",
+    "MAX_COUNT",
+    "MAX_LEGS",
+    "MAX_SEED",
+    "MAX_TABLES",
+    "MAX_TEXT",
+    "PARAMS",
+    "RATE",
+    "REPS",
+    "RUN_OPTIONS",
+    "SCENARIO",
+    "SEED",
+    "ParamError",
+    "ParamSpec",
+    "parse_all",
+    "spec_for",
+]
 
 MAX_TABLES = 1000  # tables of one run: 4000 handovers, a few seconds learner-only
 MAX_LEGS = 12  # legs of one table (and table spots)
@@ -169,8 +184,9 @@ SCENARIO = ParamSpec(
     empty="scenarios/assembly.yaml",
 )
 RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
-RATE = ParamSpec("rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True,
-                 why_low=NEVER_DETECTED)  # fmt: skip
+RATE = ParamSpec(
+    "rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True, why_low=NEVER_DETECTED
+)
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
 REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
 

@@ -149,13 +149,17 @@ def build_parts(
         discard=values["discard"],
         confusion=values["confusion"],
     )
-    learner = Learner(seeds[f"{phase}_learner"], table=table, correction=not manual,
-                      exploration=check_rule(values["exploration"]),
-                      adaptation=values["adaptation"], proactive=values["proactive"],
-                      proactive_threshold=values["proactive_threshold"],
-                      proactive_min_count=values["proactive_min_count"],
-                      step_memory=step_memory_on(values["step_memory"],
-                                                 Learner.STEP_MEMORY_OWN))  # fmt: skip
+    learner = Learner(
+        seeds[f"{phase}_learner"],
+        table=table,
+        correction=not manual,
+        exploration=check_rule(values["exploration"]),
+        adaptation=values["adaptation"],
+        proactive=values["proactive"],
+        proactive_threshold=values["proactive_threshold"],
+        proactive_min_count=values["proactive_min_count"],
+        step_memory=step_memory_on(values["step_memory"], Learner.STEP_MEMORY_OWN),
+    )
     options = {
         "manual": manual,
         "repeat_discarded": bool(values["repeat_discarded"]),

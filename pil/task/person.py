@@ -228,8 +228,9 @@ class ScriptedPerson:
             if self.body is not None and self.body.recover(leg):
                 self.interventions += 1
             where = head.intent
-            point = Intent(Gesture.POINTING, Action.OBJECT, Target("leg", leg),
-                           where.handover, where.table)  # fmt: skip
+            point = Intent(
+                Gesture.POINTING, Action.OBJECT, Target("leg", leg), where.handover, where.table
+            )
             grasp = Intent(Gesture.GRASP, Action.CLOSE, None, where.handover, where.table)
             for intent in (grasp, point):
                 recovery = ScriptStep(intent, head.handover_type, head.step, False, recovery=True)

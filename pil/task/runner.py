@@ -105,8 +105,19 @@ def steps(
         guess = anticipate(previous, hand) if approved and anticipate and hand is expected else None
         approved = False
         if guess is not None:
-            record = _anticipate(learner, person, detector, world, item, guess, actions + 1,
-                                 gestures, legs, previous, observer)  # fmt: skip
+            record = _anticipate(
+                learner,
+                person,
+                detector,
+                world,
+                item,
+                guess,
+                actions + 1,
+                gestures,
+                legs,
+                previous,
+                observer,
+            )
             actions, legs = record.t, record.legs_delivered
             yield record
             if record.feedback_read is not _NOT_OK:  # the robot takes it as approved
@@ -134,11 +145,19 @@ def steps(
             person.perform(intent)
             detected = detector.detect(true)
             base = StepRecord(
-                t=actions, gesture_count=gestures, table=intent.table, handover=intent.handover,
-                handover_type=item.handover_type, step=item.step, true_gesture=true,
-                detected_gesture=detected, intended_action=intent.action,
-                legs_delivered=legs, target=intent.target, recovery=item.recovery,
-            )  # fmt: skip
+                t=actions,
+                gesture_count=gestures,
+                table=intent.table,
+                handover=intent.handover,
+                handover_type=item.handover_type,
+                step=item.step,
+                true_gesture=true,
+                detected_gesture=detected,
+                intended_action=intent.action,
+                legs_delivered=legs,
+                target=intent.target,
+                recovery=item.recovery,
+            )
             if (manual and detected is not true) or (repeat_discarded and detected is None):
                 what = "discarded" if detected is None else f"read as {detected.value}"
                 yield base._replace(reason=f"{what}; the person repeats it")
@@ -184,11 +203,19 @@ def steps(
                 )
                 legs += delivered
                 record = base._replace(
-                    t=actions, action=action, exploited=exploited, reason=reason,
-                    feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
-                    delivered=delivered, legs_delivered=legs, interrupted=outcome.interrupted,
-                    dropped=outcome.dropped, feedback_read=heard,
-                )  # fmt: skip
+                    t=actions,
+                    action=action,
+                    exploited=exploited,
+                    reason=reason,
+                    feedback=feedback,
+                    succeeded=outcome.succeeded,
+                    detail=outcome.detail,
+                    delivered=delivered,
+                    legs_delivered=legs,
+                    interrupted=outcome.interrupted,
+                    dropped=outcome.dropped,
+                    feedback_read=heard,
+                )
                 learner.feedback(state, action, ok)
                 if observer is not None:
                     observer.received(record)
@@ -234,12 +261,23 @@ def _anticipate(
     """
     intent, action, hand = item.intent, guess.action, world.hand()
     base = StepRecord(
-        t=t, gesture_count=gestures, table=intent.table, handover=intent.handover,
-        handover_type=item.handover_type, step=item.step, true_gesture=intent.gesture,
-        detected_gesture=None, intended_action=intent.action, legs_delivered=legs,
-        recovery=item.recovery, state=guess.state, action=action, exploited=True,
-        reason=guess.reason, proactive=True,
-    )  # fmt: skip
+        t=t,
+        gesture_count=gestures,
+        table=intent.table,
+        handover=intent.handover,
+        handover_type=item.handover_type,
+        step=item.step,
+        true_gesture=intent.gesture,
+        detected_gesture=None,
+        intended_action=intent.action,
+        legs_delivered=legs,
+        recovery=item.recovery,
+        state=guess.state,
+        action=action,
+        exploited=True,
+        reason=guess.reason,
+        proactive=True,
+    )
     if observer is not None:
         observer.decided(base)
     outcome = world.execute(action, None, person.watch(intent))
@@ -251,10 +289,15 @@ def _anticipate(
     ok = heard is not _NOT_OK
     delivered = ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
     record = base._replace(
-        feedback=feedback, succeeded=outcome.succeeded, detail=outcome.detail,
-        delivered=delivered, legs_delivered=legs + delivered, interrupted=outcome.interrupted,
-        dropped=outcome.dropped, feedback_read=heard,
-    )  # fmt: skip
+        feedback=feedback,
+        succeeded=outcome.succeeded,
+        detail=outcome.detail,
+        delivered=delivered,
+        legs_delivered=legs + delivered,
+        interrupted=outcome.interrupted,
+        dropped=outcome.dropped,
+        feedback_read=heard,
+    )
     learner.feedback(guess.state, action, ok)
     if observer is not None:
         observer.received(record)

@@ -38,8 +38,9 @@ class ReactionTime:
         for name in ("mean", "spread", "floor"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | float) or value < 0:
-                raise RobinPilError(f"reaction time {name} must be a number of seconds >= 0, "
-                                    f"got {value!r}")  # fmt: skip
+                raise RobinPilError(
+                    f"reaction time {name} must be a number of seconds >= 0, got {value!r}"
+                )
         if self.mean > 10.0:
             raise RobinPilError(f"reaction time mean must lie in [0, 10] s, got {self.mean}")
 

@@ -28,9 +28,11 @@ class _NoAliasLoader(yaml.SafeLoader):
         if self.check_event(yaml.AliasEvent):
             event = self.peek_event()
             raise yaml.composer.ComposerError(
-                None, None, "YAML aliases (*name) are not allowed in a task file; write the "
-                "value out", event.start_mark
-            )  # fmt: skip
+                None,
+                None,
+                "YAML aliases (*name) are not allowed in a task file; write the value out",
+                event.start_mark,
+            )
         return super().compose_node(parent, index)
 
 

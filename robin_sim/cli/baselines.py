@@ -17,17 +17,27 @@ DEFAULT_OUT = Path("out/baselines")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The table's options (defaults: the paper's rates, 20 + 10 repetitions, seed 0)."""
-    parser.add_argument("--rates", default=rates_text(), help="detection rates (default: "
-                        "%(default)s)")  # fmt: skip
-    parser.add_argument("--reps", default=20, help="evaluation repetitions (default: "
-                        "%(default)s; the seeds of robin-pil study --seed SEED)")  # fmt: skip
-    parser.add_argument("--tuning-reps", default=10, help="held-out repetitions each tuning "
-                        "setting runs on (default: %(default)s)")  # fmt: skip
+    parser.add_argument(
+        "--rates", default=rates_text(), help="detection rates (default: %(default)s)"
+    )
+    parser.add_argument(
+        "--reps",
+        default=20,
+        help="evaluation repetitions (default: "
+        "%(default)s; the seeds of robin-pil study --seed SEED)",
+    )
+    parser.add_argument(
+        "--tuning-reps",
+        default=10,
+        help="held-out repetitions each tuning setting runs on (default: %(default)s)",
+    )
     parser.add_argument("--seed", default=0, help="master seed, >= 0 (default: %(default)s)")
-    parser.add_argument("--tables", default=None, help="test tables per run (default: the "
-                        "scenario's, 10)")  # fmt: skip
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output folder "
-                        "(default: %(default)s)")  # fmt: skip
+    parser.add_argument(
+        "--tables", default=None, help="test tables per run (default: the scenario's, 10)"
+    )
+    parser.add_argument(
+        "--out", type=Path, default=DEFAULT_OUT, help="output folder (default: %(default)s)"
+    )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -50,6 +60,8 @@ def run(args: argparse.Namespace) -> int:
         result = run_baselines(config, progress=bar.update)
     written = write_outputs(result, config, args.out)
     chosen = ", ".join(f"{k} {v.setting.name}" for k, v in result.best.items())
-    print(f"{len(result.rows)} evaluation runs; tuned: {chosen}; wrote "
-          + ", ".join(str(p) for p in written))  # fmt: skip
+    print(
+        f"{len(result.rows)} evaluation runs; tuned: {chosen}; wrote "
+        + ", ".join(str(p) for p in written)
+    )
     return 0

@@ -11,17 +11,27 @@ import argparse
 import json
 from pathlib import Path
 
+from robin_sim.cli.options import add_progress_switch
+
+HOLDS_SIGNALS = True  # run inside main's guard: a Ctrl-C at start-up still leaves the files
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The episode's options."""
     parser.add_argument(
-        "--tables", default=None,
+        "--tables",
+        default=None,
         help="tables to assemble, 4 legs each (default: 1; with --scenario, the scenario's)",
-    )  # fmt: skip
+    )
     parser.add_argument("--rate", default=1.0, help="gesture detection rate in (0, 1]")
     parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
     parser.add_argument("--system", default="pil", help=_system_help())
-    parser.add_argument("--scenario", default=None, help="assembly YAML to use")
+    parser.add_argument(
+        "--scenario",
+        default=None,
+        help="assembly YAML or shipped scenario name, e.g. one_handover "
+        "(default: scenarios/assembly.yaml)",
+    )
     parser.add_argument(
         "--camera", default="front", help="front, side, head, head_left_eye or head_right_eye"
     )
@@ -30,9 +40,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-video", action="store_true", help="physics and log only")
     parser.add_argument("--shadows", action="store_true", help="render shadows (about 3x slower)")
     parser.add_argument(
-        "--render-workers", default=None,
+        "--render-workers",
+        default=None,
         help="processes rendering video frames (default 2; 0 renders in this process)",
-    )  # fmt: skip
+    )
     parser.add_argument("--no-verify", action="store_true", help="skip the render checks")
     parser.add_argument("--no-policy", action="store_true", help="no P(a|s) panel in the video")
     parser.add_argument(
@@ -54,7 +65,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "reaction), reaction_spread=0.1, silent_ok=0.1, patience=3, handover_timeout=120",
     )
     parser.add_argument("--out", type=Path, default=Path("out"), help="output folder")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_progress_switch(parser)
+    parser.add_argument(
+        "--json",
+        action="store_true",
+        help="print the whole summary as JSON instead of the short one (summary.json holds it)",
+    )
 
 
 def _system_help() -> str:
@@ -90,13 +106,25 @@ def run(args: argparse.Namespace) -> int:
     if args.detector is not None:
         params["detector"] = args.detector
     config = EpisodeConfig(
-        tables=args.tables, rate=args.rate, seed=args.seed, system=args.system,
-        scenario=args.scenario, out=args.out, video=video, camera=args.camera, width=width,
-        height=height, fps=args.fps, shadows=args.shadows,
-        render_workers=args.render_workers, policy_panel=not args.no_policy,
+        tables=args.tables,
+        rate=args.rate,
+        seed=args.seed,
+        system=args.system,
+        scenario=args.scenario,
+        out=args.out,
+        video=video,
+        camera=args.camera,
+        width=width,
+        height=height,
+        fps=args.fps,
+        shadows=args.shadows,
+        render_workers=args.render_workers,
+        policy_panel=not args.no_policy,
         eye_inset=not args.no_eye_inset,
-        verify=not args.no_verify, progress=not args.quiet, params=params,
-    ).checked()  # fmt: skip
+        verify=not args.no_verify,
+        progress=not args.no_progress,
+        params=params,
+    ).checked()
     if video or config.verify or params.get("detector") == "vision":
         from robin_sim.render.gl_backend import ensure_gl_backend
 
@@ -104,5 +132,10 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.episode.run import run_episode
 
     summary = run_episode(config)
-    print(json.dumps(summary, indent=2))
+    if args.json:
+        print(json.dumps(summary, indent=2))
+    else:
+        from robin_sim.cli.episode_text import summary_text
+
+        print(summary_text(summary, config.out))
     return 0

@@ -22,32 +22,46 @@ MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-char
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The live command's options."""
-    parser.add_argument("--port", default="8000", help="TCP port (default: %(default)s; 0: any "
-                        "free port)")  # fmt: skip
     parser.add_argument(
-        "--host", default="127.0.0.1",
+        "--port", default="8000", help="TCP port (default: %(default)s; 0: any free port)"
+    )
+    parser.add_argument(
+        "--host",
+        default="127.0.0.1",
         help="address to listen on (default: %(default)s); any other than loopback needs the "
         "access token printed in the URL",
-    )  # fmt: skip
-    parser.add_argument("--system", default="pil", help=_system_help() + " (with --protocol: "
-                        "each block's condition)")  # fmt: skip
-    parser.add_argument("--scenario", default=None, help="assembly YAML or shipped scenario name")
-    parser.add_argument("--participant", default="P01", help="participant id, [A-Za-z0-9_-]{1,32} "
-                        "(default: %(default)s)")  # fmt: skip
+    )
+    parser.add_argument(
+        "--system",
+        default="pil",
+        help=_system_help() + " (with --protocol: each block's condition)",
+    )
+    parser.add_argument(
+        "--scenario",
+        default=None,
+        help="assembly YAML or shipped scenario name (default: scenarios/assembly.yaml)",
+    )
+    parser.add_argument(
+        "--participant",
+        default="P01",
+        help="participant id, [A-Za-z0-9_-]{1,32} (default: %(default)s)",
+    )
     parser.add_argument(
         "--protocol",
         default=None,
         help="study protocol: a YAML file or a shipped protocol's name (reactive_vs_proactive); "
-        "the participant's blocks run one after another",
+        "the participant's blocks run one after another (default: none, one free session)",
     )
-    parser.add_argument("--out", type=Path, default=Path("out/live"),
-                        help="sessions folder (default: %(default)s)")  # fmt: skip
     parser.add_argument(
-        "--session", default=None,
+        "--out", type=Path, default=Path("out/live"), help="sessions folder (default: %(default)s)"
+    )
+    parser.add_argument(
+        "--session",
+        default=None,
         help="name of this run's session folder under OUT/PARTICIPANT (with --protocol: the "
         "prefix of its blocks' folders, NAME-block1-...); default: the UTC start time, or "
         "block1-... with --protocol. Give a new one to run a participant again",
-    )  # fmt: skip
+    )
     parser.add_argument("--speed", default="1", help="sim seconds per wall second (default 1)")
     parser.add_argument("--no-browser", action="store_true", help="print the URL only")
     parser.add_argument("--no-video", action="store_true", help="no MP4 of the session")
@@ -64,8 +78,9 @@ def parse_speed(text: str) -> float:
     try:
         return float(text)
     except ValueError:
-        raise RobinPilError(f"--speed must be a number from 0.1 to 10 (1 = real time), got "
-                            f"{quote(text)}") from None  # fmt: skip
+        raise RobinPilError(
+            f"--speed must be a number from 0.1 to 10 (1 = real time), got {quote(text)}"
+        ) from None
 
 
 def session_configs(args: argparse.Namespace) -> list[Any]:
@@ -74,9 +89,13 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
 
     session = parse_session(getattr(args, "session", None))
     base = LiveConfig(
-        participant=args.participant, system=args.system, scenario=args.scenario,
-        out_root=args.out, speed=parse_speed(args.speed), video=not args.no_video,
-    ).checked()  # fmt: skip
+        participant=args.participant,
+        system=args.system,
+        scenario=args.scenario,
+        out_root=args.out,
+        speed=parse_speed(args.speed),
+        video=not args.no_video,
+    ).checked()
     if args.protocol is None:
         return [replace(base, session=session).checked()]
     from robin_sim.live.protocol import load_protocol
@@ -85,13 +104,17 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
     scenario = args.scenario if args.scenario is not None else protocol.scenario
     return [
         replace(
-            base, system=block.condition, scenario=scenario,
-            handover_types=tuple(block.handover_types), block=block.index,
-            protocol=str(args.protocol), instructions=block.instructions,
+            base,
+            system=block.condition,
+            scenario=scenario,
+            handover_types=tuple(block.handover_types),
+            block=block.index,
+            protocol=str(args.protocol),
+            instructions=block.instructions,
             session=block_folder(session, block.index, block.condition),
         ).checked()
         for block in protocol.blocks_for(base.participant)
-    ]  # fmt: skip
+    ]
 
 
 def parse_session(text: str | None) -> str | None:
@@ -101,8 +124,10 @@ def parse_session(text: str | None) -> str | None:
     from robin_sim.live.config import NAME_PATTERN
 
     if not NAME_PATTERN.fullmatch(text) or len(text) > MAX_SESSION_PREFIX:
-        raise RobinPilError(f"--session {quote(text)} is not a valid name; use 1-"
-                            f"{MAX_SESSION_PREFIX} letters, digits, '_' or '-'")  # fmt: skip
+        raise RobinPilError(
+            f"--session {quote(text)} is not a valid name; use 1-"
+            f"{MAX_SESSION_PREFIX} letters, digits, '_' or '-'"
+        )
     return text
 
 
@@ -166,8 +191,11 @@ def run(args: argparse.Namespace) -> int:
     if token is not None:
         print("robin-pil live: every request needs the token in that URL", flush=True)
     experimenter = new_token()
-    print(f"robin-pil live: experimenter's view http://{shown_host}:{bound_port}/experimenter"
-          f"?token={experimenter}", flush=True)  # fmt: skip
+    print(
+        f"robin-pil live: experimenter's view http://{shown_host}:{bound_port}/experimenter"
+        f"?token={experimenter}",
+        flush=True,
+    )
     if not args.no_browser:
         webbrowser.open(url)
     server = LiveServer(conductor, token=token, experimenter_token=experimenter, host=host)

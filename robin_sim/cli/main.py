@@ -1,17 +1,18 @@
-"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep``, ``report``, ``model-path``.
+"""The ``robin-pil`` command: ``study``, ``episode``, ``sweep``, ``report`` and the others.
 
 Each subcommand lives in its own module exposing ``add_arguments(parser)`` and
 ``run(args) -> int``; modules are imported only when their command is chosen, so
-``robin-pil study`` never loads MuJoCo.
+``robin-pil study`` never loads MuJoCo. This module imports only ``sys`` at the top, so that
+:func:`main` notes a Ctrl-C as early as it can (see :func:`main`).
 """
 
 from __future__ import annotations
 
-import argparse
-import importlib
 import sys
+from typing import TYPE_CHECKING
 
-from pil.errors import RobinPilError, os_error_line
+if TYPE_CHECKING:
+    import argparse
 
 # command -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -42,14 +43,25 @@ COMMANDS: dict[str, tuple[str, str]] = {
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The top-level parser; ``command``'s own options are added (its module imported)."""
+    import argparse
+    import importlib
+
+    from robin_sim.cli.help_format import DefaultsHelpFormatter, package_version
+
     parser = argparse.ArgumentParser(
         prog="robin-pil",
         description="Robin learns which action each hand gesture means (Proactive Incremental "
         "Learning), in a learner-only study or physically in MuJoCo.",
+        epilog="Start with: robin-pil episode (one handover table, video in out/). "
+        "Each command's options: robin-pil COMMAND --help.",
+        formatter_class=DefaultsHelpFormatter,
     )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {package_version()}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", title="commands")
     for name, (module_name, help_text) in COMMANDS.items():
-        sub_parser = sub.add_parser(name, help=help_text, description=help_text)
+        sub_parser = sub.add_parser(
+            name, help=help_text, description=help_text, formatter_class=DefaultsHelpFormatter
+        )
         if name == command:
             module = importlib.import_module(module_name)
             module.add_arguments(sub_parser)
@@ -59,14 +71,36 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point; bad input, and a file that cannot be written (full disk), end with one clear
-    message and exit code 2, Ctrl-C with 130."""
+    message and exit code 2, Ctrl-C with 130.
+
+
+    From its first line a Ctrl-C or SIGTERM is only noted (:class:`InterruptGuard`), so none
+    lands inside an import. A command whose module sets ``HOLDS_SIGNALS`` (the episode) runs
+    inside this guard and acts on a noted signal itself once its files are open; any other
+    command ends with 130 before it starts, or runs with Python's usual Ctrl-C.
+    """
+    from robin_sim.episode.interrupts import InterruptGuard  # imports nothing heavy
+
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((arg for arg in argv if not arg.startswith("-")), None)
-    try:
-        args = build_parser(command if command in COMMANDS else None).parse_args(argv)
-    except KeyboardInterrupt:  # while importing the command's module: nothing started yet
+    with InterruptGuard() as early:
+        parser = build_parser(command if command in COMMANDS else None)
+        args = parser.parse_args(argv)
+        if args.command is None:  # bare robin-pil: the command list, as a missing argument
+            parser.print_help(sys.stderr)
+            return 2
+        if getattr(args._module, "HOLDS_SIGNALS", False):
+            return _run(args)
+    if early.requested is not None:  # while parsing or importing the command: nothing started
         print(f"robin-pil {command}: interrupted before starting", file=sys.stderr)
         return 130
+    return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the chosen command: its exit code, 2 for bad input, 130 for Ctrl-C."""
+    from pil.errors import RobinPilError, os_error_line
+
     try:
         return int(args._module.run(args) or 0)
     except RobinPilError as error:

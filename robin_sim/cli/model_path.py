@@ -21,9 +21,12 @@ MODELS: dict[str, Path] = {
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """One optional argument: which model."""
     parser.add_argument(
-        "model", nargs="?", default="scene", choices=tuple(MODELS),
+        "model",
+        nargs="?",
+        default="scene",
+        choices=tuple(MODELS),
         help="scene (the default: Robin, the table, legs and the person), robot, or hand-test",
-    )  # fmt: skip
+    )
 
 
 def run(args: argparse.Namespace) -> int:

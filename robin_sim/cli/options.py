@@ -45,14 +45,26 @@ def parse_systems(text: str) -> tuple[str, ...]:
     return names
 
 
+def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
+    """The help of a ``--systems`` option: ``default`` and every system it accepts (``accepts``;
+    by default every system of the registry)."""
+    from pil.experiments.systems import SYSTEMS
+
+    names = ", ".join(SYSTEMS if accepts is None else accepts)
+    return f"comma-separated systems (default: {default}); any of {names}"
+
+
 def add_run_options(
-    parser: argparse.ArgumentParser, *, rates: str, out: Path, systems: Sequence[str]
+    parser: argparse.ArgumentParser,
+    *,
+    rates: str,
+    out: Path,
+    systems: Sequence[str],
+    accepts: Sequence[str] | None = None,
 ) -> None:
-    """``--systems``, ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and
-    ``--no-progress``."""
-    parser.add_argument(
-        "--systems", default=None, help=f"comma-separated systems (default: {','.join(systems)})"
-    )
+    """``--systems`` (``systems`` by default, ``accepts`` the valid choices: every system if
+    None), ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and ``--no-progress``."""
+    parser.add_argument("--systems", default=None, help=systems_help(",".join(systems), accepts))
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
     parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
@@ -67,7 +79,16 @@ def add_run_options(
     parser.add_argument(
         "--out", type=Path, default=out, help="output folder (default: %(default)s)"
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_progress_switch(parser)
+
+
+def add_progress_switch(parser: argparse.ArgumentParser) -> None:
+    """``--no-progress`` (every command's name for it), and ``--quiet``, its old name in some
+    commands, kept as a hidden alias."""
+    parser.add_argument(
+        "--no-progress", dest="no_progress", action="store_true", help="no progress bar"
+    )
+    parser.add_argument("--quiet", dest="no_progress", action="store_true", help=argparse.SUPPRESS)
 
 
 def run_options(
@@ -86,8 +107,10 @@ def run_options(
     for system in chosen:
         if only is not None and system not in only:
             valid = ", ".join(repr(s) for s in only)
-            raise RobinPilError(f"--systems: this study runs PIL learners; {system!r} is not "
-                                f"one (valid choices: {valid})")  # fmt: skip
+            raise RobinPilError(
+                f"--systems: this study runs PIL learners; {system!r} is not "
+                f"one (valid choices: {valid})"
+            )
     return rates, chosen
 
 
@@ -120,9 +143,15 @@ def run_seed_studies(
     seeds = list(range(args.seed, args.seed + args.seeds))
     check_seed_folders(args.out, seeds, settings)
     with progress_bar(runs_per_seed * len(seeds), name, args) as bar:
-        run_seeds(args.out, seeds, settings, f"{name}.csv",
-                  lambda seed: run_one(seed, bar.update), write_one,
-                  skipped=lambda _seed: bar.update(runs_per_seed))  # fmt: skip
+        run_seeds(
+            args.out,
+            seeds,
+            settings,
+            f"{name}.csv",
+            lambda seed: run_one(seed, bar.update),
+            write_one,
+            skipped=lambda _seed: bar.update(runs_per_seed),
+        )
     written = write_tests_over_seeds(args.out, seeds, within, title)
     print(f"{len(seeds)} studies; wrote " + ", ".join(str(p) for p in written))
     return 0
@@ -133,8 +162,9 @@ def parse_port(text: str) -> int:
     try:
         port = int(str(text).strip())
     except ValueError:
-        raise RobinPilError(f"--port must be a whole number from 1 to 65535 (0: any free "
-                            f"port), got {quote(text)}") from None  # fmt: skip
+        raise RobinPilError(
+            f"--port must be a whole number from 1 to 65535 (0: any free port), got {quote(text)}"
+        ) from None
     if not 0 <= port <= 65535:
         raise RobinPilError(f"--port must lie from 1 to 65535 (0: any free port), got {port}")
     return port

@@ -28,7 +28,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="test tables, taken in turns (default: the scenario's, 10)",
     )
-    add_run_options(parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=PEOPLE_SYSTEMS)
+    add_run_options(
+        parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=PEOPLE_SYSTEMS, accepts=PEOPLE_SYSTEMS
+    )
 
 
 def run(args: argparse.Namespace) -> int:

@@ -18,23 +18,50 @@ REPLAY_NAME = "replay.mp4"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The replay's options."""
-    parser.add_argument("dir", type=Path, metavar="DIR",
-                        help="an episode's --out folder or a live session's folder")  # fmt: skip
-    parser.add_argument("--out", type=Path, default=None,
-                        help=f"the MP4 to write (default: DIR/{REPLAY_NAME}; never overwritten)")
-    parser.add_argument("--viewer", action="store_true",
-                        help="show the run in MuJoCo's viewer instead (needs a display)")
-    parser.add_argument("--serve", action="store_true",
-                        help="serve a page with a timeline to scrub, on 127.0.0.1 (Ctrl-C stops)")
+    parser.add_argument(
+        "dir", type=Path, metavar="DIR", help="an episode's --out folder or a live session's folder"
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help=f"the MP4 to write (default: DIR/{REPLAY_NAME}; never overwritten)",
+    )
+    parser.add_argument(
+        "--viewer",
+        action="store_true",
+        help="show the run in MuJoCo's viewer instead (needs a display)",
+    )
+    parser.add_argument(
+        "--serve",
+        action="store_true",
+        help="serve a page with a timeline to scrub, on 127.0.0.1 (Ctrl-C stops)",
+    )
     parser.add_argument("--port", default="8001", help="--serve: the port (0: any free one)")
-    parser.add_argument("--speed", type=float, default=1.0,
-                        help="--viewer: playback speed x real time (default 1)")
-    parser.add_argument("--from", dest="start", type=float, default=0.0, metavar="SECONDS",
-                        help="start this many simulated seconds into the run (default 0)")
-    parser.add_argument("--to", dest="end", type=float, default=None, metavar="SECONDS",
-                        help="stop this many simulated seconds into the run (default: the end)")
-    parser.add_argument("--render-workers", default="0",
-                        help="processes rendering frames (default 0: in this process)")
+    parser.add_argument(
+        "--speed", type=float, default=1.0, help="--viewer: playback speed x real time (default 1)"
+    )
+    parser.add_argument(
+        "--from",
+        dest="start",
+        type=float,
+        default=0.0,
+        metavar="SECONDS",
+        help="start this many simulated seconds into the run (default 0)",
+    )
+    parser.add_argument(
+        "--to",
+        dest="end",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="stop this many simulated seconds into the run (default: the end)",
+    )
+    parser.add_argument(
+        "--render-workers",
+        default="0",
+        help="processes rendering frames (default 0: in this process)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,8 +73,10 @@ def run(args: argparse.Namespace) -> int:
     if not args.speed > 0 or args.speed > 100:
         raise ReplayError(f"--speed must be a number in (0, 100], got {args.speed!r}")
     if not args.start >= 0 or (args.end is not None and not args.end >= args.start):
-        raise ReplayError(f"--from must be >= 0 and --to >= --from (seconds), got --from "
-                          f"{args.start!r} --to {args.end!r}")  # fmt: skip
+        raise ReplayError(
+            f"--from must be >= 0 and --to >= --from (seconds), got --from "
+            f"{args.start!r} --to {args.end!r}"
+        )
     if args.viewer and args.serve:
         raise ReplayError("--viewer and --serve: choose one (or neither, for an MP4)")
     if args.viewer:
@@ -108,8 +137,10 @@ def _serve(recorded: Any, port: int) -> int:
     from robin_sim.replay.serve import serve_replay
 
     sock = bind("127.0.0.1", port)
-    print(f"robin-pil replay: serving http://127.0.0.1:{sock.getsockname()[1]}/ (Ctrl-C stops)",
-          flush=True)  # fmt: skip
+    print(
+        f"robin-pil replay: serving http://127.0.0.1:{sock.getsockname()[1]}/ (Ctrl-C stops)",
+        flush=True,
+    )
 
     async def main() -> None:
         stop = asyncio.Event()

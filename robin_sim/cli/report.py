@@ -58,8 +58,10 @@ def run(args: argparse.Namespace) -> int:
     if not args.results.exists() and args.results.suffix != ".csv":
         from pil.experiments.sessions_report import EXPECTED
 
-        raise ReportError(f"{args.results}: no such file or folder; expected a results CSV, a "
-                          f"study or sweep folder, or {EXPECTED}")  # fmt: skip
+        raise ReportError(
+            f"{args.results}: no such file or folder; expected a results CSV, a "
+            f"study or sweep folder, or {EXPECTED}"
+        )
     metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
     baseline = BASELINE if args.baseline is None else args.baseline
     systems = sorted({str(row.get("system")) for row in load_rows(args.results)})
@@ -108,8 +110,10 @@ def run_folder(args: argparse.Namespace) -> int:
     unreported = unreported_sessions(folder)
     found = (
         f" ({len(unreported)} session folders have no readable summary, e.g. "
-        f"{unreported[0][0]}: {unreported[0][1]})" if unreported else ""
-    )  # fmt: skip
+        f"{unreported[0][0]}: {unreported[0][1]})"
+        if unreported
+        else ""
+    )
     raise RobinPilError(
         f"{folder}: nothing to report{found}; expected {EXPECTED}, or a study or sweep folder "
         f"(with {' or '.join(RESULTS_FILES)}), or a results CSV"

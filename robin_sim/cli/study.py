@@ -17,7 +17,7 @@ from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
-from robin_sim.cli.options import parse_rates, parse_systems
+from robin_sim.cli.options import add_progress_switch, parse_rates, parse_systems, systems_help
 
 DEFAULT_OUT = Path("out/study")
 
@@ -108,10 +108,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--systems",
         default=None,
-        help="comma-separated study systems (default: the paper's pil,c1,c2,c3,c4; also "
-        "bandit, tamer)",
+        help=systems_help("the paper's pil,c1,c2,c3,c4"),
     )
-    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_progress_switch(parser)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -16,6 +16,7 @@ from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
+from robin_sim.cli.options import add_progress_switch, systems_help
 
 EXIT_CLUSTER_LOST = 3  # the Dask cluster went away mid-sweep; rerun to resume
 
@@ -40,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     grid.add_argument(
         "--systems",
         default=None,
-        help="comma-separated systems (default: the paper's five, pil and c1..c4)",
+        help=systems_help("the paper's five, pil and c1..c4"),
     )
     grid.add_argument(
         "--rates",
@@ -79,7 +80,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--run-function",
         default=None,
         metavar="MODULE:FUNCTION",
-        help="run a custom function instead of the kind's (advanced)",
+        help="run a custom function instead of the kind's (advanced; default: the kind's)",
     )
     where = parser.add_argument_group("execution")
     where.add_argument(
@@ -101,7 +102,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="seconds to wait for the scheduler (default: 10)",
     )
     where.add_argument("--no-report", action="store_true", help="skip the report at the end")
-    where.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_progress_switch(where)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -160,7 +161,7 @@ def run(args: argparse.Namespace) -> int:
                 f"{len(specs)} runs in the grid, {len(specs) - len(todo)} already done, "
                 f"{len(todo)} to run on {backend.name} ({backend.slots()} slots) -> {args.out}"
             )
-            bar = _progress(len(specs), len(specs) - len(todo), args.quiet)
+            bar = _progress(len(specs), len(specs) - len(todo), args.no_progress)
             failed = retried = 0
             lost_cluster = ""
 

@@ -15,26 +15,33 @@ import shutil
 import sys
 from pathlib import Path
 
+from robin_sim.cli.options import add_progress_switch
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The command's options."""
     from robin_sim.vision.build_config import DEFAULT_SAMPLES
 
     parser.add_argument(
-        "--samples", type=int, default=DEFAULT_SAMPLES,
+        "--samples",
+        type=int,
+        default=DEFAULT_SAMPLES,
         help="training samples (held-out: a third as many) (default: %(default)s)",
-    )  # fmt: skip
+    )
     parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
     parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
     parser.add_argument(
-        "--workers", type=int, default=None,
+        "--workers",
+        type=int,
+        default=None,
         help="render processes, at most the CPU count (default: 2, or the CPU count if less)",
-    )  # fmt: skip
+    )
     parser.add_argument(
-        "--install", action="store_true",
+        "--install",
+        action="store_true",
         help="copy the model, report and measured error model into the package",
-    )  # fmt: skip
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    )
+    add_progress_switch(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -50,8 +57,9 @@ def run(args: argparse.Namespace) -> int:
     config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=workers)
     total = config.samples + config.heldout
     with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here
-        with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
-                  disable=args.quiet) as bar:  # fmt: skip
+        with tqdm(
+            total=total, desc="render", unit="sample", file=sys.stderr, disable=args.no_progress
+        ) as bar:
             render_all(config, progress=lambda n: bar.update(min(n, total - bar.n)))
         result = train_and_report(config)
     if args.install:

@@ -27,7 +27,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="start every transferred run from this saved table (default: "
         "each repetition's own assembly run)",
     )
-    add_run_options(parser, rates="0.6,0.8,1.0", out=DEFAULT_OUT, systems=TRANSFER_SYSTEMS)
+    add_run_options(
+        parser,
+        rates="0.6,0.8,1.0",
+        out=DEFAULT_OUT,
+        systems=TRANSFER_SYSTEMS,
+        accepts=TRANSFER_SYSTEMS,
+    )
 
 
 def run(args: argparse.Namespace) -> int:

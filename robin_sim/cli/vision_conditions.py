@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError
+from robin_sim.cli.options import add_progress_switch
 
 
 def _numbers(text: str, what: str, low: float, high: float) -> tuple[float, ...]:
@@ -33,8 +34,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--reps", type=int, default=10, help="study repetitions per point")
     parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
     parser.add_argument("--workers", type=int, default=2, help="render processes")
-    parser.add_argument("--out", type=Path, default=Path("out/vision_conditions"))
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--out", type=Path, default=Path("out/vision_conditions"), help="output folder"
+    )
+    add_progress_switch(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -54,11 +57,18 @@ def run(args: argparse.Namespace) -> int:
             f"{args.reps}, {args.workers}"
         )
     total = len(lighting) * len(noise) * (-(-args.samples // 48) * 48)
-    with tqdm(total=total, desc="render", unit="sample", file=sys.stderr,
-              disable=args.quiet) as bar:  # fmt: skip
+    with tqdm(
+        total=total, desc="render", unit="sample", file=sys.stderr, disable=args.no_progress
+    ) as bar:
         written = run_conditions(
-            args.out, seed=args.seed, samples=args.samples, reps=args.reps,
-            workers=args.workers, lighting=lighting, noise=noise, progress=bar.update,
-        )  # fmt: skip
+            args.out,
+            seed=args.seed,
+            samples=args.samples,
+            reps=args.reps,
+            workers=args.workers,
+            lighting=lighting,
+            noise=noise,
+            progress=bar.update,
+        )
     print("wrote " + ", ".join(str(p) for p in written))
     return 0

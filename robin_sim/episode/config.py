@@ -29,9 +29,15 @@ FPS = ParamSpec("fps", "int", 30, "video frame rate", 1, 240)
 SIDE = ParamSpec("size", "int", 640, "video width or height in pixels", 2, 1_000_000)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
 RENDER_WORKERS = ParamSpec(
-    "render_workers", "int", None, "render processes (0: in this process)", 0, 64,
-    optional=True, empty="2, or 0 on one CPU",
-)  # fmt: skip
+    "render_workers",
+    "int",
+    None,
+    "render processes (0: in this process)",
+    0,
+    64,
+    optional=True,
+    empty="2, or 0 on one CPU",
+)
 
 
 class EpisodeError(RobinPilError):

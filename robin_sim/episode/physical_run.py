@@ -42,9 +42,17 @@ def _config(
     verify = PHYSICAL_PARAMS["verify"].parse(options.pop("verify", False), "verify")
     scenario = options.pop("scenario", None)
     return EpisodeConfig(
-        tables=tables, rate=rate, seed=seed, system=system, scenario=scenario, out=out,
-        video=False, verify=verify, progress=False, params=options,
-    ).checked()  # fmt: skip
+        tables=tables,
+        rate=rate,
+        seed=seed,
+        system=system,
+        scenario=scenario,
+        out=out,
+        video=False,
+        verify=verify,
+        progress=False,
+        params=options,
+    ).checked()
 
 
 def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:

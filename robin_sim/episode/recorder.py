@@ -6,15 +6,21 @@ asks the :class:`~robin_sim.render.renderer.FrameClock` whether a frame is due i
 and
 only then hands the state to the render pool; finished frames get the overlay and are encoded.
 The time waited on rendering and the time spent encoding are kept apart so that the episode's
-wall time can be split (physics + control, rendering, encoding). With ``readings`` (the vision
-detector of ``--detector vision``) the eye inset shows, for a moment after each reading, what
-the robot read: its eye's view with the hand's box and the reading, instead of the live eye.
+wall time can be split (physics + control, rendering, encoding).
+
+The eye inset (the robot's left eye, :mod:`robin_sim.render.inset`) is rendered by the render
+workers with the frame it belongs to (:class:`~robin_sim.render.worker.SecondView`: the same
+state, the worker's second renderer, no floor reflection) and refreshed at :data:`EYE_FPS`; the
+frames in between repeat the last view. Rendered in this process at every frame it cost a
+640x480 frame 23-26 ms instead of 12.5-14 ms (``bench/bench_eye_inset.py``). With ``readings``
+(the vision detector of ``--detector vision``) the inset shows, for a moment after each reading,
+what the robot read: its eye's view with the hand's box and the reading, instead of the live
+eye. The last frame shows the overlay as the episode ended (the legs delivered by its last step).
 """
 
 from __future__ import annotations
 
 import time
-from collections import deque
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -25,13 +31,16 @@ import numpy as np
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
 from robin_sim.episode.view import EpisodeView
+from robin_sim.model.names import EYE_CAMERA
 from robin_sim.model.scene import SceneLayout
-from robin_sim.render.inset import INSET_LABEL, EyeInset, draw_eye_inset
+from robin_sim.render.inset import HELD_EYE, INSET_LABEL, draw_eye_inset, inset_size
 from robin_sim.render.overlay import OverlayInfo, draw_overlay
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
-from robin_sim.render.renderer import FrameClock
+from robin_sim.render.renderer import FrameClock, camera_id
+from robin_sim.render.spots import spot_pixels
 from robin_sim.render.state_log import StateLog, layout_dict
 from robin_sim.render.video import Mp4Writer
+from robin_sim.render.worker import SecondView
 
 
 @dataclass
@@ -44,6 +53,7 @@ class ReadingInsets(Protocol):
 
 
 READING_LABEL = "robot's left eye: reading"
+EYE_FPS = 10.0  # the eye inset's refresh rate, at most (the video's rate if lower)
 
 
 @dataclass
@@ -61,7 +71,8 @@ class VideoRecorder(ClosesOnExit):
 
     Frames are rendered by a :class:`~robin_sim.render.pool.RenderPool` (worker processes
     with their own copy of the scene built from ``layout``; ``render_workers=0`` renders in
-    this process) and come back in order; the overlay is drawn and the frame encoded here.
+    this process) and come back in order, with the eye view when one was due; the overlay and
+    the inset are drawn and the frame encoded here.
     """
 
     def __init__(
@@ -85,25 +96,38 @@ class VideoRecorder(ClosesOnExit):
         # the state of every frame (``states``: where to save them for robin-pil replay)
         self.states: StateLog | None = None
         if states is not None:
-            self.states = StateLog(states, {
-                "kind": "episode", "layout": layout_dict(layout), "size": [width, height],
-                "fps": fps, "camera": camera, "shadows": shadows, "reflections": True,
-                "eye_inset": eye_inset, "overlay": True, "spots": [],
-            })  # fmt: skip
-        self.eye: EyeInset | None = None
+            meta = {
+                "kind": "episode",
+                "layout": layout_dict(layout),
+                "size": [width, height],
+                "fps": fps,
+                "camera": camera,
+                "shadows": shadows,
+                "reflections": True,
+                "eye_inset": eye_inset,
+                "overlay": True,
+                "spots": [],
+            }
+            self.states = StateLog(states, meta)
         self.readings = readings
-        # eye views (and their labels) of frames still rendering
-        self._eye_views: deque[tuple[np.ndarray, str]] = deque()
+        self.eye_size = inset_size(width, height) if eye_inset else None
+        self.eye_every = max(1, round(fps / EYE_FPS))  # video frames per eye view
+        self._last_eye: np.ndarray | None = None
+        self._submitted = 0
+        self._last_legs = -1  # legs delivered shown by the last frame submitted
         self.timing = VideoTiming()
-        self.pool = RenderPool(layout, width, height, camera, shadows, workers=render_workers)
+        second = None if self.eye_size is None else SecondView(EYE_CAMERA, self.eye_size)
+        self.pool = RenderPool(
+            layout, width, height, camera, shadows, workers=render_workers, second=second
+        )
         try:
             self.writer = Mp4Writer(path, width, height, fps)
         except BaseException:
             self.pool.close()
             raise
         self._sim = sim
-        if eye_inset:
-            self._start_eye_inset(layout, width, height, shadows)
+        self._camera, self._size = camera_id(sim.model, camera), (width, height)
+        self._spots = (layout or SceneLayout()).spots  # ringed and numbered on every frame
         self.clock = FrameClock(fps, sim.control_dt)
         self._start_time = sim.time
         self._remove: Callable[[], None] | None = sim.add_observer(self._on_tick)
@@ -113,21 +137,42 @@ class VideoRecorder(ClosesOnExit):
         if due == 0:
             return
         started = time.perf_counter()
-        info = replace(self.view.info, sim_time=sim.time)
-        state = FrameState.capture(sim.model, sim.data)
-        self._keep(state, due, info, self._render_eye(state))
-        self.pool.submit(state, (info, due))
+        self._submit(sim, due)
         self.timing.render_s += time.perf_counter() - started  # waits only when the pool is full
         self._write(self.pool.ready())
+
+    def _submit(self, sim: Simulator, due: int) -> None:
+        """Hand the state now to the pool, standing for ``due`` video frames."""
+        spots = spot_pixels(sim.model, sim.data, self._camera, self._spots, self._size)
+        info = replace(self.view.info, sim_time=sim.time, spots=spots)
+        state = FrameState.capture(sim.model, sim.data)
+        reading = None
+        if self.readings is not None and self.eye_size is not None:
+            reading = self.readings.inset_at(sim.time, self.eye_size)
+        with_eye = self.eye_size is not None and reading is None
+        with_eye = with_eye and self._submitted % self.eye_every == 0  # the first frame has one
+        self.pool.submit(state, (info, due, reading), with_second=with_eye)
+        if self.states is not None:
+            eye = None if self.eye_size is None else INSET_LABEL if with_eye else HELD_EYE
+            self._keep(state, due, info, READING_LABEL if reading is not None else eye)
+        self._submitted += 1
+        self._last_legs = info.legs_delivered
+
+    def _keep(self, state: FrameState, due: int, info: OverlayInfo, eye: str | None) -> None:
+        """Note a frame's state and what is drawn on it for the states file (``eye``: the
+        inset's label, :data:`~robin_sim.render.inset.HELD_EYE` when it repeats the last view)."""
+        assert self.states is not None
+        shown = {k: v for k, v in asdict(info).items() if k != "sim_time"}  # the state's
+        self.states.add(state, due, {"info": shown, "eye": eye})
 
     def _write(self, frames: Iterable[RenderedFrame]) -> None:
         waited = time.perf_counter()
         for frame in frames:
             started = time.perf_counter()
             self.timing.render_s += started - waited  # waiting for a frame still rendering
-            info, due = frame.payload
+            info, due, reading = frame.payload
             draw_overlay(frame.pixels, info)
-            self._draw_eye(frame.pixels)
+            self._draw_eye(frame, reading)
             for _ in range(due):
                 self.writer.write(frame.pixels)
             self.timing.frames_rendered += 1
@@ -135,63 +180,32 @@ class VideoRecorder(ClosesOnExit):
             waited = time.perf_counter()
             self.timing.encode_s += waited - started
 
-    # --- the eye inset (robin_sim.render.inset) -------------------------------------------------
-    def _start_eye_inset(
-        self, layout: SceneLayout | None, width: int, height: int, shadows: bool
-    ) -> None:
-        try:
-            self.eye = EyeInset(layout, width, height, shadows)
-        except BaseException:
-            self.writer.close()
-            self.pool.close()
-            raise
-
-    def _render_eye(self, state: FrameState) -> str | None:
-        """Render the eye's view of a frame's state (once per video frame, in this process), or
-        take the picture of a reading just made; the inset's label (None: no inset)."""
-        if self.eye is None:  # its time counts in VideoTiming.render_s (see _on_tick)
-            return None
-        if self.readings is not None:
-            picture = self.readings.inset_at(self._sim.time, self.eye.size)
-            if picture is not None:
-                self._eye_views.append((picture, READING_LABEL))
-                return READING_LABEL
-        self._eye_views.append((self.eye.render(state), INSET_LABEL))
-        return INSET_LABEL
-
-    def _keep(self, state: FrameState, due: int, info: OverlayInfo, eye: str | None) -> None:
-        """Note a frame's state and what is drawn on it for the states file."""
-        if self.states is not None:
-            shown = {k: v for k, v in asdict(info).items() if k != "sim_time"}  # the state's
-            self.states.add(state, due, {"info": shown, "eye": eye})
-
-    def _draw_eye(self, pixels: np.ndarray) -> None:
-        """Paste the eye view of the frame coming back (frames return in submission order)."""
-        if self.eye is not None:
-            draw_eye_inset(pixels, *self._eye_views.popleft())
+    def _draw_eye(self, frame: RenderedFrame, reading: np.ndarray | None) -> None:
+        """Paste the reading's picture, the eye view rendered with ``frame``, or the last one."""
+        if frame.second is not None:
+            self._last_eye = frame.second
+        if reading is not None:
+            draw_eye_inset(frame.pixels, reading, READING_LABEL)
+        elif self._last_eye is not None:
+            draw_eye_inset(frame.pixels, self._last_eye, INSET_LABEL)
 
     def close(self) -> None:
         """Stop recording, write the frames still rendering and finish the MP4 (idempotent).
 
         A video stopped before its first frame (e.g. Ctrl-C during start-up) gets one frame of
-        the scene as it is, so that every video written plays.
+        the scene as it is, so that every video written plays; one whose last frame shows fewer
+        legs delivered than the episode ended with gets one more frame showing them.
         """
         if self._remove is None:
             return
         self._remove()
         self._remove = None
         try:
-            if self.pool.in_flight == 0 and self.timing.frames_written == 0:
-                sim = self._sim
-                info = replace(self.view.info, sim_time=sim.time)
-                state = FrameState.capture(sim.model, sim.data)
-                # every frame submitted has its eye view
-                self._keep(state, 1, info, self._render_eye(state))
-                self.pool.submit(state, (info, 1))
+            empty = self.pool.in_flight == 0 and self.timing.frames_written == 0
+            if empty or self.view.info.legs_delivered != self._last_legs:
+                self._submit(self._sim, 1)
             self._write(self.pool.drain())
         finally:
-            if self.eye is not None:
-                self.eye.close()
             self.pool.close()
             started = time.perf_counter()
             self.writer.close()

@@ -54,8 +54,9 @@ def episode_parts(config: EpisodeConfig, task: EpisodeTask, world: PhysicalWorld
     """Learner, person (with a :class:`PhysicalBody` in ``world``) and detector of ``config``:
     the study's parts, so that the same seed gives the same decisions."""
     body = PhysicalBody(world, seed=config.seed)
-    parts = test_parts(config.system, config.rate, config.seed, task.scenario, task.values,
-                       body=body)  # fmt: skip
+    parts = test_parts(
+        config.system, config.rate, config.seed, task.scenario, task.values, body=body
+    )
     if task.vision is None:
         return parts
     return replace(parts, detector=vision_detector(world, body.display, task.vision, config.seed))
@@ -91,9 +92,11 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
         status, error, recorder = "running", "", None
         try:
             # an earlier run's files are replaced now, so that a kill -9 leaves only this run's
-            write_json_atomic(out / SUMMARY_NAME, _summary(config, task, totals, parts, world,
-                                                           started, status, error, None),
-                              reserve=SUMMARY_RESERVE)  # fmt: skip
+            write_json_atomic(
+                out / SUMMARY_NAME,
+                _summary(config, task, totals, parts, world, started, status, error, None),
+                reserve=SUMMARY_RESERVE,
+            )
             for stale in (LOG_NAME, VIDEO_NAME):
                 (out / stale).unlink(missing_ok=True)
             with ExitStack() as stack:
@@ -104,22 +107,26 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
 
                     recorder = stack.enter_context(
                         VideoRecorder(
-                            world.sim, view, out / VIDEO_NAME, layout=task.layout,
-                            width=config.width, height=config.height, fps=config.fps,
-                            camera=config.camera, shadows=config.shadows,
-                            render_workers=config.render_workers,
+                            world.sim,
+                            view,
+                            out / VIDEO_NAME,
+                            layout=task.layout,
+                            width=config.width,
+                            height=config.height,
+                            fps=config.fps,
+                            camera=config.camera,
+                            shadows=config.shadows,
+                            # a signal already noted: one frame, rendered here, is enough
+                            render_workers=0 if guard.requested else config.render_workers,
                             eye_inset=config.eye_inset,
                             readings=parts.detector if task.vision is not None else None,
                             states=out / STATES_NAME,
                         )
-                    )  # fmt: skip
+                    )
                 checks = stack.enter_context(RenderChecks(world, enabled=config.verify))
                 log = stack.enter_context(StepLog(out / LOG_NAME))
                 view.update(legs_total=task.legs_total)
-                bar = stack.enter_context(
-                    tqdm(total=task.legs_total, desc="episode", unit="leg",
-                         disable=not config.progress)
-                )  # fmt: skip
+                bar = stack.enter_context(progress_bar(task.legs_total, config.progress))
                 guard.check()  # a signal during start-up
                 book = StepBook(parts, world, log, totals, checks)
                 _play(episode_records(parts, world, view), book, view, bar)
@@ -133,10 +140,16 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
             status, error = "failed", detail
             raise
         finally:
-            summary = _summary(config, task, totals, parts, world, started, status, error,
-                               recorder)  # fmt: skip
+            summary = _summary(config, task, totals, parts, world, started, status, error, recorder)
             write_json_atomic(out / SUMMARY_NAME, summary)
     return summary
+
+
+def progress_bar(legs: int, enabled: bool = True, **options: Any) -> tqdm:
+    """The episode's bar over legs. Its time left is the whole episode's: the mean wall time
+    per leg so far times the legs to go (``smoothing=0``; tqdm's default weighs the last
+    updates, and a step that delivers no leg made it read one leg's time)."""
+    return tqdm(total=legs, desc="episode", unit="leg", disable=not enabled, smoothing=0, **options)
 
 
 def _play(
@@ -170,8 +183,12 @@ class StepBook:
         strict: bool = True,
     ) -> None:
         self.parts, self.world, self.log, self.totals, self.checks = (
-            parts, world, log, totals, checks
-        )  # fmt: skip
+            parts,
+            world,
+            log,
+            totals,
+            checks,
+        )
         self.strict = strict  # False: a mismatch is logged and physics taken as it is
         self.hand = Hand.FREE  # what the learner's approved actions imply
         self._readings = getattr(parts.detector, "records", None)  # the eyes' readings, if any
@@ -228,8 +245,18 @@ def _summary(
     error: str,
     recorder: Any,
 ) -> dict[str, Any]:
-    summary = run_summary(config.system, config.rate, config.seed, task, totals, parts, world,
-                          time.perf_counter() - started, status, error)  # fmt: skip
+    summary = run_summary(
+        config.system,
+        config.rate,
+        config.seed,
+        task,
+        totals,
+        parts,
+        world,
+        time.perf_counter() - started,
+        status,
+        error,
+    )
     if recorder is not None:
         timing = recorder.timing
         summary["video"] = {

@@ -61,6 +61,9 @@ class EpisodeView:
             action=action,
             feedback=None,
             state=None if record.state is None else str(record.state),
+            intended=None if record.intended_action is None else record.intended_action.value,
+            handover=record.handover,
+            handover_type=record.handover_type,
         )
 
     def _policy(self, record: StepRecord) -> dict[str, float] | None:

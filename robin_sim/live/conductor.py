@@ -68,8 +68,11 @@ class Conductor:
     def status(self) -> dict[str, Any]:
         """The running session's status, or the screen before / between / after sessions."""
         config = self.configs[self.index]
-        extra = {"blocks": len(self.configs), "block_number": self.index + 1,
-                 "out_dir": str(self.session.out_dir)}  # fmt: skip
+        extra = {
+            "blocks": len(self.configs),
+            "block_number": self.index + 1,
+            "out_dir": str(self.session.out_dir),
+        }
         if self.phase == "running":
             return {**self.session.status(), **extra}
         if self.phase == "questionnaire" and self._questioning is not None:
@@ -84,14 +87,25 @@ class Conductor:
         }.get(self.phase, "")
         return {
             "phase": "done" if self.phase == "done" else "instructions",
-            "turn": "participant", "robot_doing": "", "message": message,
-            "instructions": config.instructions, "legs_delivered": 0, "legs_total": None,
-            "gestures": 0, "actions": 0, "rejected": 0, "sim_time": 0.0,
-            "system": config.system, "participant": config.participant,
-            "session": config.session, "block": config.block, "policy": None,
+            "turn": "participant",
+            "robot_doing": "",
+            "message": message,
+            "instructions": config.instructions,
+            "legs_delivered": 0,
+            "legs_total": None,
+            "gestures": 0,
+            "actions": 0,
+            "rejected": 0,
+            "sim_time": 0.0,
+            "system": config.system,
+            "participant": config.participant,
+            "session": config.session,
+            "block": config.block,
+            "policy": None,
             "status": self.outcome if self.phase == "done" else "running",
-            "starting": self.phase == "starting", **extra,
-        }  # fmt: skip
+            "starting": self.phase == "starting",
+            **extra,
+        }
 
     def latest_frame(self) -> Frame | None:
         """The running session's newest frame (for a tab that has just connected)."""
@@ -197,8 +211,9 @@ class Conductor:
             self._close(session)
             if self.questionnaires and session.status().get("status") in ASKED_AFTER:
                 self.phase = "questionnaire"
-                self._questioning = Questioning(self.questionnaires, session.out_dir,
-                                                self.configs[self.index])  # fmt: skip
+                self._questioning = Questioning(
+                    self.questionnaires, session.out_dir, self.configs[self.index]
+                )
                 return
             await self._next()
 

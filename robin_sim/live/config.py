@@ -58,11 +58,15 @@ class LiveConfig:
         if self.session is not None:
             _name(self.session, "session")
         check_system(self.system)
-        width, height = (_whole(v, f"frame {n}", 2, MAX_SIZE) for v, n in
-                         ((self.width, "width"), (self.height, "height")))  # fmt: skip
+        width, height = (
+            _whole(v, f"frame {n}", 2, MAX_SIZE)
+            for v, n in ((self.width, "width"), (self.height, "height"))
+        )
         if width % 2 or height % 2:
-            raise RobinPilError(f"frame size must be even for H.264, got {width}x{height}; "
-                                f"use e.g. {width + width % 2}x{height + height % 2}")  # fmt: skip
+            raise RobinPilError(
+                f"frame size must be even for H.264, got {width}x{height}; "
+                f"use e.g. {width + width % 2}x{height + height % 2}"
+            )
         fps = _number(self.fps, "fps", *FPS_RANGE)
         if fps != int(fps):
             raise RobinPilError(f"fps must be a whole number of frames per second, got {fps}")

@@ -147,12 +147,20 @@ class Connections:
             waiting = next((c for c in self.open.values() if not c.served), None)
             if waiting is None:
                 self.refused += 1
-                self._say_once("busy", "%d connections are open (the cap): refusing new ones "
-                               "with 503 until some close", self.cap)  # fmt: skip
+                self._say_once(
+                    "busy",
+                    "%d connections are open (the cap): refusing new ones "
+                    "with 503 until some close",
+                    self.cap,
+                )
                 return False
             self.dropped += 1
-            self._say_once("drop", "%d connections are open (the cap): dropping the oldest "
-                           "that have not sent a whole request", self.cap)  # fmt: skip
+            self._say_once(
+                "drop",
+                "%d connections are open (the cap): dropping the oldest "
+                "that have not sent a whole request",
+                self.cap,
+            )
             self._forget(waiting)
         assert connection.transport is not None
         self.open[connection.transport] = connection
@@ -185,8 +193,12 @@ class Connections:
         """The loop's exception handler: resource errors of ``accept()`` in one line, once."""
         error = context.get("exception")
         if isinstance(error, OSError) and "accept" in str(context.get("message", "")):
-            self._say_once("accept", "cannot accept connections: %s (the process is out of "
-                           "descriptors or memory); retrying", error.strerror or error)  # fmt: skip
+            self._say_once(
+                "accept",
+                "cannot accept connections: %s (the process is out of "
+                "descriptors or memory); retrying",
+                error.strerror or error,
+            )
             return
         if isinstance(error, ConnectionError):  # a client went away under a callback
             LOG.warning("a client went away (%s: %s)", type(error).__name__, error)
@@ -222,8 +234,10 @@ def bind(host: str, port: int) -> socket.socket:
     try:
         infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
     except socket.gaierror as problem:
-        raise RobinPilError(f"--host {quote(host)} is not an address of this machine "
-                            f"({problem.strerror}); e.g. 127.0.0.1") from None  # fmt: skip
+        raise RobinPilError(
+            f"--host {quote(host)} is not an address of this machine "
+            f"({problem.strerror}); e.g. 127.0.0.1"
+        ) from None
     family, _, _, _, address = infos[0]
     sock = socket.socket(family, socket.SOCK_STREAM)
     try:
@@ -233,8 +247,10 @@ def bind(host: str, port: int) -> socket.socket:
     except OSError as problem:
         sock.close()
         if problem.errno == errno.EADDRINUSE:
-            raise RobinPilError(f"--port {port} is in use on {host}; choose another port "
-                                "(or --port 0 for any free one)") from None  # fmt: skip
+            raise RobinPilError(
+                f"--port {port} is in use on {host}; choose another port "
+                "(or --port 0 for any free one)"
+            ) from None
         raise RobinPilError(f"cannot listen on {host}:{port}: {problem.strerror}") from None
     sock.setblocking(False)
     return sock

@@ -31,5 +31,3 @@ def experimenter_view(conductor: Conductor, roles: Iterable[tuple[str, int]]) ->
         "tabs": [{"role": role, "frames_dropped": dropped} for role, dropped in roles],
         "session_folder": str(session.out_dir),
     }
-
-

@@ -67,8 +67,10 @@ class SessionFiles:
                 "overwritten: choose another session name or participant"
             ) from None
         except OSError as error:
-            raise RobinPilError(f"cannot make the session folder {quote(str(self.out_dir))}: "
-                                f"{error.strerror or error}") from None  # fmt: skip
+            raise RobinPilError(
+                f"cannot make the session folder {quote(str(self.out_dir))}: "
+                f"{error.strerror or error}"
+            ) from None
         self.started_utc = datetime.now(UTC).isoformat(timespec="seconds")
         self.started = time.perf_counter()
         self._lock = threading.Lock()
@@ -81,8 +83,14 @@ class SessionFiles:
             raw = raw.decode("utf-8", "replace")
         if isinstance(raw, str) and len(raw) > MAX_RAW_CHARS:
             raw = raw[:MAX_RAW_CHARS] + "..."
-        entry = {"wall": time.time(), "monotonic": time.monotonic(), "sim_time": sim_time,
-                 "raw": raw, "accepted": not error, "error": error}  # fmt: skip
+        entry = {
+            "wall": time.time(),
+            "monotonic": time.monotonic(),
+            "sim_time": sim_time,
+            "raw": raw,
+            "accepted": not error,
+            "error": error,
+        }
         with self._lock:
             if self._inputs.closed:
                 return
@@ -94,8 +102,12 @@ class SessionFiles:
     def log_note(self, text: str, sim_time: float | None) -> dict[str, Any]:
         """One experimenter's note, timestamped, appended to ``notes.jsonl`` (flushed); the
         entry. Written also after the session has ended (the folder stays)."""
-        entry = {"utc": datetime.now(UTC).isoformat(timespec="milliseconds"),
-                 "wall": time.time(), "sim_time": sim_time, "text": text}  # fmt: skip
+        entry = {
+            "utc": datetime.now(UTC).isoformat(timespec="milliseconds"),
+            "wall": time.time(),
+            "sim_time": sim_time,
+            "text": text,
+        }
         with self._lock, (self.out_dir / NOTES_NAME).open("a", encoding="utf-8") as notes:
             notes.write(json.dumps(entry) + "\n")
         return entry
@@ -116,14 +128,27 @@ class SessionFiles:
                 "wall_time_s": round(wall, 3),
             }
         else:
-            summary = run_summary(config.system, 1.0, config.seed, run.task, run.totals,
-                                  run.parts, run.world, wall, status, error)  # fmt: skip
+            summary = run_summary(
+                config.system,
+                1.0,
+                config.seed,
+                run.task,
+                run.totals,
+                run.parts,
+                run.world,
+                wall,
+                status,
+                error,
+            )
         summary["live"] = self._live_block(run)
         stream = None if run is None else run.stream
         if stream is not None and stream.writer is not None:
-            summary["video"] = {"path": str(stream.writer.path), "fps": int(config.fps),
-                                "size": [config.width, config.height],
-                                "frames": stream.stats.video_frames}  # fmt: skip
+            summary["video"] = {
+                "path": str(stream.writer.path),
+                "fps": int(config.fps),
+                "size": [config.width, config.height],
+                "frames": stream.stats.video_frames,
+            }
         write_json_atomic(self.out_dir / SUMMARY_NAME, summary)
         return summary
 

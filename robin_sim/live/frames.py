@@ -108,8 +108,7 @@ def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None
         centre = (round(x), round(y))
         axes = (max(3, round(10 * scale)), max(2, round(5 * scale)))  # the table seen at a slant
         cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_COLOUR, 2, cv2.LINE_AA)
-        _label(frame, str(k + 1), (centre[0] + axes[0] + 2, centre[1] + 4), (255, 255, 255),
-               scale)  # fmt: skip
+        _label(frame, str(k + 1), (centre[0] + axes[0] + 2, centre[1] + 4), (255, 255, 255), scale)
 
 
 def draw_leg_numbers(frame: np.ndarray, labels: Iterable[tuple[float, float, int]]) -> None:
@@ -123,18 +122,40 @@ def draw_leg_numbers(frame: np.ndarray, labels: Iterable[tuple[float, float, int
         centre = (round(x), round(y))  # a badge on the leg itself
         cv2.circle(frame, centre, radius + 1, (20, 20, 20), -1, cv2.LINE_AA)
         cv2.circle(frame, centre, radius, colour, -1, cv2.LINE_AA)
-        _label(frame, str(leg + 1), (centre[0] - round(4 * scale), centre[1] + round(5 * scale)),
-               (255, 255, 255), scale)  # fmt: skip
+        _label(
+            frame,
+            str(leg + 1),
+            (centre[0] - round(4 * scale), centre[1] + round(5 * scale)),
+            (255, 255, 255),
+            scale,
+        )
 
 
-def _label(frame: np.ndarray, text: str, at: tuple[int, int], colour: tuple[int, int, int],
-           scale: float) -> None:  # fmt: skip
+def _label(
+    frame: np.ndarray, text: str, at: tuple[int, int], colour: tuple[int, int, int], scale: float
+) -> None:
     """``text`` at ``at`` in ``colour`` with a dark outline (readable on any background)."""
     size = 0.5 * scale
-    cv2.putText(frame, text, at, cv2.FONT_HERSHEY_SIMPLEX, size, (20, 20, 20),
-                max(2, round(4 * scale)), cv2.LINE_AA)  # fmt: skip
-    cv2.putText(frame, text, at, cv2.FONT_HERSHEY_SIMPLEX, size, colour,
-                max(1, round(1.5 * scale)), cv2.LINE_AA)  # fmt: skip
+    cv2.putText(
+        frame,
+        text,
+        at,
+        cv2.FONT_HERSHEY_SIMPLEX,
+        size,
+        (20, 20, 20),
+        max(2, round(4 * scale)),
+        cv2.LINE_AA,
+    )
+    cv2.putText(
+        frame,
+        text,
+        at,
+        cv2.FONT_HERSHEY_SIMPLEX,
+        size,
+        colour,
+        max(1, round(1.5 * scale)),
+        cv2.LINE_AA,
+    )
 
 
 class FrameStream(ClosesOnExit):
@@ -162,27 +183,49 @@ class FrameStream(ClosesOnExit):
         self.spots = tuple(spots)
         self.states: StateLog | None = None  # every frame's state, for robin-pil replay
         if states is not None:
-            self.states = StateLog(states, {
-                "kind": "live", "layout": layout_dict(layout), "size": [width, height],
-                "fps": video_fps, "camera": DEFAULT_CAMERA, "shadows": False,
-                "reflections": reflections, "eye_inset": eye_inset, "overlay": False,
-                "spots": [list(map(float, xy)) for xy in self.spots],
-                "leg_numbers": legs is not None,
-            })  # fmt: skip
+            self.states = StateLog(
+                states,
+                {
+                    "kind": "live",
+                    "layout": layout_dict(layout),
+                    "size": [width, height],
+                    "fps": video_fps,
+                    "camera": DEFAULT_CAMERA,
+                    "shadows": False,
+                    "reflections": reflections,
+                    "eye_inset": eye_inset,
+                    "overlay": False,
+                    "spots": [list(map(float, xy)) for xy in self.spots],
+                    "leg_numbers": legs is not None,
+                },
+            )
         self.on_state = on_state  # e.g. the picker follows the frames
         self.legs = legs  # (x, y, leg) of each leg once on_state has seen the frame's state
         self._waiting: deque[FrameState] = deque()  # frames still rendering
         self._eyes: deque[np.ndarray] = deque()  # eye views rendered in this process
         self._closed = False
-        self.pool = RenderPool(layout, width, height, DEFAULT_CAMERA, False,
-                               workers=render_workers, reflections=reflections)  # fmt: skip
+        self.pool = RenderPool(
+            layout,
+            width,
+            height,
+            DEFAULT_CAMERA,
+            False,
+            workers=render_workers,
+            reflections=reflections,
+        )
         self.eye: EyeInset | None = None
         self.eye_pool: RenderPool | None = None  # the eye rendered in a worker process
         self.writer: Mp4Writer | None = None
         try:
             if eye_inset and eye_worker:
-                self.eye_pool = RenderPool(layout, *inset_size(width, height), EYE_CAMERA, False,
-                                           workers=1, reflections=reflections)  # fmt: skip
+                self.eye_pool = RenderPool(
+                    layout,
+                    *inset_size(width, height),
+                    EYE_CAMERA,
+                    False,
+                    workers=1,
+                    reflections=reflections,
+                )
             elif eye_inset:
                 self.eye = EyeInset(layout, width, height, False, reflections)
             if video is not None:
@@ -221,8 +264,11 @@ class FrameStream(ClosesOnExit):
             draw_spots(pixels, self.spots)
             if self.legs is not None:
                 draw_leg_numbers(pixels, self.legs())
-            ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
-                                    [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
+            ok, jpeg = cv2.imencode(
+                ".jpg",
+                cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
+                [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY],
+            )
             if not ok:  # pragma: no cover - OpenCV fails only on a bad image
                 raise RuntimeError("JPEG encoding of a live frame failed")
             self.stats.frames += 1

@@ -132,8 +132,12 @@ class RefusalLog:
         if len(self.seen) > MAX_LOGGED:
             LOG.warning("more refused requests; no longer logged one by one")
             return
-        LOG.warning("refused a request with %s %r: not this server (allowed: %s)", what,
-                    value[:100], allowed)  # fmt: skip
+        LOG.warning(
+            "refused a request with %s %r: not this server (allowed: %s)",
+            what,
+            value[:100],
+            allowed,
+        )
 
 
 class Guard:
@@ -154,8 +158,10 @@ class Guard:
         host = request.headers.get("Host")
         if not self.hosts.allows(host):
             self.log.note("Host", str(host), self.hosts.shown())
-            return _refusal(421, "421: this server answers only to its own address (e.g. "
-                            "http://127.0.0.1:PORT/)\n")  # fmt: skip
+            return _refusal(
+                421,
+                "421: this server answers only to its own address (e.g. http://127.0.0.1:PORT/)\n",
+            )
         origin = request.headers.get("Origin")
         if origin is not None and not self.hosts.allows_origin(origin):
             self.log.note("Origin", origin, self.hosts.shown())

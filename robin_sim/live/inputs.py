@@ -145,8 +145,9 @@ def _checked(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> L
     kind = message.get("type")
     if not isinstance(kind, str) or kind not in FIELDS:
         shown = "missing" if "type" not in message else f"{kind!r:.40}"
-        raise LiveInputError(f"message type {shown} is unknown; valid choices: "
-                             f"{_choices(INPUT_KINDS)}")  # fmt: skip
+        raise LiveInputError(
+            f"message type {shown} is unknown; valid choices: {_choices(INPUT_KINDS)}"
+        )
     wanted = FIELDS[kind]
     keys = [str(k) for k in message if k != "type"]
     extra = [k for k in keys if k not in wanted]

@@ -35,8 +35,11 @@ from robin_sim.live.guide import guide, leg_colour, leg_rgb
 from robin_sim.person.body import PhysicalBody
 
 # The action a gesture means in a state the block's types do not use (for the record only).
-_PLAIN_MEANING = {Gesture.GRASP: Action.CLOSE, Gesture.GIVE_ME: Action.HUMAN,
-                  Gesture.RELEASE: Action.OPEN}  # fmt: skip
+_PLAIN_MEANING = {
+    Gesture.GRASP: Action.CLOSE,
+    Gesture.GIVE_ME: Action.HUMAN,
+    Gesture.RELEASE: Action.OPEN,
+}
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
 
 
@@ -153,13 +156,26 @@ class LiveParticipant:
         handover = min(self.legs_delivered, self.legs_total - 1)
         done = self._step if self._handover == self.legs_delivered else 0
         legs = range(self.legs_per_table)
-        leg = next((k for k in (self._legs.holding, self._legs.pointed)
-                    if k is not None and k not in self._delivered_legs), None)  # fmt: skip
+        leg = next(
+            (
+                k
+                for k in (self._legs.holding, self._legs.pointed)
+                if k is not None and k not in self._delivered_legs
+            ),
+            None,
+        )
         if leg is None:
             leg = next((k for k in legs if k not in self._delivered_legs), 0)
         shown = guide(self.types[handover], done, leg, handover, self.legs_total)
-        shown["legs"] = [{"number": k + 1, "colour": leg_colour(k), "css": leg_rgb(k),
-                          "delivered": k in self._delivered_legs} for k in legs]  # fmt: skip
+        shown["legs"] = [
+            {
+                "number": k + 1,
+                "colour": leg_colour(k),
+                "css": leg_rgb(k),
+                "delivered": k in self._delivered_legs,
+            }
+            for k in legs
+        ]
         shown["spots"] = len(self.body.world.layout.spots)
         return shown
 

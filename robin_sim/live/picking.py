@@ -30,10 +30,19 @@ from robin_sim.render.worker import FrameState, apply_state
 
 SPOT_RADIUS = 0.05  # m: a table-top hit this close to a spot points at it (spots lie 0.12 apart)
 # Words in a hit geom's or body's name -> what the participant is told they clicked on.
-PLAIN_PARTS = (("bin", "the bin"), ("floor", "the floor"), ("table", "the table"),
-               ("human", "your hand"), ("person", "your hand"), ("head", "Robin's head"),
-               ("palm", "Robin's hand"), ("finger", "Robin's hand"), ("torso", "Robin's body"),
-               ("arm", "Robin's arm"), ("wall", "the wall"))  # fmt: skip
+PLAIN_PARTS = (
+    ("bin", "the bin"),
+    ("floor", "the floor"),
+    ("table", "the table"),
+    ("human", "your hand"),
+    ("person", "your hand"),
+    ("head", "Robin's head"),
+    ("palm", "Robin's hand"),
+    ("finger", "Robin's hand"),
+    ("torso", "Robin's body"),
+    ("arm", "Robin's arm"),
+    ("wall", "the wall"),
+)
 VISIBLE_GROUPS = np.array([1, 1, 1, 0, 0, 0], np.uint8)  # the renderer's default geom groups
 
 
@@ -113,8 +122,9 @@ class Picker:
         with self._lock:
             origin, direction = self.ray(x, y)
             geom = np.array([-1], np.int32)
-            distance = mujoco.mj_ray(self.model, self.data, origin, direction, VISIBLE_GROUPS,
-                                     1, -1, geom)  # fmt: skip
+            distance = mujoco.mj_ray(
+                self.model, self.data, origin, direction, VISIBLE_GROUPS, 1, -1, geom
+            )
             hit = int(geom[0])
             if distance >= 0 and hit >= 0:
                 leg = self._leg_of_body.get(int(self.model.geom_bodyid[hit]))
@@ -138,8 +148,10 @@ class Picker:
         if geom == self._table_top:
             return "the table away from the spots"
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, geom) or ""
-        body = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY,
-                                 self.model.geom_bodyid[geom]) or ""  # fmt: skip
+        body = (
+            mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, self.model.geom_bodyid[geom])
+            or ""
+        )
         words = f"{name} {body}".lower()
         for part, plain in PLAIN_PARTS:
             if part in words:

@@ -29,19 +29,25 @@ def check_writable(folder: Path, option: str = "--out") -> None:
             existing = existing.parent
         is_dir = existing.is_dir()
     except OSError as error:  # a folder on the way that may not be looked into
-        raise RobinPilError(f"{option} {_shown(folder)} cannot be reached: "
-                            f"{error.strerror or error}; choose a folder you can write "
-                            "to") from None  # fmt: skip
+        raise RobinPilError(
+            f"{option} {_shown(folder)} cannot be reached: "
+            f"{error.strerror or error}; choose a folder you can write "
+            "to"
+        ) from None
     if not is_dir:
-        raise RobinPilError(f"{option} {_shown(folder)}: {_shown(existing)} is a file, "
-                            "not a folder; choose a folder you can write to")  # fmt: skip
+        raise RobinPilError(
+            f"{option} {_shown(folder)}: {_shown(existing)} is a file, "
+            "not a folder; choose a folder you can write to"
+        )
     try:
         handle, name = tempfile.mkstemp(prefix=".robin-pil-write-check-", dir=existing)
     except OSError as error:
         where = "" if existing == folder else f" (its folder {_shown(existing)})"
-        raise RobinPilError(f"{option} {_shown(folder)}{where} is not writable: "
-                            f"{error.strerror or error}; choose a folder you can write "
-                            "to") from None  # fmt: skip
+        raise RobinPilError(
+            f"{option} {_shown(folder)}{where} is not writable: "
+            f"{error.strerror or error}; choose a folder you can write "
+            "to"
+        ) from None
     os.close(handle)
     os.unlink(name)
 
@@ -54,8 +60,10 @@ def check_free(configs: Sequence[LiveConfig], folders_named: Callable[[str], lis
             session_folder(config)
         except SessionExistsError:
             taken = Path(config.out_root) / config.participant / str(config.session)
-            name = next((n for n in RETRY_NAMES
-                         if not any(f.exists() for f in folders_named(n))), "retry100")  # fmt: skip
+            name = next(
+                (n for n in RETRY_NAMES if not any(f.exists() for f in folders_named(n))),
+                "retry100",
+            )
             shown = ", ".join(f.name for f in folders_named(name)[:2])
             raise RobinPilError(
                 f"session folder {_shown(taken)} exists already (a session is never "

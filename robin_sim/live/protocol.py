@@ -40,9 +40,15 @@ from robin_sim.live.questionnaires import Questionnaire, load_questionnaires
 
 PROTOCOLS_DIR = SCENARIOS_DIR / "protocols"
 PROTOCOL_KEYS: tuple[str, ...] = (
-    "name", "description", "scenario", "conditions", "order", "blocks", "instructions",
+    "name",
+    "description",
+    "scenario",
+    "conditions",
+    "order",
+    "blocks",
+    "instructions",
     "questionnaires",
-)  # fmt: skip
+)
 CONDITION_KEYS: tuple[str, ...] = ("system", "label", "blocks", "instructions")
 BLOCK_KEYS: tuple[str, ...] = ("types", "repeat", "instructions")
 ORDERS: tuple[str, ...] = ("fixed", "counterbalanced", "latin-square")
@@ -240,8 +246,9 @@ def _conditions(
         here = f"{where}[{i}]"
         entry = {"system": item} if isinstance(item, str) else item
         if not isinstance(entry, Mapping):
-            raise ProtocolError(f"{here}: expected a system key or a mapping with keys "
-                                + ", ".join(CONDITION_KEYS))  # fmt: skip
+            raise ProtocolError(
+                f"{here}: expected a system key or a mapping with keys " + ", ".join(CONDITION_KEYS)
+            )
         _reject_unknown(entry, CONDITION_KEYS, here)
         system = entry.get("system")
         if system not in SYSTEM_SPECS:
@@ -259,8 +266,9 @@ def _conditions(
         values = [getattr(c, key) for c in conditions]
         repeated = next((v for v in values if values.count(v) > 1), None)
         if repeated is not None:
-            raise ProtocolError(f"{where}: {key} {repeated!r} is given twice; give each "
-                                f"condition its own {key}")  # fmt: skip
+            raise ProtocolError(
+                f"{where}: {key} {repeated!r} is given twice; give each condition its own {key}"
+            )
     return tuple(conditions)
 
 
@@ -273,8 +281,9 @@ def _blocks(
     if not isinstance(raw, list) or not raw:
         raise ProtocolError(
             f"{where}: expected a non-empty list of blocks, each a mapping with keys "
-            + ", ".join(BLOCK_KEYS) + " (e.g. - {types: [A, B, C]})"
-        )  # fmt: skip
+            + ", ".join(BLOCK_KEYS)
+            + " (e.g. - {types: [A, B, C]})"
+        )
     names = [t.name for t in scenario.types]
     specs = []
     for i, item in enumerate(raw):
@@ -311,21 +320,28 @@ def _template(value: Any, where: str) -> str:
     text = _text(value, where)
     valid = ", ".join("{" + p + "}" for p in PLACEHOLDERS)
     if len(text) > MAX_INSTRUCTIONS:
-        raise ProtocolError(f"{where}: {len(text)} characters is too long; at most "
-                            f"{MAX_INSTRUCTIONS}")  # fmt: skip
+        raise ProtocolError(
+            f"{where}: {len(text)} characters is too long; at most {MAX_INSTRUCTIONS}"
+        )
     try:
-        fields = [(f, spec, conv) for _lit, f, spec, conv in string.Formatter().parse(text)
-                  if f is not None]  # fmt: skip
+        fields = [
+            (f, spec, conv)
+            for _lit, f, spec, conv in string.Formatter().parse(text)
+            if f is not None
+        ]
     except ValueError as error:
-        raise ProtocolError(f"{where}: {error}; write {{{{ and }}}} for literal braces, "
-                            f"placeholders: {valid}") from None  # fmt: skip
+        raise ProtocolError(
+            f"{where}: {error}; write {{{{ and }}}} for literal braces, placeholders: {valid}"
+        ) from None
     for field, spec, conv in fields:
         if field not in PLACEHOLDERS:
             raise ProtocolError(f"{where}: unknown placeholder {{{field}}}; valid choices: {valid}")
         if spec or conv:  # {block:>100000000} would fill a 100 MB text
             shown = field + ("!" + conv if conv else "") + (":" + spec if spec else "")
-            raise ProtocolError(f"{where}: placeholder {{{shown:.40}}} has a format; write it "
-                                f"bare, as {{{field}}} (placeholders: {valid})")  # fmt: skip
+            raise ProtocolError(
+                f"{where}: placeholder {{{shown:.40}}} has a format; write it "
+                f"bare, as {{{field}}} (placeholders: {valid})"
+            )
     return text
 
 

@@ -44,19 +44,24 @@ class Questioning:
 
     def status(self) -> dict[str, Any]:
         """The page's status fields while a questionnaire is shown."""
-        return {"phase": "questionnaire", "turn": "participant", "robot_doing": "",
-                "message": "please answer the questionnaire",
-                "questionnaire": self.current.as_dict(),
-                "questionnaire_number": self.index + 1,
-                "questionnaires": len(self.questionnaires)}  # fmt: skip
+        return {
+            "phase": "questionnaire",
+            "turn": "participant",
+            "robot_doing": "",
+            "message": "please answer the questionnaire",
+            "questionnaire": self.current.as_dict(),
+            "questionnaire_number": self.index + 1,
+            "questionnaires": len(self.questionnaires),
+        }
 
     def receive(self, raw: str | bytes) -> bool:
         """Check and save one page message; True once the block's last one is answered."""
         message = _decode(raw)
         name = message.get("questionnaire")
         if name != self.current.name:
-            raise LiveInputError(f"answers: the questionnaire shown is {self.current.name!r}, "
-                                 f"got {quote(name)}")  # fmt: skip
+            raise LiveInputError(
+                f"answers: the questionnaire shown is {self.current.name!r}, got {quote(name)}"
+            )
         try:
             answers = self.current.check_answers(message.get("answers"))
         except QuestionnaireError as error:
@@ -69,33 +74,43 @@ class Questioning:
     def _save(self, answers: dict[str, int]) -> None:
         config, questionnaire = self.config, self.current
         entry = {
-            "participant": config.participant, "session": self.folder.name,
-            "condition": config.system, "block": config.block, "protocol": config.protocol,
-            "questionnaire": questionnaire.name, "kind": questionnaire.kind,
-            "answers": answers, "scores": questionnaire.scores(answers),
+            "participant": config.participant,
+            "session": self.folder.name,
+            "condition": config.system,
+            "block": config.block,
+            "protocol": config.protocol,
+            "questionnaire": questionnaire.name,
+            "kind": questionnaire.kind,
+            "answers": answers,
+            "scores": questionnaire.scores(answers),
             "seconds_to_answer": round(time.monotonic() - self.shown_at, 1),
             "utc": datetime.now(UTC).isoformat(timespec="seconds"),
-        }  # fmt: skip
+        }
         try:
             with (self.folder / QUESTIONNAIRES_NAME).open("a", encoding="utf-8") as file:
                 file.write(json.dumps(entry) + "\n")
                 file.flush()
         except OSError as error:  # the page is told; the answers stay on it to send again
-            raise LiveInputError(f"the answers could not be saved ({error.strerror}); tell the "
-                                 "experimenter") from None  # fmt: skip
+            raise LiveInputError(
+                f"the answers could not be saved ({error.strerror}); tell the experimenter"
+            ) from None
 
 
 def _decode(raw: str | bytes) -> dict[str, Any]:
     if len(raw) > MAX_ANSWER_BYTES:
-        raise LiveInputError(f"answers: message of {len(raw)} bytes is too long (at most "
-                             f"{MAX_ANSWER_BYTES})")  # fmt: skip
+        raise LiveInputError(
+            f"answers: message of {len(raw)} bytes is too long (at most {MAX_ANSWER_BYTES})"
+        )
     try:
         message = json.loads(raw)
     except (ValueError, RecursionError):
-        raise LiveInputError("answers: not a JSON message; send {\"type\": \"answers\", "
-                             "\"questionnaire\": NAME, \"answers\": {ITEM: NUMBER, ...}}") from None
+        raise LiveInputError(
+            'answers: not a JSON message; send {"type": "answers", '
+            '"questionnaire": NAME, "answers": {ITEM: NUMBER, ...}}'
+        ) from None
     if not isinstance(message, dict) or message.get("type") != "answers":
         kind = message.get("type") if isinstance(message, dict) else None
-        raise LiveInputError(f"{kind or 'message'}: a questionnaire is shown; answer it first "
-                             "(send type 'answers')")  # fmt: skip
+        raise LiveInputError(
+            f"{kind or 'message'}: a questionnaire is shown; answer it first (send type 'answers')"
+        )
     return message

@@ -29,8 +29,15 @@ from typing import Any
 
 from pil.errors import RobinPilError, quote
 
-QUESTIONNAIRE_KEYS: tuple[str, ...] = ("name", "title", "instructions", "points", "low", "high",
-                                       "items")  # fmt: skip
+QUESTIONNAIRE_KEYS: tuple[str, ...] = (
+    "name",
+    "title",
+    "instructions",
+    "points",
+    "low",
+    "high",
+    "items",
+)
 ITEM_KEYS: tuple[str, ...] = ("id", "text", "low", "high", "scale")
 MAX_ITEMS, MAX_TEXT = 60, 300
 NAME = re.compile(r"[a-z][a-z0-9_-]{0,39}")
@@ -54,8 +61,15 @@ class Item:
     scale: str = ""  # the scale it counts towards (Godspeed); "" for none
 
     def as_dict(self) -> dict[str, Any]:
-        return {"id": self.id, "text": self.text, "low": self.low, "high": self.high,
-                "min": self.minimum, "max": self.maximum, "step": self.step}  # fmt: skip
+        return {
+            "id": self.id,
+            "text": self.text,
+            "low": self.low,
+            "high": self.high,
+            "min": self.minimum,
+            "max": self.maximum,
+            "step": self.step,
+        }
 
 
 @dataclass(frozen=True)
@@ -70,31 +84,39 @@ class Questionnaire:
 
     def as_dict(self) -> dict[str, Any]:
         """What the page needs to show it."""
-        return {"name": self.name, "kind": self.kind, "title": self.title,
-                "instructions": self.instructions,
-                "items": [item.as_dict() for item in self.items]}  # fmt: skip
+        return {
+            "name": self.name,
+            "kind": self.kind,
+            "title": self.title,
+            "instructions": self.instructions,
+            "items": [item.as_dict() for item in self.items],
+        }
 
     def check_answers(self, answers: Any) -> dict[str, int]:
         """``answers`` (item id -> number) checked: every item once, on its scale."""
         if not isinstance(answers, Mapping):
-            raise QuestionnaireError(f"{self.name}: answers must be an object of item id -> "
-                                     "number")  # fmt: skip
+            raise QuestionnaireError(f"{self.name}: answers must be an object of item id -> number")
         ids = [item.id for item in self.items]
         unknown = [str(k) for k in answers if k not in ids]
         if unknown:
-            raise QuestionnaireError(f"{self.name}: unknown item {quote(unknown[0])}; items: "
-                                     + ", ".join(ids))  # fmt: skip
+            raise QuestionnaireError(
+                f"{self.name}: unknown item {quote(unknown[0])}; items: " + ", ".join(ids)
+            )
         missing = [item.text for item in self.items if item.id not in answers]
         if missing:
             more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
-            raise QuestionnaireError(f"please answer every question: {missing[0]!r}{more} "
-                                     "not answered yet")  # fmt: skip
+            raise QuestionnaireError(
+                f"please answer every question: {missing[0]!r}{more} not answered yet"
+            )
         checked = {}
         for item in self.items:
             value = answers[item.id]
-            if (isinstance(value, bool) or not isinstance(value, int)
-                    or not item.minimum <= value <= item.maximum
-                    or (value - item.minimum) % item.step):  # fmt: skip
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int)
+                or not item.minimum <= value <= item.maximum
+                or (value - item.minimum) % item.step
+            ):
                 raise QuestionnaireError(
                     f"{self.name}.{item.id}: expected a whole number from {item.minimum} to "
                     f"{item.maximum} in steps of {item.step}, got {str(value)[:20]!r}"
@@ -117,39 +139,85 @@ class Questionnaire:
 
 def _tlx() -> Questionnaire:
     rows = (
-        ("mental", "Mental demand: how much thinking, deciding and remembering did the task "
-                   "take?", "very low", "very high"),
-        ("physical", "Physical demand: how much physical activity did the task take?",
-         "very low", "very high"),
-        ("temporal", "Temporal demand: how hurried or rushed was the pace of the task?",
-         "very low", "very high"),
-        ("performance", "Performance: how well did you do what you were asked to do?",
-         "perfect", "failure"),
-        ("effort", "Effort: how hard did you have to work to reach your level of performance?",
-         "very low", "very high"),
-        ("frustration", "Frustration: how insecure, discouraged, irritated or stressed did you "
-                        "feel?", "very low", "very high"),
-    )  # fmt: skip
+        (
+            "mental",
+            "Mental demand: how much thinking, deciding and remembering did the task take?",
+            "very low",
+            "very high",
+        ),
+        (
+            "physical",
+            "Physical demand: how much physical activity did the task take?",
+            "very low",
+            "very high",
+        ),
+        (
+            "temporal",
+            "Temporal demand: how hurried or rushed was the pace of the task?",
+            "very low",
+            "very high",
+        ),
+        (
+            "performance",
+            "Performance: how well did you do what you were asked to do?",
+            "perfect",
+            "failure",
+        ),
+        (
+            "effort",
+            "Effort: how hard did you have to work to reach your level of performance?",
+            "very low",
+            "very high",
+        ),
+        (
+            "frustration",
+            "Frustration: how insecure, discouraged, irritated or stressed did you feel?",
+            "very low",
+            "very high",
+        ),
+    )
     items = tuple(Item(i, text, lo, hi, 0, 100, 5) for i, text, lo, hi in rows)
-    return Questionnaire("nasa-tlx", "nasa-tlx", "Workload (NASA-TLX)",
-                         "Rate the block you have just finished on each scale.", items)  # fmt: skip
+    return Questionnaire(
+        "nasa-tlx",
+        "nasa-tlx",
+        "Workload (NASA-TLX)",
+        "Rate the block you have just finished on each scale.",
+        items,
+    )
 
 
 GODSPEED_SCALES: dict[str, tuple[tuple[str, str], ...]] = {
-    "anthropomorphism": (("fake", "natural"), ("machinelike", "humanlike"),
-                         ("unconscious", "conscious"), ("artificial", "lifelike"),
-                         ("moving rigidly", "moving elegantly")),
-    "animacy": (("dead", "alive"), ("stagnant", "lively"), ("mechanical", "organic"),
-                ("artificial", "lifelike"), ("inert", "interactive"),
-                ("apathetic", "responsive")),
-    "likeability": (("dislike", "like"), ("unfriendly", "friendly"), ("unkind", "kind"),
-                    ("unpleasant", "pleasant"), ("awful", "nice")),
-    "perceived_intelligence": (("incompetent", "competent"), ("ignorant", "knowledgeable"),
-                               ("irresponsible", "responsible"),
-                               ("unintelligent", "intelligent"), ("foolish", "sensible")),
-    "perceived_safety": (("anxious", "relaxed"), ("agitated", "calm"),
-                         ("quiescent", "surprised")),
-}  # fmt: skip
+    "anthropomorphism": (
+        ("fake", "natural"),
+        ("machinelike", "humanlike"),
+        ("unconscious", "conscious"),
+        ("artificial", "lifelike"),
+        ("moving rigidly", "moving elegantly"),
+    ),
+    "animacy": (
+        ("dead", "alive"),
+        ("stagnant", "lively"),
+        ("mechanical", "organic"),
+        ("artificial", "lifelike"),
+        ("inert", "interactive"),
+        ("apathetic", "responsive"),
+    ),
+    "likeability": (
+        ("dislike", "like"),
+        ("unfriendly", "friendly"),
+        ("unkind", "kind"),
+        ("unpleasant", "pleasant"),
+        ("awful", "nice"),
+    ),
+    "perceived_intelligence": (
+        ("incompetent", "competent"),
+        ("ignorant", "knowledgeable"),
+        ("irresponsible", "responsible"),
+        ("unintelligent", "intelligent"),
+        ("foolish", "sensible"),
+    ),
+    "perceived_safety": (("anxious", "relaxed"), ("agitated", "calm"), ("quiescent", "surprised")),
+}
 
 
 def _godspeed() -> Questionnaire:
@@ -158,9 +226,13 @@ def _godspeed() -> Questionnaire:
         for scale, pairs in GODSPEED_SCALES.items()
         for k, (low, high) in enumerate(pairs)
     )
-    return Questionnaire("godspeed", "godspeed", "Your impression of the robot (Godspeed)",
-                         "For each pair, choose where your impression of the robot lies.",
-                         items)  # fmt: skip
+    return Questionnaire(
+        "godspeed",
+        "godspeed",
+        "Your impression of the robot (Godspeed)",
+        "For each pair, choose where your impression of the robot lies.",
+        items,
+    )
 
 
 PRESETS = {"nasa-tlx": _tlx, "godspeed": _godspeed}
@@ -171,76 +243,103 @@ def load_questionnaires(raw: Any, where: str) -> tuple[Questionnaire, ...]:
     if raw is None:
         return ()
     if not isinstance(raw, list) or not raw:
-        raise QuestionnaireError(f"{where}: expected a non-empty list of presets ("
-                                 + ", ".join(PRESETS) + ") or questionnaire mappings with keys "
-                                 + ", ".join(QUESTIONNAIRE_KEYS))  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}: expected a non-empty list of presets ("
+            + ", ".join(PRESETS)
+            + ") or questionnaire mappings with keys "
+            + ", ".join(QUESTIONNAIRE_KEYS)
+        )
     out = [_one(item, f"{where}[{i}]") for i, item in enumerate(raw)]
     names = [q.name for q in out]
     repeated = next((n for n in names if names.count(n) > 1), None)
     if repeated is not None:
-        raise QuestionnaireError(f"{where}: questionnaire {repeated!r} is listed twice; give "
-                                 "each its own name")  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}: questionnaire {repeated!r} is listed twice; give each its own name"
+        )
     return tuple(out)
 
 
 def _one(raw: Any, where: str) -> Questionnaire:
     if isinstance(raw, str):
         if raw not in PRESETS:
-            raise QuestionnaireError(f"{where}: unknown preset {quote(raw)}; valid choices: "
-                                     + ", ".join(PRESETS) + " (or a mapping with items)")
+            raise QuestionnaireError(
+                f"{where}: unknown preset {quote(raw)}; valid choices: "
+                + ", ".join(PRESETS)
+                + " (or a mapping with items)"
+            )
         return PRESETS[raw]()
     if not isinstance(raw, Mapping):
-        raise QuestionnaireError(f"{where}: expected a preset name or a mapping with keys "
-                                 + ", ".join(QUESTIONNAIRE_KEYS))  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}: expected a preset name or a mapping with keys "
+            + ", ".join(QUESTIONNAIRE_KEYS)
+        )
     _reject_unknown(raw, QUESTIONNAIRE_KEYS, where)
     name = raw.get("name")
     if not isinstance(name, str) or not NAME.fullmatch(name) or name in PRESETS:
-        raise QuestionnaireError(f"{where}.name: expected a name of lower-case letters, digits, "
-                                 f"_ or - (not a preset's: {', '.join(PRESETS)}), got "
-                                 f"{quote(name)}")  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}.name: expected a name of lower-case letters, digits, "
+            f"_ or - (not a preset's: {', '.join(PRESETS)}), got "
+            f"{quote(name)}"
+        )
     points = raw.get("points", 7)
     if isinstance(points, bool) or not isinstance(points, int) or not 2 <= points <= 11:
-        raise QuestionnaireError(f"{where}.points: expected a whole number from 2 to 11, got "
-                                 f"{quote(points)}")  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}.points: expected a whole number from 2 to 11, got {quote(points)}"
+        )
     low = _text(raw.get("low", "strongly disagree"), f"{where}.low")
     high = _text(raw.get("high", "strongly agree"), f"{where}.high")
     items_raw = raw.get("items")
     if not isinstance(items_raw, list) or not 1 <= len(items_raw) <= MAX_ITEMS:
-        raise QuestionnaireError(f"{where}.items: expected a list of 1 to {MAX_ITEMS} items, "
-                                 "each a mapping with keys " + ", ".join(ITEM_KEYS[:4]))
+        raise QuestionnaireError(
+            f"{where}.items: expected a list of 1 to {MAX_ITEMS} items, "
+            "each a mapping with keys " + ", ".join(ITEM_KEYS[:4])
+        )
     items = []
     for k, item in enumerate(items_raw):
         here = f"{where}.items[{k}]"
         if not isinstance(item, Mapping):
-            raise QuestionnaireError(f"{here}: expected a mapping with keys "
-                                     + ", ".join(ITEM_KEYS[:4]))  # fmt: skip
+            raise QuestionnaireError(
+                f"{here}: expected a mapping with keys " + ", ".join(ITEM_KEYS[:4])
+            )
         _reject_unknown(item, ITEM_KEYS[:4], here)
         item_id = item.get("id")
         if not isinstance(item_id, str) or not NAME.fullmatch(item_id):
-            raise QuestionnaireError(f"{here}.id: expected an id of lower-case letters, digits, "
-                                     f"_ or -, got {quote(item_id)}")  # fmt: skip
-        items.append(Item(item_id, _text(item.get("text"), f"{here}.text"),
-                          _text(item.get("low", low), f"{here}.low"),
-                          _text(item.get("high", high), f"{here}.high"), 1, points))  # fmt: skip
+            raise QuestionnaireError(
+                f"{here}.id: expected an id of lower-case letters, digits, "
+                f"_ or -, got {quote(item_id)}"
+            )
+        items.append(
+            Item(
+                item_id,
+                _text(item.get("text"), f"{here}.text"),
+                _text(item.get("low", low), f"{here}.low"),
+                _text(item.get("high", high), f"{here}.high"),
+                1,
+                points,
+            )
+        )
     ids = [i.id for i in items]
     repeated = next((i for i in ids if ids.count(i) > 1), None)
     if repeated is not None:
         raise QuestionnaireError(f"{where}.items: id {repeated!r} is given twice")
     title = _text(raw.get("title", name), f"{where}.title")
-    instructions = _text(raw.get("instructions", "Choose one answer for each statement."),
-                         f"{where}.instructions")  # fmt: skip
+    instructions = _text(
+        raw.get("instructions", "Choose one answer for each statement."), f"{where}.instructions"
+    )
     return Questionnaire(name, "likert", title, instructions, tuple(items))
 
 
 def _text(value: Any, where: str) -> str:
     if not isinstance(value, str) or not value.strip() or len(value) > MAX_TEXT:
-        raise QuestionnaireError(f"{where}: expected a text of 1 to {MAX_TEXT} characters, got "
-                                 f"{quote(value)}")  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}: expected a text of 1 to {MAX_TEXT} characters, got {quote(value)}"
+        )
     return value.strip()
 
 
 def _reject_unknown(raw: Mapping[str, Any], valid: tuple[str, ...], where: str) -> None:
     unknown = [str(k) for k in raw if k not in valid]
     if unknown:
-        raise QuestionnaireError(f"{where}: unknown key {quote(unknown[0])}; valid keys: "
-                                 + ", ".join(valid))  # fmt: skip
+        raise QuestionnaireError(
+            f"{where}: unknown key {quote(unknown[0])}; valid keys: " + ", ".join(valid)
+        )

@@ -48,15 +48,27 @@ class LiveRun(ClosesOnExit):
         hook: Callable[[Simulator], None],
     ) -> None:
         self.config = config
-        episode = EpisodeConfig(system=config.system, rate=EXACT_RATE, seed=config.seed,
-                                scenario=config.scenario, video=False, out=out_dir)  # fmt: skip
+        episode = EpisodeConfig(
+            system=config.system,
+            rate=EXACT_RATE,
+            seed=config.seed,
+            scenario=config.scenario,
+            video=False,
+            out=out_dir,
+        )
         task = EpisodeTask.of(episode)
         self.task = replace(task, scenario=config.scenario_of())
         self.world = PhysicalWorld(self.task.layout)
         check_frame_size(self.world.model, config.width, config.height)
         self.body = PhysicalBody(self.world, seed=config.seed)
-        scripted = test_parts(config.system, EXACT_RATE, config.seed, self.task.scenario,
-                              self.task.values, body=self.body)  # fmt: skip
+        scripted = test_parts(
+            config.system,
+            EXACT_RATE,
+            config.seed,
+            self.task.scenario,
+            self.task.values,
+            body=self.body,
+        )
         scenario = self.task.scenario
         types, seen = [], set()
         for step in scripted.person.script:  # the block's handovers, in the scenario's order
@@ -68,8 +80,9 @@ class LiveRun(ClosesOnExit):
         def robot_anticipates(previous: Action, hand: Hand) -> bool:
             return anticipate is not None and anticipate(previous, hand) is not None
 
-        self.participant = LiveParticipant(self.body, types, scenario.legs_per_table,
-                                           config.feedback_window, robot_anticipates)  # fmt: skip
+        self.participant = LiveParticipant(
+            self.body, types, scenario.legs_per_table, config.feedback_window, robot_anticipates
+        )
         # The participant in the scripted person's place (pil.task.person.Person).
         self.parts: RunParts = replace(scripted, person=self.participant)  # type: ignore[arg-type]
         self.totals = EpisodeTotals(timeout_s=float(self.task.values["handover_timeout"]))
@@ -79,14 +92,21 @@ class LiveRun(ClosesOnExit):
         try:
             self.picker = Picker(self.task.layout, config.width, config.height)
             self.stream = FrameStream(
-                self.task.layout, hub, config.width, config.height,
-                video=out_dir / VIDEO_NAME if config.video else None, video_fps=int(config.fps),
-                eye_inset=config.eye_inset, render_workers=config.render_workers,
-                eye_worker=config.eye_worker, reflections=config.reflections,
-                spots=self.picker.spot_pixels(), on_state=self.picker.show,
+                self.task.layout,
+                hub,
+                config.width,
+                config.height,
+                video=out_dir / VIDEO_NAME if config.video else None,
+                video_fps=int(config.fps),
+                eye_inset=config.eye_inset,
+                render_workers=config.render_workers,
+                eye_worker=config.eye_worker,
+                reflections=config.reflections,
+                spots=self.picker.spot_pixels(),
+                on_state=self.picker.show,
                 legs=self.picker.leg_pixels,
                 states=out_dir / STATES_NAME,
-            )  # fmt: skip
+            )
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says
             # (the loop does the same), and the log notes the mismatch.
@@ -114,12 +134,16 @@ def pacing_figures(run: LiveRun | None, speed: float, paused: bool) -> dict[str,
     pacer = None if run is None else run.pacer
     stats = None if stream is None else stream.stats
     figures: dict[str, Any] = {
-        "frames": 0, "stream_fps": None, "latency_ms": None, "frame_ms": None,
+        "frames": 0,
+        "stream_fps": None,
+        "latency_ms": None,
+        "frame_ms": None,
         "behind_s": None if pacer is None else round(pacer.behind_s, 3),
         "slips": None if pacer is None else pacer.slips,
         "lag_s": None if pacer is None else round(pacer.lag_s, 3),
-        "speed": speed, "paused": paused,
-    }  # fmt: skip
+        "speed": speed,
+        "paused": paused,
+    }
     if stats is not None and stats.frames:
         figures.update(
             frames=stats.frames,

@@ -43,9 +43,12 @@ LOG = logging.getLogger(__name__)
 __all__ = ["LiveServer", "bind", "is_loopback", "new_token"]
 STATIC_DIR = Path(__file__).with_name("static")
 STATIC_TYPES = {  # all /static/ serves
-    "live.js": "text/javascript", "live.css": "text/css", "experimenter.js": "text/javascript",
-    "questionnaire.js": "text/javascript", "questionnaire.css": "text/css",
-}  # fmt: skip
+    "live.js": "text/javascript",
+    "live.css": "text/css",
+    "experimenter.js": "text/javascript",
+    "questionnaire.js": "text/javascript",
+    "questionnaire.css": "text/css",
+}
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
 MAX_MESSAGE_BYTES = 1 << 20  # larger closes the socket (1009); parse_input refuses > 4 KiB
@@ -64,9 +67,13 @@ def frame_message(seq: int, sim_time: float, captured: float, jpeg: bytes) -> by
     now_ms = time.time() * 1000.0
     captured_ms = now_ms - (time.monotonic() - captured) * 1000.0
     header = json.dumps(
-        {"seq": seq, "sim_time": round(sim_time, 4), "captured_ms": round(captured_ms, 2),
-         "sent_ms": round(now_ms, 2)}
-    ).encode()  # fmt: skip
+        {
+            "seq": seq,
+            "sim_time": round(sim_time, 4),
+            "captured_ms": round(captured_ms, 2),
+            "sent_ms": round(now_ms, 2),
+        }
+    ).encode()
     return struct.pack(">I", len(header)) + header + jpeg
 
 
@@ -120,8 +127,9 @@ class LiveServer:
         self.limits = limits or Limits()
         self.connections = Connections(self.limits)
         self.guard = Guard(host, on_request=self.connections.served)  # Host, Origin, headers
-        self.app = web.Application(middlewares=[self.guard.middleware, self._guard],
-                                   client_max_size=64 * 1024)  # fmt: skip
+        self.app = web.Application(
+            middlewares=[self.guard.middleware, self._guard], client_max_size=64 * 1024
+        )
         self.guard.install(self.app)
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
@@ -137,10 +145,14 @@ class LiveServer:
         """403 without the token (when one is required); Host and Origin: :class:`Guard`."""
         if self.token is not None:
             given = request.query.get("token", "")
-            if not (secrets.compare_digest(given.encode(), self.token.encode())
-                    or self._is_experimenter(request)):  # fmt: skip
-                return web.Response(status=403, text="403: this server needs ?token=... "
-                                    "(the URL printed when it started)\n")  # fmt: skip
+            if not (
+                secrets.compare_digest(given.encode(), self.token.encode())
+                or self._is_experimenter(request)
+            ):
+                return web.Response(
+                    status=403,
+                    text="403: this server needs ?token=... (the URL printed when it started)\n",
+                )
         return await handler(request)
 
     def _query(self) -> str:
@@ -152,16 +164,18 @@ class LiveServer:
 
     async def _experimenter_page(self, request: web.Request) -> web.Response:
         if not self._is_experimenter(request):
-            return web.Response(status=403, text="403: the experimenter's view needs its own "
-                                "?token=... (printed when the server started)\n")  # fmt: skip
+            return web.Response(
+                status=403,
+                text="403: the experimenter's view needs its own "
+                "?token=... (printed when the server started)\n",
+            )
         page = (STATIC_DIR / "experimenter.html").read_text(encoding="utf-8")
         query = f"?token={self.experimenter_token}"
         return web.Response(text=page.replace("{{QUERY}}", query), content_type="text/html")
 
     async def _index(self, request: web.Request) -> web.Response:
         page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
-        return web.Response(text=page.replace("{{QUERY}}", self._query()),
-                            content_type="text/html")  # fmt: skip
+        return web.Response(text=page.replace("{{QUERY}}", self._query()), content_type="text/html")
 
     async def _no_icon(self, request: web.Request) -> web.Response:
         return web.Response(status=204)
@@ -208,10 +222,10 @@ class LiveServer:
     async def _received(self, tab: Tab, data: str | bytes) -> None:
         """Validate one message and act on it; anything wrong gets an error reply."""
         if tab.over_rate(time.monotonic()):
-            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role,
-                        RATE_LIMIT)  # fmt: skip
-            tab.send(_error(f"too many messages: at most {RATE_LIMIT} per second; this one "
-                            "was dropped"))  # fmt: skip
+            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role, RATE_LIMIT)
+            tab.send(
+                _error(f"too many messages: at most {RATE_LIMIT} per second; this one was dropped")
+            )
             return
         if tab.role == "experimenter":
             await self._command(tab, data)
@@ -224,10 +238,15 @@ class LiveServer:
         except LiveInputError as problem:
             tab.send(_error(str(problem)))
         except Exception as problem:  # never lets one message end the session
-            LOG.warning("a message could not be handled: %s: %.200s", type(problem).__name__,
-                        problem)  # fmt: skip
-            tab.send(_error(f"this message could not be handled ({type(problem).__name__}); "
-                            f"send one JSON object such as {EXAMPLE}"))  # fmt: skip
+            LOG.warning(
+                "a message could not be handled: %s: %.200s", type(problem).__name__, problem
+            )
+            tab.send(
+                _error(
+                    f"this message could not be handled ({type(problem).__name__}); "
+                    f"send one JSON object such as {EXAMPLE}"
+                )
+            )
 
     async def _command(self, tab: Tab, data: str | bytes) -> None:
         """One experimenter's command; its reply (``done``, with a saved note) or an error."""
@@ -306,10 +325,13 @@ class LiveServer:
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
         runner = web.AppRunner(
-            self.app, handle_signals=False, access_log=None, shutdown_timeout=1.0,
+            self.app,
+            handle_signals=False,
+            access_log=None,
+            shutdown_timeout=1.0,
             keepalive_timeout=self.limits.header_timeout_s,  # also bounds unfinished headers
             logger=HTTP_LOG,  # a closed tab: one line, no traceback
-        )  # fmt: skip
+        )
         await runner.setup()
         status_task = None
         try:
@@ -333,8 +355,10 @@ class LiveServer:
         """Say goodbye to every tab, for at most ``limits.close_timeout_s``: a tab that does not
         read is then dropped (a signal meanwhile waits no longer than that)."""
         goodbye = b"the session has ended"
-        closing = [asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
-                   for tab in list(self.tabs)]  # fmt: skip
+        closing = [
+            asyncio.ensure_future(tab.ws.close(code=1001, message=goodbye))
+            for tab in list(self.tabs)
+        ]
         if not closing:
             return
         await asyncio.wait(closing, timeout=self.limits.close_timeout_s)
@@ -345,8 +369,10 @@ class LiveServer:
         for task in late:
             task.cancel()
         if late:
-            LOG.warning("%d tab(s) did not take the goodbye in time; their connections were "
-                        "dropped", len(late))  # fmt: skip
+            LOG.warning(
+                "%d tab(s) did not take the goodbye in time; their connections were dropped",
+                len(late),
+            )
 
     def stop_soon(self) -> None:
         """From any thread: end the run as if signalled (the session saved ``interrupted``)."""

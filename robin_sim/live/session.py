@@ -47,8 +47,19 @@ __all__ = ["Frame", "LiveConfig", "LiveSession"]
 STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
 STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
 LOG_TAIL = 40  # steps kept for the experimenter's view
-TAIL_KEYS = ("t", "handover", "step", "true_gesture", "action", "target", "feedback",
-             "delivered", "legs_delivered", "sim_time", "reason")  # fmt: skip
+TAIL_KEYS = (
+    "t",
+    "handover",
+    "step",
+    "true_gesture",
+    "action",
+    "target",
+    "feedback",
+    "delivered",
+    "legs_delivered",
+    "sim_time",
+    "reason",
+)
 PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
 PAUSED_MESSAGE = "Paused by the experimenter: please wait."
 
@@ -186,8 +197,10 @@ class LiveSession:
         """Save an experimenter's note with its time in the session folder; the entry."""
         files, participant = self._files, self._participant
         if files is None:
-            raise LiveInputError("note: this block has not started, so it has no folder yet; "
-                                 "write the note once it runs")  # fmt: skip
+            raise LiveInputError(
+                "note: this block has not started, so it has no folder yet; "
+                "write the note once it runs"
+            )
         sim_time = None if participant is None else round(participant.body.world.time, 4)
         return files.log_note(text, sim_time)
 
@@ -206,12 +219,15 @@ class LiveSession:
         if item.kind == "end":
             participant.offer("end")
         elif item.kind == "start":
-            raise LiveInputError("start: this session runs already; 'start' leaves a "
-                                 "protocol block's instructions")  # fmt: skip
+            raise LiveInputError(
+                "start: this session runs already; 'start' leaves a protocol block's instructions"
+            )
         elif item.kind == "thumb":
             if not participant.judging:
-                raise LiveInputError("There is no robot action to judge now: give a thumb "
-                                     "while Robin moves or just after.")  # fmt: skip
+                raise LiveInputError(
+                    "There is no robot action to judge now: give a thumb "
+                    "while Robin moves or just after."
+                )
             participant.offer(THUMBS[str(item.thumb)])
         else:
             if phase not in ("waiting_for_gesture", "waiting_for_thumb"):
@@ -277,8 +293,14 @@ class LiveSession:
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
                 observer = _Booking(self, run)
-                for record in steps(parts.learner, run.participant, parts.detector, run.world,
-                                    observer=observer, **parts.options):  # fmt: skip
+                for record in steps(
+                    parts.learner,
+                    run.participant,
+                    parts.detector,
+                    run.world,
+                    observer=observer,
+                    **parts.options,
+                ):
                     if record is not observer.last:  # a repeat request: no feedback to receive
                         self._book(run, record)
             done = run.participant.legs_delivered >= run.participant.legs_total

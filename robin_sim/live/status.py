@@ -20,9 +20,13 @@ from robin_sim.live.guide import target_name
 if TYPE_CHECKING:
     from robin_sim.live.participant import LiveParticipant
 
-DOING = {"object": "moving to {target}", "location": "moving to {target}",
-         "human": "bringing the leg to your hand", "close": "closing the hand",
-         "open": "opening the hand"}  # fmt: skip
+DOING = {
+    "object": "moving to {target}",
+    "location": "moving to {target}",
+    "human": "bringing the leg to your hand",
+    "close": "closing the hand",
+    "open": "opening the hand",
+}
 EMPTY_HAND_TO_PERSON = "moving its empty hand to yours"  # "human" holding nothing
 TURN = {"waiting_for_gesture": "participant", "waiting_for_thumb": "participant"}
 
@@ -30,8 +34,11 @@ TURN = {"waiting_for_gesture": "participant", "waiting_for_thumb": "participant"
 def _target_text(record: StepRecord) -> str:
     target = record.target
     if target is None:
-        return "the nearest leg" if record.action is not None and record.action.value == "object" \
-            else "the nearest spot"  # fmt: skip
+        return (
+            "the nearest leg"
+            if record.action is not None and record.action.value == "object"
+            else "the nearest spot"
+        )
     return target_name(target)
 
 
@@ -84,15 +91,24 @@ class LiveStatus:
         with self._lock:
             if policy is not None:
                 self._policy = policy
-            self._tally = {"gestures": counts.gestures, "actions": counts.actions,
-                            "rejected": counts.rejected, "legs_delivered": counts.legs}  # fmt: skip
+            self._tally = {
+                "gestures": counts.gestures,
+                "actions": counts.actions,
+                "rejected": counts.rejected,
+                "legs_delivered": counts.legs,
+            }
 
     def clicked(self, target: Target, x: float, y: float) -> None:
         """The participant clicked ``target`` at frame pixel (x, y) (the page marks it)."""
         with self._lock:
-            self._clicked = {"kind": target.kind, "index": target.index,
-                             "number": target.index + 1, "name": target_name(target),
-                             "x": round(x, 1), "y": round(y, 1)}  # fmt: skip
+            self._clicked = {
+                "kind": target.kind,
+                "index": target.index,
+                "number": target.index + 1,
+                "name": target_name(target),
+                "x": round(x, 1),
+                "y": round(y, 1),
+            }
 
     def _policy_of(self, record: StepRecord) -> dict[str, Any] | None:
         """P(a|s) of the learner's table for the record's state (None without either)."""

@@ -70,6 +70,7 @@ def in_left_reach(x: float, y: float) -> bool:
             return False
     return True
 
+
 # --- the person (facts the vision data set needs without a model) ---------------------------
 # The pointing hand: toward the person and above the pointed place, low enough that its
 # fingertips stay a few centimetres below the robot's open fingers at home.

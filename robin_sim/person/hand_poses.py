@@ -38,9 +38,14 @@ FINGER_Y = {"index": 0.03, "middle": 0.01, "ring": -0.01, "little": -0.03}  # m,
 THUMB_BASE = np.array([-0.005, 0.045, 0.0])  # m
 # Skin tones (RGB) from light to dark; a performance picks a point on this line.
 SKIN_TONES = np.array(
-    [[0.96, 0.80, 0.69], [0.87, 0.68, 0.55], [0.72, 0.52, 0.38], [0.55, 0.37, 0.25],
-     [0.36, 0.23, 0.15]]
-)  # fmt: skip
+    [
+        [0.96, 0.80, 0.69],
+        [0.87, 0.68, 0.55],
+        [0.72, 0.52, 0.38],
+        [0.55, 0.37, 0.25],
+        [0.36, 0.23, 0.15],
+    ]
+)
 DEFAULT_SKIN = 1.0  # index on SKIN_TONES: the scene's skin colour
 
 
@@ -59,14 +64,16 @@ _TO_ROBOT = (-1.0, 0.0, 0.0)
 _POINT_DOWN = (-0.73, 0.0, -0.68)  # towards the place below and in front of the hand
 _FACE_ROBOT = (-0.8, 0.0, 0.6)  # palm towards Robin's head
 SHAPES: dict[str, PoseShape] = {
-    "neutral": PoseShape((0.35, 0.4, 0.45, 0.5), 0.05, (-0.6, 0.7, -0.3), (-1, 0, -.5), (0, -1, 0)),
+    "neutral": PoseShape(
+        (0.35, 0.4, 0.45, 0.5), 0.05, (-0.6, 0.7, -0.3), (-1, 0, -0.5), (0, -1, 0)
+    ),
     "pointing": PoseShape((0.0, 1.0, 1.0, 1.0), 0.0, (-0.7, -0.2, 0.7), _POINT_DOWN, (0, -1, 0)),
     "give_me": PoseShape((0.0, 0.0, 0.0, 0.0), 0.02, (-0.45, 0.9, 0.0), _TO_ROBOT, (0, 0, 1)),
     "grasp": PoseShape((0.55, 0.55, 0.55, 0.55), 0.05, (-0.8, 0.1, 0.6), (0, 0, 1), _FACE_ROBOT),
     "release": PoseShape((0.0, 0.0, 0.0, 0.0), 0.3, (-0.1, 1.0, 0.0), (0, 0, 1), _FACE_ROBOT),
     "thumb_up": PoseShape((1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, -1, 0)),
     "thumb_down": PoseShape((1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, 1, 0)),
-}  # fmt: skip
+}
 
 
 @dataclass(frozen=True, slots=True)

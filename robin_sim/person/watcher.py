@@ -10,7 +10,8 @@ control tick it checks whether the motion so far contradicts what the person wan
   wrong thing show in the result (a close that catches nothing, an open that keeps the leg);
 * wanted object, location or human: the fingertips move (a fingertip joint turns more than
   :data:`FINGERS_SEEN`; carrying a leg makes them jiggle by at most 0.05 rad, measured;
-  a closing hand or the eased fingertips of a release turn them 0.2 rad and more), or the hand
+  a closing hand or the eased fingertips of a release turn them 0.2 rad and more; an empty
+  hand opening on its way to the leg wanted is not a mismatch), or the hand
   heads more than
   :data:`HEADING_SEEN` away from the wanted place once it has moved :data:`ARM_SEEN`
   sideways, or it comes down away from that place.
@@ -119,7 +120,7 @@ class PhysicalWatcher:
             lowered = self.start[2] - here[2] > ARM_SEEN
             rose = here[2] - self.start[2] > ARM_SEEN and wanted is Action.CLOSE
             return "the arm moves" if sideways > ARM_SEEN or lowered or rose else ""
-        if turned >= FINGERS_SEEN:
+        if turned >= FINGERS_SEEN and not self._opens_to_grasp():
             return "the fingers move"
         if self.goal is None:
             return ""
@@ -133,6 +134,15 @@ class PhysicalWatcher:
         if self.highest - here[2] > DESCENT_SEEN and away:
             return "the hand comes down elsewhere"
         return ""
+
+    def _opens_to_grasp(self) -> bool:
+        """An empty hand opening on its way to a leg the person wants taken: what a person
+        expects of a grasp (the robot opens a hand left closed after a drop)."""
+        if self.intent.action is not Action.OBJECT or self.start_held is not None:
+            return False
+        hand = self.world.sim.hand
+        wide = hand.targets.open[hand.distal]
+        return bool(np.all(np.abs(self._fingertips() - wide) < np.abs(self.start_fingers - wide)))
 
     def _wrong_result(self) -> str:
         """Why the finished action's result is not the wanted one ("" when it is)."""

@@ -112,8 +112,11 @@ def ensure_gl_backend() -> str:
     if chosen in HEADLESS_BACKENDS:
         platform = os.environ.get("PYOPENGL_PLATFORM", "").strip().lower()
         if platform and platform != chosen and "OpenGL" not in sys.modules:
-            print(f"robin-pil: PYOPENGL_PLATFORM={platform} does not match the {chosen} "
-                  f"backend; using PYOPENGL_PLATFORM={chosen}", file=sys.stderr)  # fmt: skip
+            print(
+                f"robin-pil: PYOPENGL_PLATFORM={platform} does not match the {chosen} "
+                f"backend; using PYOPENGL_PLATFORM={chosen}",
+                file=sys.stderr,
+            )
             os.environ["PYOPENGL_PLATFORM"] = chosen
         os.environ.setdefault("PYOPENGL_PLATFORM", chosen)
         if "mujoco" in sys.modules:

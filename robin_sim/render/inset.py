@@ -22,6 +22,7 @@ from robin_sim.render.worker import FrameState, apply_state, warmed_renderer
 
 INSET_FRACTION = 4  # the inset is 1/4 of the frame's width and height
 INSET_LABEL = "robot's left eye"
+HELD_EYE = "held"  # in a states file: the frame repeats the last eye view
 
 
 def inset_size(width: int, height: int) -> tuple[int, int]:

@@ -1,11 +1,14 @@
 """Text and a policy bar chart drawn on video frames with OpenCV.
 
-:func:`draw_overlay` writes, in a dark panel at the top left: the step and simulation time, the
-gesture the person made, the gesture the robot detected (and the corrected one when the
-correction replaced it), the chosen action, the person's feedback and the legs delivered. When
-:attr:`OverlayInfo.policy` is given, a panel at the bottom right shows the learned P(a|s) of the
-five actions for the current state as horizontal bars. Sized for 640x480 and scaled with the
-frame height.
+:func:`draw_overlay` writes, in a dark panel near the top left: the step and simulation time,
+the handover and its type, the gesture the person made, the gesture the robot detected (and the
+corrected one when the correction replaced it), the chosen action, the action the person means,
+the person's feedback and the legs delivered. The panel starts :data:`TEXT_PANEL_LEFT` of the
+width in, so that the person's head (at the left edge of the front camera's view) stays in
+sight. When :attr:`OverlayInfo.policy` is given, a panel at the bottom right shows the learned
+P(a|s) of the five actions for the current state as horizontal bars; with
+:attr:`OverlayInfo.spots`, the table spots are ringed and numbered
+(:mod:`robin_sim.render.spots`). Sized for 640x480 and scaled with the frame height.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import numpy as np
 
 from pil.errors import RobinPilError
 from pil.types import ACTIONS
+from robin_sim.render.spots import draw_spots
 
 FONT = cv2.FONT_HERSHEY_SIMPLEX
 TEXT_COLOUR = (255, 255, 255)  # RGB frames
@@ -25,6 +29,7 @@ DIM_COLOUR = (170, 170, 170)
 BAR_COLOUR = (80, 170, 255)
 CHOSEN_BAR_COLOUR = (255, 190, 60)
 PANEL_ALPHA = 0.6  # darkening of the frame under a panel
+TEXT_PANEL_LEFT = 0.18  # of the frame's width: where the text panel starts (the head is left)
 
 
 @dataclass(frozen=True, slots=True)
@@ -42,6 +47,10 @@ class OverlayInfo:
     legs_total: int = 0
     state: str | None = None  # e.g. "<give me, object, free>"
     policy: Mapping[str, float] | None = None  # P(a|s) for each action name
+    intended: str | None = None  # the action the person means now
+    handover: int | None = None  # the handover (leg) under way, from 0
+    handover_type: str | None = None  # its type, e.g. "A"
+    spots: tuple[tuple[float, float], ...] = ()  # image points of the table spots
 
 
 def overlay_lines(info: OverlayInfo) -> list[str]:
@@ -60,9 +69,13 @@ def overlay_lines(info: OverlayInfo) -> list[str]:
         f"person:   {text(info.true_gesture)}",
         f"detected: {detected}",
         f"action:   {text(info.action)}",
+        f"meant:    {text(info.intended)}",
         f"feedback: {text(info.feedback)}",
         f"legs delivered: {info.legs_delivered}/{info.legs_total}",
     ]
+    if info.handover is not None:
+        kind = "" if info.handover_type is None else f", type {info.handover_type}"
+        lines.insert(1, f"handover {info.handover + 1}{kind}")
     if info.state is not None:
         lines.insert(1, f"state: {info.state}")
     return lines
@@ -74,18 +87,26 @@ def _darken(frame: np.ndarray, x0: int, y0: int, x1: int, y1: int) -> None:
     region[:] = (region.astype(np.float32) * (1.0 - PANEL_ALPHA)).astype(np.uint8)
 
 
-def _draw_text_panel(frame: np.ndarray, lines: list[str], scale: float) -> None:
-    font_scale = 0.5 * scale
-    thickness = max(1, round(scale))
-    line_h = round(20 * scale)
-    pad = round(6 * scale)
+def text_panel_box(shape: tuple[int, ...], lines: list[str]) -> tuple[int, int, int, int]:
+    """(x0, y0, x1, y1) of the text panel of ``lines`` on a frame of ``shape``."""
+    scale = shape[0] / 480.0
+    font_scale, thickness = 0.42 * scale, max(1, round(scale))
+    line_h, pad = round(16 * scale), round(5 * scale)
     width = max(cv2.getTextSize(line, FONT, font_scale, thickness)[0][0] for line in lines)
-    x1 = min(frame.shape[1], 2 * pad + width)
-    y1 = min(frame.shape[0], pad + line_h * len(lines) + pad)
-    _darken(frame, 0, 0, x1, y1)
+    x0 = round(TEXT_PANEL_LEFT * shape[1])
+    return x0, 0, min(shape[1], x0 + 2 * pad + width), min(shape[0], 2 * pad + line_h * len(lines))
+
+
+def _draw_text_panel(frame: np.ndarray, lines: list[str], scale: float) -> None:
+    font_scale, thickness = 0.42 * scale, max(1, round(scale))
+    line_h, pad = round(16 * scale), round(5 * scale)
+    x0, y0, x1, y1 = text_panel_box(frame.shape, lines)
+    _darken(frame, x0, y0, x1, y1)
     for i, line in enumerate(lines):
-        y = pad + line_h * (i + 1) - round(5 * scale)
-        cv2.putText(frame, line, (pad, y), FONT, font_scale, TEXT_COLOUR, thickness, cv2.LINE_AA)
+        y = pad + line_h * (i + 1) - round(4 * scale)
+        cv2.putText(
+            frame, line, (x0 + pad, y), FONT, font_scale, TEXT_COLOUR, thickness, cv2.LINE_AA
+        )
 
 
 def _draw_policy_panel(
@@ -145,6 +166,7 @@ def draw_overlay(frame: np.ndarray, info: OverlayInfo) -> np.ndarray:
     if not frame.flags.writeable or not frame.flags.c_contiguous:
         raise RobinPilError("overlay needs a writable, contiguous frame (use frame.copy())")
     scale = frame.shape[0] / 480.0
+    draw_spots(frame, info.spots)
     _draw_text_panel(frame, overlay_lines(info), scale)
     if info.policy is not None:
         _draw_policy_panel(frame, info.policy, info.action, scale)

@@ -13,7 +13,8 @@ arrays over pipes (0.9 MB at 640x480, 1-5 ms). ``workers=0`` renders in-process,
 
 A frame shows the state's own ``qpos`` and is pixel-identical to a warmed-up
 :class:`FrameRenderer`'s render of it, whichever worker renders it. Workers ignore SIGINT and
-SIGTERM from their first instruction on (they start with both blocked): a Ctrl-C sent to the
+SIGTERM from their first instruction on (they start with both ignored, inherited through
+``exec``; :mod:`robin_sim.render.worker_start`): a Ctrl-C sent to the
 whole process group reaches only the main process, which finishes the frames in flight and
 ends the workers with :meth:`RenderPool.close`.
 """
@@ -43,11 +44,13 @@ from robin_sim.render.worker import (
     FrameState,
     RenderedFrame,
     RenderPoolError,
+    SecondView,
     apply_state,
     check_state,
+    second_renderer,
     warmed_renderer,
 )
-from robin_sim.render.worker_start import blocked_signals, start_worker
+from robin_sim.render.worker_start import ignored_for_children, start_worker
 
 
 def default_workers() -> int:
@@ -92,6 +95,7 @@ class RenderPool(ClosesOnExit):
         finish: FinishHook | None = None,
         render_threads: int | None = None,
         reflections: bool = True,
+        second: SecondView | None = None,
     ) -> None:
         workers = default_workers() if workers is None else workers
         for name, value, least in (
@@ -110,10 +114,16 @@ class RenderPool(ClosesOnExit):
         check_frame_size(self._model, width, height)
         camera_id(self._model, camera)
         self._local: FrameRenderer | None = None
+        self._local_second: FrameRenderer | None = None
+        self.second = second
+        if second is not None:
+            camera_id(self._model, second.camera)
         if workers == 0:
             self._local = warmed_renderer(
                 self._model, (width, height), camera, shadows, reflections
             )
+            if second is not None:
+                self._local_second = second_renderer(self._model, second, shadows)
         self._pending: deque[_Pending] = deque()
         self._ready: deque[RenderedFrame] = deque()
         self._submitted = 0
@@ -137,10 +147,11 @@ class RenderPool(ClosesOnExit):
                         finish,
                         render_threads,
                         reflections,
+                        second,
                     ),
                     daemon=True,
                 )
-                with blocked_signals():  # the worker starts with Ctrl-C held back
+                with ignored_for_children():  # the worker starts deaf to Ctrl-C
                     process.start()
                 child.close()
                 self._processes.append(process)
@@ -161,8 +172,9 @@ class RenderPool(ClosesOnExit):
         """Frames submitted to workers and not yet back (at most :attr:`max_in_flight`)."""
         return len(self._pending)
 
-    def submit(self, state: FrameState, payload: Any = None) -> int:
-        """Queue ``state`` for rendering; return its frame index. Waits while the pool is full."""
+    def submit(self, state: FrameState, payload: Any = None, *, with_second: bool = False) -> int:
+        """Queue ``state`` for rendering (``with_second``: its :class:`SecondView` too); return
+        its frame index. Waits while the pool is full."""
         if self._closed:
             raise RenderPoolError("the render pool is closed; start a new one")
         check_state(self._model, state)
@@ -171,20 +183,23 @@ class RenderPool(ClosesOnExit):
             try:
                 apply_state(self._model, self._data, state)
                 pixels = self._local.render(self._data)
+                small = self._local_second
+                view = small.render(self._data) if with_second and small is not None else None
                 if self._finish is not None:
                     self._finish(pixels, payload)
             except Exception as exc:
                 raise RenderPoolError(
                     f"frame {index} (t = {state.time:.3f} s) failed: {type(exc).__name__}: {exc}"
                 ) from exc
-            self._ready.append(RenderedFrame(index, state.time, pixels, payload))
+            self._ready.append(RenderedFrame(index, state.time, pixels, payload, view))
             self._submitted += 1
             return index
         while len(self._pending) >= self.max_in_flight:
             self._collect_oldest()
         worker = index % self.workers
         try:
-            self._conns[worker].send((index, state, payload if self._finish else None))
+            message = (index, state, payload if self._finish else None, with_second)
+            self._conns[worker].send(message)
         except OSError:
             process = self._processes[worker]
             process.join(1.0)
@@ -218,9 +233,9 @@ class RenderPool(ClosesOnExit):
     def _collect_oldest(self) -> None:
         oldest = self._pending[0]
         when = f"on frame {oldest.index} (t = {oldest.time:.3f} s)"
-        pixels = self._receive(oldest.worker, FRAME_TIMEOUT_S, when, oldest.index)
+        pixels, view = self._receive(oldest.worker, FRAME_TIMEOUT_S, when, oldest.index)
         self._pending.popleft()
-        self._ready.append(RenderedFrame(oldest.index, oldest.time, pixels, oldest.payload))
+        self._ready.append(RenderedFrame(oldest.index, oldest.time, pixels, oldest.payload, view))
 
     def _receive(self, worker: int, timeout: float, when: str, index: int = -1) -> Any:
         """The next reply of ``worker``; raises :class:`RenderPoolError` (and closes) on trouble."""
@@ -261,6 +276,7 @@ class RenderPool(ClosesOnExit):
                 process.join(STOP_TIMEOUT_S)
         for conn in self._conns:
             conn.close()
-        if self._local is not None:
-            self._local.close()
-            self._local = None
+        for local in (self._local, self._local_second):
+            if local is not None:
+                local.close()
+        self._local = self._local_second = None

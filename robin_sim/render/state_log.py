@@ -53,8 +53,12 @@ class RecordedStates:
     @property
     def layout(self) -> SceneLayout:
         raw = self.meta["layout"]
-        return SceneLayout(tuple(map(tuple, raw["legs"])), tuple(map(tuple, raw["spots"])),
-                           tuple(raw["handover"]), tuple(raw["bin"]))  # fmt: skip
+        return SceneLayout(
+            tuple(map(tuple, raw["legs"])),
+            tuple(map(tuple, raw["spots"])),
+            tuple(raw["handover"]),
+            tuple(raw["bin"]),
+        )
 
     @property
     def video_frames(self) -> int:
@@ -69,14 +73,23 @@ class RecordedStates:
         """The frames from ``start`` to ``end`` simulated seconds after the first (None: the
         last); :class:`StatesError` when none lies there."""
         t0 = self.states[0].time
-        keep = [i for i, s in enumerate(self.states)
-                if start <= s.time - t0 and (end is None or s.time - t0 <= end)]  # fmt: skip
+        keep = [
+            i
+            for i, s in enumerate(self.states)
+            if start <= s.time - t0 and (end is None or s.time - t0 <= end)
+        ]
         if not keep:
-            raise StatesError(f"no recorded frame lies between {start:g} s and "
-                              f"{'the end' if end is None else f'{end:g} s'}; the run's frames "
-                              f"span 0 to {self.duration:.2f} s")  # fmt: skip
-        return RecordedStates(tuple(self.states[i] for i in keep), self.copies[keep],
-                              tuple(self.overlays[i] for i in keep), self.meta)  # fmt: skip
+            raise StatesError(
+                f"no recorded frame lies between {start:g} s and "
+                f"{'the end' if end is None else f'{end:g} s'}; the run's frames "
+                f"span 0 to {self.duration:.2f} s"
+            )
+        return RecordedStates(
+            tuple(self.states[i] for i in keep),
+            self.copies[keep],
+            tuple(self.overlays[i] for i in keep),
+            self.meta,
+        )
 
 
 class StateLog:
@@ -166,8 +179,9 @@ def load_states(path: Path) -> RecordedStates:
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as problem:
         raise StatesError(f"{path}: not a readable states file ({problem})") from None
     if meta.get("format") != FORMAT:
-        raise StatesError(f"{path}: states format {meta.get('format')!r}; this version reads "
-                          f"format {FORMAT}")  # fmt: skip
+        raise StatesError(
+            f"{path}: states format {meta.get('format')!r}; this version reads format {FORMAT}"
+        )
     geom_frames = list(arrays["geom_frames"])
     states, which = [], -1
     for i, time in enumerate(arrays["time"]):
@@ -175,9 +189,15 @@ def load_states(path: Path) -> RecordedStates:
             which += 1
         shapes = [arrays[name][which] for name in _GEOM[1:]]
         has_shapes = shapes[0].shape[-1] != 0
-        states.append(FrameState(
-            float(time), arrays["qpos"][i], arrays["mocap_pos"][i], arrays["mocap_quat"][i],
-            arrays["geom_rgba"][which], *(shapes if has_shapes else (None, None, None)),
-        ))  # fmt: skip
+        states.append(
+            FrameState(
+                float(time),
+                arrays["qpos"][i],
+                arrays["mocap_pos"][i],
+                arrays["mocap_quat"][i],
+                arrays["geom_rgba"][which],
+                *(shapes if has_shapes else (None, None, None)),
+            )
+        )
     index = arrays["overlay_index"]
     return RecordedStates(tuple(states), arrays["copies"], tuple(overlays[k] for k in index), meta)

@@ -135,8 +135,6 @@ class Mp4Writer(ClosesOnExit):
             self.frames_written = count_frames(self.path)
 
 
-
-
 def count_frames(path: str | os.PathLike[str]) -> int:
     """Video frames a file holds (packets read, nothing decoded); 0 if it does not open."""
     try:

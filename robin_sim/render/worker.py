@@ -7,6 +7,7 @@ into a worker's own model and data; :func:`worker_main` is the loop each worker 
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import traceback
@@ -20,7 +21,7 @@ import numpy as np
 
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
-from robin_sim.render.renderer import FrameRenderer, RenderError
+from robin_sim.render.renderer import FrameRenderer, RenderError, camera_id
 from robin_sim.render.worker_signals import SIGNALS
 
 FinishHook = Callable[[np.ndarray, Any], object]  # finish(frame, payload), edits frame in place
@@ -56,19 +57,38 @@ class FrameState:
     @classmethod
     def capture(cls, model: mujoco.MjModel, data: mujoco.MjData) -> FrameState:
         """Copy the state of ``model``/``data`` now (later changes do not reach the frame)."""
-        copies = (data.qpos, data.mocap_pos, data.mocap_quat, model.geom_rgba, model.geom_pos,
-                  model.geom_quat, model.geom_size)  # fmt: skip
+        copies = (
+            data.qpos,
+            data.mocap_pos,
+            data.mocap_quat,
+            model.geom_rgba,
+            model.geom_pos,
+            model.geom_quat,
+            model.geom_size,
+        )
         return cls(float(data.time), *(array.copy() for array in copies))
 
 
 @dataclass(frozen=True, slots=True)
+class SecondView:
+    """A second, smaller view of the same state, rendered with the frames that ask for it
+    (the episode's eye inset): by the same worker, from the same ``MjData``, at its own size."""
+
+    camera: str
+    size: tuple[int, int]  # (width, height)
+    reflections: bool = False  # off: halves a small view's cost, which is mostly geometry
+
+
+@dataclass(frozen=True, slots=True)
 class RenderedFrame:
-    """Frame ``index`` (0-based submission order) of time ``time``, with its payload."""
+    """Frame ``index`` (0-based submission order) of time ``time``, with its payload (and the
+    pool's :class:`SecondView` of the same state, when the frame asked for it)."""
 
     index: int
     time: float
     pixels: np.ndarray  # (H, W, 3) uint8, writable
     payload: Any
+    second: np.ndarray | None = None  # (h, w, 3) uint8
 
 
 def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -> None:
@@ -105,6 +125,12 @@ def warmed_renderer(
     return renderer
 
 
+def second_renderer(model: mujoco.MjModel, view: SecondView, shadows: bool) -> FrameRenderer:
+    """A warmed renderer of ``view`` (its camera checked against ``model``)."""
+    camera_id(model, view.camera)
+    return warmed_renderer(model, view.size, view.camera, shadows, view.reflections)
+
+
 def check_state(model: mujoco.MjModel, state: FrameState) -> None:
     """Raise :class:`RenderPoolError` when ``state`` does not fit the pool's scene."""
     nmocap = model.nmocap
@@ -127,8 +153,10 @@ def worker_main(
     finish: FinishHook | None,
     render_threads: int | None,
     reflections: bool = True,
+    second: SecondView | None = None,
 ) -> None:
-    """Worker loop: receive (index, state, payload), reply ("frame", index, pixels) or error."""
+    """Worker loop: receive (index, state, payload, with_second), reply ("frame", index,
+    (pixels, second view or None)) or an error."""
     for signum in SIGNALS:  # the main process handles Ctrl-C and SIGTERM, and ends us
         signal.signal(signum, signal.SIG_IGN)  # (already, when started by start_worker)
     if render_threads is not None:  # read by Mesa's llvmpipe when the GL context is made
@@ -138,11 +166,14 @@ def worker_main(
         model = build_model(layout)
         data = mujoco.MjData(model)
         renderer = warmed_renderer(model, size, camera, shadows, reflections)
+        small = None if second is None else second_renderer(model, second, shadows)
     except Exception as exc:
         conn.send(("error", -1, f"{type(exc).__name__}: {exc}", traceback.format_exc()))
         return
     conn.send(("ready", -1, None, ""))
-    with renderer:
+    with renderer, contextlib.ExitStack() as stack:
+        if small is not None:
+            stack.enter_context(small)
         while True:
             try:
                 message = conn.recv()
@@ -150,13 +181,14 @@ def worker_main(
                 return
             if message is None:
                 return
-            index, state, payload = message
+            index, state, payload, with_second = message
             try:
                 apply_state(model, data, state)
                 pixels = renderer.render(data)
+                view = small.render(data) if with_second and small is not None else None
                 if finish is not None:
                     finish(pixels, payload)
             except Exception as exc:
                 conn.send(("error", index, f"{type(exc).__name__}: {exc}", traceback.format_exc()))
                 continue
-            conn.send(("frame", index, pixels, ""))
+            conn.send(("frame", index, (pixels, view), ""))

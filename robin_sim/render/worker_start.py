@@ -1,10 +1,13 @@
-"""The first code a render worker process runs: ignore Ctrl-C and SIGTERM, then import the rest.
+"""The first code a render worker process runs, and how the pool starts it deaf to Ctrl-C.
 
-The pool starts workers with both signals blocked (:func:`blocked_signals`, inherited through
-``exec``). This module imports nothing heavy, so no library thread that could accept the
-signal exists yet when :func:`start_worker` sets both to ignored and lifts the block; only then
-are MuJoCo and the renderer imported. A Ctrl-C sent to the whole process group at any moment
-therefore reaches only the main process, which ends the workers itself.
+A spawned worker is a fresh Python interpreter: before any of our code runs, it imports its
+standard library and unpickles its arguments (MuJoCo included), for a second or more on a busy
+machine. A SIGINT to the process group in that time used to raise ``KeyboardInterrupt`` inside
+those imports (the worker exited with code 1 "while starting"). Blocking the signals does not
+help: the blocked mask does not survive the spawn. An *ignored* disposition does survive
+``exec``, and Python leaves an ignored SIGINT ignored at start-up, so the pool starts each worker
+inside :func:`ignored_for_children`. :func:`start_worker` sets both signals to ignored again
+(they stay so) and only then imports MuJoCo and the renderer; the main process ends the workers.
 """
 
 from __future__ import annotations
@@ -18,26 +21,43 @@ from typing import Any
 from robin_sim.render.worker_signals import SIGNALS
 
 
-@contextlib.contextmanager
-def blocked_signals() -> Iterator[None]:
-    """SIGINT and SIGTERM blocked in this thread inside; processes started here inherit it.
+def _deliver_pending() -> None:
+    """Let a signal that is waiting (blocked) reach this process's handler now."""
+    if set(signal.sigpending()) & set(SIGNALS):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
+        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
 
-    This process loses nothing: another of its threads takes a signal that comes meanwhile
-    and Python runs the handler in the main thread as usual.
+
+@contextlib.contextmanager
+def ignored_for_children() -> Iterator[None]:
+    """Inside, processes started by this thread begin with SIGINT and SIGTERM ignored.
+
+    This process loses nothing: both signals are blocked in this thread meanwhile, and the
+    kernel keeps a blocked signal pending even while its disposition is "ignore"; when the
+    handlers are restored and the block lifted, it is delivered as usual. One that was already
+    pending is delivered first. (A signal taken by another thread of this process while inside
+    would be ignored; the episode starts its pool from its only thread.) Outside the main
+    thread (the live server's session thread) Python cannot set handlers: there only the block
+    applies, as before, and a worker is deaf to the signals from :func:`start_worker` on.
     """
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
+    previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
+    previous: dict[signal.Signals, Any] = {}
     try:
+        if threading.current_thread() is threading.main_thread():  # else: only the block
+            _deliver_pending()  # (Python sets handlers in the main thread only, e.g. not in
+            for signum in SIGNALS:  # the live server's session thread)
+                previous[signum] = signal.signal(signum, signal.SIG_IGN)
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
 
 
 def start_worker(*args: Any) -> None:
-    """Process target of a render worker: ignore the signals, then run the worker loop."""
-    if threading.current_thread() is threading.main_thread():
-        for signum in SIGNALS:
-            signal.signal(signum, signal.SIG_IGN)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
+    """Process target of a render worker: keep the signals ignored, then run the worker loop."""
+    for signum in SIGNALS:
+        signal.signal(signum, signal.SIG_IGN)
     from robin_sim.render.worker import worker_main  # MuJoCo and GL: only now
 
     worker_main(*args)

@@ -19,8 +19,10 @@ def states_file(folder: Path) -> Path:
     """``folder``'s states file; :class:`ReplayError` naming the problem and what to give."""
     folder = Path(folder)
     if not folder.exists():
-        raise ReplayError(f"DIR {quote(str(folder))} does not exist; give an episode's --out "
-                          "folder or a live session's folder")  # fmt: skip
+        raise ReplayError(
+            f"DIR {quote(str(folder))} does not exist; give an episode's --out "
+            "folder or a live session's folder"
+        )
     if not folder.is_dir():
         raise ReplayError(
             f"DIR {quote(str(folder))} is a file; give the folder that holds {STATES_NAME} "
@@ -33,12 +35,16 @@ def states_file(folder: Path) -> Path:
     if inside:
         names = ", ".join(quote(str(p)) for p in inside[:MAX_LISTED])
         more = f" and {len(inside) - MAX_LISTED} more" if len(inside) > MAX_LISTED else ""
-        raise ReplayError(f"DIR {quote(str(folder))} holds {len(inside)} recorded runs; give "
-                          f"one of them: {names}{more}")  # fmt: skip
+        raise ReplayError(
+            f"DIR {quote(str(folder))} holds {len(inside)} recorded runs; give "
+            f"one of them: {names}{more}"
+        )
     if (folder / SUMMARY_NAME).is_file():
-        raise ReplayError(f"DIR {quote(str(folder))} has no {STATES_NAME}: the run was made "
-                          "without video (--no-video, --no-video on live) or by a version "
-                          "without replay; run it again with video to replay it")  # fmt: skip
+        raise ReplayError(
+            f"DIR {quote(str(folder))} has no {STATES_NAME}: the run was made "
+            "without video (--no-video, --no-video on live) or by a version "
+            "without replay; run it again with video to replay it"
+        )
     raise ReplayError(
         f"DIR {quote(str(folder))} is not a run's folder (no {SUMMARY_NAME}, no {STATES_NAME}); "
         "give an episode's --out folder or a live session's"
@@ -51,8 +57,10 @@ def output_file(out: Path) -> Path:
     if out.suffix.lower() != ".mp4":
         raise ReplayError(f"--out {quote(str(out))}: give a file name ending in .mp4")
     if out.exists():
-        raise ReplayError(f"--out {quote(str(out))} exists already; a replay never overwrites "
-                          "a file: give another name")  # fmt: skip
+        raise ReplayError(
+            f"--out {quote(str(out))} exists already; a replay never overwrites "
+            "a file: give another name"
+        )
     if not out.parent.is_dir():
         raise ReplayError(f"--out {quote(str(out))}: folder {quote(str(out.parent))} not found")
     return out

@@ -5,7 +5,10 @@ reflections), and gets what the run drew on it: the episode's overlay and eye in
 live stream's eye inset, spot rings and leg numbers. Frames come out pixel-identical to the
 run's (the renderers are deterministic after their warm-up), so the MP4 matches the original
 up to H.264 encoding.
-One exception: frames where the vision detector's inset showed a reading get the live eye view.
+An episode's eye inset is rendered by the render workers as the episode's was (a second view,
+refreshed where the run refreshed it, the last view repeated between); a live stream's in this
+process. One exception: frames where the vision detector's inset showed a reading get the
+live eye view, and a frame rendered alone (scrubbing) gets its own eye view.
 """
 
 from __future__ import annotations
@@ -20,11 +23,13 @@ from typing import Any
 import numpy as np
 
 from robin_sim.closing import ClosesOnExit
-from robin_sim.render.inset import INSET_LABEL, EyeInset, draw_eye_inset
+from robin_sim.model.names import EYE_CAMERA
+from robin_sim.render.inset import HELD_EYE, INSET_LABEL, EyeInset, draw_eye_inset, inset_size
 from robin_sim.render.overlay import OverlayInfo, draw_overlay
 from robin_sim.render.pool import RenderPool
 from robin_sim.render.state_log import RecordedStates
 from robin_sim.render.video import Mp4Writer
+from robin_sim.render.worker import SecondView
 
 
 @dataclass(frozen=True)
@@ -40,9 +45,15 @@ class ReplayResult:
     approximate: int  # frames whose inset showed a vision reading (replayed with the live eye)
 
     def as_dict(self) -> dict[str, object]:
-        return {"path": str(self.path), "frames_rendered": self.frames_rendered,
-                "video_frames": self.video_frames, "fps": self.fps, "size": list(self.size),
-                "wall_s": round(self.wall_s, 3), "approximate": self.approximate}  # fmt: skip
+        return {
+            "path": str(self.path),
+            "frames_rendered": self.frames_rendered,
+            "video_frames": self.video_frames,
+            "fps": self.fps,
+            "size": list(self.size),
+            "wall_s": round(self.wall_s, 3),
+            "approximate": self.approximate,
+        }
 
 
 class ReplayRenderer(ClosesOnExit):
@@ -57,10 +68,24 @@ class ReplayRenderer(ClosesOnExit):
         shadows, reflections = bool(meta["shadows"]), bool(meta["reflections"])
         self.spots = [tuple(xy) for xy in meta["spots"]]
         self.eye: EyeInset | None = None
-        self.pool = RenderPool(layout, width, height, meta["camera"], shadows, workers=workers,
-                               reflections=reflections)  # fmt: skip
+        # an episode's inset: the workers' second view, as recorded (robin_sim.episode.recorder)
+        second = None
+        if meta["eye_inset"] and meta.get("kind") == "episode":
+            second = SecondView(EYE_CAMERA, inset_size(width, height))
+        self.second = second
+        self._last_eye: np.ndarray | None = None
+        self.pool = RenderPool(
+            layout,
+            width,
+            height,
+            meta["camera"],
+            shadows,
+            workers=workers,
+            reflections=reflections,
+            second=second,
+        )
         try:
-            if meta["eye_inset"]:
+            if meta["eye_inset"] and second is None:
                 self.eye = EyeInset(layout, width, height, shadows, reflections)
         except BaseException:
             self.pool.close()
@@ -72,12 +97,15 @@ class ReplayRenderer(ClosesOnExit):
 
             self.picker = Picker(layout, width, height)
 
-    def submit(self, index: int) -> None:
-        """Start rendering frame ``index``."""
+    def submit(self, index: int, alone: bool = False) -> None:
+        """Start rendering frame ``index`` (``alone``: out of sequence, with its own eye view)."""
         state = self.recorded.states[index]
         if self.eye is not None:
             self._eyes.append(self.eye.render(state))
-        self.pool.submit(state, index)
+        overlay = self.recorded.overlays[index]
+        held = overlay is not None and overlay.get("eye") == HELD_EYE
+        with_eye = self.second is not None and (alone or not held or self._last_eye is None)
+        self.pool.submit(state, index, with_second=with_eye)
 
     def finished(self, wait: bool = False) -> Iterator[tuple[int, np.ndarray]]:
         """(index, pixels) of the frames rendered so far (``wait``: all submitted), in order."""
@@ -90,6 +118,10 @@ class ReplayRenderer(ClosesOnExit):
                 draw_overlay(pixels, OverlayInfo(**{**overlay["info"], "sim_time": frame.time}))
             if self.eye is not None:
                 draw_eye_inset(pixels, self._eyes.popleft(), INSET_LABEL)
+            if frame.second is not None:
+                self._last_eye = frame.second
+            if self.second is not None and self._last_eye is not None:
+                draw_eye_inset(pixels, self._last_eye, INSET_LABEL)
             if self.spots:
                 draw_spots(pixels, self.spots)
             if self.picker is not None:
@@ -99,7 +131,7 @@ class ReplayRenderer(ClosesOnExit):
 
     def render(self, index: int) -> np.ndarray:
         """Frame ``index`` alone (waits for it)."""
-        self.submit(index)
+        self.submit(index, alone=True)
         return next(pixels for _, pixels in self.finished(wait=True))
 
     def close(self) -> None:
@@ -134,6 +166,14 @@ def replay_to_mp4(recorded: RecordedStates, out: Path, workers: int = 0) -> Repl
                 writer.write(pixels)
             rendered += 1
             written += copies
-    approximate = sum(1 for o in recorded.overlays if o and o.get("eye") not in (None, INSET_LABEL))
-    return ReplayResult(out, rendered, written, int(meta["fps"]), (width, height),
-                        time.perf_counter() - started, approximate)  # fmt: skip
+    exact = (None, INSET_LABEL, HELD_EYE)  # what the replay draws as the run did
+    approximate = sum(1 for o in recorded.overlays if o and o.get("eye") not in exact)
+    return ReplayResult(
+        out,
+        rendered,
+        written,
+        int(meta["fps"]),
+        (width, height),
+        time.perf_counter() - started,
+        approximate,
+    )

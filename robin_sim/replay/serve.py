@@ -53,8 +53,11 @@ class FrameSource:
 
             self._renderer = ReplayRenderer(self.recorded)
         pixels = self._renderer.render(index)
-        ok, data = cv2.imencode(".jpg", cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
-                                [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])  # fmt: skip
+        ok, data = cv2.imencode(
+            ".jpg",
+            cv2.cvtColor(pixels, cv2.COLOR_RGB2BGR),
+            [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY],
+        )
         if not ok:  # pragma: no cover - OpenCV fails only on a bad image
             raise RuntimeError(f"JPEG encoding of frame {index} failed")
         self._cache[index] = data.tobytes()
@@ -79,26 +82,34 @@ def replay_app(recorded: RecordedStates, source: FrameSource, port: int) -> web.
     """The page's application; only ``Host`` 127.0.0.1:``port`` / localhost:``port`` pass."""
     hosts = {f"127.0.0.1:{port}", f"localhost:{port}"}
     t0 = recorded.states[0].time
-    meta = {"kind": recorded.meta.get("kind"), "size": recorded.meta["size"],
-            "fps": recorded.meta["fps"], "frames": len(recorded.states),
-            "times": [round(s.time - t0, 4) for s in recorded.states]}  # fmt: skip
+    meta = {
+        "kind": recorded.meta.get("kind"),
+        "size": recorded.meta["size"],
+        "fps": recorded.meta["fps"],
+        "frames": len(recorded.states),
+        "times": [round(s.time - t0, 4) for s in recorded.states],
+    }
 
     @web.middleware
     async def guard(request: web.Request, handler: Any) -> web.StreamResponse:
         if request.host not in hosts:
-            return web.Response(status=403, text="403: this server answers only "
-                                f"http://127.0.0.1:{port}/\n")  # fmt: skip
+            return web.Response(
+                status=403, text=f"403: this server answers only http://127.0.0.1:{port}/\n"
+            )
         response = await handler(request)
         response.headers.update(HEADERS)
         return response
 
     async def index(_: web.Request) -> web.Response:
-        return web.Response(text=(STATIC_DIR / "replay.html").read_text(encoding="utf-8"),
-                            content_type="text/html")  # fmt: skip
+        return web.Response(
+            text=(STATIC_DIR / "replay.html").read_text(encoding="utf-8"), content_type="text/html"
+        )
 
     async def script(_: web.Request) -> web.Response:
-        return web.Response(text=(STATIC_DIR / "replay.js").read_text(encoding="utf-8"),
-                            content_type="text/javascript")  # fmt: skip
+        return web.Response(
+            text=(STATIC_DIR / "replay.js").read_text(encoding="utf-8"),
+            content_type="text/javascript",
+        )
 
     async def meta_json(_: web.Request) -> web.Response:
         return web.Response(text=json.dumps(meta), content_type="application/json")
@@ -117,13 +128,18 @@ def replay_app(recorded: RecordedStates, source: FrameSource, port: int) -> web.
     return app
 
 
-async def serve_replay(recorded: RecordedStates, sock: socket.socket,
-                       stop: asyncio.Event | None = None) -> None:  # fmt: skip
+async def serve_replay(
+    recorded: RecordedStates, sock: socket.socket, stop: asyncio.Event | None = None
+) -> None:
     """Serve on the listening ``sock`` until ``stop`` is set (or the task is cancelled)."""
     port = sock.getsockname()[1]
     source = FrameSource(recorded)
-    runner = web.AppRunner(replay_app(recorded, source, port), access_log=None,
-                           handle_signals=False, shutdown_timeout=1.0)  # fmt: skip
+    runner = web.AppRunner(
+        replay_app(recorded, source, port),
+        access_log=None,
+        handle_signals=False,
+        shutdown_timeout=1.0,
+    )
     await runner.setup()
     try:
         await web.SockSite(runner, sock).start()

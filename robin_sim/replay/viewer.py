@@ -14,9 +14,11 @@ DISPLAY_VARIABLES = ("DISPLAY", "WAYLAND_DISPLAY")
 def check_display() -> None:
     """:class:`ReplayError` when no display is there for the viewer's window."""
     if not any(os.environ.get(name) for name in DISPLAY_VARIABLES):
-        raise ReplayError("--viewer needs a display (neither DISPLAY nor WAYLAND_DISPLAY is "
-                          "set); without one, render the replay to an MP4: robin-pil replay "
-                          "DIR [--out FILE.mp4]")  # fmt: skip
+        raise ReplayError(
+            "--viewer needs a display (neither DISPLAY nor WAYLAND_DISPLAY is "
+            "set); without one, render the replay to an MP4: robin-pil replay "
+            "DIR [--out FILE.mp4]"
+        )
 
 
 def replay_in_viewer(recorded: RecordedStates, speed: float = 1.0) -> int:

@@ -51,6 +51,7 @@ RETREAT_HEIGHT = 0.10  # m the hand rises after letting go of a leg
 # (measured: up to 2.4 cm off the spot instead of at most 1.2 cm).
 EASE_RAMP, EASE_HOLD, OPEN_RAMP = 0.4, 0.3, 0.6
 HEIGHT_TOLERANCE = 0.01  # m: a released leg's centre vs radius above its supporting surface
+GRASP_SETTLE = 0.3  # s a closed hand waits, at most, for the sensor to read a grasp
 
 
 @dataclass
@@ -127,9 +128,16 @@ class RobotAction(ABC):
     def undone_after_stop(self, result: ActionResult, ctx: Context, detail: str) -> ActionResult:
         """``result`` marked as stopped by the person after its end and taken back."""
         return ActionResult(
-            self.action, False, True, f"rejected at its end; {detail}", result.started,
-            ctx.sim.time, result.measurements, True, result.dropped,
-        )  # fmt: skip
+            self.action,
+            False,
+            True,
+            f"rejected at its end; {detail}",
+            result.started,
+            ctx.sim.time,
+            result.measurements,
+            True,
+            result.dropped,
+        )
 
 
 def _lost(ctx: Context, held: int | None) -> int | None:
@@ -148,10 +156,14 @@ class MoveAction(RobotAction):
         clearance_z: float,
         speed: float = DEFAULT_SPEED,
         release_point: np.ndarray | None = None,
+        open_hand: bool = False,
     ) -> None:
         self.action, self.target_name, self.goal = action, target_name, goal
         self.clearance_z, self.speed = clearance_z, speed
         self.release_point = release_point  # where a held leg's centre should end, if any
+        # a grasp approach: an empty hand that is not open (e.g. closed again after a leg
+        # slipped out of it) opens on the way, or it would arrive closed beside the leg
+        self.open_hand = open_hand
         self.plan: JointPlan | None = None
 
     def prepare(self, ctx: Context) -> None:
@@ -172,6 +184,9 @@ class MoveAction(RobotAction):
         self._start_q, start_site = sim.arm_command, sim.site_pose().translation()
         held = ctx.held_leg()
         offset = None if held is None else leg_offset_in_site(ctx, held)
+        opened = sim.hand.targets.open
+        if self.open_hand and held is None and not np.allclose(sim.hand.command, opened):
+            sim.hand.move_to(opened, sim.time, OPEN_RAMP)  # while the arm lifts
         played = play(sim, self.plan, stop)
         if played is not None:  # the person stopped it: halt, then back from where it is
             halted = sim.site_pose().translation()
@@ -189,8 +204,17 @@ class MoveAction(RobotAction):
             if dropped is not None:
                 detail += f"; leg {dropped} dropped on the way"
             m = {"stopped_after_s": played * self.plan.dt, "stop_coast_m": coast}
-            return self.report(False, True, detail, start, ctx, interrupted=True,
-                               dropped=dropped, return_error_m=back, **m)  # fmt: skip
+            return self.report(
+                False,
+                True,
+                detail,
+                start,
+                ctx,
+                interrupted=True,
+                dropped=dropped,
+                return_error_m=back,
+                **m,
+            )
         error = float(np.linalg.norm(sim.site_pose().translation() - self.goal.translation()))
         m = {"site_error_m": error, "duration_s": sim.time - start}
         if _lost(ctx, held) is not None:  # a drop cannot be undone; the arm can
@@ -230,11 +254,20 @@ class CloseAction(RobotAction):
         if not ramp_fingers(sim, sim.hand.targets.closed, 0.8, stop, self.time_limit):
             detail = "stopped by the person; fingers opened again"
             return self.report(False, True, detail, start, ctx, interrupted=True)
+        # one judgement of "held", the hand sensor's (the learner reads the same): contacts
+        # may take a moment to settle into a grasp that moves with the hand
         leg = ctx.held_leg()
+        if leg is None and sim.step_until(lambda _: ctx.held_leg() is not None, GRASP_SETTLE):
+            leg = ctx.held_leg()
         if leg is not None:
             return self.report(True, False, f"holding leg {leg}", start, ctx)
         sim.hand.open(sim.time)
         sim.step_until(fingers_settled, self.time_limit)
+        leg = ctx.held_leg()  # the opening fingers may have caught a leg after all
+        if leg is not None:
+            return self.report(
+                True, False, f"holding leg {leg} (caught as the fingers opened)", start, ctx
+            )
         return self.report(False, True, "closed on nothing; opened again", start, ctx)
 
     def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
@@ -285,8 +318,9 @@ class OpenAction(RobotAction):
             detail = "stopped by the person; fingers closed again"
             if dropped is not None:
                 detail += f", but leg {dropped} had slipped out (dropped)"
-            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
-                               dropped=dropped)  # fmt: skip
+            return self.report(
+                False, dropped is None, detail, start, ctx, interrupted=True, dropped=dropped
+            )
         if leg is None:
             ok = ctx.hand_state() is Hand.FREE
             return self.report(ok, False, "hand open", start, ctx)
@@ -303,8 +337,9 @@ class OpenAction(RobotAction):
             sim.step_until(fingers_settled, self.time_limit)
             dropped = _lost(ctx, leg)
             detail = "stopped by the person while rising; hand back down and closed"
-            return self.report(False, dropped is None, detail, start, ctx, interrupted=True,
-                               dropped=dropped)  # fmt: skip
+            return self.report(
+                False, dropped is None, detail, start, ctx, interrupted=True, dropped=dropped
+            )
         sim.step_until(lambda _: ctx.leg_speed(leg) < self.rest_speed, 2.0)
         speed = ctx.leg_speed(leg)
         centre = ctx.leg_position(leg)

@@ -108,7 +108,8 @@ def make_action(
             (where, axis), name = world.grasp_place(leg), f"leg {leg}"
         height = 0.0 if held is None else FREE_HAND_ABOVE
         goal = grasp_goal(where, axis, current, height)
-        return MoveAction(Action.OBJECT, name, goal, CLEARANCE_Z, world.speed)
+        to_grasp = held is None and name != "the pointed spot"
+        return MoveAction(Action.OBJECT, name, goal, CLEARANCE_Z, world.speed, open_hand=to_grasp)
     if action is Action.HUMAN:
         surface = world.human.palm_centre() if world.palm_is_out() else world.layout.handover
         surface = np.asarray(surface, float)

@@ -7,7 +7,9 @@ read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag.
 
 The world holds the person's mocap hand as a part of the scene (:attr:`PhysicalWorld.human`) but
 never moves it: the person's body (:mod:`robin_sim.person.body`) does. After a wanted "open"
-lets a leg go onto the palm, the robot's hand rises clear; the person then carries the leg away.
+lets a leg go onto the palm (or a spot), the robot's hand rises clear and goes back to its home
+pose (:meth:`PhysicalWorld.rest_hand`: out of the line from its eyes to the person's pointing
+hand); the person then carries a delivered leg away.
 :meth:`PhysicalWorld.start_table` lays out a new table's legs: the legs are put back at the
 layout's poses (a scene change between tables, done only while the hand is empty and never
 during an action) and the arm returns home.
@@ -17,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import mink
 import mujoco
 import numpy as np
 
@@ -26,7 +29,7 @@ from pil.types import Action, Hand
 from robin_sim.control.hand_state import HandSensor
 from robin_sim.control.human_hand import HumanHand
 from robin_sim.control.simulator import HandTargets, Simulator
-from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend
+from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, through
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
@@ -43,6 +46,8 @@ from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace,
 from robin_sim.robot.targets import (
     reach_text,
 )
+
+REST_RISE_Z = 1.0  # m: an empty hand going home rises to at least this height first
 
 
 class PhysicalWorld:
@@ -162,6 +167,8 @@ class PhysicalWorld:
             self._after(action, result, robot_action, release)
         elif result.dropped is not None:
             self.release = None  # the leg is gone from the hand
+            if self.held_leg() is None:
+                self.rest_hand()  # an empty hand left over the palm hides the pointing hand
         self.last_result = result
         self.history.append(result)
         return result.outcome()
@@ -275,3 +282,26 @@ class PhysicalWorld:
             self.release = None
             if release.kind == "palm" and "leg" in result.measurements:
                 self.delivered.append(int(result.measurements["leg"]))
+            if "leg" in result.measurements:
+                self.rest_hand()
+
+    def rest_hand(self) -> float:
+        """Move the empty hand back to its home pose; returns the time it took (s).
+
+        After letting a leg go on the palm or a spot the hand has only risen clear, and there,
+        between Robin's eyes and the person's drawn-back pointing hand, it hid that hand
+        above the left legs and spots from both eyes (``bench/bench_pointing_view.py``); at
+        home it hides none. The same after an action that lost the held leg (an open the person
+        stopped too late): the hand rises to :data:`REST_RISE_Z` if it is lower, then goes
+        straight home, away from the person's palm."""
+        start = self.sim.commanded_site_pose()
+        if np.linalg.norm(start.translation() - self._home_pose.translation()) < 1e-3:
+            return 0.0
+        waypoints = [start]
+        here = start.translation()
+        if here[2] < REST_RISE_Z - 1e-3:  # a hand low over the palm rises first, clear of it
+            up = np.array([here[0], here[1], REST_RISE_Z])
+            waypoints.append(mink.SE3.from_rotation_and_translation(start.rotation(), up))
+        began = self.sim.time
+        self.sim.execute(self.sim.plan(through([*waypoints, self._home_pose], self.speed)))
+        return self.sim.time - began

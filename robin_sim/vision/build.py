@@ -33,8 +33,11 @@ def _jobs(config: BuildConfig) -> list[tuple[str, int]]:
 
 def pending(config: BuildConfig) -> list[tuple[str, int]]:
     """Chunks not rendered yet (or damaged, or drawn from another seed)."""
-    return [job for job in _jobs(config) if not chunk_ready(chunk_path(config.chunks, *job),
-                                                            config.seed)]  # fmt: skip
+    return [
+        job
+        for job in _jobs(config)
+        if not chunk_ready(chunk_path(config.chunks, *job), config.seed)
+    ]
 
 
 def render_all(config: BuildConfig, progress: Callable[[int], None] = lambda n: None) -> int:

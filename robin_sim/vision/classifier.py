@@ -84,8 +84,9 @@ class GestureModel:
                     )
                 layers = int(z["layers"])
                 if not 1 <= layers <= MAX_LAYERS:
-                    raise ModelFileError(f"gesture model {path}: {layers} layers, not 1 to "
-                                         f"{MAX_LAYERS}")  # fmt: skip
+                    raise ModelFileError(
+                        f"gesture model {path}: {layers} layers, not 1 to {MAX_LAYERS}"
+                    )
                 model = cls(
                     mean=z["mean"].astype(np.float64),
                     scale=z["scale"].astype(np.float64),
@@ -117,8 +118,10 @@ class GestureModel:
         inputs = features[0]
         for k, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             if w.ndim != 2 or w.shape[0] != inputs or b.shape != (w.shape[1],):
-                return (f"layer {k}: weights {w.shape} and biases {b.shape} do not take "
-                        f"{inputs} inputs (transposed or cut?)")  # fmt: skip
+                return (
+                    f"layer {k}: weights {w.shape} and biases {b.shape} do not take "
+                    f"{inputs} inputs (transposed or cut?)"
+                )
             inputs = w.shape[1]
         if inputs != len(CLASSES):
             return f"the last layer has {inputs} outputs, not one per class ({len(CLASSES)})"

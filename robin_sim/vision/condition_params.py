@@ -12,11 +12,19 @@ from pil.task.params import ParamSpec
 
 CONDITION_PARAMS: dict[str, ParamSpec] = {
     "lighting": ParamSpec(
-        "lighting", "float", 1.0, "scale of the scene's light for the eye cameras (1: as built)",
-        0.0, 5.0,
+        "lighting",
+        "float",
+        1.0,
+        "scale of the scene's light for the eye cameras (1: as built)",
+        0.0,
+        5.0,
     ),
     "camera_noise": ParamSpec(
-        "camera_noise", "float", 0.0, "sd of the eye cameras' pixel noise, 8-bit units",
-        0.0, 128.0,
+        "camera_noise",
+        "float",
+        0.0,
+        "sd of the eye cameras' pixel noise, 8-bit units",
+        0.0,
+        128.0,
     ),
-}  # fmt: skip
+}

@@ -76,15 +76,17 @@ def measure(
         thumbs, gestures = evaluation.feedback, evaluation.gestures
         discarded = float(gestures[:, -1].sum() / gestures.sum())
         misread_thumbs = float((thumbs[0, 1] + thumbs[1, 0]) / max(thumbs.sum(), 1))
-        rows.append({
-            "lighting": lighting,
-            "camera_noise": noise,
-            "detection_rate": round(evaluation.detection_rate(), 4),
-            "discarded": round(discarded, 4),
-            "feedback_misread": round(misread_thumbs, 4),
-            "hands_found": round(float(split["found"].mean()), 4),
-            "measured_file": str(path),
-        })  # fmt: skip
+        rows.append(
+            {
+                "lighting": lighting,
+                "camera_noise": noise,
+                "detection_rate": round(evaluation.detection_rate(), 4),
+                "discarded": round(discarded, 4),
+                "feedback_misread": round(misread_thumbs, 4),
+                "hands_found": round(float(split["found"].mean()), 4),
+                "measured_file": str(path),
+            }
+        )
     return rows
 
 
@@ -97,10 +99,12 @@ def study_costs(
 
     measured_runs: list[dict[str, object]] = []
 
-    def pil_means(rate: float, detector: str, condition: str = ""
-                  ) -> tuple[float, float, float, float]:  # fmt: skip
-        config = StudyConfig(rates=(rate,), reps=reps, seed=seed, systems=("pil",),
-                             params={"detector": detector})  # fmt: skip
+    def pil_means(
+        rate: float, detector: str, condition: str = ""
+    ) -> tuple[float, float, float, float]:
+        config = StudyConfig(
+            rates=(rate,), reps=reps, seed=seed, systems=("pil",), params={"detector": detector}
+        )
         runs = run_study(config)
         if condition:
             measured_runs.extend({"condition": condition, **r} for r in runs)
@@ -116,18 +120,27 @@ def study_costs(
     for row in rows:
         d = float(row["detection_rate"])
         if d < MIN_STUDY_RATE:  # the person would repeat gestures forever
-            row.update(pil_gestures=None, pil_gestures_sd=None, pil_actions=None,
-                       pil_actions_sd=None)  # fmt: skip
+            row.update(
+                pil_gestures=None, pil_gestures_sd=None, pil_actions=None, pil_actions_sd=None
+            )
             continue
-        g, gs, a, asd = pil_means(round(d, 4), f"measured:{row['measured_file']}",
-                                  tag(float(str(row["lighting"])), float(str(row["camera_noise"]))))
-        row.update(pil_gestures=round(g, 1), pil_gestures_sd=round(gs, 1),
-                   pil_actions=round(a, 1), pil_actions_sd=round(asd, 1))  # fmt: skip
+        g, gs, a, asd = pil_means(
+            round(d, 4),
+            f"measured:{row['measured_file']}",
+            tag(float(str(row["lighting"])), float(str(row["camera_noise"]))),
+        )
+        row.update(
+            pil_gestures=round(g, 1),
+            pil_gestures_sd=round(gs, 1),
+            pil_actions=round(a, 1),
+            pil_actions_sd=round(asd, 1),
+        )
     dice = []
     for rate in DICE_RATES:
         g, gs, a, asd = pil_means(rate, "exact")
-        dice.append({"rate": rate, "gestures": g, "gestures_sd": gs, "actions": a,
-                     "actions_sd": asd})  # fmt: skip
+        dice.append(
+            {"rate": rate, "gestures": g, "gestures_sd": gs, "actions": a, "actions_sd": asd}
+        )
     return rows, dice, measured_runs
 
 
@@ -137,8 +150,14 @@ def condition_tests(runs: list[dict[str, object]]) -> list[dict[str, object]]:
 
     if len({r["condition"] for r in runs}) < 2:
         return []
-    return compare(runs, str(runs[0]["condition"]), compare_by="condition", within=(),
-                   metrics=("gestures", "actions"), pair_by=("rep", "seed"))  # fmt: skip
+    return compare(
+        runs,
+        str(runs[0]["condition"]),
+        compare_by="condition",
+        within=(),
+        metrics=("gestures", "actions"),
+        pair_by=("rep", "seed"),
+    )
 
 
 def _cost(row: dict[str, object], key: str) -> str:
@@ -183,11 +202,18 @@ def write_outputs(
             f"{r['detection_rate']:.1%} | {r['discarded']:.1%} | {r['feedback_misread']:.1%} | "
             f"{_cost(r, 'gestures')} | {_cost(r, 'actions')} |"
         )
-    lines += ["", "Dice (the paper's exact detector) at the same number of repetitions:", "",
-              "| d | PIL gestures | PIL actions |", "|---|---|---|"]  # fmt: skip
+    lines += [
+        "",
+        "Dice (the paper's exact detector) at the same number of repetitions:",
+        "",
+        "| d | PIL gestures | PIL actions |",
+        "|---|---|---|",
+    ]
     for r in dice:
-        lines.append(f"| {r['rate']:g} | {r['gestures']:.1f} ± {r['gestures_sd']:.1f} | "
-                     f"{r['actions']:.1f} ± {r['actions_sd']:.1f} |")  # fmt: skip
+        lines.append(
+            f"| {r['rate']:g} | {r['gestures']:.1f} ± {r['gestures_sd']:.1f} | "
+            f"{r['actions']:.1f} ± {r['actions_sd']:.1f} |"
+        )
     extra: list[Path] = []
     tests = condition_tests(runs or [])
     if runs:
@@ -196,25 +222,45 @@ def write_outputs(
     if tests:
         extra.append(out / "tests.csv")
         extra[-1].write_text(csv_text(tests, csv_columns(())))
-        lines += ["", f"## Each condition against {tests[0]['system_a']} (PIL, test tables)",
-                  "", describe_tests(tests) + " All rows in `tests.csv`.", "",
-                  tests_markdown(tests, ())]  # fmt: skip
+        lines += [
+            "",
+            f"## Each condition against {tests[0]['system_a']} (PIL, test tables)",
+            "",
+            describe_tests(tests) + " All rows in `tests.csv`.",
+            "",
+            tests_markdown(tests, ()),
+        ]
     report = out / "conditions.md"
     report.write_text("\n".join(lines) + "\n")
     figure = out / "conditions.png"
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     for ax, key in zip(axes, ("gestures", "actions"), strict=True):
-        ax.errorbar([r["rate"] for r in dice], [r[key] for r in dice],
-                    yerr=[r[f"{key}_sd"] for r in dice], color="grey", marker="o",
-                    label="dice (paper's detector)")  # fmt: skip
+        ax.errorbar(
+            [r["rate"] for r in dice],
+            [r[key] for r in dice],
+            yerr=[r[f"{key}_sd"] for r in dice],
+            color="grey",
+            marker="o",
+            label="dice (paper's detector)",
+        )
         for lighting in sorted({float(r["lighting"]) for r in rows}, reverse=True):
             sel = [r for r in rows if r["lighting"] == lighting and r["pil_gestures"] is not None]
-            ax.errorbar([r["detection_rate"] for r in sel], [r[f"pil_{key}"] for r in sel],
-                        yerr=[r[f"pil_{key}_sd"] for r in sel], marker="s", linestyle="none",
-                        label=f"cameras, light x{lighting:g}")  # fmt: skip
+            ax.errorbar(
+                [r["detection_rate"] for r in sel],
+                [r[f"pil_{key}"] for r in sel],
+                yerr=[r[f"pil_{key}_sd"] for r in sel],
+                marker="s",
+                linestyle="none",
+                label=f"cameras, light x{lighting:g}",
+            )
             for r in sel:
-                ax.annotate(f"n{r['camera_noise']:g}", (r["detection_rate"], r[f"pil_{key}"]),
-                            fontsize=7, xytext=(3, 3), textcoords="offset points")  # fmt: skip
+                ax.annotate(
+                    f"n{r['camera_noise']:g}",
+                    (r["detection_rate"], r[f"pil_{key}"]),
+                    fontsize=7,
+                    xytext=(3, 3),
+                    textcoords="offset points",
+                )
         ax.set_xlabel("gesture detection rate d")
         ax.set_ylabel(f"PIL {key} (10 tables)")
         ax.grid(alpha=0.3)

@@ -6,7 +6,9 @@ seven), where the hand is (above a leg or a table spot as when pointing, or anyw
 holds it), its performance (pose jitter, hand size, skin tone), the aim's error and the
 condition (light intensity and direction, sensor noise, blur). The *training* split and the
 *held-out* split draw skin tones and light from disjoint ranges (:data:`SPLITS`), so the
-held-out accuracy measures conditions never trained on.
+held-out accuracy measures conditions never trained on. ``jitter`` (scale of the pose jitter)
+and ``lift`` (m the hand is held above its place) are drawn too, fixed at 1 and 0 in every
+split today; the factor bench (:mod:`robin_sim.vision.factors`) sets them per level.
 
 A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels,
 per-sample conditions and the seed it was drawn from; finished chunks are kept, so an
@@ -47,8 +49,11 @@ class Ranges:
     light_tilt: tuple[tuple[float, float], ...]
     camera_noise: tuple[float, float] = (0.0, 10.0)
     blur: tuple[float, float] = (0.0, 0.8)
+    jitter: tuple[float, float] = (1.0, 1.0)  # scale of the performance's pose jitter
+    lift: tuple[float, float] = (0.0, 0.0)  # m the hand is held higher than its place
 
 
+WHOLE_SKIN = ((0.0, 4.0),)  # every tone of the five-tone scale (hand_poses.SKIN_TONES)
 SPLITS: dict[str, Ranges] = {
     "train": Ranges(
         skin=((0.0, 1.3), (2.7, 4.0)), lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)
@@ -58,14 +63,16 @@ SPLITS: dict[str, Ranges] = {
     ),
     # the condition sweep (robin_sim.vision.conditions): every skin tone, the light and noise
     # set per condition
-    "sweep": Ranges(skin=((0.0, 4.0),), lighting=((1.0, 1.0),), light_tilt=((0.0, 0.5),)),
+    "sweep": Ranges(skin=WHOLE_SKIN, lighting=((1.0, 1.0),), light_tilt=((0.0, 0.5),)),
 }
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
 # and spots plus the hand's pointing offset), or anywhere in the person's working box.
 POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
-PLACES = np.array([[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
-                  + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)])  # fmt: skip
+PLACES = np.array(
+    [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
+    + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
+)
 BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.08]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 
@@ -92,6 +99,13 @@ class SampleSpec:
     camera_noise: float
     blur: float
     seed: int  # for the performance and the noise
+    jitter: float = 1.0  # scale of the pose jitter (hand_poses.Performance.draw)
+    lift: float = 0.0  # m the hand is held higher than ``hand``
+
+    @property
+    def held_at(self) -> np.ndarray:
+        """Where the hand is held (mocap position, m): ``hand`` raised by ``lift``."""
+        return self.hand + np.array([0.0, 0.0, self.lift])
 
 
 def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
@@ -113,6 +127,8 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         camera_noise=float(rng.uniform(*ranges.camera_noise)),
         blur=float(rng.uniform(*ranges.blur)),
         seed=int(rng.integers(2**31)),
+        jitter=float(rng.uniform(*ranges.jitter)),
+        lift=float(rng.uniform(*ranges.lift)),
     )
 
 

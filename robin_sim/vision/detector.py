@@ -41,6 +41,7 @@ VISION_PARAMS: dict[str, float] = {name: spec.default for name, spec in CONDITIO
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
 FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
 DISCARDED = "discarded"
+NO_HAND = "no hand"  # a discarded reading in which neither eye found a hand
 READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 
 
@@ -58,8 +59,19 @@ class VisionRecord:
 
     @property
     def discarded(self) -> bool:
-        """Whether the reading was discarded."""
+        """Whether the reading was discarded (no hand found included)."""
         return self.read == DISCARDED
+
+    @property
+    def no_hand(self) -> bool:
+        """Whether neither eye found a hand (such a reading is always discarded)."""
+        return all(box is None for box in self.boxes)
+
+    @property
+    def outcome(self) -> str:
+        """What the reading came to: the pose read, "discarded" (a hand found but the reading
+        unsure or "no gesture") or "no hand" (neither eye found one)."""
+        return NO_HAND if self.no_hand else self.read
 
     def as_dict(self) -> dict[str, object]:
         """Plain values for the episode log."""
@@ -172,9 +184,14 @@ class VisionDetector:
         label, confidence = reading.among(classes)
         kept = label != NO_GESTURE and confidence >= reading.threshold
         record = VisionRecord(
-            kind, pose, label if kept else DISCARDED, label, confidence, reading.boxes,
+            kind,
+            pose,
+            label if kept else DISCARDED,
+            label,
+            confidence,
+            reading.boxes,
             self.sim.time,
-        )  # fmt: skip
+        )
         self.records.append(record)
         return record
 
@@ -202,26 +219,33 @@ class VisionDetector:
 
     # --- the summary ---------------------------------------------------------------------------
     def summary(self) -> dict[str, object]:
-        """The episode summary's ``vision`` block."""
+        """The episode summary's ``vision`` block.
+
+        Each reading has one outcome: read right, ``misread``, ``discarded`` (a hand was found
+        but the reading was unsure or "no gesture") or ``no_hand`` (neither eye found a hand);
+        per kind the four add up to the readings. ``confusion`` has the same columns.
+        """
         gestures = [r for r in self.records if r.kind == "gesture"]
         thumbs = [r for r in self.records if r.kind == "feedback" and r.shown in FEEDBACK_OF]
         confusion: dict[str, dict[str, int]] = {}
         for record in self.records:
             row = confusion.setdefault(record.shown, {})
-            row[record.read] = row.get(record.read, 0) + 1
+            row[record.outcome] = row.get(record.outcome, 0) + 1
         right = sum(r.read == r.shown for r in gestures)
         return {
             "lighting": self.condition.lighting,
             "camera_noise": self.condition.camera_noise,
             "gestures_read": len(gestures),
             "detection_rate": right / len(gestures) if gestures else None,
-            "discarded": sum(r.discarded for r in gestures),
+            "discarded": sum(r.outcome == DISCARDED for r in gestures),
+            "no_hand": sum(r.no_hand for r in gestures),
             "misread": sum(not r.discarded and r.read != r.shown for r in gestures),
             "feedback_read": len(thumbs),
             "feedback_misread": sum(not r.discarded and r.read != r.shown for r in thumbs),
-            "feedback_discarded": sum(r.discarded for r in thumbs),
+            "feedback_discarded": sum(r.outcome == DISCARDED for r in thumbs),
+            "feedback_no_hand": sum(r.no_hand for r in thumbs),
             "confusion": confusion,
-            "reads": dict(Counter(r.read for r in self.records)),
+            "reads": dict(Counter(r.outcome for r in self.records)),
         }
 
     def close(self) -> None:

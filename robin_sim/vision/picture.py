@@ -68,7 +68,5 @@ def reading_picture(
         cv2.rectangle(picture, (x0, y0), (x1, y1), colour, thickness)
     font_scale = 0.7 * height / 112
     baseline = height - max(2, round(3 * height / 112))  # the bottom line: hands are central
-    cv2.putText(
-        picture, text, (left + 2, baseline), FONT, font_scale, colour, 1, cv2.LINE_AA
-    )  # fmt: skip
+    cv2.putText(picture, text, (left + 2, baseline), FONT, font_scale, colour, 1, cv2.LINE_AA)
     return picture

@@ -56,8 +56,8 @@ class SampleRenderer:
         """Per-eye features (None: no hand found) and the left eye's IoU with the truth."""
         rng = np.random.default_rng(spec.seed)
         pose = POSE_OF[CLASSES[spec.label]]
-        performance = Performance.draw(rng, skin_range=(spec.skin, spec.skin))
-        self.data.mocap_pos[self.mocap] = spec.hand
+        performance = Performance.draw(rng, jitter=spec.jitter, skin_range=(spec.skin, spec.skin))
+        self.data.mocap_pos[self.mocap] = spec.held_at
         self.display.show(pose, performance)
         mujoco.mj_kinematics(self.model, self.data)
         target = self.data.site(names.HUMAN_PALM_SITE).xpos + spec.aim_error
@@ -118,7 +118,9 @@ def render_chunk(
         spec = replace(sample_spec(seed, split, index), **(overrides or {}))
         features, iou = _RENDERER.render(spec)
         ious.append(iou)
-        conditions.append([spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise])
+        conditions.append(
+            [spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise, spec.jitter, spec.lift]
+        )
         for eye, f in enumerate(features):
             rows.append(np.zeros(FEATURE_COUNT, np.float32) if f is None else f)
             found.append(f is not None)

@@ -17,8 +17,14 @@ if TYPE_CHECKING:
     from robin_sim.vision.build_config import BuildConfig
 
 # the pil names of the classes (measured files speak the learner's language)
-PIL_NAMES = {"pointing": "pointing", "give_me": "give me", "grasp": "grasp", "release": "release",
-             "thumb_up": "OK", "thumb_down": "not OK"}  # fmt: skip
+PIL_NAMES = {
+    "pointing": "pointing",
+    "give_me": "give me",
+    "grasp": "grasp",
+    "release": "release",
+    "thumb_up": "OK",
+    "thumb_down": "not OK",
+}
 
 
 def _rows(counts: np.ndarray) -> np.ndarray:
@@ -60,14 +66,29 @@ def _figure(evaluation: Evaluation, path: Path) -> None:
     ax.set_yticks(range(len(CLASSES)), CLASSES)
     for i in range(share.shape[0]):
         for j in range(share.shape[1]):
-            ax.text(j, i, f"{share[i, j]:.2f}", ha="center", va="center", fontsize=7,
-                    color="white" if share[i, j] > 0.5 else "black")  # fmt: skip
+            ax.text(
+                j,
+                i,
+                f"{share[i, j]:.2f}",
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="white" if share[i, j] > 0.5 else "black",
+            )
     ax.set_xlabel("reading")
     ax.set_ylabel("true pose")
     ax.set_title(f"held-out (unseen skin tones and light): accuracy {evaluation.accuracy:.1%}")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _no_hand_share(split: dict[str, np.ndarray]) -> float:
+    """Share of samples in which neither eye found a hand."""
+    samples = np.unique(split["sample"])
+    found = np.zeros(samples.size, bool)
+    np.logical_or.at(found, np.searchsorted(samples, split["sample"]), split["found"])
+    return float(1.0 - found.mean())
 
 
 def write_report(
@@ -82,10 +103,12 @@ def write_report(
     """Write report.md, confusion.png and measured.json under ``config.out``."""
     out = config.out
     ranges = {name: r for name, r in SPLITS.items()}
+    held = ranges["heldout"]
     condition = (
-        f"skin tones {ranges['heldout'].skin}, light scale {ranges['heldout'].lighting}, "
-        f"light tilt {ranges['heldout'].light_tilt} rad"
+        f"skin tones {held.skin}, light scale {held.lighting}, light tilt {held.light_tilt} rad"
     )
+    train = ranges["train"]
+    no_hand = _no_hand_share(heldout_split)
     lines = [
         "# Gesture recognition: train-gestures report",
         "",
@@ -94,8 +117,9 @@ def write_report(
         f"({model_path.stat().st_size / 1024:.0f} KiB), confidence threshold "
         f"{threshold:.2f}.",
         "",
-        f"- training conditions: skin tones {ranges['train'].skin}, light scale "
-        f"{ranges['train'].lighting}, light tilt {ranges['train'].light_tilt} rad",
+        f"- training conditions: skin tones {train.skin}, light scale {train.lighting}, "
+        f"light tilt {train.light_tilt} rad; pose jitter scale {train.jitter}, hand held "
+        f"{train.lift} m above its place",
         f"- held-out conditions (never trained on): {condition}",
         "",
         "| split | accuracy (7 classes) | discarded | accuracy of kept readings | "
@@ -112,7 +136,8 @@ def write_report(
         "",
         f"Hand segmentation (left eye, IoU with the renderer's ground truth): held-out mean "
         f"{iou_heldout:.2f}, training mean {iou_train:.2f}; "
-        f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views.",
+        f"an eye found a hand in {heldout_split['found'].mean():.1%} of held-out views; "
+        f"neither eye found one in {no_hand:.1%} of held-out samples (no hand: discarded).",
         "",
         "## Held-out confusion (counts; rows: the pose shown)",
         "",

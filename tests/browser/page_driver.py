@@ -56,8 +56,9 @@ def leg_pixels(
 def click_frame_pixel(page: Any, x: float, y: float, width: int = 640, height: int = 480) -> None:
     """Click the displayed canvas where frame pixel (x, y) is shown (whatever its scale)."""
     box = page.locator("#scene").bounding_box()
-    page.mouse.click(box["x"] + (x + 0.5) * box["width"] / width,
-                     box["y"] + (y + 0.5) * box["height"] / height)  # fmt: skip
+    page.mouse.click(
+        box["x"] + (x + 0.5) * box["width"] / width, box["y"] + (y + 0.5) * box["height"] / height
+    )
 
 
 def canvas_pixels(page: Any) -> np.ndarray:
@@ -88,9 +89,13 @@ def play_steps(
     until = len(steps) if until is None else until
     step, judged, downs = 0, set(), 0
     for _ in range(400):  # each pass waits for the page to show something new
-        s = wait_status(page, "s.phase === 'waiting_for_gesture' || s.phase === 'done' || "
-                        "s.phase === 'waiting_for_thumb' || (s.phase === 'robot_acting' && "
-                        "!!s.action)", timeout_s=90)  # fmt: skip
+        s = wait_status(
+            page,
+            "s.phase === 'waiting_for_gesture' || s.phase === 'done' || "
+            "s.phase === 'waiting_for_thumb' || (s.phase === 'robot_acting' && "
+            "!!s.action)",
+            timeout_s=90,
+        )
         if s["phase"] == "done" or step >= until:
             break
         gesture, meant = steps[step]

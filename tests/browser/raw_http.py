@@ -34,9 +34,9 @@ def parse_reply(reply: bytes) -> tuple[int, dict[str, str], bytes]:
     return int(lines[0].split()[1]), headers, body
 
 
-def get(port: int, target: str = "/", host: str | None = None, extra: str = "") -> tuple[
-    int, dict[str, str], bytes
-]:
+def get(
+    port: int, target: str = "/", host: str | None = None, extra: str = ""
+) -> tuple[int, dict[str, str], bytes]:
     """A GET with the given Host (default: 127.0.0.1:port; "" sends none) and extra headers."""
     host = f"127.0.0.1:{port}" if host is None else host
     host_line = f"Host: {host}\r\n" if host else ""

@@ -66,7 +66,8 @@ def test_a_type_d_handover_is_explained_in_plain_words(browser, live_server) -> 
     goal = page.locator("#goal").inner_text()
     assert "Ask Robin to give you the red leg (leg 1)" in goal and "spot" in goal, goal
     assert page.locator("#instruction").inner_text() == (
-        "Point at the red leg (leg 1): click it in the image.")
+        "Point at the red leg (leg 1): click it in the image."
+    )
     items = page.locator("#checklist li")
     assert items.count() == 5 and "give-me" in items.nth(3).inner_text()
     assert "red" in page.locator("#legend").inner_text()
@@ -78,15 +79,17 @@ def test_a_type_d_handover_is_explained_in_plain_words(browser, live_server) -> 
     assert error.startswith("That click was on the floor") and "(of " not in error, error
     assert page.locator("#stage #error").count() == 1  # next to the image
     click_frame_pixel(page, *leg_pixels(None)[0])
-    page.wait_for_function("() => document.getElementById('error').textContent === ''",
-                           timeout=20_000)  # fmt: skip
+    page.wait_for_function(
+        "() => document.getElementById('error').textContent === ''", timeout=20_000
+    )
     ring = page.locator("#target-ring")
     assert ring.is_visible() and ring.get_attribute("data-target") == "leg 1"
     # be the participant for this step (a wrong move gets thumb down) until it is approved
     approved, _ = play_steps(page, [("point", "object")], leg_pixels(None)[0], until=1)
     assert approved == 1
-    page.wait_for_function("() => document.querySelectorAll('#checklist li.done').length === 1",
-                           timeout=30_000)  # fmt: skip
+    page.wait_for_function(
+        "() => document.querySelectorAll('#checklist li.done').length === 1", timeout=30_000
+    )
     assert "grasp" in page.locator("#instruction").inner_text()
     page.close()
 
@@ -105,8 +108,9 @@ def test_the_experimenter_view_needs_its_token_and_controls_the_run(browser, liv
     assert "403" in guest.content() and guest.locator("#pause").count() == 0
     guest.close()
     boss = open_page(browser, f"{base}?token={token}")
-    boss.wait_for_function("() => window.robinLive.role === 'experimenter' && "
-                           "!!window.robinLive.experimenter.last")  # fmt: skip
+    boss.wait_for_function(
+        "() => window.robinLive.role === 'experimenter' && !!window.robinLive.experimenter.last"
+    )
     assert boss.evaluate("() => window.robinLive.experimenter.last.pacing.frames") > 0
     assert status(boss)["guide"]["goal"].startswith("Ask Robin to give you")
     boss.click("#pause")
@@ -120,8 +124,10 @@ def test_the_experimenter_view_needs_its_token_and_controls_the_run(browser, liv
     wait_status(boss, f"s.paused === false && s.sim_time > {paused_at}")
     boss.fill("#note-text", "participant asked about the bin")
     boss.click("#note-save")
-    boss.wait_for_function("() => window.robinLive.experimenter.replies.map((r) => r.command)"
-                           ".join() === 'pause,resume,note'")  # fmt: skip
+    boss.wait_for_function(
+        "() => window.robinLive.experimenter.replies.map((r) => r.command)"
+        ".join() === 'pause,resume,note'"
+    )
     assert boss.locator("#note-saved").inner_text().startswith("note saved at 20")
     notes = (served.conductor.session.out_dir / "notes.jsonl").read_text().splitlines()
     assert json.loads(notes[0])["text"] == "participant asked about the bin"
@@ -129,8 +135,9 @@ def test_the_experimenter_view_needs_its_token_and_controls_the_run(browser, liv
     # the participant's first step; the log grows on the experimenter's view
     approved, downs = play_steps(page, [("point", "object")], leg_pixels(None)[0], until=1)
     assert approved == 1
-    boss.wait_for_function(f"() => window.robinLive.experimenter.last.log.length === {downs + 1}",
-                           timeout=30_000)  # fmt: skip
+    boss.wait_for_function(
+        f"() => window.robinLive.experimenter.last.log.length === {downs + 1}", timeout=30_000
+    )
     rows = boss.locator("#log tbody tr")
     assert rows.count() == downs + 1
     assert rows.nth(downs).inner_text().split("\t")[3] == "object"

@@ -64,8 +64,9 @@ def test_frames_arrive_and_a_click_points_the_hand_at_the_leg(browser, live_serv
     click_frame_pixel(page, x, y)
     leg = served.conductor.session.body.world.leg_position(0)
     goal = np.asarray(leg, float) + POINT_OFFSET
-    page.wait_for_function("() => window.robinLive.status.phase !== 'waiting_for_gesture'",
-                           timeout=20_000)  # fmt: skip
+    page.wait_for_function(
+        "() => window.robinLive.status.phase !== 'waiting_for_gesture'", timeout=20_000
+    )
     for _ in range(200):  # the hand moves over about a second of sim time
         hand = hand_position(served)
         if np.linalg.norm(hand[:2] - goal[:2]) <= HAND_TOLERANCE:
@@ -102,7 +103,11 @@ def test_keys_perform_a_type_a_handover_with_thumbs(browser, live_server) -> Non
     assert summary["actions"] == len([e for e in log if e["action"]]) == len(TYPE_A) + downs
     assert summary["gestures"] == max(e["gesture_count"] for e in log)
     assert [e["true_gesture"] for e in log if e["feedback"] != "not ok"] == [
-        "pointing", "grasp", "give me", "release"]  # fmt: skip
+        "pointing",
+        "grasp",
+        "give me",
+        "release",
+    ]
     assert log[-1]["delivered"] and log[-1]["legs_delivered"] == 1
     assert summary["live"]["participant"] == "P01" and summary["live"]["inputs"] >= 4 + downs
     assert out["status"] == "finished"
@@ -182,9 +187,19 @@ def test_protocol_blocks_behind_instruction_screens(browser, tmp_path) -> None:
     path = tmp_path / "protocol.yaml"
     path.write_text(PROTOCOL)
     args = build_parser("live").parse_args(
-        ["live", "--protocol", str(path), "--participant", "P02", "--out", str(tmp_path / "o"),
-         "--speed", str(SPEED), "--no-video"]
-    )  # fmt: skip
+        [
+            "live",
+            "--protocol",
+            str(path),
+            "--participant",
+            "P02",
+            "--out",
+            str(tmp_path / "o"),
+            "--speed",
+            str(SPEED),
+            "--no-video",
+        ]
+    )
     served = start_server(session_configs(args))
     try:
         page = open_page(browser, served)

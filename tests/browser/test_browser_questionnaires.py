@@ -52,9 +52,19 @@ def test_answers_given_on_the_page_appear_in_the_report(browser, tmp_path, capsy
     path.write_text(PROTOCOL)
     out = tmp_path / "live"
     args = build_parser("live").parse_args(
-        ["live", "--protocol", str(path), "--participant", "P01", "--out", str(out),
-         "--speed", str(SPEED), "--no-video"]
-    )  # fmt: skip
+        [
+            "live",
+            "--protocol",
+            str(path),
+            "--participant",
+            "P01",
+            "--out",
+            str(out),
+            "--speed",
+            str(SPEED),
+            "--no-video",
+        ]
+    )
     served = start_server(session_configs(args), questionnaires=questionnaires_of(args))
     try:
         page = browser.new_page(viewport=VIEWPORT)
@@ -92,7 +102,9 @@ def test_answers_given_on_the_page_appear_in_the_report(browser, tmp_path, capsy
         served.thread.join(60)
     saved = read_jsonl(out / "P01" / "block1-pil" / "questionnaires.jsonl")
     assert [(e["questionnaire"], e["scores"]) for e in saved] == [
-        ("nasa-tlx", {"raw_tlx": 30.0}), ("ease", {"clear": 4.0, "mean": 4.0})]  # fmt: skip
+        ("nasa-tlx", {"raw_tlx": 30.0}),
+        ("ease", {"clear": 4.0, "mean": 4.0}),
+    ]
     summary = json.loads((out / "P01" / "block1-pil" / "summary.json").read_text())
     assert summary["status"] == "finished"
     capsys.readouterr()

@@ -20,7 +20,8 @@ def test_the_timeline_scrubs_and_play_runs_to_the_last_frame(browser, tmp_path) 
         assert page.locator("#time").inner_text() == "0.50 s"
         assert page.locator("#frame").screenshot() != first  # another picture is shown
         page.locator("#play").click()
-        page.wait_for_function("() => window.robinReplay.shown === 7 && "
-                               "!window.robinReplay.playing", timeout=60_000)  # fmt: skip
+        page.wait_for_function(
+            "() => window.robinReplay.shown === 7 && !window.robinReplay.playing", timeout=60_000
+        )
         assert page.locator("#timeline").input_value() == "7"
         page.close()

@@ -61,8 +61,9 @@ def test_unreadable_protocol(content: str | None, tmp_path: Path, capsys) -> Non
 
 
 def test_protocol_needs_a_numbered_participant(tmp_path: Path, capsys) -> None:
-    message = refused(["--protocol", "reactive_vs_proactive", "--participant", "Alice"],
-                      tmp_path, capsys)  # fmt: skip
+    message = refused(
+        ["--protocol", "reactive_vs_proactive", "--participant", "Alice"], tmp_path, capsys
+    )
     assert "Alice" in message
 
 
@@ -73,8 +74,18 @@ def test_an_existing_session_folder_is_never_overwritten(tmp_path: Path, capsys)
     kept = tmp_path / "live" / "P01" / f"block1-{first.condition}"
     kept.mkdir(parents=True)
     (kept / "summary.json").write_text('{"status": "finished"}')
-    code = main(["live", "--no-browser", "--out", str(tmp_path / "live"), "--protocol",
-                 "reactive_vs_proactive", "--participant", "P01"])  # fmt: skip
+    code = main(
+        [
+            "live",
+            "--no-browser",
+            "--out",
+            str(tmp_path / "live"),
+            "--protocol",
+            "reactive_vs_proactive",
+            "--participant",
+            "P01",
+        ]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and err[0].startswith("robin-pil live: error: "), err
     assert (kept / "summary.json").read_text() == '{"status": "finished"}'
@@ -83,9 +94,17 @@ def test_an_existing_session_folder_is_never_overwritten(tmp_path: Path, capsys)
 
 @pytest.mark.parametrize(
     ("host", "loopback"),
-    [("127.0.0.1", True), ("127.0.0.2", True), ("::1", True), ("localhost", True),
-     ("0.0.0.0", False), ("::", False), ("192.168.1.5", False), ("robin.lab", False)],
-)  # fmt: skip
+    [
+        ("127.0.0.1", True),
+        ("127.0.0.2", True),
+        ("::1", True),
+        ("localhost", True),
+        ("0.0.0.0", False),
+        ("::", False),
+        ("192.168.1.5", False),
+        ("robin.lab", False),
+    ],
+)
 def test_only_loopback_goes_without_a_token(host: str, loopback: bool) -> None:
     from robin_sim.live.server import is_loopback
 

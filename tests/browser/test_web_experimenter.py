@@ -17,10 +17,18 @@ pytestmark = pytest.mark.slow
 
 def test_next_block_saves_the_block_and_starts_the_next_then_end(tmp_path: Path) -> None:
     from conftest import start_server  # tests/browser/conftest.py, as test_browser_page does
-    options = dict(out_root=tmp_path / "live", handover_types=("A",), speed=3.0, video=False,
-                   protocol="pilot", instructions="Hand over the legs.")  # fmt: skip
-    served = start_server([LiveConfig(session="b1", block=1, **options),
-                           LiveConfig(session="b2", block=2, **options)])  # fmt: skip
+
+    options = dict(
+        out_root=tmp_path / "live",
+        handover_types=("A",),
+        speed=3.0,
+        video=False,
+        protocol="pilot",
+        instructions="Hand over the legs.",
+    )
+    served = start_server(
+        [LiveConfig(session="b1", block=1, **options), LiveConfig(session="b2", block=2, **options)]
+    )
     base = f"ws://127.0.0.1:{served.port}/ws"
     boss_url = f"{base}?token={served.server.experimenter_token}"
 
@@ -29,11 +37,17 @@ def test_next_block_saves_the_block_and_starts_the_next_then_end(tmp_path: Path)
         async with aiohttp.ClientSession() as client:
             boss = await client.ws_connect(boss_url)
             seen["role"] = (await receive_until(boss, "role"))["role"]
-            for message in ('{"type": "pause"}', '{"type": "note", "text": "early"}',
-                            '{"type": "dance"}', '{"type": "note", "text": "  "}', "[" * 3000):
+            for message in (
+                '{"type": "pause"}',
+                '{"type": "note", "text": "early"}',
+                '{"type": "dance"}',
+                '{"type": "note", "text": "  "}',
+                "[" * 3000,
+            ):
                 await boss.send_str(message)
                 seen.setdefault("refused", []).append(  # type: ignore[union-attr]
-                    (await receive_until(boss, "error"))["message"])
+                    (await receive_until(boss, "error"))["message"]
+                )
             participant = await client.ws_connect(base)
             seen["participant_role"] = (await receive_until(participant, "role"))["role"]
             await wait_phase(participant, "instructions")
@@ -58,8 +72,7 @@ def test_next_block_saves_the_block_and_starts_the_next_then_end(tmp_path: Path)
     refused = seen["refused"]
     assert refused[0] == "pause: no block is running now (waiting)"
     assert refused[1].startswith("note: this block has not started")
-    assert refused[2] == ("unknown command 'dance'; valid: pause, resume, end, next_block, "
-                          "note")  # fmt: skip
+    assert refused[2] == ("unknown command 'dance'; valid: pause, resume, end, next_block, note")
     assert refused[3] == "note: write some text first"
     assert refused[4].startswith("a command is a JSON object")
     assert seen["next"] == "next_block" and seen["end"] == "end"

@@ -34,8 +34,13 @@ def guarded(tmp_path: Path) -> Iterator[Any]:
     started: list[Served] = []
 
     def make(limits: Limits | None = None) -> Served:
-        config = LiveConfig(out_root=tmp_path / "live", protocol="guard-test",
-                            instructions="read me", session="block1-pil", video=False)  # fmt: skip
+        config = LiveConfig(
+            out_root=tmp_path / "live",
+            protocol="guard-test",
+            instructions="read me",
+            session="block1-pil",
+            video=False,
+        )
         served = start_server([config], limits=limits)
         started.append(served)
         return served
@@ -51,15 +56,20 @@ def test_a_foreign_host_is_refused_dns_rebinding(guarded, caplog) -> None:
     served = guarded()
     port = served.port
     caplog.set_level(logging.WARNING)
-    for host in (f"evil.example:{port}", f"127.0.0.1:{port + 1}", "127.0.0.1",
-                 f"localhost.evil.example:{port}"):  # fmt: skip
+    for host in (
+        f"evil.example:{port}",
+        f"127.0.0.1:{port + 1}",
+        "127.0.0.1",
+        f"localhost.evil.example:{port}",
+    ):
         status, _, body = get(port, "/", host=host)
         assert status == 421, f"Host {host!r}: HTTP {status}"
         assert len(body) < 200 and b"<canvas" not in body
     assert get(port, "/", host="")[0] == 400  # no Host at all: aiohttp refuses it
     # the rebinding page's own Origin matches its Host: still refused (Host first)
-    status, _, _ = get(port, "/", host=f"evil.example:{port}",
-                       extra=f"Origin: http://evil.example:{port}\r\n")  # fmt: skip
+    status, _, _ = get(
+        port, "/", host=f"evil.example:{port}", extra=f"Origin: http://evil.example:{port}\r\n"
+    )
     assert status == 421
     status, _, _ = exchange(port, handshake("/ws", port, host=f"evil.example:{port}"))
     assert status == 421 and served.conductor.phase == "waiting"  # no tab took control
@@ -76,8 +86,12 @@ def test_a_foreign_host_is_refused_dns_rebinding(guarded, caplog) -> None:
 def test_origin_is_checked_against_the_allow_list(guarded) -> None:
     served = guarded()
     port = served.port
-    for origin in (f"http://evil.example:{port}", "null", f"http://127.0.0.1:{port + 1}",
-                   f"https://127.0.0.1:{port}"):  # fmt: skip
+    for origin in (
+        f"http://evil.example:{port}",
+        "null",
+        f"http://127.0.0.1:{port + 1}",
+        f"https://127.0.0.1:{port}",
+    ):
         status, _, _ = get(port, "/", extra=f"Origin: {origin}\r\n")
         assert status == 403, origin
         status, headers, _ = exchange(port, handshake("/ws", port, extra=f"Origin: {origin}\r\n"))

@@ -30,8 +30,13 @@ FEW_FDS = 256  # the descriptor limit the issue measured with
 def launch(
     argv: list[str], preexec: Callable[[], None] | None = None, prefix: tuple[str, ...] = ()
 ) -> subprocess.Popen[str]:
-    return subprocess.Popen([*prefix, *COMMAND, *argv], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, preexec_fn=preexec)  # fmt: skip
+    return subprocess.Popen(
+        [*prefix, *COMMAND, *argv],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=preexec,
+    )
 
 
 def serving_port(process: subprocess.Popen[str]) -> int:
@@ -60,8 +65,20 @@ def few_descriptors() -> None:
 
 def test_few_descriptors_500_half_open_requests_and_ctrl_c_with_frozen_tabs(tmp_path) -> None:
     out = tmp_path / "live"
-    process = launch(["--scenario", "one_handover", "--speed", "3", "--no-video", "--out",
-                      str(out), "--participant", "P05"], few_descriptors)  # fmt: skip
+    process = launch(
+        [
+            "--scenario",
+            "one_handover",
+            "--speed",
+            "3",
+            "--no-video",
+            "--out",
+            str(out),
+            "--participant",
+            "P05",
+        ],
+        few_descriptors,
+    )
     frozen: list[socket.socket] = []
     try:
         port = serving_port(process)
@@ -141,8 +158,9 @@ def test_a_read_only_out_is_refused_before_serving(reachable_dir: Path) -> None:
 
 def test_a_placeholder_with_a_format_is_refused(tmp_path: Path) -> None:
     protocol = tmp_path / "protocol.yaml"
-    protocol.write_text("conditions: [pil]\nblocks:\n  - {types: [A]}\n"
-                        "instructions: 'Block {block:>100000000}'\n")  # fmt: skip
+    protocol.write_text(
+        "conditions: [pil]\nblocks:\n  - {types: [A]}\ninstructions: 'Block {block:>100000000}'\n"
+    )
     code, out, err = stopped(launch(["--protocol", str(protocol), "--out", str(tmp_path / "o")]))
     assert code == 2 and "serving" not in out
     assert "{block:>100000000}" in one_error_line(err) and not (tmp_path / "o").exists()
@@ -150,8 +168,17 @@ def test_a_placeholder_with_a_format_is_refused(tmp_path: Path) -> None:
 
 def test_the_restart_advice_after_a_kill_works(tmp_path: Path) -> None:
     out = tmp_path / "live"
-    argv = ["--protocol", "reactive_vs_proactive", "--participant", "P01", "--out", str(out),
-            "--speed", "3", "--no-video"]  # fmt: skip
+    argv = [
+        "--protocol",
+        "reactive_vs_proactive",
+        "--participant",
+        "P01",
+        "--out",
+        str(out),
+        "--speed",
+        "3",
+        "--no-video",
+    ]
     first = launch(argv)
     port = serving_port(first)
     tab = websocket(port)

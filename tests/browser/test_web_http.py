@@ -68,12 +68,21 @@ def test_no_path_outside_the_static_files(live_server, target: str) -> None:
 def test_token_required_on_every_request(live_server) -> None:
     token = new_token()
     served = live_server(token=token)
-    for target in ("/", "/static/live.js", "/static/live.css", "/ws", f"/?token={token}x",
-                   "/?token=", f"/static/live.js?token={token[:-1]}"):  # fmt: skip
+    for target in (
+        "/",
+        "/static/live.js",
+        "/static/live.css",
+        "/ws",
+        f"/?token={token}x",
+        "/?token=",
+        f"/static/live.js?token={token[:-1]}",
+    ):
         status, _ = raw_get(served.port, target)
         assert status == 403, f"{target}: HTTP {status}"
-    ws_headers = ("Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
-                  "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n")  # fmt: skip
+    ws_headers = (
+        "Upgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\n"
+        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+    )
     status, _ = raw_get(served.port, "/ws", ws_headers)
     assert status == 403
     status, body = raw_get(served.port, f"/?token={token}")

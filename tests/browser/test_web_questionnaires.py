@@ -20,11 +20,21 @@ EASE = {"name": "ease", "points": 5, "items": [{"id": "clear", "text": "Robin un
 def test_answers_are_kept_and_next_block_skips_the_questionnaire(tmp_path: Path) -> None:
     from conftest import start_server
 
-    options = dict(out_root=tmp_path / "live", handover_types=("A",), speed=3.0, video=False,
-                   protocol="pilot", instructions="Hand over the legs.")  # fmt: skip
-    served = start_server([LiveConfig(session="b1", block=1, **options),
-                           LiveConfig(session="b2", block=2, **options)],
-                          questionnaires=load_questionnaires([EASE], "test"))  # fmt: skip
+    options = dict(
+        out_root=tmp_path / "live",
+        handover_types=("A",),
+        speed=3.0,
+        video=False,
+        protocol="pilot",
+        instructions="Hand over the legs.",
+    )
+    served = start_server(
+        [
+            LiveConfig(session="b1", block=1, **options),
+            LiveConfig(session="b2", block=2, **options),
+        ],
+        questionnaires=load_questionnaires([EASE], "test"),
+    )
     base = f"ws://127.0.0.1:{served.port}/ws"
 
     async def scenario() -> list[str]:
@@ -41,11 +51,13 @@ def test_answers_are_kept_and_next_block_skips_the_questionnaire(tmp_path: Path)
                 await participant.send_str('{"type": "thumb", "value": "up"}')
                 refused.append((await receive_until(participant, "error"))["message"])
                 if block == 1:
-                    await participant.send_str('{"type": "answers", "questionnaire": "ease", '
-                                               '"answers": {"clear": 9}}')  # fmt: skip
+                    await participant.send_str(
+                        '{"type": "answers", "questionnaire": "ease", "answers": {"clear": 9}}'
+                    )
                     refused.append((await receive_until(participant, "error"))["message"])
-                    await participant.send_str('{"type": "answers", "questionnaire": "ease", '
-                                               '"answers": {"clear": 5}}')  # fmt: skip
+                    await participant.send_str(
+                        '{"type": "answers", "questionnaire": "ease", "answers": {"clear": 5}}'
+                    )
                 else:
                     await boss.send_str('{"type": "next_block"}')  # skips the questionnaire
                     await receive_until(boss, "done")
@@ -62,5 +74,6 @@ def test_answers_are_kept_and_next_block_skips_the_questionnaire(tmp_path: Path)
     folder = tmp_path / "live" / "P01"
     saved = [json.loads(line) for line in (folder / "b1" / "questionnaires.jsonl").open()]
     assert [(e["questionnaire"], e["answers"], e["block"]) for e in saved] == [
-        ("ease", {"clear": 5}, 1)]  # fmt: skip
+        ("ease", {"clear": 5}, 1)
+    ]
     assert not (folder / "b2" / "questionnaires.jsonl").exists()  # skipped: nothing made up

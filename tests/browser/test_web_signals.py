@@ -41,10 +41,25 @@ async def connect_then_signal(url: str, pid: int, signum: int, frames: int = 20)
 def test_signal_saves_the_session(signum: signal.Signals, tmp_path: Path) -> None:
     out = tmp_path / "live"
     process = subprocess.Popen(
-        [sys.executable, "-m", "robin_sim.cli.main", "live", "--no-browser", "--port", "0",
-         "--scenario", "one_handover", "--participant", "P07", "--out", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
+        [
+            sys.executable,
+            "-m",
+            "robin_sim.cli.main",
+            "live",
+            "--no-browser",
+            "--port",
+            "0",
+            "--scenario",
+            "one_handover",
+            "--participant",
+            "P07",
+            "--out",
+            str(out),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     try:
         line = process.stdout.readline()
         match = re.search(r"serving (http://127\.0\.0\.1:\d+/)", line)

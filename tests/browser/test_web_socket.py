@@ -91,8 +91,10 @@ async def exercise(url: str) -> dict[str, Any]:
         await watcher.send_str('{"type": "gesture", "gesture": "grasp"}')
         seen["watch_error"] = (await receive_until(watcher, "error"))["message"]
         await asyncio.sleep(1.1)
-        flood = [control.send_str('{"type": "thumb", "value": "sideways"}')
-                 for _ in range(3 * RATE_LIMIT)]  # fmt: skip
+        flood = [
+            control.send_str('{"type": "thumb", "value": "sideways"}')
+            for _ in range(3 * RATE_LIMIT)
+        ]
         await asyncio.gather(*flood)
         replies = [await receive_until(control, "error") for _ in range(3 * RATE_LIMIT)]
         seen["flood"] = [r["message"] for r in replies]
@@ -136,9 +138,9 @@ def stalled_socket(port: int) -> socket.socket:
     key = base64.b64encode(os.urandom(16)).decode()
     sock.sendall(
         f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-        f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n"
-        .encode()
-    )  # fmt: skip
+        f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
+        "Sec-WebSocket-Version: 13\r\n\r\n".encode()
+    )
     assert sock.recv(12) == b"HTTP/1.1 101"
     return sock
 

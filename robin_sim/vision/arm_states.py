@@ -1,0 +1,80 @@
+"""Where Robin's arm is when the person points: the arm states of an episode, reached by acting.
+
+The pointing checks (``bench/bench_pointing_view.py``, ``tests/test_vision_view.py``) must see
+the person's pointing hand with the arm where it really is during episodes, not only at home.
+:func:`arm_states` walks one world through a handover to the palm and one to a spot, with the
+person's body doing its part (the palm held out, slid under the held leg, the delivered leg
+carried to the bin), and yields at each state the person may point in:
+
+* ``home``: the arm at its home pose (a new table);
+* ``object``: the open hand at a leg, ready to grasp it;
+* ``close``: the hand closed on that leg, on the table;
+* ``human``: the leg held above the person's palm;
+* ``open``: after the open over the palm, the hand where it rests then;
+* ``location``: a leg held above a table spot;
+* ``placed``: after the open over that spot, the hand where it rests then.
+
+Every step is a real action run by physics (:meth:`PhysicalWorld.execute`); nothing is placed
+by hand. A step that fails raises, so a check never measures a state that was not reached.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pil.errors import RobinPilError
+from pil.task.world import Target
+from pil.types import Action, Feedback, Gesture
+from robin_sim.person.body import PhysicalBody
+from robin_sim.robot.world import PhysicalWorld
+
+ARM_STATES = ("home", "object", "close", "human", "open", "location", "placed")
+PALM_LEG, SPOT_LEG, SPOT = 0, 3, 1  # the leg handed over, the leg put down, and on which spot
+
+
+def _act(
+    world: PhysicalWorld,
+    body: PhysicalBody,
+    gesture: Gesture,
+    action: Action,
+    target: Target | None = None,
+) -> None:
+    """The person shows ``gesture``, the robot runs ``action``; raises if it did not work."""
+    body.perform(gesture, target)
+    outcome = world.execute(action, target)
+    if not outcome.succeeded:
+        raise RobinPilError(f"arm state: {action.value} on {target} failed: {outcome.detail}")
+    body.show_feedback(Feedback.OK)
+    body.after_feedback(Feedback.OK)
+
+
+def arm_states(world: PhysicalWorld, body: PhysicalBody) -> Iterator[str]:
+    """Bring ``world`` to each of :data:`ARM_STATES` in turn, yielding its name there.
+
+    Between yields the caller may let the person point and Robin read (the arm does not move
+    meanwhile); it should end with the person's hand at rest (``body.rest()``).
+    """
+    world.start_table(0)
+    yield "home"
+    _act(world, body, Gesture.POINTING, Action.OBJECT, Target("leg", PALM_LEG))
+    yield "object"
+    _act(world, body, Gesture.GRASP, Action.CLOSE)
+    yield "close"
+    _act(world, body, Gesture.GIVE_ME, Action.HUMAN)
+    yield "human"
+    _act(world, body, Gesture.RELEASE, Action.OPEN)
+    yield "open"
+    _act(world, body, Gesture.POINTING, Action.OBJECT, Target("leg", SPOT_LEG))
+    _act(world, body, Gesture.GRASP, Action.CLOSE)
+    _act(world, body, Gesture.POINTING, Action.LOCATION, Target("spot", SPOT))
+    yield "location"
+    _act(world, body, Gesture.RELEASE, Action.OPEN)
+    yield "placed"
+
+
+def on_table(world: PhysicalWorld, target: Target) -> bool:
+    """Whether the person can point at ``target`` now: spots always, legs lying on the table
+    and not in the robot's hand (a delivered leg is in the bin)."""
+    if target.kind == "spot":
+        return True
+    return world.held_leg() != target.index and world.graspable_where_it_lies(target.index)
