@@ -119,24 +119,24 @@ def test_vision_conditions_measures_and_studies_each_condition(tmp_path: Path) -
     from robin_sim.vision.conditions import run_conditions
 
     written = run_conditions(
-        tmp_path, samples=MIN_SAMPLES, reps=2, lighting=(1.0,), noise=(0.0, 40.0)
+        tmp_path, samples=MIN_SAMPLES, reps=2, lighting=(1.0,), noise=(0.0, 120.0)
     )
     assert sorted(p.name for p in written) == sorted(
         ["conditions.csv", "conditions_runs.csv", "conditions.md", "tests.csv", "conditions.png"]
     )
     rows = (tmp_path / "conditions.csv").read_text().splitlines()
     assert len(rows) == 3  # header and the two conditions
-    for noise in ("0", "40"):
+    for noise in ("0", "120"):
         data = json.loads((tmp_path / f"measured-l1-n{noise}.json").read_text())
         assert all(abs(sum(r) - 1) < 1e-4 for r in data["confusion"])
     clean, noisy = (
-        json.loads((tmp_path / f"measured-l1-n{n}.json").read_text()) for n in ("0", "40")
+        json.loads((tmp_path / f"measured-l1-n{n}.json").read_text()) for n in ("0", "120")
     )
 
     def rate(d: dict) -> float:
         return sum(row[i] for i, row in enumerate(d["confusion"])) / 4
 
-    assert rate(noisy) <= rate(clean)  # heavy sensor noise does not raise the measured rate
+    assert rate(noisy) < rate(clean)  # heavy sensor noise lowers the measured detection rate
 
 
 def test_vision_conditions_rejects_bad_lists_with_exit_2(tmp_path: Path) -> None:
