@@ -49,10 +49,11 @@ from pil.experiments.systems import (
     check_params,
     check_system,
     resolve_scenario,
-    run_system,
+    run_row,
 )
 from pil.task.parts import SCENARIO_KEYS
 from pil.task.scenario import Scenario
+from pil.task.spec import parse_run_spec
 
 STUDY_COLUMNS: tuple[str, ...] = ("rep", *ROW_COLUMNS)
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
@@ -100,15 +101,14 @@ def run_study(
     config: StudyConfig, progress: Callable[[int], None] | None = None
 ) -> list[dict[str, Any]]:
     """All runs of the study, ordered by rate, system and repetition."""
-    values = check_params(dict(config.params))
-    scenario = resolve_scenario(config.scenario, values)
+    base = parse_run_spec(scenario=config.scenario, params=config.params)  # checked once here
     seeds = rep_seeds(config.seed, config.reps)
     rows: list[dict[str, Any]] = []
     for rep, seed in enumerate(seeds):
         cache: dict[Any, Any] = {}  # training runs and scripts shared within this rep
         for rate in config.rates:
             for system in config.systems:
-                row = run_system(system, rate, seed, scenario, values, cache)
+                row = run_row(base.for_run(system, rate, seed), cache)
                 rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

@@ -21,30 +21,23 @@ share one training run, and c2 and c4 another.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, MutableMapping
-from dataclasses import dataclass, field
+from collections.abc import Mapping, MutableMapping
 from pathlib import Path
 from typing import Any
 
-from pil.agents import AGENTS
-from pil.errors import InvalidChoiceError, check_rate
-from pil.learner import Learner
-from pil.table import AssociationTable
-from pil.task.params import SCENARIO
+from pil.task.assemble import Run, Training, assemble, pretraining
 from pil.task.parts import (
     PARAMS,
-    SCENARIO_KEYS,
-    RunParts,
     build_parts,
-    cached,
     check_params,
     derive_seeds,
     resolve_scenario,
 )
 from pil.task.person import PersonBody
-from pil.task.runner import RunStats, run
+from pil.task.runner import RunStats
 from pil.task.scenario import Scenario
-from pil.task.world import SymbolicWorld
+from pil.task.spec import RunSpec, parse_run_spec, spec_of
+from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, SystemSpec, check_system
 
 __all__ = [
     "PAPER_SYSTEMS",
@@ -52,69 +45,19 @@ __all__ = [
     "ROW_COLUMNS",
     "SYSTEMS",
     "SYSTEM_SPECS",
+    "SystemSpec",
+    "Training",
     "check_params",
     "check_run",
     "check_system",
     "derive_seeds",
     "resolve_scenario",
     "run_one",
+    "run_row",
     "test_parts",
     "training_for",
 ]
 
-
-@dataclass(frozen=True, slots=True)
-class SystemSpec:
-    """How one study system learns and is tested.
-
-    ``trained_at``: None (from scratch), "d" (pre-trained at the test rate) or "full" (at 100 %);
-    ``manual``: the person repeats a misread gesture (no correction); ``agent``: a key of
-    :data:`pil.agents.AGENTS` (pre-training is always a PIL run); ``params``: parameters of
-    :data:`PARAMS` this system sets for its test run.
-    """
-
-    description: str
-    trained_at: str | None = None
-    manual: bool = False
-    agent: str = "pil"
-    params: Mapping[str, Any] = field(default_factory=dict)  # parameters it overrides
-
-
-# The registry of study systems; add an entry to make a new one selectable everywhere.
-SYSTEM_SPECS: dict[str, SystemSpec] = {
-    "pil": SystemSpec("PIL from scratch, with correction"),
-    "c1": SystemSpec("pre-trained at d, with correction", "d"),
-    "c2": SystemSpec("pre-trained at 100 %, with correction", "full"),
-    "c3": SystemSpec("pre-trained at d, manual repetition", "d", manual=True),
-    "c4": SystemSpec("pre-trained at 100 %, manual repetition", "full", manual=True),
-    "bandit": SystemSpec("epsilon-greedy contextual bandit from scratch", agent="bandit"),
-    "tamer": SystemSpec("TAMER-style feedback regression from scratch", agent="tamer"),
-    "pil-halve": SystemSpec(
-        "PIL from scratch, a not-OK halves the refused count (ours)",
-        params={"adaptation": "halve"},
-    ),
-    "proactive": SystemSpec(
-        "PIL from scratch, acting on the likely next state before its gesture (ours)",
-        params={"proactive": True},
-    ),
-}
-PAPER_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
-
-
-class _Descriptions(Mapping[str, str]):
-    """A read-only view: system name -> description, always in step with SYSTEM_SPECS."""
-
-    def __getitem__(self, name: str) -> str:
-        return SYSTEM_SPECS[name].description
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(SYSTEM_SPECS)
-
-    def __len__(self) -> int:
-        return len(SYSTEM_SPECS)
-
-
-SYSTEMS: Mapping[str, str] = _Descriptions()
 ROW_COLUMNS: tuple[str, ...] = (
     "system",
     "rate",
@@ -144,41 +87,6 @@ ROW_COLUMNS: tuple[str, ...] = (
 )
 
 
-@dataclass(frozen=True, slots=True)
-class Training:
-    """The outcome of a pre-training run: the learnt table and what it cost."""
-
-    table: AssociationTable
-    stats: RunStats
-
-
-def check_system(system: str) -> str:
-    """``system`` if it is one of :data:`SYSTEMS`, else an error naming them."""
-    if system not in SYSTEM_SPECS:
-        raise InvalidChoiceError("system", system, SYSTEM_SPECS)
-    return system
-
-
-def simulate(
-    scenario: Scenario,
-    rate: float,
-    seeds: Mapping[str, int],
-    phase: str,
-    values: Mapping[str, Any],
-    *,
-    table: AssociationTable | None = None,
-    manual: bool = False,
-    cache: MutableMapping[Any, Any] | None = None,
-) -> tuple[Learner, RunStats]:
-    """One learner-only run of ``phase`` ("train" or "test") at ``rate``."""
-    parts = build_parts(
-        scenario, rate, seeds, phase=phase, table=table, manual=manual, cache=cache, **values
-    )
-    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
-    learner = parts.learner
-    return learner, stats
-
-
 def pretrain(
     scenario: Scenario,
     rate: float,
@@ -186,9 +94,9 @@ def pretrain(
     values: Mapping[str, Any],
     cache: MutableMapping[Any, Any] | None = None,
 ) -> Training:
-    """A PIL run with correction on the training tables at ``rate``."""
-    learner, stats = simulate(scenario, rate, seeds, "train", values, cache=cache)
-    return Training(learner.table, stats)
+    """A PIL run with correction on the training tables at ``rate`` (sub-seeds ``seeds``)."""
+    run = build_parts(scenario, rate, seeds, phase="train", cache=cache, **values)
+    return Training(run.learner.table, run.run())
 
 
 def training_for(
@@ -199,15 +107,10 @@ def training_for(
     values: Mapping[str, Any],
     cache: MutableMapping[Any, Any] | None = None,
 ) -> Training | None:
-    """The pre-training ``system`` starts from (None for ``pil``), from ``cache`` if there."""
-    trained_at = SYSTEM_SPECS[check_system(system)].trained_at
-    if trained_at is None:
-        return None
-    train_rate = check_rate(rate) if trained_at == "d" else 1.0
-    key = ("training", train_rate, int(seed))
-    return cached(
-        cache, key, lambda: pretrain(scenario, train_rate, derive_seeds(seed), values, cache)
-    )
+    """The pre-training ``system`` starts from (None for ``pil``), from ``cache`` if there;
+    ``values`` are checked parameters (:func:`check_params`)."""
+    check_system(system)
+    return pretraining(spec_of(system, rate, seed, scenario, values), cache)
 
 
 def test_parts(
@@ -219,37 +122,55 @@ def test_parts(
     cache: MutableMapping[Any, Any] | None = None,
     training: Training | None = None,
     body: PersonBody | None = None,
-) -> RunParts:
-    """Learner (pre-trained for c1-c4), person and detector for ``system``'s test tables.
-
-    ``values`` are checked parameters (:func:`check_params`); the physical episode drives these
-    parts through :func:`pil.task.runner.steps` with its own world. ``training`` defaults to
-    :func:`training_for`; ``body`` is the person's body in a physical world.
-    """
-    spec = SYSTEM_SPECS[check_system(system)]
-    if training is None:
-        training = training_for(system, rate, seed, scenario, values, cache)
-    table = None if training is None else training.table.copy()
-    seeds = derive_seeds(seed)
-    values = {**values, **spec.params}
-    parts = build_parts(
-        scenario,
-        rate,
-        seeds,
-        phase="test",
-        table=table,
-        manual=spec.manual,
-        cache=cache,
-        body=body,
-        **values,
-    )
-    if spec.agent == "pil":
-        return parts
-    agent = AGENTS[spec.agent](seeds["test_learner"], table, values)
-    return RunParts(agent, parts.person, parts.detector, parts.options)  # type: ignore[arg-type]
+) -> Run:
+    """Learner (pre-trained for c1-c4), person and detector for ``system``'s test tables, from
+    checked ``values`` (:func:`check_params`): :func:`pil.task.assemble.assemble` of them."""
+    check_system(system)
+    spec = spec_of(system, rate, seed, scenario, values)
+    return assemble(spec, cache=cache, training=training, body=body)
 
 
 test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
+
+
+def run_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dict[str, Any]:
+    """One learner-only run of ``spec`` as a flat CSV row (:data:`ROW_COLUMNS`).
+
+    ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
+    runs, the person's scripts); share it only between specs that differ in system and rate.
+    Results are the same with or without it.
+    """
+    run = assemble(spec, cache=cache)
+    stats = run.run()
+    train = RunStats() if run.training is None else run.training.stats
+    row: dict[str, Any] = dict(
+        system=spec.system,
+        rate=spec.rate,
+        seed=spec.seed,
+        scenario=spec.scenario.name,
+        legs=stats.legs,
+        handovers=stats.handovers,
+        gestures=stats.gestures,
+        actions=stats.actions,
+        train_gestures=train.gestures,
+        train_actions=train.actions,
+        total_gestures=train.gestures + stats.gestures,
+        total_actions=train.actions + stats.actions,
+        corrections=stats.corrections,
+        repeats=stats.repeats,
+        misdetections=stats.misdetections,
+        discarded=stats.discarded,
+        rejected=stats.rejected,
+        exploited=stats.exploited,
+        anticipated=stats.anticipated,
+        anticipated_ok=stats.anticipated_ok,
+        scripted_gestures=stats.scripted_gestures,
+        train_corrections=train.corrections,
+        train_repeats=train.repeats,
+        train_rejected=train.rejected,
+    )
+    row.update(spec.effective().values())
+    return row
 
 
 def run_system(
@@ -260,58 +181,17 @@ def run_system(
     values: Mapping[str, Any],
     cache: MutableMapping[Any, Any] | None = None,
 ) -> dict[str, Any]:
-    """:func:`run_one` on a resolved scenario and checked parameters.
-
-    ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
-    runs, the person's scripts); share it only between calls with the same scenario, the same
-    parameters and the same ``seed``'s sub-seeds. Results are the same with or without it.
-    """
-    rate = check_rate(rate)
-    training = training_for(system, rate, seed, scenario, values, cache)
-    parts = test_parts(system, rate, seed, scenario, values, cache, training)
-    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
-    train = RunStats() if training is None else training.stats
-    row: dict[str, Any] = {
-        "system": system,
-        "rate": rate,
-        "seed": int(seed),
-        "scenario": scenario.name,
-        "legs": stats.legs,
-        "handovers": stats.handovers,
-        "gestures": stats.gestures,
-        "actions": stats.actions,
-        "train_gestures": train.gestures,
-        "train_actions": train.actions,
-        "total_gestures": train.gestures + stats.gestures,
-        "total_actions": train.actions + stats.actions,
-        "corrections": stats.corrections,
-        "repeats": stats.repeats,
-        "misdetections": stats.misdetections,
-        "discarded": stats.discarded,
-        "rejected": stats.rejected,
-        "exploited": stats.exploited,
-        "anticipated": stats.anticipated,
-        "anticipated_ok": stats.anticipated_ok,
-        "scripted_gestures": stats.scripted_gestures,
-        "train_corrections": train.corrections,
-        "train_repeats": train.repeats,
-        "train_rejected": train.rejected,
-    }
-    effective = {**values, **SYSTEM_SPECS[system].params}
-    row.update({name: effective[name] for name in PARAMS})
-    row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
-    return row
+    """:func:`run_row` of a resolved scenario and checked ``values`` (:func:`check_params`)."""
+    check_system(system)
+    return run_row(spec_of(system, rate, seed, scenario, values), cache)
 
 
 def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
     """Everything :func:`run_one` checks before it runs (system, rate, seed, parameters, the
     scenario file); returns the resolved scenario. A sweep calls it before its first run."""
-    check_system(system)
-    check_rate(rate)
-    derive_seeds(seed)
     scenario = params.pop("scenario", None)
-    values = check_params({**params, "detector": params.pop("detector", "exact")})
-    return resolve_scenario(SCENARIO.parse(scenario, "scenario"), values)
+    spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=params)
+    return spec.scenario
 
 
 def run_one(
@@ -321,16 +201,16 @@ def run_one(
     *,
     tables: int | None = None,
     scenario: Scenario | str | Path | None = None,
-    detector: str = "exact",
     **params: Any,
 ) -> dict[str, Any]:
     """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
 
     ``tables`` and the other assembly fields default to the scenario file's (10 tables in
     ``scenarios/assembly.yaml``). ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``,
-    ``silent_ok=0.1``, ``legs_per_table=4``); an unknown name raises an error listing the
+    ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises an error listing the
     valid ones. The row's columns are :data:`ROW_COLUMNS`; the same arguments always give the
-    same row.
+    same row. The arguments are parsed once (:func:`pil.task.spec.parse_run_spec`).
     """
-    values = check_params({**params, "tables": tables, "detector": detector})
-    return run_system(system, rate, seed, resolve_scenario(scenario, values), values)
+    given = params if tables is None else {**params, "tables": tables}
+    spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=given)
+    return run_row(spec)

@@ -1,0 +1,68 @@
+"""A run's sub-seeds: the one place they are derived from the run seed.
+
+Every random part of a run draws from its own sub-seed (numpy ``SeedSequence`` of the run
+seed), so its draws do not depend on anything else in the run: per phase (``train``, ``test``)
+the handover order (``draw``), the detector (the dice, or the eye cameras' noise), the learner
+and the scripted person's mind. The person's physical body (where the palm is held out) is
+seeded with the run seed itself (:attr:`RunSeeds.body`): the main job's seeded log is pinned
+to it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pil.errors import InvalidChoiceError
+from pil.task.params import SEED
+
+PHASES: tuple[str, ...] = ("train", "test")
+PARTS: tuple[str, ...] = ("draw", "detector", "learner", "person")
+SEED_NAMES: tuple[str, ...] = tuple(f"{phase}_{part}" for part in PARTS for phase in PHASES)
+
+
+@dataclass(frozen=True, slots=True)
+class PhaseSeeds:
+    """The sub-seeds of one phase of a run."""
+
+    draw: int
+    detector: int
+    learner: int
+    person: int
+
+
+@dataclass(frozen=True, slots=True)
+class RunSeeds:
+    """All sub-seeds of one run seed (:func:`run_seeds`)."""
+
+    seed: int
+    words: tuple[int, ...]  # one per name of SEED_NAMES
+
+    @property
+    def body(self) -> int:
+        """The person's physical body: the run seed itself."""
+        return self.seed
+
+    def phase(self, phase: str) -> PhaseSeeds:
+        """The sub-seeds of ``phase`` ("train" or "test")."""
+        if phase not in PHASES:
+            raise InvalidChoiceError("phase", phase, PHASES)
+        named = self.as_dict()
+        return PhaseSeeds(*(named[f"{phase}_{part}"] for part in PARTS))
+
+    def as_dict(self) -> dict[str, int]:
+        """Sub-seed name (:data:`SEED_NAMES`) -> seed."""
+        return dict(zip(SEED_NAMES, self.words, strict=True))
+
+
+def run_seeds(seed: int) -> RunSeeds:
+    """The sub-seeds of an already parsed run seed (no checks: the edge parsed it)."""
+    words = np.random.SeedSequence(int(seed)).generate_state(len(SEED_NAMES), np.uint64)
+    return RunSeeds(int(seed), tuple(int(w) for w in words))
+
+
+def derive_seeds(seed: int) -> dict[str, int]:
+    """Independent sub-seeds of one run or repetition, ``seed`` checked first (a Python call
+    is an edge): name (:data:`SEED_NAMES`) -> seed."""
+    return run_seeds(SEED.parse(seed, "seed")).as_dict()

@@ -1,0 +1,204 @@
+"""A run's typed, frozen specification (:class:`RunSpec`), parsed once at the edge.
+
+Whatever describes a run (a command line, a scenario YAML, a study's config, a sweep grid's
+row, a Python call) becomes a :class:`RunSpec` through :func:`parse_run_spec`, which checks
+every value by its spec in the one registry (:mod:`pil.task.params`). Below it nothing checks
+a parameter again or reads an untyped ``values`` dict: :func:`pil.task.assemble.assemble`
+builds the run from the spec's typed fields::
+
+    spec = parse_run_spec(system="c1", rate="0.6", seed=3, params={"discard": "0.3"})
+    run = assemble(spec)                      # learner, person, detector, world
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
+from pathlib import Path
+from typing import Any
+
+from pil.errors import InvalidChoiceError
+from pil.task.detector import CAMERAS, MODELS
+from pil.task.params import ASSEMBLY, PARAMS, RATE, SCENARIO, SEED, ParamSpec, parse_all
+from pil.task.scenario import Scenario, load_scenario
+from pil.task.seeds import RunSeeds, run_seeds
+from pil.task.systems import SYSTEM_SPECS, SystemSpec, check_system
+
+SYMBOLIC, PHYSICAL = "symbolic", "physical"
+WORLDS: tuple[str, ...] = (SYMBOLIC, PHYSICAL)  # the instant world, or MuJoCo (robin_sim)
+# The detector a run of each world may name: the eye cameras only where there is a body to see.
+DETECTOR_SPECS: dict[str, ParamSpec] = {
+    SYMBOLIC: PARAMS["detector"],
+    PHYSICAL: replace(
+        PARAMS["detector"], choices=(*MODELS, CAMERAS), doc="detection model or the eye cameras"
+    ),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class LearnerSettings:
+    """How the learner explores, adapts, anticipates; the baselines' settings; the loop's cap."""
+
+    exploration: str
+    adaptation: str
+    proactive: bool
+    proactive_threshold: float
+    proactive_min_count: int
+    epsilon: float
+    epsilon_decay: float
+    step_size: float
+    step_memory: str
+    max_actions_per_gesture: int
+
+
+@dataclass(frozen=True, slots=True)
+class PersonSettings:
+    """The scripted person's mind: silence, patience, reaction, and the handover timeout."""
+
+    silent_ok: float
+    patience: int
+    reaction_time: float
+    reaction_spread: float
+    handover_timeout: float
+
+
+@dataclass(frozen=True, slots=True)
+class DetectorSettings:
+    """How the robot reads the person (``model``: the parameter ``detector``)."""
+
+    model: str
+    discard: float
+    confusion: list[list[float]] | None
+    repeat_discarded: bool
+
+
+_GROUPS = (LearnerSettings, PersonSettings, DetectorSettings)
+_RENAMED = {"model": "detector"}  # field -> parameter, where the names differ
+
+
+def group_params(group: type) -> tuple[str, ...]:
+    """The parameter names (:data:`pil.task.params.PARAMS`) of a settings class's fields."""
+    return tuple(_RENAMED.get(f.name, f.name) for f in fields(group))
+
+
+def _settings(group: type, values: Mapping[str, Any]) -> Any:
+    return group(**{f.name: values[_RENAMED.get(f.name, f.name)] for f in fields(group)})
+
+
+def _flat(settings: Any) -> dict[str, Any]:
+    return {_RENAMED.get(f.name, f.name): getattr(settings, f.name) for f in fields(settings)}
+
+
+@dataclass(frozen=True, slots=True)
+class RunSpec:
+    """Everything a run is made of, typed and checked (build it with :func:`parse_run_spec`).
+
+    ``scenario`` is resolved (the assembly fields given applied); ``world``: one of
+    :data:`WORLDS` (a physical run's own options, e.g. video, are ``robin_sim``'s companion
+    spec). The system's own parameters (:class:`~pil.task.systems.SystemSpec`) apply to its
+    test run (:meth:`effective`), not to its pre-training.
+    """
+
+    system: str
+    rate: float
+    seed: int
+    scenario: Scenario
+    learner: LearnerSettings
+    person: PersonSettings
+    detector: DetectorSettings
+    world: str = SYMBOLIC
+
+    @property
+    def seeds(self) -> RunSeeds:
+        """The run's sub-seeds (:mod:`pil.task.seeds`, the one place they are derived)."""
+        return run_seeds(self.seed)
+
+    @property
+    def system_spec(self) -> SystemSpec:
+        """How the system learns and is tested."""
+        return SYSTEM_SPECS[self.system]
+
+    def for_run(self, system: str, rate: float, seed: int) -> RunSpec:
+        """This spec for another system, rate and seed, all already checked (a study's grid)."""
+        return replace(self, system=system, rate=rate, seed=seed)
+
+    def effective(self) -> RunSpec:
+        """This spec with the system's own parameters applied (typed constants, not parsed)."""
+        overrides = self.system_spec.params
+        if not overrides:
+            return self
+        changed: dict[str, Any] = {}
+        for name, group in (("learner", self.learner), ("person", self.person)):
+            mine = {f.name: overrides[f.name] for f in fields(group) if f.name in overrides}
+            if mine:
+                changed[name] = replace(group, **mine)
+        return replace(self, **changed)
+
+    def values(self) -> dict[str, Any]:
+        """Every parameter's value, in :data:`PARAMS` order (assembly fields: the scenario's);
+        for results rows and summaries."""
+        flat = {**_flat(self.learner), **_flat(self.person), **_flat(self.detector)}
+        return {n: getattr(self.scenario, n) if n in ASSEMBLY else flat[n] for n in PARAMS}
+
+
+def parse_run_spec(
+    *,
+    system: str = "pil",
+    rate: Any = RATE.default,
+    seed: Any = SEED.default,
+    scenario: Scenario | str | Path | None = None,
+    params: Mapping[str, Any] | None = None,
+    world: str = SYMBOLIC,
+    labels: Mapping[str, str] | None = None,
+) -> RunSpec:
+    """A :class:`RunSpec` from values given as text or typed, each checked once by its spec.
+
+    ``params`` are any of :data:`pil.task.params.PARAMS` (assembly ones change the scenario);
+    an unknown name raises listing the valid ones. ``labels`` name values in messages (e.g.
+    ``{"rate": "--rate"}``).
+    """
+    label = dict(labels or {})
+    if world not in WORLDS:
+        raise InvalidChoiceError("world", world, WORLDS)
+    check_system(system)
+    specs = {**PARAMS, "detector": DETECTOR_SPECS[world]}
+    given = dict(params or {})
+    for name in given:
+        if name not in specs:
+            raise InvalidChoiceError("parameter", name, specs)
+    values = {name: specs[name].parse(value, label.get(name)) for name, value in given.items()}
+    values = {**parse_all(specs, {}), **values}  # defaults (not parsed) for the others
+    if isinstance(scenario, str):
+        scenario = SCENARIO.parse(scenario, label.get("scenario", "scenario"))
+    base = (
+        scenario
+        if isinstance(scenario, Scenario)
+        else (load_scenario() if scenario is None else load_scenario(scenario))
+    )
+    changes = {name: values[name] for name in ASSEMBLY if values[name] is not None}
+    return RunSpec(
+        system=system,
+        rate=RATE.parse(rate, label.get("rate", "detection rate")),
+        seed=SEED.parse(seed, label.get("seed", "seed")),
+        scenario=replace(base, **changes) if changes else base,
+        learner=_settings(LearnerSettings, values),
+        person=_settings(PersonSettings, values),
+        detector=_settings(DetectorSettings, values),
+        world=world,
+    )
+
+
+def spec_of(
+    system: str, rate: float, seed: int, scenario: Scenario, values: Mapping[str, Any]
+) -> RunSpec:
+    """A spec of values already checked (:func:`pil.task.parts.check_params`), unchecked: for
+    the experiments that still hold checked ``values`` (adaptation, baselines, people)."""
+    return RunSpec(
+        system=system,
+        rate=float(rate),
+        seed=int(seed),
+        scenario=scenario,
+        learner=_settings(LearnerSettings, values),
+        person=_settings(PersonSettings, values),
+        detector=_settings(DetectorSettings, values),
+    )
