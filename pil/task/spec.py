@@ -189,10 +189,16 @@ def parse_run_spec(
 
 
 def spec_of(
-    system: str, rate: float, seed: int, scenario: Scenario, values: Mapping[str, Any]
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario,
+    values: Mapping[str, Any],
+    world: str = SYMBOLIC,
 ) -> RunSpec:
-    """A spec of values already checked (:func:`pil.task.parts.check_params`), unchecked: for
-    the experiments that still hold checked ``values`` (adaptation, baselines, people)."""
+    """A spec of values already checked (:func:`pil.task.parts.check_params`, or a checked
+    config's), not checked again: for the experiments that hold checked ``values``
+    (adaptation, baselines, people) and a live session's checked config."""
     return RunSpec(
         system=system,
         rate=float(rate),
@@ -201,4 +207,5 @@ def spec_of(
         learner=_settings(LearnerSettings, values),
         person=_settings(PersonSettings, values),
         detector=_settings(DetectorSettings, values),
+        world=world,
     )

@@ -98,9 +98,10 @@ def _params(texts: list[str]) -> dict[str, str]:
 
 def run(args: argparse.Namespace) -> int:
     """Check every option, then run the episode and print its summary."""
+    from pil.task.detector import CAMERAS as VISION
     from robin_sim.episode.config import EpisodeConfig, parse_size
 
-    width, height = parse_size(args.size)
+    width, height = parse_size(args.size)  # the one option of two values: split here
     video = not args.no_video
     params = _params(args.param)
     if args.detector is not None:
@@ -124,14 +125,15 @@ def run(args: argparse.Namespace) -> int:
         verify=not args.no_verify,
         progress=not args.no_progress,
         params=params,
-    ).checked()
-    if video or config.verify or params.get("detector") == "vision":
+    )
+    spec = config.spec()  # every option parsed and checked once, here
+    if video or spec.verify or spec.run.detector.model == VISION:
         from robin_sim.render.gl_backend import ensure_gl_backend
 
         ensure_gl_backend()  # before MuJoCo is imported
     from robin_sim.episode.run import run_episode
 
-    summary = run_episode(config)
+    summary = run_episode(spec)
     if args.json:
         print(json.dumps(summary, indent=2))
     else:

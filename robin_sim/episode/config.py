@@ -1,25 +1,28 @@
-"""What defines an episode (:class:`EpisodeConfig`), its checks, and what it resolves to.
+"""What defines an episode: :class:`EpisodeConfig` as given, parsed once into
+:class:`EpisodeSpec` (:func:`parse_episode`, the edge).
 
-Every option is checked here, by the specs of :mod:`pil.task.params` and the few video ones
-below, before an episode builds anything or writes a file; :class:`EpisodeTask` resolves the
-scenario and the scene layout (and refuses a layout without the legs and spots the person
-will point at).
+Every option is checked there, by the specs of :mod:`pil.task.params`, the camera conditions'
+(:mod:`robin_sim.vision.condition_params`) and the few video ones below, before an episode
+builds anything or writes a file; below, nothing checks a value again. The run's learner side
+is a :class:`~pil.task.spec.RunSpec` of the physical world; the scene layout is resolved when
+the world is built (:func:`robin_sim.episode.assemble.layout_of`, which refuses a layout without
+the legs and spots the person will point at). Nothing here imports MuJoCo.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pil.errors import RobinPilError
-from pil.experiments.systems import check_system
-from pil.task.params import ASSEMBLY, RATE, SCENARIO, SEED, ParamSpec
-from pil.task.parts import check_params, resolve_scenario
+from pil.task.detector import CAMERAS as VISION
+from pil.task.params import ParamSpec
 from pil.task.scenario import Scenario
-from robin_sim.episode.reading import split_params
+from pil.task.spec import PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import CAMERAS, HEAD_CAMERAS
+from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions, parse_conditions
 
 if TYPE_CHECKING:  # the module is imported before the GL backend is chosen: no MuJoCo here
     from robin_sim.model.scene import SceneLayout
@@ -89,38 +92,97 @@ class EpisodeConfig:
     progress: bool = True
     params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
 
-    def checked(self) -> EpisodeConfig:
-        """This config with every option parsed and checked (nothing is built or written)."""
-        check_system(self.system)
-        scenario = self.scenario
-        if scenario is not None and not isinstance(scenario, (Path, Scenario)):
-            scenario = SCENARIO.parse(scenario, "--scenario")
-        width, height = (
-            SIDE.parse(v, f"video {n}") for v, n in ((self.width, "width"), (self.height, "height"))
+    def spec(self) -> EpisodeSpec:
+        """This config parsed (:func:`parse_episode`)."""
+        return parse_episode(self)
+
+
+DEFAULT_TABLES = 1  # the main job assembles one table of the paper's assembly
+_LABELS = {"rate": "--rate", "seed": "--seed", "scenario": "--scenario", "tables": "--tables"}
+
+
+@dataclass(frozen=True, slots=True)
+class VideoSpec:
+    """The episode's video, checked (``record`` False: physics and log only)."""
+
+    record: bool
+    camera: str
+    width: int
+    height: int
+    fps: int
+    shadows: bool
+    render_workers: int | None
+    policy_panel: bool
+    eye_inset: bool
+
+
+@dataclass(frozen=True, slots=True)
+class EpisodeSpec:
+    """A physical episode, typed and checked: the learner side (:class:`RunSpec`, world
+    ``physical``), the eye cameras' conditions (a ``vision`` run only), the video and where
+    the files go."""
+
+    run: RunSpec
+    conditions: CameraConditions | None
+    video: VideoSpec
+    verify: bool
+    progress: bool
+    out: Path
+
+
+def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
+    """``config`` with every option parsed and checked once (nothing is built or written).
+
+    ``tables`` None: the scenario file's, but :data:`DEFAULT_TABLES` for the default assembly;
+    the camera conditions (``lighting``, ``camera_noise``) need ``detector=vision``.
+    """
+    params = dict(config.params)
+    given = {name: params.pop(name) for name in CONDITION_PARAMS if name in params}
+    if config.tables is not None or (config.scenario is None and "tables" not in params):
+        params["tables"] = DEFAULT_TABLES if config.tables is None else config.tables
+    run = parse_run_spec(
+        system=config.system,
+        rate=config.rate,
+        seed=config.seed,
+        scenario=config.scenario,
+        params=params,
+        world=PHYSICAL,
+        labels=_LABELS,
+    )
+    if run.detector.model != VISION and given:
+        raise RobinPilError(
+            f"{', '.join(given)} set the eye cameras' conditions and need "
+            f"--detector {VISION}; valid detectors: exact, independent, vision, "
+            "measured:FILE"
         )
-        check_params(split_params(self.params)[0])
-        return replace(
-            self,
-            tables=ASSEMBLY["tables"].parse(self.tables, "--tables"),
-            rate=RATE.parse(self.rate, "--rate"),
-            seed=SEED.parse(self.seed, "--seed"),
-            scenario=scenario,
-            camera=CAMERA.parse(self.camera, "--camera"),
-            width=check_even(width, height)[0],
-            height=height,
-            fps=FPS.parse(self.fps, "--fps"),
-            render_workers=RENDER_WORKERS.parse(self.render_workers, "--render-workers"),
-        )
+    width, height = (
+        SIDE.parse(v, f"video {n}") for v, n in ((config.width, "width"), (config.height, "height"))
+    )
+    check_even(width, height)
+    video = VideoSpec(
+        record=bool(config.video),
+        camera=CAMERA.parse(config.camera, "--camera"),
+        width=width,
+        height=height,
+        fps=FPS.parse(config.fps, "--fps"),
+        shadows=bool(config.shadows),
+        render_workers=RENDER_WORKERS.parse(config.render_workers, "--render-workers"),
+        policy_panel=bool(config.policy_panel),
+        eye_inset=bool(config.eye_inset),
+    )
+    conditions = parse_conditions(given) if run.detector.model == VISION else None
+    return EpisodeSpec(
+        run, conditions, video, bool(config.verify), bool(config.progress), Path(config.out)
+    )
 
 
 @dataclass(frozen=True)
 class EpisodeTask:
-    """What an episode's config resolves to: the scenario, its parameters and the scene layout."""
+    """What an episode resolves to: the scenario and the scene layout (for tools that need
+    only those, e.g. the live benchmark)."""
 
     scenario: Scenario
-    values: Mapping[str, Any]
     layout: SceneLayout
-    vision: Mapping[str, Any] | None = None  # camera conditions when the robot reads by eye
 
     @property
     def legs_total(self) -> int:
@@ -129,23 +191,8 @@ class EpisodeTask:
 
     @classmethod
     def of(cls, config: EpisodeConfig) -> EpisodeTask:
-        """Resolve ``config``: its scenario (tables default to 1 for the paper's assembly) and
-        the scene layout (the scenario's ``layout`` section, else the default), checking that
-        the layout has the legs and spots the person will point at."""
-        from robin_sim.model.scene import SceneLayout  # imports MuJoCo
+        """Parse ``config`` and resolve its scenario's layout."""
+        from robin_sim.episode.assemble import layout_of  # imports MuJoCo
 
-        tables = config.tables
-        if tables is None and config.scenario is None:
-            tables = 1  # the main job assembles one table of the paper's assembly
-        params, vision = split_params(config.params)
-        values = check_params({**params, "tables": tables})
-        scenario = resolve_scenario(config.scenario, values)
-        layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
-        if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
-            raise EpisodeError(
-                f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
-                f"{scenario.legs_per_table} legs per table, but its layout has "
-                f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
-                "layout section or lower spots / legs_per_table"
-            )
-        return cls(scenario, values, layout, vision)
+        scenario = parse_episode(config).run.scenario
+        return cls(scenario, layout_of(scenario))

@@ -16,9 +16,10 @@ from pathlib import Path
 from typing import Any
 
 from pil.experiments.systems import run_one
-from pil.task.detector import CAMERAS, MODELS
-from pil.task.params import ASSEMBLY, PARAMS, ParamSpec
-from robin_sim.episode.config import EpisodeConfig, EpisodeTask
+from pil.task.detector import CAMERAS
+from pil.task.params import ASSEMBLY, ParamSpec
+from pil.task.spec import DETECTOR_SPECS, PHYSICAL
+from robin_sim.episode.config import EpisodeConfig, EpisodeSpec, parse_episode
 from robin_sim.episode.run import run_episode
 from robin_sim.vision.condition_params import CONDITION_PARAMS
 
@@ -26,39 +27,39 @@ PHYSICAL_PARAMS: dict[str, ParamSpec] = {
     "tables": ASSEMBLY["tables"],
     "verify": ParamSpec("verify", "bool", False, "render checks after grasps and deliveries"),
     # a physical run may read with the eye cameras, under camera conditions
-    "detector": replace(
-        PARAMS["detector"], choices=(*MODELS, CAMERAS), doc="detection model or the eye cameras"
-    ),
+    "detector": DETECTOR_SPECS[PHYSICAL],
     **CONDITION_PARAMS,
 }
 VISION_PREFIX = "vision_"  # the vision block's numbers in a results row
 
 
-def _config(
-    system: str, rate: float, seed: int, out: Path, params: dict[str, Any]
-) -> EpisodeConfig:
+def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> EpisodeSpec:
+    """The episode of a sweep's row, parsed once (its grid row is this run's edge)."""
     options = dict(params)
-    tables = PHYSICAL_PARAMS["tables"].parse(options.pop("tables", None), "tables")
+    tables = options.pop("tables", None)
     verify = PHYSICAL_PARAMS["verify"].parse(options.pop("verify", False), "verify")
     scenario = options.pop("scenario", None)
-    return EpisodeConfig(
+    config = EpisodeConfig(
         tables=tables,
         rate=rate,
         seed=seed,
         system=system,
         scenario=scenario,
-        out=out,
+        out=Path("."),
         video=False,
         verify=verify,
         progress=False,
         params=options,
-    ).checked()
+    )
+    return parse_episode(config)
 
 
 def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:
     """Everything a physical run checks before it starts (parameters, the scenario, its
     layout's legs and spots); a sweep calls it before its first run."""
-    EpisodeTask.of(_config(system, rate, seed, Path("."), params))
+    from robin_sim.episode.assemble import layout_of  # imports MuJoCo
+
+    layout_of(_spec(system, rate, seed, params).run.scenario)
 
 
 # relative cost of what a physical run does, in simulated seconds (bench/README.md): an
@@ -88,16 +89,16 @@ def expected_cost(system: str, rate: float, seed: int, **params: Any) -> float:
 def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
     """One physical run without video, as a flat results row (the sweep's physical kind).
 
-    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.parts.PARAMS`; the step log
-    and summary go to a temporary folder that is removed afterwards.
+    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.params.PARAMS`; the step
+    log and summary go to a temporary folder that is removed afterwards.
     """
-    config = _config(system, rate, seed, Path("."), params)
-    if str(params.get("detector", "")) == CAMERAS:
+    spec = _spec(system, rate, seed, params)
+    if spec.run.detector.model == CAMERAS:
         from robin_sim.render.gl_backend import ensure_gl_backend
 
         ensure_gl_backend()  # the eye cameras render
     with tempfile.TemporaryDirectory(prefix="robin-physical-") as folder:
-        summary = run_episode(replace(config, out=Path(folder)))
+        summary = run_episode(replace(spec, out=Path(folder)))
     row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
     row.pop("system_name", None)
     row["legs_delivered_fraction"] = summary["legs_delivered"] / summary["legs_total"]

@@ -16,8 +16,9 @@ from pathlib import Path
 from pil.errors import RobinPilError
 from pil.experiments.systems import check_system
 from pil.task.params import SEED
-from pil.task.parts import resolve_scenario
+from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
+from pil.task.spec import PHYSICAL, RunSpec, spec_of
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
 MAX_SIZE = 1920  # px: the scene's off-screen buffer is checked when the scene is built
@@ -25,6 +26,7 @@ SPEEDS = (0.1, 10.0)  # sim seconds per wall second
 FPS_RANGE = (1, 60)
 FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
 DEFAULT_TABLES = 1  # the default assembly: one table, as the episode
+EXACT_RATE = 1.0  # the detector reads every click and button as what it is
 
 
 @dataclass(frozen=True)
@@ -102,6 +104,15 @@ class LiveConfig:
             out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
             render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+        )
+
+    def run_spec(self) -> RunSpec:
+        """The session's learner side (of a :meth:`checked` config, not checked again): its
+        system and seed, the block's scenario, the exact detector at rate 1, the parameters'
+        defaults, in the physical world."""
+        defaults = check_params({})  # nothing given: nothing parsed
+        return spec_of(
+            self.system, EXACT_RATE, self.seed, self.scenario_of(), defaults, world=PHYSICAL
         )
 
     def scenario_of(self) -> Scenario:

@@ -4,7 +4,7 @@ The folder is ``out_root/<participant>/<session>``; an existing one is refused (
 overwrites another). ``inputs.jsonl`` gets one line per message from the controlling client,
 flushed at once: wall-clock and monotonic time, the simulated time, the raw message, whether it
 was accepted and, if not, why. ``summary.json`` holds the episode summary's fields
-(:func:`robin_sim.episode.run.run_summary`) and a ``"live"`` block; ``notes.jsonl`` the
+(:func:`robin_sim.episode.book.run_summary`) and a ``"live"`` block; ``notes.jsonl`` the
 experimenter's timestamped notes; the step log and the MP4 are written by
 :class:`robin_sim.live.run.LiveRun`.
 """
@@ -114,7 +114,7 @@ class SessionFiles:
 
     def save(self, status: str, error: str, run: LiveRun | None) -> dict[str, Any]:
         """Close the inputs log and write ``summary.json``; the summary."""
-        from robin_sim.episode.run import run_summary  # imports MuJoCo
+        from robin_sim.episode.book import run_summary  # imports MuJoCo
 
         with self._lock:
             self._inputs.close()
@@ -129,16 +129,13 @@ class SessionFiles:
             }
         else:
             summary = run_summary(
-                config.system,
-                1.0,
-                config.seed,
-                run.task,
-                run.totals,
-                run.parts,
-                run.world,
-                wall,
-                status,
-                error,
+                spec=run.spec,
+                run=run.parts,
+                totals=run.totals,
+                world=run.world,
+                wall=wall,
+                status=status,
+                error=error,
             )
         summary["live"] = self._live_block(run)
         stream = None if run is None else run.stream

@@ -14,14 +14,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.systems import test_parts
-from pil.task.parts import RunParts
+from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
-from robin_sim.episode.config import EpisodeConfig, EpisodeTask
+from robin_sim.episode.assemble import assemble, layout_of
+from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
-from robin_sim.episode.run import StepBook
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
@@ -34,7 +33,6 @@ from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
 LOG_NAME, VIDEO_NAME = "log.jsonl", "episode.mp4"
-EXACT_RATE = 1.0  # the detector reads every click and button as what it is
 
 
 class LiveRun(ClosesOnExit):
@@ -48,28 +46,14 @@ class LiveRun(ClosesOnExit):
         hook: Callable[[Simulator], None],
     ) -> None:
         self.config = config
-        episode = EpisodeConfig(
-            system=config.system,
-            rate=EXACT_RATE,
-            seed=config.seed,
-            scenario=config.scenario,
-            video=False,
-            out=out_dir,
-        )
-        task = EpisodeTask.of(episode)
-        self.task = replace(task, scenario=config.scenario_of())
-        self.world = PhysicalWorld(self.task.layout)
+        self.spec = config.run_spec()  # the checked config's learner side, typed
+        self.world = PhysicalWorld(layout_of(self.spec.scenario))
         check_frame_size(self.world.model, config.width, config.height)
-        self.body = PhysicalBody(self.world, seed=config.seed)
-        scripted = test_parts(
-            config.system,
-            EXACT_RATE,
-            config.seed,
-            self.task.scenario,
-            self.task.values,
-            body=self.body,
-        )
-        scenario = self.task.scenario
+        scripted = assemble(self.spec, world=self.world)
+        body = scripted.person.body
+        assert isinstance(body, PhysicalBody)
+        self.body = body
+        scenario = self.spec.scenario
         types, seen = [], set()
         for step in scripted.person.script:  # the block's handovers, in the scenario's order
             if step.intent.handover not in seen:
@@ -84,15 +68,15 @@ class LiveRun(ClosesOnExit):
             self.body, types, scenario.legs_per_table, config.feedback_window, robot_anticipates
         )
         # The participant in the scripted person's place (pil.task.person.Person).
-        self.parts: RunParts = replace(scripted, person=self.participant)  # type: ignore[arg-type]
-        self.totals = EpisodeTotals(timeout_s=float(self.task.values["handover_timeout"]))
+        self.parts: Run = replace(scripted, person=self.participant)  # type: ignore[arg-type]
+        self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
         self.pacer: Pacer | None = None
         self.log: StepLog | None = None
         try:
-            self.picker = Picker(self.task.layout, config.width, config.height)
+            self.picker = Picker(self.world.layout, config.width, config.height)
             self.stream = FrameStream(
-                self.task.layout,
+                self.world.layout,
                 hub,
                 config.width,
                 config.height,

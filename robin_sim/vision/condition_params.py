@@ -1,13 +1,19 @@
 """The camera conditions a vision run takes as parameters (``--param lighting=0.3``).
 
 One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.Condition`
-checks its values against them, the episode splits them off its parameters
-(:mod:`robin_sim.episode.reading`) and a physical sweep checks them before its first run.
+checks its values against them, the episode's edge parses them apart from the run's
+parameters (:func:`robin_sim.episode.config.parse_episode`) and a physical sweep checks them
+before its first run.
 Nothing here imports MuJoCo.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from pil.errors import InvalidChoiceError
 from pil.task.params import ParamSpec
 
 CONDITION_PARAMS: dict[str, ParamSpec] = {
@@ -28,3 +34,24 @@ CONDITION_PARAMS: dict[str, ParamSpec] = {
         128.0,
     ),
 }
+
+
+@dataclass(frozen=True, slots=True)
+class CameraConditions:
+    """The eye cameras' conditions of a vision run, typed (parsed once by
+    :func:`parse_conditions`)."""
+
+    lighting: float
+    camera_noise: float
+
+
+def parse_conditions(given: Mapping[str, Any]) -> CameraConditions:
+    """The conditions ``given`` (text or numbers; missing: defaults), each checked by its spec."""
+    for name in given:
+        if name not in CONDITION_PARAMS:
+            raise InvalidChoiceError("camera condition", name, CONDITION_PARAMS)
+    values = {
+        name: spec.parse(given[name]) if name in given else spec.default
+        for name, spec in CONDITION_PARAMS.items()
+    }
+    return CameraConditions(**values)
