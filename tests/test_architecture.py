@@ -158,9 +158,15 @@ def package_of(module: str, modules: Mapping[str, Path]) -> str:
 def package_graph(
     graph: Mapping[str, set[str]], modules: Mapping[str, Path]
 ) -> dict[str, set[str]]:
-    """Subpackage -> the subpackages its modules import (itself left out)."""
+    """Subpackage -> the subpackages its modules import (itself left out).
+
+    A top package's ``__init__`` (``pil``, ``robin_sim``: the public API, ``__all__``) is a
+    facade over every layer and left out; the module graph still refuses any module that
+    imports it back."""
     packages: dict[str, set[str]] = {}
     for module, targets in graph.items():
+        if "." not in module:
+            continue
         mine = package_of(module, modules)
         found = packages.setdefault(mine, set())
         found.update(package_of(t, modules) for t in targets)

@@ -127,3 +127,22 @@ def test_the_readme_python_example_runs(tmp_path: Path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.split() == ["finished", "1", "of", "1"]
     assert (tmp_path / "out" / "api" / "summary.json").is_file()
+
+
+@pytest.mark.slow
+def test_the_architecture_python_example_runs(tmp_path: Path):
+    """docs/architecture.md's example: a RunSpec parsed once and assembled, learner-only and
+    physical, and an episode through the public API (``from robin_sim import ...``)."""
+    (example,) = _blocks(ROOT / "docs" / "architecture.md", "python")
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MUJOCO_GL": "egl"}
+    done = subprocess.run(
+        [sys.executable, "-c", example],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[:3] == ["c1 40 legs", "True True", "finished 1 of 1"]
+    assert (tmp_path / "out" / "api" / "summary.json").is_file()

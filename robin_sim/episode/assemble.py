@@ -1,10 +1,11 @@
 """The physical run: :func:`pil.task.assemble.assemble` in MuJoCo, with a body and eyes.
 
-:func:`assemble` builds the world of the scenario's layout (:func:`layout_of`), the person's
+:func:`assemble` builds the world of the scenario's layout, the person's
 body in it (:class:`~robin_sim.person.body.PhysicalBody`, seeded by the run's sub-seeds) and
 hands them to the learner side's assembly with the detector registry extended by ``vision``
 (Robin's eye cameras, :class:`~robin_sim.vision.detector.VisionDetector`) — an entry like the
-others. The episode, a physical sweep run and a live session are assembled here::
+others. The world's layout is the scenario's (:func:`~robin_sim.episode.config.layout_of`). The
+episode, a physical sweep run and a live session are assembled here::
 
     spec = EpisodeConfig(scenario="one_handover", video=False).spec()
     run = assemble(spec)                      # run.world: a PhysicalWorld
@@ -19,30 +20,12 @@ from pil.task.assemble import DETECTORS, DetectorContext, DetectorFactory, Run
 from pil.task.assemble import assemble as assemble_learner
 from pil.task.detector import CAMERAS as VISION
 from pil.task.detector import GestureReader
-from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec
-from robin_sim.episode.config import EpisodeError, EpisodeSpec
+from robin_sim.episode.config import EpisodeError, EpisodeSpec, layout_of
 from robin_sim.vision.condition_params import CameraConditions, parse_conditions
 
 if TYPE_CHECKING:
-    from robin_sim.model.scene import SceneLayout
     from robin_sim.robot.world import PhysicalWorld
-
-
-def layout_of(scenario: Scenario) -> SceneLayout:
-    """The scene layout of ``scenario`` (its ``layout`` section, else the default), refused when
-    it lacks the legs and spots the person will point at."""
-    from robin_sim.model.scene import SceneLayout  # imports MuJoCo
-
-    layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
-    if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
-        raise EpisodeError(
-            f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
-            f"{scenario.legs_per_table} legs per table, but its layout has "
-            f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
-            "layout section or lower spots / legs_per_table"
-        )
-    return layout
 
 
 def vision_factory(conditions: CameraConditions) -> DetectorFactory:

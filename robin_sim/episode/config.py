@@ -5,7 +5,7 @@ Every option is checked there, by the specs of :mod:`pil.task.params`, the camer
 (:mod:`robin_sim.vision.condition_params`) and the few video ones below, before an episode
 builds anything or writes a file; below, nothing checks a value again. The run's learner side
 is a :class:`~pil.task.spec.RunSpec` of the physical world; the scene layout is resolved when
-the world is built (:func:`robin_sim.episode.assemble.layout_of`, which refuses a layout without
+the world is built (:func:`layout_of`, which refuses a layout without
 the legs and spots the person will point at). Nothing here imports MuJoCo.
 """
 
@@ -192,7 +192,21 @@ class EpisodeTask:
     @classmethod
     def of(cls, config: EpisodeConfig) -> EpisodeTask:
         """Parse ``config`` and resolve its scenario's layout."""
-        from robin_sim.episode.assemble import layout_of  # imports MuJoCo
-
         scenario = parse_episode(config).run.scenario
         return cls(scenario, layout_of(scenario))
+
+
+def layout_of(scenario: Scenario) -> SceneLayout:
+    """The scene layout of ``scenario`` (its ``layout`` section, else the default), refused when
+    it lacks the legs and spots the person will point at."""
+    from robin_sim.model.scene import SceneLayout  # imports MuJoCo
+
+    layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+    if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
+        raise EpisodeError(
+            f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
+            f"{scenario.legs_per_table} legs per table, but its layout has "
+            f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
+            "layout section or lower spots / legs_per_table"
+        )
+    return layout
