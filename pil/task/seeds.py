@@ -34,7 +34,7 @@ class PhaseSeeds:
 
 @dataclass(frozen=True, slots=True)
 class RunSeeds:
-    """All sub-seeds of one run seed (:func:`run_seeds`)."""
+    """All sub-seeds of one run seed (:func:`sub_seeds`)."""
 
     seed: int
     words: tuple[int, ...]  # one per name of SEED_NAMES
@@ -56,7 +56,7 @@ class RunSeeds:
         return dict(zip(SEED_NAMES, self.words, strict=True))
 
 
-def run_seeds(seed: int) -> RunSeeds:
+def sub_seeds(seed: int) -> RunSeeds:
     """The sub-seeds of an already parsed run seed (no checks: the edge parsed it)."""
     words = np.random.SeedSequence(int(seed)).generate_state(len(SEED_NAMES), np.uint64)
     return RunSeeds(int(seed), tuple(int(w) for w in words))
@@ -65,4 +65,4 @@ def run_seeds(seed: int) -> RunSeeds:
 def derive_seeds(seed: int) -> dict[str, int]:
     """Independent sub-seeds of one run or repetition, ``seed`` checked first (a Python call
     is an edge): name (:data:`SEED_NAMES`) -> seed."""
-    return run_seeds(SEED.parse(seed, "seed")).as_dict()
+    return sub_seeds(SEED.parse(seed, "seed")).as_dict()

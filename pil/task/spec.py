@@ -21,7 +21,7 @@ from pil.errors import InvalidChoiceError
 from pil.task.detector import CAMERAS, MODELS
 from pil.task.params import ASSEMBLY, PARAMS, RATE, SCENARIO, SEED, ParamSpec, parse_all
 from pil.task.scenario import Scenario, load_scenario
-from pil.task.seeds import RunSeeds, run_seeds
+from pil.task.seeds import RunSeeds, sub_seeds
 from pil.task.systems import SYSTEM_SPECS, SystemSpec, check_system
 
 SYMBOLIC, PHYSICAL = "symbolic", "physical"
@@ -111,7 +111,7 @@ class RunSpec:
     @property
     def seeds(self) -> RunSeeds:
         """The run's sub-seeds (:mod:`pil.task.seeds`, the one place they are derived)."""
-        return run_seeds(self.seed)
+        return sub_seeds(self.seed)
 
     @property
     def system_spec(self) -> SystemSpec:

@@ -99,9 +99,8 @@ def _params(texts: list[str]) -> dict[str, str]:
 def run(args: argparse.Namespace) -> int:
     """Check every option, then run the episode and print its summary."""
     from pil.task.detector import CAMERAS as VISION
-    from robin_sim.episode.config import EpisodeConfig, parse_size
+    from robin_sim.episode.config import EpisodeConfig
 
-    width, height = parse_size(args.size)  # the one option of two values: split here
     video = not args.no_video
     params = _params(args.param)
     if args.detector is not None:
@@ -115,8 +114,7 @@ def run(args: argparse.Namespace) -> int:
         out=args.out,
         video=video,
         camera=args.camera,
-        width=width,
-        height=height,
+        size=args.size,
         fps=args.fps,
         shadows=args.shadows,
         render_workers=args.render_workers,

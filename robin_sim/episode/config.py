@@ -83,6 +83,7 @@ class EpisodeConfig:
     camera: str = "front"
     width: int = 640
     height: int = 480
+    size: str | None = None  # "WIDTHxHEIGHT" as given (the CLI's --size); replaces width, height
     fps: int = 30
     shadows: bool = False  # shadows cost about 3x the render time on a CPU (llvmpipe)
     render_workers: int | None = None  # render processes; None: 2 (0 on one CPU), 0: in-process
@@ -155,10 +156,14 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
             f"--detector {VISION}; valid detectors: exact, independent, vision, "
             "measured:FILE"
         )
-    width, height = (
-        SIDE.parse(v, f"video {n}") for v, n in ((config.width, "width"), (config.height, "height"))
-    )
-    check_even(width, height)
+    if config.size is not None:
+        width, height = parse_size(config.size)
+    else:
+        width, height = (
+            SIDE.parse(v, f"video {n}")
+            for v, n in ((config.width, "width"), (config.height, "height"))
+        )
+        check_even(width, height)
     video = VideoSpec(
         record=bool(config.video),
         camera=CAMERA.parse(config.camera, "--camera"),

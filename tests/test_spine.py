@@ -1,0 +1,179 @@
+"""One spine (issue 18): a run's values are parsed once at the edge into a RunSpec, one
+assembly builds every kind of run, and a run's sub-seeds are derived in one place.
+
+The counts are real: :meth:`ParamSpec.parse` (the one registry's check) is wrapped, the real
+method still runs, and the episode command runs from its command line to the world's end.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from pil.task.assemble import assemble, script_of
+from pil.task.param_spec import ParamSpec
+from pil.task.params import ASSEMBLY, PARAMS
+from pil.task.seeds import sub_seeds
+from pil.task.spec import (
+    DetectorSettings,
+    LearnerSettings,
+    PersonSettings,
+    group_params,
+    parse_run_spec,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def parse_calls(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
+    """Every ParamSpec.parse call, counted by the parameter's name (the real parse runs)."""
+    calls: Counter[str] = Counter()
+    real = ParamSpec.parse
+
+    def counting(self: ParamSpec, value: Any, label: str | None = None) -> Any:
+        calls[self.name] += 1
+        return real(self, value, label)
+
+    monkeypatch.setattr(ParamSpec, "parse", counting)
+    return calls
+
+
+@pytest.mark.slow
+def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
+    parse_calls: Counter[str], tmp_path: Path
+) -> None:
+    from robin_sim.cli.main import main
+
+    argv = [
+        "episode",
+        "--no-video",
+        "--no-verify",
+        "--no-progress",
+        "--scenario",
+        "one_handover",
+        "--rate",
+        "0.8",
+        "--seed",
+        "2",
+        "--system",
+        "c1",
+        "--size",
+        "320x240",
+        "--fps",
+        "24",
+        "--camera",
+        "side",
+        "--param",
+        "discard=0.3",
+        "--param",
+        "reaction_time=0.5",
+        "--param",
+        "exploration=avoid-last",
+        "--out",
+        str(tmp_path),
+    ]
+    assert main(argv) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["status"] == "finished" and summary["rate"] == 0.8
+    assert summary["person"]["reaction_time"] == 0.5
+    given = {"rate", "seed", "scenario", "size", "fps", "camera", "discard", "reaction_time"}
+    given |= {"exploration", "render_workers"}
+    # --size is two values (width and height), each checked once
+    assert parse_calls.pop("size") == 2
+    # the scenario file's own assembly keys are checked once, when the file is read
+    file_keys = set(ASSEMBLY)
+    assert set(parse_calls) == (given - {"size"}) | file_keys, parse_calls
+    assert all(count == 1 for count in parse_calls.values()), parse_calls
+
+
+def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str]) -> None:
+    from pil.experiments.systems import run_one
+
+    row = run_one("c3", "0.6", "4", tables="1", discard="0.3", patience="2")
+    assert row["tables"] == 1 and row["discard"] == 0.3 and row["patience"] == 2
+    assert set(parse_calls) >= {"rate", "seed", "tables", "discard", "patience"}
+    mine = {k: v for k, v in parse_calls.items() if k in {"rate", "seed", "discard", "patience"}}
+    assert all(count == 1 for count in mine.values()), parse_calls
+    # tables: once as given, once as the scenario file's own value when the file is read
+    assert parse_calls["tables"] == 2, parse_calls
+
+
+def test_the_settings_cover_the_registry_exactly() -> None:
+    """Each run parameter is a field of exactly one settings class (or an assembly field of
+    the scenario): the typed spec and the registry name the same facts."""
+    names = [
+        *group_params(LearnerSettings),
+        *group_params(PersonSettings),
+        *group_params(DetectorSettings),
+    ]
+    assert len(names) == len(set(names))
+    assert set(names) | set(ASSEMBLY) == set(PARAMS) and not set(names) & set(ASSEMBLY)
+
+
+def test_every_part_draws_from_the_specs_sub_seeds() -> None:
+    spec = parse_run_spec(system="c1", rate=0.6, seed=7, params={"tables": 1})
+    seeds = sub_seeds(7)
+    assert spec.seeds == seeds and seeds.body == 7
+    run = assemble(spec)
+    test = seeds.phase("test")
+    assert run.person.script == script_of(spec.scenario, "test", test)
+    again = assemble(parse_run_spec(system="c1", rate=0.6, seed=7, params={"tables": 1}))
+    assert [r.to_dict() for r in run.steps()] == [r.to_dict() for r in again.steps()]
+    assert sub_seeds(8) != seeds and len(set(seeds.words)) == len(seeds.words)
+
+
+def _calls(path: Path, names: set[str]) -> list[str]:
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Call):
+            func = node.func
+            name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", "")
+            if name in names:
+                found.append(name)
+    return found
+
+
+def test_sub_seeds_are_derived_in_one_place() -> None:
+    """Only pil/task/seeds.py turns a run seed into sub-seeds; robin_sim never derives one,
+    and the body and the eye cameras are built (and seeded) only by robin_sim's assembly."""
+    derivers = {"SeedSequence", "derive_seeds", "sub_seeds"}
+    run_path = [
+        *(ROOT / "pil" / "task").glob("*.py"),
+        ROOT / "pil" / "experiments" / "systems.py",
+        *(ROOT / "robin_sim").rglob("*.py"),
+    ]
+    deriving = {str(p.relative_to(ROOT)) for p in run_path if "SeedSequence" in _calls(p, derivers)}
+    assert deriving == {"pil/task/seeds.py"}
+    in_robin = {
+        str(p.relative_to(ROOT))
+        for p in (ROOT / "robin_sim").rglob("*.py")
+        if _calls(p, {"derive_seeds", "sub_seeds"})
+    }
+    assert in_robin == set()
+    builders = {
+        str(p.relative_to(ROOT))
+        for p in (ROOT / "robin_sim").rglob("*.py")
+        if _calls(p, {"PhysicalBody", "VisionDetector"})
+        and "vision/" not in str(p.relative_to(ROOT / "robin_sim"))
+    }
+    assert builders == {"robin_sim/episode/assemble.py"}
+
+
+def test_the_vision_detector_is_a_registry_entry_not_a_swap() -> None:
+    from pil.task.assemble import DETECTORS
+    from pil.task.detector import CAMERAS
+
+    assert CAMERAS not in DETECTORS  # learner-only runs have no eyes
+    with pytest.raises(Exception, match="eye cameras"):
+        parse_run_spec(params={"detector": CAMERAS})  # refused at the edge, once
+    spec = parse_run_spec(params={"detector": CAMERAS}, world="physical")
+    assert spec.detector.model == CAMERAS  # kept as given: no swap for 'exact'
+    source = (ROOT / "robin_sim" / "episode" / "assemble.py").read_text()
+    assert "CAMERAS as VISION" in source and "VISION: vision_factory(" in source
+    assert not (ROOT / "robin_sim" / "episode" / "reading.py").exists()
