@@ -156,13 +156,13 @@ def untried_first(
     return rng.choice(left), False, "re-explore rejected"
 
 
+DEFAULT_RULE = "next-best"
 RULES: dict[str, Rule] = {
-    "next-best": next_best,
+    DEFAULT_RULE: next_best,
     "avoid-last": avoid_last,
     "with-replacement": with_replacement,
     "untried-first": untried_first,
 }
-DEFAULT_RULE = "next-best"
 
 
 def check_rule(name: str) -> str:

@@ -90,8 +90,9 @@ def test_unknown_parameter_lists_the_valid_ones(learner) -> None:
     ("changes", "message"),
     [
         ({"systems": ["pil", "c9"]}, "unknown system 'c9'; valid choices: 'pil', 'c1'"),
-        ({"rates": [0.4, 1.5]}, r"must lie in \[0, 1\].*1.5"),
-        ({"rates": [-0.1]}, r"must lie in \[0, 1\]"),
+        ({"rates": [0.4, 1.5]}, r"--rates must be a number in \(0, 1\], got 1.5"),
+        ({"rates": [-0.1]}, r"--rates must be a number in \(0, 1\]"),
+        ({"rates": [0.0]}, r"--rates must be a number in \(0, 1\], got 0.0 \(at rate 0"),
         ({"rates": []}, "empty grid: no detection rates"),
         ({"systems": []}, "empty grid: no systems"),
         ({"reps": 0}, "--reps must be a whole number from 1 to 100000, got 0"),

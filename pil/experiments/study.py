@@ -46,14 +46,11 @@ from pil.experiments.study_tests import (
 from pil.experiments.systems import (
     PAPER_SYSTEMS,
     ROW_COLUMNS,
-    check_params,
     check_system,
-    resolve_scenario,
     run_row,
 )
-from pil.task.parts import SCENARIO_KEYS
 from pil.task.scenario import Scenario
-from pil.task.spec import parse_run_spec
+from pil.task.spec import RunSpec, parse_run_spec
 
 STUDY_COLUMNS: tuple[str, ...] = ("rep", *ROW_COLUMNS)
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
@@ -69,6 +66,9 @@ class StudyConfig:
     systems: tuple[str, ...] = PAPER_SYSTEMS
     scenario: Scenario | str | Path | None = None
     params: Mapping[str, Any] = field(default_factory=dict)  # see pil.experiments.systems.PARAMS
+    labels: Mapping[str, str] = field(default_factory=dict, compare=False)  # names in messages
+    # the runs' spec: scenario and params parsed once, here (the system, rate and seed vary)
+    base: RunSpec = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rates", tuple(check_rate(r) for r in self.rates))
@@ -85,6 +85,8 @@ class StudyConfig:
             raise RobinPilError(f"give each system once (at least one), got {self.systems!r}")
         if isinstance(self.reps, bool) or not isinstance(self.reps, int) or self.reps < 1:
             raise RobinPilError(f"reps must be a whole number >= 1, got {self.reps!r}")
+        base = parse_run_spec(scenario=self.scenario, params=self.params, labels=self.labels)
+        object.__setattr__(self, "base", base)
 
     def runs(self) -> int:
         """How many runs the study makes."""
@@ -101,7 +103,7 @@ def run_study(
     config: StudyConfig, progress: Callable[[int], None] | None = None
 ) -> list[dict[str, Any]]:
     """All runs of the study, ordered by rate, system and repetition."""
-    base = parse_run_spec(scenario=config.scenario, params=config.params)  # checked once here
+    base = config.base  # checked once, by the config
     seeds = rep_seeds(config.seed, config.reps)
     rows: list[dict[str, Any]] = []
     for rep, seed in enumerate(seeds):
@@ -128,10 +130,9 @@ def csv_text(rows: Sequence[Row], columns: Sequence[str] = STUDY_COLUMNS) -> str
 
 def training_by_rule(config: StudyConfig) -> dict[str, Figures]:
     """The training figures of every exploration rule at the study's rates (same seeds)."""
-    values = check_params(dict(config.params))
-    scenario = resolve_scenario(config.scenario, values)
+    base = config.base
     rates = sorted({*config.rates, 1.0})
-    return rule_training(scenario, rates, rep_seeds(config.seed, config.reps), values)
+    return rule_training(base.scenario, rates, rep_seeds(config.seed, config.reps), base.values())
 
 
 def claim_config(config: StudyConfig) -> StudyConfig | None:
@@ -140,7 +141,7 @@ def claim_config(config: StudyConfig) -> StudyConfig | None:
     rates = tuple(r for r in config.rates if r in LOW_RATES)
     if not rates or not {"pil", *CLAIM_SYSTEMS} <= set(config.systems):
         return None
-    repeat = bool(check_params(dict(config.params))["repeat_discarded"])
+    repeat = config.base.detector.repeat_discarded
     return StudyConfig(
         rates=rates,
         reps=config.reps,
@@ -169,9 +170,7 @@ def summary_text(
     """The study's ``summary.md`` (``by_rule``: :func:`training_by_rule`, to compare rules;
     ``tests``: :func:`all_tests`, by default the study's own)."""
     tests = study_tests(rows) if tests is None else tests
-    values = check_params(dict(config.params))
-    scenario = resolve_scenario(config.scenario, values)
-    values.update({key: getattr(scenario, key) for key in SCENARIO_KEYS})
+    values = config.base.values()  # the scenario's assembly fields included
     setup = ", ".join(f"{k}={v}" for k, v in values.items())
     parts = [
         "# PIL study: gestures and actions per system and detection rate",

@@ -34,8 +34,6 @@ from pil.experiments.report import Row, load_rows, markdown_table
 from pil.experiments.stats import mean_ci
 from pil.experiments.study import StudyConfig, csv_text, run_study, write_outputs
 from pil.experiments.study_tests import claim_rows, claim_verdicts, discard_reading
-from pil.experiments.systems import check_params, resolve_scenario
-from pil.task.parts import SCENARIO_KEYS
 
 SEEDS_COLUMNS: tuple[str, ...] = ("seed", "rate", "measure", "ours", "paper", "diff_percent")
 FIGURES: tuple[str, ...] = ("gestures", "actions")
@@ -43,9 +41,7 @@ FIGURES: tuple[str, ...] = ("gestures", "actions")
 
 def settings(config: StudyConfig) -> dict[str, Any]:
     """What makes two seed folders the same study (all but the seed)."""
-    values = check_params(dict(config.params))
-    scenario = resolve_scenario(config.scenario, values)
-    values.update({key: getattr(scenario, key) for key in SCENARIO_KEYS})
+    values, scenario = config.base.values(), config.base.scenario
     return {
         "study": "study",
         "rates": list(config.rates),
@@ -241,7 +237,7 @@ def run_study_seeds(
     figures = [r for seed, rows in by_seed.items() for r in figure_rows(seed, rows)]
     over = tests_over_seeds(tests_by_seed)
     first, last = seeds[0], seeds[-1]
-    discard = discard_reading(check_params(dict(config.params))["repeat_discarded"])
+    discard = discard_reading(config.base.detector.repeat_discarded)
     parts = [
         f"# PIL study over {len(seeds)} seeds",
         "",

@@ -22,10 +22,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from pil.errors import InvalidChoiceError, RobinPilError, check_rate
+from pil.errors import InvalidChoiceError, RobinPilError
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
 from pil.experiments.systems import PAPER_SYSTEMS
-from pil.task.params import ASSEMBLY_DEFAULTS, REPS, SEED, ParamSpec, spec_for
+from pil.task.params import ASSEMBLY_DEFAULTS, RATE, REPS, SEED, ParamSpec, spec_for
 
 KINDS: dict[str, str] = {
     "learner": "pil.experiments.systems:run_one",
@@ -257,7 +257,7 @@ def build_grid(
     target: RunTarget,
     *,
     systems: Sequence[str] = DEFAULT_SYSTEMS,
-    rates: Sequence[float] = DEFAULT_RATES,
+    rates: Sequence[float | str] = DEFAULT_RATES,
     reps: int = PAPER_REPS,
     params: Sequence[str] = (),
     tables: int | None = ASSEMBLY_DEFAULTS["tables"],
@@ -272,7 +272,7 @@ def build_grid(
                 raise InvalidChoiceError("system", system, target.systems)
     if not rates:
         raise SweepGridError("empty grid: no detection rates given")
-    checked_rates = tuple(check_rate(rate, "detection rate") for rate in rates)
+    checked_rates = tuple(RATE.parse(rate, "--rates") for rate in rates)
     if len(set(checked_rates)) != len(checked_rates):
         raise SweepGridError(f"a detection rate is given twice in {list(rates)}")
     reps = REPS.parse(reps, "--reps")

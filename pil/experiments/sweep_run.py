@@ -19,7 +19,7 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
 from pil.task.detector import CAMERAS
-from pil.task.params import ASSEMBLY_DEFAULTS, RATE
+from pil.task.params import ASSEMBLY_DEFAULTS
 
 EXIT_CLUSTER_LOST = 3  # the Dask cluster went away mid-sweep; rerun to resume
 
@@ -74,8 +74,7 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
         check_address(request.scheduler)
     target = load_target(request.kind, request.run_function)
     params = with_detector(list(request.params), request.detector)
-    rates_given = rates_or_default(request.rates, params)
-    rates = [RATE.parse(text, "--rates") for text in split_list(rates_given, "--rates")]
+    rates = split_list(rates_or_default(request.rates, params), "--rates")  # parsed by the grid
     tables = request.tables
     if tables is None and not any(p.strip().startswith("tables=") for p in params):
         spec = target.params.get("tables")  # the kind's default; None: the function's

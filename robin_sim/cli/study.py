@@ -118,12 +118,12 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from pil.experiments.study import StudyConfig, run_study, write_outputs
-    from pil.experiments.systems import PAPER_SYSTEMS, check_params, resolve_scenario
+    from pil.experiments.systems import PAPER_SYSTEMS
     from pil.outdir import claimed_out_dir
-    from pil.task.params import ASSEMBLY, REPS, SEED
+    from pil.task.params import REPS, SEED
 
     params = {
-        "tables": ASSEMBLY["tables"].parse(args.tables, "--tables"),
+        "tables": args.tables,
         "detector": args.detector,
         "exploration": args.exploration,
         "repeat_discarded": args.discarded == "repeated",
@@ -135,8 +135,9 @@ def run(args: argparse.Namespace) -> int:
         rates=_study_rates(args.rates, args.detector),
         reps=REPS.parse(args.reps, "--reps"),
         seed=SEED.parse(args.seed, "--seed"),
-        scenario=resolve_scenario(args.scenario, check_params(params)),  # a bad file: refused now
+        scenario=args.scenario,  # a bad file: refused now, by the config (parsed once)
         params=params,
+        labels={"tables": "--tables", "scenario": "--scenario"},
     )
     count = _seed_count(args.seeds)
     # before the computation; the folder stays locked until the files are written

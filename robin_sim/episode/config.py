@@ -20,7 +20,7 @@ from pil.errors import RobinPilError
 from pil.task.detector import CAMERAS as VISION
 from pil.task.params import ParamSpec
 from pil.task.scenario import Scenario
-from pil.task.spec import PHYSICAL, RunSpec, parse_run_spec
+from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import CAMERAS, HEAD_CAMERAS
 from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions, parse_conditions
 
@@ -153,8 +153,7 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     if run.detector.model != VISION and given:
         raise RobinPilError(
             f"{', '.join(given)} set the eye cameras' conditions and need "
-            f"--detector {VISION}; valid detectors: exact, independent, vision, "
-            "measured:FILE"
+            f"--detector {VISION}; the detector must be {DETECTOR_SPECS[PHYSICAL].valid()}"
         )
     if config.size is not None:
         width, height = parse_size(config.size)

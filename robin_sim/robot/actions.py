@@ -66,7 +66,7 @@ class Context:
     reach_region: str  # described in unreachable-target errors
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ActionResult:
     """What one action did, with measurements for the episode log."""
 
@@ -122,21 +122,29 @@ class RobotAction(ABC):
     ) -> ActionResult:
         """An :class:`ActionResult` of this action from ``start`` until now."""
         return ActionResult(
-            self.action, ok, undone, detail, start, ctx.sim.time, dict(m), interrupted, dropped
+            action=self.action,
+            succeeded=ok,
+            undone=undone,
+            detail=detail,
+            started=start,
+            ended=ctx.sim.time,
+            measurements=dict(m),
+            interrupted=interrupted,
+            dropped=dropped,
         )
 
     def undone_after_stop(self, result: ActionResult, ctx: Context, detail: str) -> ActionResult:
         """``result`` marked as stopped by the person after its end and taken back."""
         return ActionResult(
-            self.action,
-            False,
-            True,
-            f"rejected at its end; {detail}",
-            result.started,
-            ctx.sim.time,
-            result.measurements,
-            True,
-            result.dropped,
+            action=self.action,
+            succeeded=False,
+            undone=True,
+            detail=f"rejected at its end; {detail}",
+            started=result.started,
+            ended=ctx.sim.time,
+            measurements=result.measurements,
+            interrupted=True,
+            dropped=result.dropped,
         )
 
 
