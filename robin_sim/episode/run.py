@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from contextlib import ExitStack
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from tqdm import tqdm
 
@@ -35,6 +35,9 @@ from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
+
+if TYPE_CHECKING:
+    from robin_sim.vision.detector import VisionDetector
 
 LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
 __all__ = ["EpisodeConfig", "EpisodeError", "EpisodeTask", "run_episode"]
@@ -60,6 +63,13 @@ def episode_parts(config: EpisodeConfig, task: EpisodeTask, world: PhysicalWorld
     if task.vision is None:
         return parts
     return replace(parts, detector=vision_detector(world, body.display, task.vision, config.seed))
+
+
+def _vision(parts: RunParts) -> VisionDetector | None:
+    """The run's detector if it reads with the eye cameras (``--detector vision``)."""
+    from robin_sim.vision.detector import VisionDetector
+
+    return parts.detector if isinstance(parts.detector, VisionDetector) else None
 
 
 def episode_records(
@@ -119,7 +129,7 @@ def run_episode(config: EpisodeConfig) -> dict[str, Any]:
                             # a signal already noted: one frame, rendered here, is enough
                             render_workers=0 if guard.requested else config.render_workers,
                             eye_inset=config.eye_inset,
-                            readings=parts.detector if task.vision is not None else None,
+                            readings=_vision(parts),
                             states=out / STATES_NAME,
                         )
                     )
@@ -300,6 +310,7 @@ def run_summary(
         "wall_time_s": round(wall, 3),
         "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
     }
-    if task.vision is not None:
-        summary["vision"] = parts.detector.summary()  # type: ignore[attr-defined]
+    vision = _vision(parts)
+    if vision is not None:
+        summary["vision"] = vision.summary()
     return summary

@@ -236,8 +236,11 @@ class LiveSession:
                     "your gesture, or give thumb down to stop it."
                 )
             if item.kind == "point":
-                target = self._picker.pick(float(item.x), float(item.y))  # type: ignore[arg-type]
-                self.view.clicked(target, float(item.x), float(item.y))  # type: ignore[arg-type]
+                # a point always has x and y (parse_input); the picker comes with the participant
+                x, y, picker = item.x, item.y, self._picker
+                assert x is not None and y is not None and picker is not None
+                target = picker.pick(float(x), float(y))
+                self.view.clicked(target, float(x), float(y))
                 participant.offer(Gesturing(Gesture.POINTING, target))
             else:
                 participant.offer(Gesturing(GESTURES[str(item.gesture)]))

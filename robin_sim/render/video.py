@@ -15,15 +15,17 @@ import errno
 import os
 from fractions import Fraction
 from pathlib import Path
+from typing import Final
 
 import av
 import numpy as np
+from av.container import OutputContainer
 
 from pil.errors import RobinPilError
 from robin_sim.closing import ClosesOnExit
 from robin_sim.render.mp4_trim import trim_torn_tail
 
-CODEC = "libx264"
+CODEC: Final = "libx264"  # a literal: PyAV's types then know the stream is video
 PIX_FMT = "yuv420p"
 # empty_moov: header first; frag_keyframe: a fragment per key frame; default_base_moof: the
 # layout browsers' media source extensions expect.
@@ -65,7 +67,7 @@ class Mp4Writer(ClosesOnExit):
         self.fps = int(fps)
         self.frames_written = 0
         self._failure: OSError | None = None  # the write error that stopped the video, if any
-        self._container = av.open(
+        self._container: OutputContainer | None = av.open(
             str(self.path),
             mode="w",
             format="mp4",

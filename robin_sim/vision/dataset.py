@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import zipfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -142,12 +143,12 @@ def chunks_for(samples: int) -> int:
     return -(-samples // CHUNK)
 
 
-def save_chunk(path: Path, arrays: dict[str, np.ndarray]) -> None:
+def save_chunk(path: Path, arrays: Mapping[str, np.ndarray | np.generic]) -> None:
     """Write ``arrays`` to ``path`` atomically (a partial file never stays behind)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_suffix(".partial.npz")
     with partial.open("wb") as handle:
-        np.savez_compressed(handle, **arrays)
+        np.savez_compressed(handle, allow_pickle=False, **arrays)
     os.replace(partial, path)
 
 
