@@ -20,13 +20,12 @@ from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
 from robin_sim.episode.reading import split_params
 from robin_sim.model.names import CAMERAS, HEAD_CAMERAS
+from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
 
 if TYPE_CHECKING:  # the module is imported before the GL backend is chosen: no MuJoCo here
     from robin_sim.model.scene import SceneLayout
 
 VIDEO_CAMERAS: tuple[str, ...] = (*CAMERAS, *HEAD_CAMERAS)
-FPS = ParamSpec("fps", "int", 30, "video frame rate", 1, 240)
-SIDE = ParamSpec("size", "int", 640, "video width or height in pixels", 2, 1_000_000)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
 RENDER_WORKERS = ParamSpec(
     "render_workers",
@@ -54,16 +53,6 @@ def parse_size(text: str, label: str = "--size") -> tuple[int, int]:
         for part, name in zip(parts, ("width", "height"), strict=True)
     )
     return check_even(width, height, label)
-
-
-def check_even(width: int, height: int, label: str = "video size") -> tuple[int, int]:
-    """(width, height) if both are even, else an error suggesting the nearest even size."""
-    if width % 2 or height % 2:
-        raise RobinPilError(
-            f"{label} must be even in both dimensions for H.264 yuv420p, got {width}x{height}; "
-            f"use e.g. {width + width % 2}x{height + height % 2}"
-        )
-    return width, height
 
 
 @dataclass(frozen=True)
@@ -95,9 +84,7 @@ class EpisodeConfig:
         scenario = self.scenario
         if scenario is not None and not isinstance(scenario, (Path, Scenario)):
             scenario = SCENARIO.parse(scenario, "--scenario")
-        width, height = (
-            SIDE.parse(v, f"video {n}") for v, n in ((self.width, "width"), (self.height, "height"))
-        )
+        width, height = check_size(self.width, self.height)
         check_params(split_params(self.params)[0])
         return replace(
             self,
@@ -106,7 +93,7 @@ class EpisodeConfig:
             seed=SEED.parse(self.seed, "--seed"),
             scenario=scenario,
             camera=CAMERA.parse(self.camera, "--camera"),
-            width=check_even(width, height)[0],
+            width=width,
             height=height,
             fps=FPS.parse(self.fps, "--fps"),
             render_workers=RENDER_WORKERS.parse(self.render_workers, "--render-workers"),
