@@ -28,6 +28,7 @@ from typing import Any
 
 from pil.agents import AGENTS
 from pil.errors import InvalidChoiceError, check_rate
+from pil.experiments.run_row import ROW_COLUMNS, run_row
 from pil.learner import Learner
 from pil.table import AssociationTable
 from pil.task.params import SCENARIO
@@ -115,33 +116,6 @@ class _Descriptions(Mapping[str, str]):
 
 
 SYSTEMS: Mapping[str, str] = _Descriptions()
-ROW_COLUMNS: tuple[str, ...] = (
-    "system",
-    "rate",
-    "seed",
-    "scenario",
-    "legs",
-    "handovers",
-    "gestures",
-    "actions",
-    "train_gestures",
-    "train_actions",
-    "total_gestures",
-    "total_actions",
-    "corrections",
-    "repeats",
-    "misdetections",
-    "discarded",
-    "rejected",
-    "exploited",
-    "anticipated",
-    "anticipated_ok",
-    "scripted_gestures",
-    "train_corrections",
-    "train_repeats",
-    "train_rejected",
-    *PARAMS,
-)
 
 
 @dataclass(frozen=True, slots=True)
@@ -271,36 +245,11 @@ def run_system(
     parts = test_parts(system, rate, seed, scenario, values, cache, training)
     stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
     train = RunStats() if training is None else training.stats
-    row: dict[str, Any] = {
-        "system": system,
-        "rate": rate,
-        "seed": int(seed),
-        "scenario": scenario.name,
-        "legs": stats.legs,
-        "handovers": stats.handovers,
-        "gestures": stats.gestures,
-        "actions": stats.actions,
-        "train_gestures": train.gestures,
-        "train_actions": train.actions,
-        "total_gestures": train.gestures + stats.gestures,
-        "total_actions": train.actions + stats.actions,
-        "corrections": stats.corrections,
-        "repeats": stats.repeats,
-        "misdetections": stats.misdetections,
-        "discarded": stats.discarded,
-        "rejected": stats.rejected,
-        "exploited": stats.exploited,
-        "anticipated": stats.anticipated,
-        "anticipated_ok": stats.anticipated_ok,
-        "scripted_gestures": stats.scripted_gestures,
-        "train_corrections": train.corrections,
-        "train_repeats": train.repeats,
-        "train_rejected": train.rejected,
-    }
     effective = {**values, **SYSTEM_SPECS[system].params}
-    row.update({name: effective[name] for name in PARAMS})
-    row.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
-    return row
+    used = {name: effective[name] for name in PARAMS}
+    used.update({name: getattr(scenario, name) for name in SCENARIO_KEYS})
+    run_cells = {"system": system, "rate": rate, "seed": int(seed), "scenario": scenario.name}
+    return run_row(run_cells, stats, train, used)
 
 
 def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
