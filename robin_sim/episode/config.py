@@ -19,13 +19,13 @@ from pil.task.params import ASSEMBLY, RATE, SCENARIO, SEED, ParamSpec
 from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
 from robin_sim.episode.reading import split_params
-from robin_sim.model.names import CAMERAS, HEAD_CAMERAS
+from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
 from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
 
 if TYPE_CHECKING:  # the module is imported before the GL backend is chosen: no MuJoCo here
     from robin_sim.model.scene import SceneLayout
 
-VIDEO_CAMERAS: tuple[str, ...] = (*CAMERAS, *HEAD_CAMERAS)
+VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
 RENDER_WORKERS = ParamSpec(
     "render_workers",

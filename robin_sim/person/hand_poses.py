@@ -28,7 +28,12 @@ import numpy as np
 from robin_sim.model import names
 
 PARTS: tuple[str, ...] = names.HUMAN_VIS_PARTS  # palm, thumb, index, middle, ring, little
-FINGERS: tuple[str, ...] = ("index", "middle", "ring", "little")
+HUMAN_FINGERS: tuple[str, ...] = (
+    "index",
+    "middle",
+    "ring",
+    "little",
+)  # the person's (Robin's: names.FINGERS)
 PALM_HALF = np.array([0.045, 0.045, 0.012])  # m, palm box half sizes
 FINGER_RADIUS = 0.009  # m
 THUMB_RADIUS = 0.010  # m
@@ -156,7 +161,7 @@ def part_segments(
     k = performance.size
     out: dict[str, tuple[np.ndarray, np.ndarray, float]] = {}
     spread = shape.spread + performance.spread
-    for i, finger in enumerate(FINGERS):
+    for i, finger in enumerate(HUMAN_FINGERS):
         curl = shape.curl[i] + performance.curl[i]
         base = np.array([-PALM_HALF[0], FINGER_Y[finger], 0.0]) * k
         offset = (1.5 - i) * spread  # index spreads towards the thumb (+y)

@@ -69,7 +69,6 @@ SPLITS: dict[str, Ranges] = {
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
 # and spots plus the hand's pointing offset), or anywhere in the person's working box.
-POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
 PLACES = np.array(
     [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
     + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
@@ -114,7 +113,7 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     rng = np.random.default_rng([seed, SPLIT_IDS[split], index])
     ranges = SPLITS[split]
     if rng.random() < 0.5:
-        hand = PLACES[rng.integers(len(PLACES))] + POINT_OFFSET + rng.normal(0, 0.02, 3)
+        hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     else:
         hand = rng.uniform(*BOX)
     return SampleSpec(
