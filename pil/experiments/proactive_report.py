@@ -16,11 +16,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import BASELINE
 from pil.experiments.report import Row, group_rows, markdown_table, mean_sd, number
 from pil.experiments.stats import PAIRED_T
 from pil.experiments.study_tests import TEST_TABLES, study_tests
 
-BASELINE, PROACTIVE = "pil", "proactive"
+PROACTIVE = "proactive"
 
 
 def _by_rep(rows: Sequence[Row], system: str) -> dict[str, Row]:

@@ -31,7 +31,7 @@ from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
-    GESTURES,
+    GESTURE_BY_KEY,
     THUMBS,
     LiveInput,
     LiveInputError,
@@ -243,7 +243,7 @@ class LiveSession:
                 self.view.clicked(target, float(x), float(y))
                 participant.offer(Gesturing(Gesture.POINTING, target))
             else:
-                participant.offer(Gesturing(GESTURES[str(item.gesture)]))
+                participant.offer(Gesturing(GESTURE_BY_KEY[str(item.gesture)]))
 
     def _log_input(self, raw: object, error: str) -> None:
         files, participant = self._files, self._participant

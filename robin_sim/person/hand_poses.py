@@ -27,7 +27,6 @@ import numpy as np
 
 from robin_sim.model import names
 
-PARTS: tuple[str, ...] = names.HUMAN_VIS_PARTS  # palm, thumb, index, middle, ring, little
 HUMAN_FINGERS: tuple[str, ...] = (
     "index",
     "middle",
@@ -190,7 +189,10 @@ class HandShaper:
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
         self.geoms = {
-            pose: {part: model.geom(names.human_vis_geom(pose, part)).id for part in PARTS}
+            pose: {
+                part: model.geom(names.human_vis_geom(pose, part)).id
+                for part in names.HUMAN_VIS_PARTS
+            }
             for pose in SHAPES
         }
 
@@ -200,7 +202,7 @@ class HandShaper:
         return all(
             mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, names.human_vis_geom(p, part)) >= 0
             for p in SHAPES
-            for part in PARTS
+            for part in names.HUMAN_VIS_PARTS
         )
 
     def shape(self, pose: str, performance: Performance | None = None) -> None:
