@@ -136,15 +136,15 @@ class RobotAction(ABC):
     def undone_after_stop(self, result: ActionResult, ctx: Context, detail: str) -> ActionResult:
         """``result`` marked as stopped by the person after its end and taken back."""
         return ActionResult(
-            self.action,
-            False,
-            True,
-            f"rejected at its end; {detail}",
-            result.started,
-            ctx.sim.time,
-            result.measurements,
-            True,
-            result.dropped,
+            action=self.action,
+            succeeded=False,
+            undone=True,
+            detail=f"rejected at its end; {detail}",
+            started=result.started,
+            ended=ctx.sim.time,
+            measurements=result.measurements,
+            interrupted=True,
+            dropped=result.dropped,
         )
 
 
