@@ -34,10 +34,11 @@ import numpy as np  # noqa: E402
 import robin_sim.person.body as body_module  # noqa: E402
 from pil.task.world import Target  # noqa: E402
 from pil.types import Gesture  # noqa: E402
+from robin_sim.model.robot_spec import POINT_OFFSET  # noqa: E402
 from robin_sim.robot.world import PhysicalWorld  # noqa: E402
 from robin_sim.vision.arm_states import ARM_STATES, arm_states, on_table  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE, load_shipped  # noqa: E402
-from robin_sim.vision.dataset import PLACES, POINT_OFFSET, sample_spec  # noqa: E402
+from robin_sim.vision.dataset import PLACES, sample_spec  # noqa: E402
 from robin_sim.vision.detector import VisionDetector  # noqa: E402
 from robin_sim.vision.render_set import SampleRenderer  # noqa: E402
 from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES  # noqa: E402

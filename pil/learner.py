@@ -21,7 +21,15 @@ from pil.anticipation import anticipate as _anticipate
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.exploration import DEFAULT_RULE, RULES, check_rule
 from pil.step_memory import StepMemory
-from pil.table import START, AssociationTable, action_index, approves, state_id
+from pil.table import (
+    ACTION_INDEX,
+    START,
+    STATE_ID_BY_OBJECT,
+    AssociationTable,
+    action_index,
+    approves,
+    state_id,
+)
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES, broken_rules, is_valid
@@ -31,8 +39,6 @@ ADAPTATIONS: dict[str, str] = {
     "none": "eq. 2: a not-OK leaves the counts unchanged",
     "halve": "a not-OK halves the refused action's count (rounded down), so old habits fade",
 }
-_ACTION_INDEX: dict[Action, int] = {a: i for i, a in enumerate(ACTIONS)}
-_ID_BY_OBJECT: dict[int, int] = {id(s): i for i, s in enumerate(ALL_STATES)}
 _ID_OF_PARTS: dict[tuple[Gesture, Action, Hand], int] = {
     (s.gesture, s.previous_action, s.hand): i for i, s in enumerate(ALL_STATES)
 }
@@ -153,7 +159,7 @@ class Learner:
     # -- section III-A ----------------------------------------------------------------------
     def choose(self, state: State) -> Action:
         """The next action to try in ``state`` within the current step (by the exploration rule)."""
-        sid = _ID_BY_OBJECT.get(id(state))
+        sid = STATE_ID_BY_OBJECT.get(id(state))
         return self._choose(state_id(state) if sid is None else sid)
 
     def _choose(self, sid: int) -> Action:
@@ -171,10 +177,10 @@ class Learner:
         feedback: the step ends, the transition from the previous OK state is counted and
         ``state`` becomes the previous OK state.
         """
-        sid = _ID_BY_OBJECT.get(id(state))
+        sid = STATE_ID_BY_OBJECT.get(id(state))
         if sid is None:
             sid = state_id(state)
-        index = _ACTION_INDEX.get(action)  # type: ignore[arg-type]  # "object" hits too
+        index = ACTION_INDEX.get(action)  # "object" hits too
         if index is None:
             index = action_index(action)
         if ok is True or (ok is not False and approves(ok)):

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from types import MappingProxyType
+from typing import Final
 
 from pil.errors import RobinPilError
 from pil.types import ACTIONS, Action, Feedback, State
@@ -25,17 +26,18 @@ from pil.validity import ALL_STATES
 
 N_STATES = len(ALL_STATES)
 START = N_STATES  # the id standing for "the start of the task" in the transitions
-_ACTION_INDEX: dict[Action, int] = {a: i for i, a in enumerate(ACTIONS)}
+# Position of each action in ACTIONS (a StrEnum: its value text, e.g. "object", finds it too).
+ACTION_INDEX: Final[Mapping[Action | str, int]] = {a: i for i, a in enumerate(ACTIONS)}
 _STATE_ID: dict[State, int] = {s: i for i, s in enumerate(ALL_STATES)}
 # The canonical State objects live as long as the module, so their id() never changes; looking
-# them up by id() avoids the (Python-level) dataclass hash on the hot path.
-_ID_BY_OBJECT: dict[int, int] = {id(s): i for i, s in enumerate(ALL_STATES)}
+# them up by id() avoids the (Python-level) dataclass hash on the hot path (the learner's too).
+STATE_ID_BY_OBJECT: Final[Mapping[int, int]] = {id(s): i for i, s in enumerate(ALL_STATES)}
 _UNIFORM = 1.0 / len(ACTIONS)
 
 
 def state_id(state: State | str) -> int:
     """Position of ``state`` in ALL_STATES; a key such as ``"pointing|open|free"`` is parsed."""
-    found = _ID_BY_OBJECT.get(id(state))
+    found = STATE_ID_BY_OBJECT.get(id(state))
     if found is not None:
         return found
     if state.__class__ is State:
@@ -53,8 +55,8 @@ def canonical(state: State | str) -> State:
 def action_index(action: Action | str) -> int:
     """Position of ``action`` in :data:`pil.types.ACTIONS`; strings are parsed."""
     if action.__class__ is Action:
-        return _ACTION_INDEX[action]
-    return _ACTION_INDEX[Action.parse(action)]
+        return ACTION_INDEX[action]
+    return ACTION_INDEX[Action.parse(action)]
 
 
 def approves(ok: bool | Feedback | str) -> bool:

@@ -6,10 +6,11 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim.control.human_hand import HAND_SPEED, POINT_OFFSET, TIP_ANGLE, HumanHand
+from robin_sim.control.human_hand import HAND_SPEED, TIP_ANGLE, HumanHand
 from robin_sim.control.simulator import HandTargets, Simulator
 from robin_sim.control.trajectory import rotation_angle
 from robin_sim.model import robot_spec as spec
+from robin_sim.model.robot_spec import POINT_OFFSET
 from robin_sim.model.scene import SceneLayout, build_model
 
 

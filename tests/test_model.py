@@ -105,7 +105,7 @@ def _scene_names() -> list[tuple[mujoco.mjtObj, str]]:
     ]
     want += [(obj.mjOBJ_JOINT, j) for j in names.HEAD_JOINTS]
     want += [(obj.mjOBJ_ACTUATOR, a) for a in names.HEAD_ACTUATORS]
-    want += [(obj.mjOBJ_CAMERA, c) for c in (*names.HEAD_CAMERAS, *names.CAMERAS)]
+    want += [(obj.mjOBJ_CAMERA, c) for c in (*names.HEAD_CAMERAS, *names.SCENE_CAMERAS)]
     for side in names.SIDES:
         want += [(obj.mjOBJ_JOINT, j) for j in (*names.arm_joints(side), *names.hand_joints(side))]
         want += [

@@ -11,7 +11,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from pil.errors import RobinPilError  # noqa: E402
-from robin_sim.model.names import CAMERAS  # noqa: E402
+from robin_sim.model.names import SCENE_CAMERAS  # noqa: E402
 from robin_sim.render.renderer import (  # noqa: E402
     CloseUpRenderer,
     FrameClock,
@@ -58,8 +58,8 @@ def _red_pixels(frame: np.ndarray) -> int:
 @pytest.mark.slow
 def test_each_camera_renders_the_scene(scene: tuple[mujoco.MjModel, mujoco.MjData]) -> None:
     model, data = scene
-    assert camera_names(model) == CAMERAS
-    for camera in CAMERAS:
+    assert camera_names(model) == SCENE_CAMERAS
+    for camera in SCENE_CAMERAS:
         with FrameRenderer(model, 320, 240, camera=camera, shadows=False) as renderer:
             frame = renderer.render(data)
         assert frame.shape == (240, 320, 3)

@@ -51,7 +51,7 @@ def test_the_pointing_hand_is_seen_above_every_leg_and_spot() -> None:
     """Drawn back and raised, the pointing hand is found by both eyes and read as pointing
     above each of the table's legs and spots (the left ones were hidden behind Robin's left
     upper arm with the hand held lower), and the person's hand touches nothing of the robot."""
-    from robin_sim.control.human_hand import POINT_OFFSET
+    from robin_sim.model.robot_spec import POINT_OFFSET
     from robin_sim.person.body import PERSON_CLEAR_X, POINT_RAISE, PhysicalBody
     from robin_sim.robot.targets import target_point
     from robin_sim.robot.world import PhysicalWorld

@@ -9,44 +9,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
 
+from pil.experiments.plotting import finish_figure, pyplot
 from pil.experiments.report import Row, group_rows, number, summarize
-
-
-def _pyplot():  # type: ignore[no-untyped-def]
-    """matplotlib's pyplot on the Agg backend (imported late: it is slow to import)."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def _finish(plt: Any, fig: Any, title: str | None, path: str | Path) -> Path:
-    """Title (if given), lay out and write ``fig`` to ``path``, then free it."""
-    if title is not None:
-        fig.suptitle(title)
-    fig.tight_layout()
-    try:
-        return _save(fig, path)
-    finally:
-        plt.close(fig)
-
-
-def _save(fig: Any, path: str | Path) -> Path:
-    """Write ``fig`` to ``path`` (PNG, via a temporary file so no half file is left)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    partial = path.with_name(path.name + ".partial")
-    try:
-        fig.savefig(partial, dpi=120, format=path.suffix.lstrip(".") or "png")
-        partial.replace(path)
-    except BaseException:  # a full disk: no half figure left beside the finished files
-        partial.unlink(missing_ok=True)
-        raise
-    return path
 
 
 def _label(value: str, column: str) -> str:
@@ -72,7 +37,7 @@ def plot_metric(
     stats = {(s[outer], s[inner]): s for s in summarize(rows, group_by, [metric])}
     outers = [k[0] for k in group_rows(rows, [outer])]
     inners = [k[0] for k in group_rows(rows, [inner])]
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(max(6.0, 1.2 * len(outers) * max(1, len(inners)) / 3), 4.0))
     width = 0.8 / max(1, len(inners))
     for j, name in enumerate(inners):
@@ -90,7 +55,7 @@ def plot_metric(
     ax.set_title(title or f"{metric.replace('_', ' ')} (mean ± sd)")
     ax.legend(title=inner, fontsize="small", ncols=min(5, len(inners)))
     ax.grid(axis="y", alpha=0.3)
-    return _finish(plt, fig, None, path)
+    return finish_figure(plt, fig, None, path)
 
 
 def plot_comparison(
@@ -102,7 +67,7 @@ def plot_comparison(
     labels: tuple[str, str] = ("ours (mean)", "paper"),
 ) -> Path:
     """Side-by-side bars per x label and quantity (e.g. rate -> {gestures, actions})."""
-    plt = _pyplot()
+    plt = pyplot()
     groups = list(ours)
     quantities = list(next(iter(ours.values())))
     fig, axes = plt.subplots(1, len(quantities), figsize=(5.0 * len(quantities), 3.8))
@@ -120,7 +85,7 @@ def plot_comparison(
         ax.set_title(quantity)
         ax.grid(axis="y", alpha=0.3)
         ax.legend(fontsize="small")
-    return _finish(plt, fig, title, path)
+    return finish_figure(plt, fig, title, path)
 
 
 def plot_rules(
@@ -132,7 +97,7 @@ def plot_rules(
 ) -> Path:
     """Per quantity (gestures, actions): bars per rate, the paper's first, then each rule's
     mean with its sd."""
-    plt = _pyplot()
+    plt = pyplot()
     rates = sorted(paper)
     series = len(by_rule) + 1
     width = 0.8 / series
@@ -163,4 +128,4 @@ def plot_rules(
         ax.set_title(quantity)
         ax.grid(axis="y", alpha=0.3)
         ax.legend(fontsize="small")
-    return _finish(plt, fig, title, path)
+    return finish_figure(plt, fig, title, path)

@@ -12,9 +12,7 @@ from pil.atomic import write_text_atomic
 from pil.experiments.report import Row, summary_markdown
 from pil.experiments.stats import WILCOXON, compare, csv_columns, describe_tests, tests_markdown
 from pil.experiments.study import csv_text
-
-PAIR_BY: tuple[str, ...] = ("rep", "seed")  # the compared runs of one repetition share its seed
-
+from pil.experiments.study_tests import PAIR_BY
 
 R = TypeVar("R", bound=Mapping[str, Any])  # a result row: a dict, or a CSV's read back
 

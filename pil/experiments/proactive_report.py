@@ -16,11 +16,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import BASELINE
 from pil.experiments.report import Row, group_rows, markdown_table, mean_sd, number
 from pil.experiments.stats import PAIRED_T
 from pil.experiments.study_tests import TEST_TABLES, study_tests
 
-BASELINE, PROACTIVE = "pil", "proactive"
+PROACTIVE = "proactive"
 
 
 def _by_rep(rows: Sequence[Row], system: str) -> dict[str, Row]:
@@ -121,9 +122,9 @@ def proactive_markdown(figures: Sequence[dict[str, float]]) -> str:
 
 def plot_proactive(figures: Sequence[dict[str, float]], path: str | Path) -> Path:
     """Bars per rate: gestures saved and actions wasted (mean ± sd over repetitions)."""
-    from pil.experiments.figures import _finish, _pyplot
+    from pil.experiments.plotting import finish_figure, pyplot
 
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4))
     x = list(range(len(figures)))
     width = 0.38
@@ -146,4 +147,4 @@ def plot_proactive(figures: Sequence[dict[str, float]], path: str | Path) -> Pat
     ax.axhline(0.0, color="black", linewidth=0.6)
     ax.set_title("Proactive vs reactive PIL (mean ± sd)")
     ax.legend()
-    return _finish(plt, fig, None, path)
+    return finish_figure(plt, fig, None, path)

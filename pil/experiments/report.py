@@ -105,7 +105,8 @@ def group_rows(rows: Sequence[Row], group_by: Sequence[str]) -> dict[tuple[str, 
     groups: dict[tuple[str, ...], list[Row]] = {}
     for row in rows:
         groups.setdefault(tuple(str(row[c]) for c in group_by), []).append(row)
-    first_seen = [{} for _ in group_by]  # text values keep the order they first appear in
+    # text values keep the order they first appear in
+    first_seen: list[dict[str, int]] = [{} for _ in group_by]
     for key in groups:
         for seen, value in zip(first_seen, key, strict=True):
             seen.setdefault(value, len(seen))

@@ -18,9 +18,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import BASELINE
+
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions", "gestures", "actions")
 PHYSICAL_METRICS: tuple[str, ...] = ("legs_delivered_percent", "physical_failures")
-BASELINE = "pil"
 
 
 def grid_axes(rows: Sequence[Mapping[str, Any]]) -> list[str]:

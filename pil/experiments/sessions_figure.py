@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from pil.experiments.figures import _finish, _pyplot
+from pil.experiments.plotting import finish_figure, pyplot
 
 
 @dataclass(frozen=True)
@@ -26,7 +26,7 @@ class Panel:
 
 def plot_paired(conditions: Sequence[str], panels: Sequence[Panel], path: str | Path) -> Path:
     """Write the figure (four panels a row) to ``path``; returns the path."""
-    plt = _pyplot()
+    plt = pyplot()
     columns = min(4, len(panels))
     rows = math.ceil(len(panels) / columns)
     fig, axes = plt.subplots(rows, columns, figsize=(3.2 * columns, 3.0 * rows), squeeze=False)
@@ -57,4 +57,4 @@ def plot_paired(conditions: Sequence[str], panels: Sequence[Panel], path: str | 
     for ax in flat[len(panels) :]:
         ax.axis("off")
     flat[0].legend(fontsize="small")
-    return _finish(plt, fig, "live sessions per condition (grey: one participant)", path)
+    return finish_figure(plt, fig, "live sessions per condition (grey: one participant)", path)

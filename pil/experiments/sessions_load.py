@@ -18,7 +18,7 @@ from typing import Any
 from pil.errors import quote
 from pil.experiments.report import ReportError, number
 
-SUMMARY_NAME = "summary.json"
+SUMMARY_NAME = "summary.json"  # a run's summary: episodes, live sessions (their folders)
 INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.files)
 COUNTED_STATUS = "finished"
 # measure -> what it is (the summary's field names; sim_time_s is the session's physics time)

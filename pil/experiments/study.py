@@ -47,7 +47,7 @@ from pil.experiments.systems import (
     PAPER_SYSTEMS,
     ROW_COLUMNS,
     check_system,
-    run_row,
+    spec_row,
 )
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
@@ -110,7 +110,7 @@ def run_study(
         cache: dict[Any, Any] = {}  # training runs and scripts shared within this rep
         for rate in config.rates:
             for system in config.systems:
-                row = run_row(base.for_run(system, rate, seed), cache)
+                row = spec_row(base.for_run(system, rate, seed), cache)
                 rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

@@ -15,13 +15,12 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from pil.experiments.paper import LOW_RATES
+from pil.experiments.paper import BASELINE, LOW_RATES
 from pil.experiments.report import Row, markdown_table, number
 from pil.experiments.stats import PAIRED_T, WILCOXON, Measure, compare, measures
 
-BASELINE = "pil"
 CLAIM_SYSTEMS: tuple[str, ...] = ("c1", "c2")
-PAIR_BY: tuple[str, ...] = ("rep", "seed")
+PAIR_BY: tuple[str, ...] = ("rep", "seed")  # the compared runs of one repetition share its seed
 TRAINING_INCLUDED = "training included"
 TEST_TABLES = "test tables only"
 #: results column -> (measure, reading) in ``tests.csv``

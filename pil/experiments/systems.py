@@ -25,6 +25,7 @@ from collections.abc import Mapping, MutableMapping
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.run_row import ROW_COLUMNS, run_row
 from pil.task.assemble import Run, Training, assemble, pretraining
 from pil.task.parts import (
     PARAMS,
@@ -53,38 +54,10 @@ __all__ = [
     "derive_seeds",
     "resolve_scenario",
     "run_one",
-    "run_row",
+    "spec_row",
     "test_parts",
     "training_for",
 ]
-
-ROW_COLUMNS: tuple[str, ...] = (
-    "system",
-    "rate",
-    "seed",
-    "scenario",
-    "legs",
-    "handovers",
-    "gestures",
-    "actions",
-    "train_gestures",
-    "train_actions",
-    "total_gestures",
-    "total_actions",
-    "corrections",
-    "repeats",
-    "misdetections",
-    "discarded",
-    "rejected",
-    "exploited",
-    "anticipated",
-    "anticipated_ok",
-    "scripted_gestures",
-    "train_corrections",
-    "train_repeats",
-    "train_rejected",
-    *PARAMS,
-)
 
 
 def pretrain(
@@ -133,7 +106,7 @@ def test_parts(
 test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
 
 
-def run_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dict[str, Any]:
+def spec_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dict[str, Any]:
     """One learner-only run of ``spec`` as a flat CSV row (:data:`ROW_COLUMNS`).
 
     ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
@@ -143,34 +116,13 @@ def run_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dic
     run = assemble(spec, cache=cache)
     stats = run.run()
     train = RunStats() if run.training is None else run.training.stats
-    row: dict[str, Any] = dict(
-        system=spec.system,
-        rate=spec.rate,
-        seed=spec.seed,
-        scenario=spec.scenario.name,
-        legs=stats.legs,
-        handovers=stats.handovers,
-        gestures=stats.gestures,
-        actions=stats.actions,
-        train_gestures=train.gestures,
-        train_actions=train.actions,
-        total_gestures=train.gestures + stats.gestures,
-        total_actions=train.actions + stats.actions,
-        corrections=stats.corrections,
-        repeats=stats.repeats,
-        misdetections=stats.misdetections,
-        discarded=stats.discarded,
-        rejected=stats.rejected,
-        exploited=stats.exploited,
-        anticipated=stats.anticipated,
-        anticipated_ok=stats.anticipated_ok,
-        scripted_gestures=stats.scripted_gestures,
-        train_corrections=train.corrections,
-        train_repeats=train.repeats,
-        train_rejected=train.rejected,
-    )
-    row.update(spec.effective().values())
-    return row
+    cells = {
+        "system": spec.system,
+        "rate": spec.rate,
+        "seed": spec.seed,
+        "scenario": spec.scenario.name,
+    }
+    return run_row(cells, stats, train, spec.effective().values())
 
 
 def run_system(
@@ -181,9 +133,9 @@ def run_system(
     values: Mapping[str, Any],
     cache: MutableMapping[Any, Any] | None = None,
 ) -> dict[str, Any]:
-    """:func:`run_row` of a resolved scenario and checked ``values`` (:func:`check_params`)."""
+    """:func:`spec_row` of a resolved scenario and checked ``values`` (:func:`check_params`)."""
     check_system(system)
-    return run_row(spec_of(system, rate, seed, scenario, values), cache)
+    return spec_row(spec_of(system, rate, seed, scenario, values), cache)
 
 
 def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
@@ -213,4 +165,4 @@ def run_one(
     """
     given = params if tables is None else {**params, "tables": tables}
     spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=given)
-    return run_row(spec)
+    return spec_row(spec)

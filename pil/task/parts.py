@@ -27,7 +27,7 @@ from pil.task.params import ASSEMBLY, parse_all
 from pil.task.params import PARAMS as PARAM_SPECS
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.scenario import Scenario, load_scenario
-from pil.task.seeds import PARTS, PHASES, SEED_NAMES, PhaseSeeds, derive_seeds
+from pil.task.seeds import PHASES, SEED_NAMES, SEED_PARTS, PhaseSeeds, derive_seeds
 from pil.task.spec import spec_of
 
 __all__ = [
@@ -77,7 +77,7 @@ def resolve_scenario(scenario: Scenario | str | Path | None, values: Mapping[str
 def _phase_seeds(phase: str, seeds: Mapping[str, int]) -> PhaseSeeds:
     if phase not in PHASES:
         raise InvalidChoiceError("phase", phase, PHASES)
-    return PhaseSeeds(*(seeds[f"{phase}_{part}"] for part in PARTS))
+    return PhaseSeeds(*(seeds[f"{phase}_{part}"] for part in SEED_PARTS))
 
 
 def phase_script(

@@ -18,8 +18,8 @@ from pil.errors import InvalidChoiceError
 from pil.task.params import SEED
 
 PHASES: tuple[str, ...] = ("train", "test")
-PARTS: tuple[str, ...] = ("draw", "detector", "learner", "person")
-SEED_NAMES: tuple[str, ...] = tuple(f"{phase}_{part}" for part in PARTS for phase in PHASES)
+SEED_PARTS: tuple[str, ...] = ("draw", "detector", "learner", "person")
+SEED_NAMES: tuple[str, ...] = tuple(f"{phase}_{part}" for part in SEED_PARTS for phase in PHASES)
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,7 +49,7 @@ class RunSeeds:
         if phase not in PHASES:
             raise InvalidChoiceError("phase", phase, PHASES)
         named = self.as_dict()
-        return PhaseSeeds(*(named[f"{phase}_{part}"] for part in PARTS))
+        return PhaseSeeds(*(named[f"{phase}_{part}"] for part in SEED_PARTS))
 
     def as_dict(self) -> dict[str, int]:
         """Sub-seed name (:data:`SEED_NAMES`) -> seed."""

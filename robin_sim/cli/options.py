@@ -82,9 +82,9 @@ def add_run_options(
     add_progress_switch(parser)
 
 
-def add_progress_switch(parser: argparse.ArgumentParser) -> None:
+def add_progress_switch(parser: argparse._ActionsContainer) -> None:
     """``--no-progress`` (every command's name for it), and ``--quiet``, its old name in some
-    commands, kept as a hidden alias."""
+    commands, kept as a hidden alias; ``parser`` is a parser or one of its argument groups."""
     parser.add_argument(
         "--no-progress", dest="no_progress", action="store_true", help="no progress bar"
     )

@@ -23,7 +23,6 @@ from robin_sim.model import names, robot_spec
 HAND_SPEED = 0.35  # m/s peak, free hand
 CARRY_SPEED = 0.25  # m/s peak while a leg lies on the palm
 TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
-POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
 # A palm held out under the robot's hand first draws back and down, so it never sweeps into a
 # held leg on its way to point somewhere.
 POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m
@@ -90,7 +89,7 @@ class HumanHand:
 
         ``draw_back_first``: start by drawing back and down (:data:`POINT_RETREAT`).
         """
-        waypoints = [pose(np.asarray(position, float) + POINT_OFFSET)]
+        waypoints = [pose(np.asarray(position, float) + robot_spec.POINT_OFFSET)]
         if draw_back_first:
             waypoints.insert(0, pose(self.pose().translation() + POINT_RETREAT))
         return self.follow(waypoints, now)

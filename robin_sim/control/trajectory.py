@@ -29,7 +29,7 @@ def min_jerk(tau: float) -> float:
 
 
 def pose(
-    position: Sequence[float] | np.ndarray, quat_wxyz: Sequence[float] | None = None
+    position: Sequence[float] | np.ndarray, quat_wxyz: Sequence[float] | np.ndarray | None = None
 ) -> mink.SE3:
     """An SE3 pose from a position and an optional (w, x, y, z) quaternion (identity if None)."""
     rotation = mink.SO3.identity() if quat_wxyz is None else mink.SO3(np.asarray(quat_wxyz, float))

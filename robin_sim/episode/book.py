@@ -3,10 +3,9 @@ and :func:`run_summary` (the summary fields) — shared by the episode and the l
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pil.task.assemble import Run
-from pil.task.detector import CAMERAS as VISION
 from pil.task.parts import PERSON_PARAMS
 from pil.task.records import StepRecord
 from pil.task.spec import RunSpec
@@ -18,6 +17,16 @@ from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
+
+if TYPE_CHECKING:
+    from robin_sim.vision.detector import VisionDetector
+
+
+def vision_of(run: Run) -> VisionDetector | None:
+    """The run's detector if it reads with the eye cameras (``--detector vision``)."""
+    from robin_sim.vision.detector import VisionDetector
+
+    return run.detector if isinstance(run.detector, VisionDetector) else None
 
 
 def _expected_hand(before: Hand, record: StepRecord, physical: Hand) -> Hand:
@@ -118,6 +127,7 @@ def run_summary(
         "wall_time_s": round(wall, 3),
         "real_time_factor": round(world.time / wall, 3) if wall > 0 else None,
     }
-    if spec.detector.model == VISION:
-        summary["vision"] = run.detector.summary()  # type: ignore[attr-defined]
+    vision = vision_of(run)
+    if vision is not None:
+        summary["vision"] = vision.summary()
     return summary

@@ -21,15 +21,14 @@ from pil.task.detector import CAMERAS as VISION
 from pil.task.params import ParamSpec
 from pil.task.scenario import Scenario
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
-from robin_sim.model.names import CAMERAS, HEAD_CAMERAS
+from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
+from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
 from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions, parse_conditions
 
 if TYPE_CHECKING:  # the module is imported before the GL backend is chosen: no MuJoCo here
     from robin_sim.model.scene import SceneLayout
 
-VIDEO_CAMERAS: tuple[str, ...] = (*CAMERAS, *HEAD_CAMERAS)
-FPS = ParamSpec("fps", "int", 30, "video frame rate", 1, 240)
-SIDE = ParamSpec("size", "int", 640, "video width or height in pixels", 2, 1_000_000)
+VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
 RENDER_WORKERS = ParamSpec(
     "render_workers",
@@ -57,16 +56,6 @@ def parse_size(text: str, label: str = "--size") -> tuple[int, int]:
         for part, name in zip(parts, ("width", "height"), strict=True)
     )
     return check_even(width, height, label)
-
-
-def check_even(width: int, height: int, label: str = "video size") -> tuple[int, int]:
-    """(width, height) if both are even, else an error suggesting the nearest even size."""
-    if width % 2 or height % 2:
-        raise RobinPilError(
-            f"{label} must be even in both dimensions for H.264 yuv420p, got {width}x{height}; "
-            f"use e.g. {width + width % 2}x{height + height % 2}"
-        )
-    return width, height
 
 
 @dataclass(frozen=True)
@@ -158,11 +147,7 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     if config.size is not None:
         width, height = parse_size(config.size)
     else:
-        width, height = (
-            SIDE.parse(v, f"video {n}")
-            for v, n in ((config.width, "width"), (config.height, "height"))
-        )
-        check_even(width, height)
+        width, height = check_size(config.width, config.height)
     video = VideoSpec(
         record=bool(config.video),
         camera=CAMERA.parse(config.camera, "--camera"),

@@ -43,7 +43,6 @@ from robin_sim.render.video import Mp4Writer
 from robin_sim.render.worker import SecondView
 
 
-@dataclass
 class ReadingInsets(Protocol):
     """What the eye inset shows instead of the live eye at a time (the vision detector)."""
 

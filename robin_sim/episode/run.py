@@ -22,10 +22,9 @@ from tqdm import tqdm
 from pil.errors import RobinPilError
 from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
-from pil.task.detector import CAMERAS as VISION
 from pil.task.records import StepRecord
 from robin_sim.episode.assemble import assemble, layout_of
-from robin_sim.episode.book import StepBook, run_summary
+from robin_sim.episode.book import StepBook, run_summary, vision_of
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec, EpisodeTask
 from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
@@ -87,9 +86,6 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                     from robin_sim.episode.recorder import VideoRecorder  # needs the GL backend
                     from robin_sim.render.state_log import STATES_NAME
 
-                    # the eye cameras' readings, drawn in the video (a VisionDetector)
-                    eyes: Any = parts.detector if spec.run.detector.model == VISION else None
-
                     recorder = stack.enter_context(
                         VideoRecorder(
                             world.sim,
@@ -104,7 +100,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                             # a signal already noted: one frame, rendered here, is enough
                             render_workers=0 if guard.requested else video.render_workers,
                             eye_inset=video.eye_inset,
-                            readings=eyes,
+                            readings=vision_of(parts),
                             states=out / STATES_NAME,
                         )
                     )

@@ -22,8 +22,8 @@ class EpisodeView:
     info: OverlayInfo = field(default_factory=lambda: OverlayInfo(step=0, sim_time=0.0))
     table: Any = None  # an AssociationTable, or None for no policy panel
 
-    def update(self, **changes: object) -> None:
-        """Replace some fields of the overlay info."""
+    def update(self, **changes: Any) -> None:
+        """Replace some fields of the overlay info (an unknown name is a TypeError)."""
         self.info = replace(self.info, **changes)
 
     # --- the StepObserver protocol -------------------------------------------------------------

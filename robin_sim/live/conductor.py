@@ -193,6 +193,7 @@ class Conductor:
             session = self.session
             await self._loop.run_in_executor(None, session.start)
             if self.phase == "done":  # ended while starting: stop it at once
+                assert self.outcome is not None  # set together with the phase "done"
                 await self._loop.run_in_executor(None, session.stop, self.outcome)
                 return
             assert self._on_frame is not None

@@ -19,13 +19,16 @@ from pil.task.params import SEED
 from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, spec_of
+from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
+from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
-MAX_SIZE = 1920  # px: the scene's off-screen buffer is checked when the scene is built
+# the episode's frame checks, narrowed for a stream: at most 1920 px a side (the scene's
+# off-screen buffer is checked when the scene is built) and 60 frames per second
+LIVE_SIDE = narrowed(SIDE, 1920)
+LIVE_FPS = narrowed(FPS, 60)
 SPEEDS = (0.1, 10.0)  # sim seconds per wall second
-FPS_RANGE = (1, 60)
 FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
-DEFAULT_TABLES = 1  # the default assembly: one table, as the episode
 EXACT_RATE = 1.0  # the detector reads every click and button as what it is
 
 
@@ -60,18 +63,8 @@ class LiveConfig:
         if self.session is not None:
             _name(self.session, "session")
         check_system(self.system)
-        width, height = (
-            _whole(v, f"frame {n}", 2, MAX_SIZE)
-            for v, n in ((self.width, "width"), (self.height, "height"))
-        )
-        if width % 2 or height % 2:
-            raise RobinPilError(
-                f"frame size must be even for H.264, got {width}x{height}; "
-                f"use e.g. {width + width % 2}x{height + height % 2}"
-            )
-        fps = _number(self.fps, "fps", *FPS_RANGE)
-        if fps != int(fps):
-            raise RobinPilError(f"fps must be a whole number of frames per second, got {fps}")
+        width, height = check_size(self.width, self.height, "frame", LIVE_SIDE)
+        fps = LIVE_FPS.parse(self.fps, "fps")
         if not isinstance(self.out_root, str | Path) or not str(self.out_root).strip():
             raise RobinPilError(f"out_root must be a folder path, got {self.out_root!r:.60}")
         if self.block is not None:

@@ -19,13 +19,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pil.errors import RobinPilError, quote
+from pil.experiments.sessions_load import INPUTS_NAME, SUMMARY_NAME  # what the report reads
 from robin_sim.episode.log import write_json_atomic
 from robin_sim.live.config import LiveConfig
 
 if TYPE_CHECKING:
     from robin_sim.live.run import LiveRun
 
-INPUTS_NAME, SUMMARY_NAME, NOTES_NAME = "inputs.jsonl", "summary.json", "notes.jsonl"
+NOTES_NAME = "notes.jsonl"
 MAX_RAW_CHARS = 2000  # a raw message longer than this is logged cut (the server limits them)
 
 

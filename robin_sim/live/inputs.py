@@ -22,10 +22,6 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.types import Feedback, Gesture
 
-INPUT_KINDS: tuple[str, ...] = ("point", "gesture", "thumb", "end", "start")
-GESTURE_KEYS: tuple[str, ...] = ("give_me", "grasp", "release")  # pointing is the click
-THUMB_VALUES: tuple[str, ...] = ("up", "down")
-MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes
 # The fields each kind takes besides "type".
 FIELDS: dict[str, tuple[str, ...]] = {
     "point": ("x", "y"),
@@ -34,12 +30,16 @@ FIELDS: dict[str, tuple[str, ...]] = {
     "end": (),
     "start": (),
 }
-GESTURES: dict[str, Gesture] = {
+GESTURE_BY_KEY: dict[str, Gesture] = {  # pointing is the click
     "give_me": Gesture.GIVE_ME,
     "grasp": Gesture.GRASP,
     "release": Gesture.RELEASE,
 }
 THUMBS: dict[str, Feedback] = {"up": Feedback.OK, "down": Feedback.NOT_OK}
+INPUT_KINDS: tuple[str, ...] = tuple(FIELDS)
+GESTURE_KEYS: tuple[str, ...] = tuple(GESTURE_BY_KEY)
+THUMB_VALUES: tuple[str, ...] = tuple(THUMBS)
+MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes
 
 
 class LiveInputError(RobinPilError):

@@ -20,11 +20,11 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import quote
+from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.questionnaires import Questionnaire, QuestionnaireError
 
-QUESTIONNAIRES_NAME = "questionnaires.jsonl"
 MAX_ANSWER_BYTES = 16 * 1024  # a questionnaire's answers are a few hundred bytes
 
 

@@ -31,7 +31,7 @@ from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
-    GESTURES,
+    GESTURE_BY_KEY,
     THUMBS,
     LiveInput,
     LiveInputError,
@@ -236,11 +236,14 @@ class LiveSession:
                     "your gesture, or give thumb down to stop it."
                 )
             if item.kind == "point":
-                target = self._picker.pick(float(item.x), float(item.y))  # type: ignore[arg-type]
-                self.view.clicked(target, float(item.x), float(item.y))  # type: ignore[arg-type]
+                # a point always has x and y (parse_input); the picker comes with the participant
+                x, y, picker = item.x, item.y, self._picker
+                assert x is not None and y is not None and picker is not None
+                target = picker.pick(float(x), float(y))
+                self.view.clicked(target, float(x), float(y))
                 participant.offer(Gesturing(Gesture.POINTING, target))
             else:
-                participant.offer(Gesturing(GESTURES[str(item.gesture)]))
+                participant.offer(Gesturing(GESTURE_BY_KEY[str(item.gesture)]))
 
     def _log_input(self, raw: object, error: str) -> None:
         files, participant = self._files, self._participant

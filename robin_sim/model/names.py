@@ -88,7 +88,7 @@ def hand_body(side: Side) -> str:
 TABLE_BODY = "table"
 TABLE_TOP_GEOM = "table_top"
 FLOOR_GEOM = "floor"
-CAMERAS: tuple[str, ...] = ("front", "side", "head")
+SCENE_CAMERAS: tuple[str, ...] = ("front", "side", "head")  # that film the scene (eyes: above)
 DEFAULT_CAMERA = "front"
 
 PERSON_BODY = "human"  # the person standing across the table

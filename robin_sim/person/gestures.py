@@ -19,11 +19,11 @@ import numpy as np
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import Feedback, Gesture
 from robin_sim.model import names
+from robin_sim.model.names import HUMAN_VIS_PREFIX  # what every pose geom's name starts with
 from robin_sim.person.hand_poses import HandShaper, Performance
 
 NEUTRAL_POSE = "neutral"
 POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral, pointing, give_me, ... thumb_down
-HUMAN_VIS_PREFIX = names.HUMAN_VIS_PREFIX  # what every pose geom's name starts with
 GESTURE_POSES: dict[Gesture, str] = {
     Gesture.POINTING: "pointing",
     Gesture.GIVE_ME: "give_me",

@@ -27,8 +27,12 @@ import numpy as np
 
 from robin_sim.model import names
 
-PARTS: tuple[str, ...] = names.HUMAN_VIS_PARTS  # palm, thumb, index, middle, ring, little
-FINGERS: tuple[str, ...] = ("index", "middle", "ring", "little")
+HUMAN_FINGERS: tuple[str, ...] = (
+    "index",
+    "middle",
+    "ring",
+    "little",
+)  # the person's (Robin's: names.FINGERS)
 PALM_HALF = np.array([0.045, 0.045, 0.012])  # m, palm box half sizes
 FINGER_RADIUS = 0.009  # m
 THUMB_RADIUS = 0.010  # m
@@ -156,7 +160,7 @@ def part_segments(
     k = performance.size
     out: dict[str, tuple[np.ndarray, np.ndarray, float]] = {}
     spread = shape.spread + performance.spread
-    for i, finger in enumerate(FINGERS):
+    for i, finger in enumerate(HUMAN_FINGERS):
         curl = shape.curl[i] + performance.curl[i]
         base = np.array([-PALM_HALF[0], FINGER_Y[finger], 0.0]) * k
         offset = (1.5 - i) * spread  # index spreads towards the thumb (+y)
@@ -185,7 +189,10 @@ class HandShaper:
     def __init__(self, model: mujoco.MjModel) -> None:
         self.model = model
         self.geoms = {
-            pose: {part: model.geom(names.human_vis_geom(pose, part)).id for part in PARTS}
+            pose: {
+                part: model.geom(names.human_vis_geom(pose, part)).id
+                for part in names.HUMAN_VIS_PARTS
+            }
             for pose in SHAPES
         }
 
@@ -195,7 +202,7 @@ class HandShaper:
         return all(
             mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, names.human_vis_geom(p, part)) >= 0
             for p in SHAPES
-            for part in PARTS
+            for part in names.HUMAN_VIS_PARTS
         )
 
     def shape(self, pose: str, performance: Performance | None = None) -> None:

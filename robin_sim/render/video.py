@@ -15,15 +15,18 @@ import errno
 import os
 from fractions import Fraction
 from pathlib import Path
+from typing import Final
 
 import av
 import numpy as np
+from av.container import OutputContainer
 
 from pil.errors import RobinPilError
 from robin_sim.closing import ClosesOnExit
+from robin_sim.render.frame_spec import FPS, check_size
 from robin_sim.render.mp4_trim import trim_torn_tail
 
-CODEC = "libx264"
+CODEC: Final = "libx264"  # a literal: PyAV's types then know the stream is video
 PIX_FMT = "yuv420p"
 # empty_moov: header first; frag_keyframe: a fragment per key frame; default_base_moof: the
 # layout browsers' media source extensions expect.
@@ -50,13 +53,11 @@ class Mp4Writer(ClosesOnExit):
         crf: int = 23,
         preset: str = "veryfast",
     ) -> None:
-        if width < 2 or height < 2 or width % 2 or height % 2:
-            raise VideoError(
-                f"video size must be even in both dimensions for H.264 yuv420p, got "
-                f"{width}x{height}; use e.g. {width + width % 2}x{height + height % 2}"
-            )
-        if int(fps) != fps or fps < 1:
-            raise VideoError(f"video frame rate must be a positive whole number, got {fps!r}")
+        try:  # the checks every run that films makes (robin_sim.render.frame_spec)
+            width, height = check_size(width, height)
+            fps = FPS.parse(fps, "video frame rate")
+        except RobinPilError as error:
+            raise VideoError(str(error)) from None
         self.path = Path(path)
         if not self.path.parent.is_dir():
             raise VideoError(f"folder {str(self.path.parent)!r} of video {str(path)!r} not found")
@@ -65,7 +66,7 @@ class Mp4Writer(ClosesOnExit):
         self.fps = int(fps)
         self.frames_written = 0
         self._failure: OSError | None = None  # the write error that stopped the video, if any
-        self._container = av.open(
+        self._container: OutputContainer | None = av.open(
             str(self.path),
             mode="w",
             format="mp4",

@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from pil.errors import RobinPilError, quote
+from pil.experiments.sessions_load import SUMMARY_NAME
 from robin_sim.render.state_log import STATES_NAME
 
-SUMMARY_NAME = "summary.json"
 MAX_LISTED = 8  # recorded runs named when DIR holds several
 
 

@@ -18,7 +18,7 @@ undone the same way and reported.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
 import mink
@@ -118,7 +118,7 @@ class RobotAction(ABC):
         *,
         interrupted: bool = False,
         dropped: int | None = None,
-        **m: float,
+        measurements: Mapping[str, float] | None = None,
     ) -> ActionResult:
         """An :class:`ActionResult` of this action from ``start`` until now."""
         return ActionResult(
@@ -128,7 +128,7 @@ class RobotAction(ABC):
             detail=detail,
             started=start,
             ended=ctx.sim.time,
-            measurements=dict(m),
+            measurements=dict(measurements or {}),
             interrupted=interrupted,
             dropped=dropped,
         )
@@ -220,16 +220,16 @@ class MoveAction(RobotAction):
                 ctx,
                 interrupted=True,
                 dropped=dropped,
-                return_error_m=back,
-                **m,
+                measurements={"return_error_m": back, **m},
             )
         error = float(np.linalg.norm(sim.site_pose().translation() - self.goal.translation()))
         m = {"site_error_m": error, "duration_s": sim.time - start}
-        if _lost(ctx, held) is not None:  # a drop cannot be undone; the arm can
-            where = ", ".join(f"{v:.2f}" for v in ctx.leg_position(held))  # type: ignore[arg-type]
+        lost = _lost(ctx, held)
+        if lost is not None:  # a drop cannot be undone; the arm can
+            where = ", ".join(f"{v:.2f}" for v in ctx.leg_position(lost))
             sim.execute(self.plan.reversed_from(self._start_q))
-            detail = f"leg {held} dropped on the way (now at {where}); arm moved back"
-            return self.report(False, False, detail, start, ctx, dropped=held, **m)
+            detail = f"leg {lost} dropped on the way (now at {where}); arm moved back"
+            return self.report(False, False, detail, start, ctx, dropped=lost, measurements=m)
         if held is not None:
             m["slip_m"] = float(np.linalg.norm(leg_offset_in_site(ctx, held) - offset))
         if error > ARRIVAL_TOLERANCE or sim.time - start > self.time_limit:
@@ -237,8 +237,8 @@ class MoveAction(RobotAction):
             sim.run(0.3)
             m["return_error_m"] = float(np.linalg.norm(sim.site_pose().translation() - start_site))
             detail = f"stopped {error * 100:.1f} cm from {self.target_name}; moved back"
-            return self.report(False, True, detail, start, ctx, **m)
-        return self.report(True, False, f"reached {self.target_name}", start, ctx, **m)
+            return self.report(False, True, detail, start, ctx, measurements=m)
+        return self.report(True, False, f"reached {self.target_name}", start, ctx, measurements=m)
 
     def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
         assert self.plan is not None
@@ -354,9 +354,11 @@ class OpenAction(RobotAction):
         m = {"leg": float(leg), "leg_speed_mps": speed}
         m |= {"leg_x": float(centre[0]), "leg_y": float(centre[1]), "leg_z": float(centre[2])}
         if ctx.hand_state() is not Hand.FREE:
-            return self.report(False, False, f"leg {leg} still in the hand", start, ctx, **m)
+            return self.report(
+                False, False, f"leg {leg} still in the hand", start, ctx, measurements=m
+            )
         if self.release_point is None:
-            return self.report(True, False, f"let go of leg {leg}", start, ctx, **m)
+            return self.report(True, False, f"let go of leg {leg}", start, ctx, measurements=m)
         point = np.asarray(self.release_point, float)
         miss = float(np.linalg.norm(centre[:2] - point[:2]))
         height = float(centre[2] - point[2])
@@ -366,7 +368,7 @@ class OpenAction(RobotAction):
         verdict = "at rest" if speed < self.rest_speed else "still moving"
         where = "" if lying else f", {height * 100:.1f} cm above the surface (fell off)"
         detail = f"leg {leg} {miss * 100:.1f} cm from {self.place}, {verdict}{where}"
-        return self.report(ok, False, detail, start, ctx, **m)
+        return self.report(ok, False, detail, start, ctx, measurements=m)
 
     def undo(self, ctx: Context, result: ActionResult) -> ActionResult:
         sim = ctx.sim

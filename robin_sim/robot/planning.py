@@ -9,7 +9,6 @@ Paths lift, traverse at :data:`CLEARANCE_Z` and descend.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal, Protocol
 
@@ -74,8 +73,8 @@ class PlanningScene(Protocol):
     ctx: Context
     speed: float
     leg_count: int
-    leg_position: Callable[[int], np.ndarray]
 
+    def leg_position(self, leg: int) -> np.ndarray: ...
     def held_leg(self) -> int | None: ...
     def palm_is_out(self) -> bool: ...
     def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]: ...

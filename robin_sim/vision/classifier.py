@@ -59,6 +59,7 @@ class GestureModel:
         with path.open("wb") as handle:
             np.savez_compressed(
                 handle,
+                allow_pickle=False,  # numeric arrays only; also no array may take this name
                 format=np.int64(FORMAT),
                 classes=np.array(CLASSES),
                 mean=self.mean.astype(np.float32),

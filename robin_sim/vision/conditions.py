@@ -118,7 +118,7 @@ def study_costs(
         )
 
     for row in rows:
-        d = float(row["detection_rate"])
+        d = _number(row["detection_rate"])
         if d < MIN_STUDY_RATE:  # the person would repeat gestures forever
             row.update(
                 pil_gestures=None, pil_gestures_sd=None, pil_actions=None, pil_actions_sd=None
@@ -127,7 +127,7 @@ def study_costs(
         g, gs, a, asd = pil_means(
             round(d, 4),
             f"measured:{row['measured_file']}",
-            tag(float(str(row["lighting"])), float(str(row["camera_noise"]))),
+            tag(_number(row["lighting"]), _number(row["camera_noise"])),
         )
         row.update(
             pil_gestures=round(g, 1),
@@ -160,6 +160,13 @@ def condition_tests(runs: list[dict[str, object]]) -> list[dict[str, object]]:
     )
 
 
+def _number(value: object) -> float:
+    """A row's numeric cell (a number, or its text) as a float."""
+    if not isinstance(value, int | float | str):
+        raise TypeError(f"expected a number, got {value!r}")
+    return float(value)
+
+
 def _cost(row: dict[str, object], key: str) -> str:
     mean = row[f"pil_{key}"]
     return "not run (d too low)" if mean is None else f"{mean} ± {row[f'pil_{key}_sd']}"
@@ -174,13 +181,11 @@ def write_outputs(
 ) -> list[Path]:
     """conditions.csv, conditions.md and conditions.png; with ``runs`` (the measured
     conditions' runs of :func:`study_costs`) also conditions_runs.csv and tests.csv."""
-    import matplotlib
-
+    from pil.experiments.plotting import pyplot
     from pil.experiments.stats import csv_columns, describe_tests, tests_markdown
     from pil.experiments.study import csv_text
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     table = out / "conditions.csv"
     with table.open("w", newline="") as handle:
@@ -209,10 +214,10 @@ def write_outputs(
         "| d | PIL gestures | PIL actions |",
         "|---|---|---|",
     ]
-    for r in dice:
+    for point in dice:
         lines.append(
-            f"| {r['rate']:g} | {r['gestures']:.1f} ± {r['gestures_sd']:.1f} | "
-            f"{r['actions']:.1f} ± {r['actions_sd']:.1f} |"
+            f"| {point['rate']:g} | {point['gestures']:.1f} ± {point['gestures_sd']:.1f} | "
+            f"{point['actions']:.1f} ± {point['actions_sd']:.1f} |"
         )
     extra: list[Path] = []
     tests = condition_tests(runs or [])
@@ -243,7 +248,7 @@ def write_outputs(
             marker="o",
             label="dice (paper's detector)",
         )
-        for lighting in sorted({float(r["lighting"]) for r in rows}, reverse=True):
+        for lighting in sorted({_number(r["lighting"]) for r in rows}, reverse=True):
             sel = [r for r in rows if r["lighting"] == lighting and r["pil_gestures"] is not None]
             ax.errorbar(
                 [r["detection_rate"] for r in sel],

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import zipfile
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -68,7 +69,6 @@ SPLITS: dict[str, Ranges] = {
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
 # and spots plus the hand's pointing offset), or anywhere in the person's working box.
-POINT_OFFSET = np.array(robot_spec.POINT_OFFSET)  # m, the pointing hand above its place
 PLACES = np.array(
     [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
     + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
@@ -113,7 +113,7 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     rng = np.random.default_rng([seed, SPLIT_IDS[split], index])
     ranges = SPLITS[split]
     if rng.random() < 0.5:
-        hand = PLACES[rng.integers(len(PLACES))] + POINT_OFFSET + rng.normal(0, 0.02, 3)
+        hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     else:
         hand = rng.uniform(*BOX)
     return SampleSpec(
@@ -142,12 +142,12 @@ def chunks_for(samples: int) -> int:
     return -(-samples // CHUNK)
 
 
-def save_chunk(path: Path, arrays: dict[str, np.ndarray]) -> None:
+def save_chunk(path: Path, arrays: Mapping[str, np.ndarray | np.generic]) -> None:
     """Write ``arrays`` to ``path`` atomically (a partial file never stays behind)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     partial = path.with_suffix(".partial.npz")
     with partial.open("wb") as handle:
-        np.savez_compressed(handle, **arrays)
+        np.savez_compressed(handle, allow_pickle=False, **arrays)
     os.replace(partial, path)
 
 

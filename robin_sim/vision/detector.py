@@ -35,12 +35,12 @@ from robin_sim.vision.condition_params import CONDITION_PARAMS
 from robin_sim.vision.eyes import Condition, EyeCameras
 from robin_sim.vision.picture import reading_picture
 from robin_sim.vision.reader import Reading, read_views, see
-from robin_sim.vision.train import FEEDBACK_CLASSES, GESTURE_CLASSES
+from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES
 
-VISION_PARAMS: dict[str, float] = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
+# the camera conditions' defaults, by name (a run's --param values replace them)
+VISION_DEFAULTS: dict[str, float] = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
 FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
-DISCARDED = "discarded"
 NO_HAND = "no hand"  # a discarded reading in which neither eye found a hand
 READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 
@@ -124,19 +124,27 @@ class VisionDetector:
         display: GestureDisplay | None = None,
         seed: int = 0,
     ) -> VisionDetector:
-        """A detector from ``--param`` style values (text or numbers) of :data:`VISION_PARAMS`;
+        """A detector from ``--param`` style values (text or numbers) of :data:`VISION_DEFAULTS`;
         an unknown name or a bad value raises one :class:`RobinPilError` naming the choices."""
-        values = dict(VISION_PARAMS)
+        values = dict(VISION_DEFAULTS)
         for name, value in params.items():
-            if name not in VISION_PARAMS:
-                raise InvalidChoiceError("vision parameter", name, VISION_PARAMS)
+            if name not in VISION_DEFAULTS:
+                raise InvalidChoiceError("vision parameter", name, VISION_DEFAULTS)
             try:
-                values[name] = float(value)  # type: ignore[arg-type]
+                if not isinstance(value, str | int | float):
+                    raise TypeError(name)
+                values[name] = float(value)
             except (TypeError, ValueError):
                 raise RobinPilError(
                     f"vision parameter {name!r} must be a number, got {value!r}"
                 ) from None
-        return cls(sim, display=display, seed=seed, **values)
+        return cls(
+            sim,
+            display=display,
+            seed=seed,
+            lighting=values["lighting"],
+            camera_noise=values["camera_noise"],
+        )
 
     @property
     def rate(self) -> str:

@@ -9,8 +9,10 @@ the found region with the true hand pixels, for the report only.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -102,7 +104,7 @@ def render_chunk(
     seed: int,
     split: str,
     chunk: int,
-    overrides: dict[str, float] | None = None,
+    overrides: Mapping[str, float] | None = None,
     name: str | None = None,
 ) -> int:
     """Render chunk ``chunk`` of ``split`` into its file; returns the samples rendered.
@@ -114,8 +116,9 @@ def render_chunk(
     if _RENDERER is None:
         _RENDERER = SampleRenderer()
     rows, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
+    changes: dict[str, Any] = dict(overrides or {})  # float fields; replace() checks the names
     for index in range(chunk * CHUNK, (chunk + 1) * CHUNK):
-        spec = replace(sample_spec(seed, split, index), **(overrides or {}))
+        spec = replace(sample_spec(seed, split, index), **changes)
         features, iou = _RENDERER.render(spec)
         ious.append(iou)
         conditions.append(

@@ -53,11 +53,9 @@ def _table(counts: np.ndarray, rows: tuple[str, ...], columns: tuple[str, ...]) 
 
 
 def _figure(evaluation: Evaluation, path: Path) -> None:
-    import matplotlib
+    from pil.experiments.plotting import pyplot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     share = _rows(evaluation.confusion)
     fig, ax = plt.subplots(figsize=(7, 5.2))
     ax.imshow(share, cmap="Blues", vmin=0, vmax=1)

@@ -23,7 +23,7 @@ from page_driver import (
     wait_status,
 )
 
-from robin_sim.control.human_hand import POINT_OFFSET
+from robin_sim.model.robot_spec import POINT_OFFSET
 
 pytestmark = pytest.mark.slow
 SPEED = 3.0

@@ -1,0 +1,308 @@
+"""One source per fact: each constant is defined in one module, and its consumers import it.
+
+Checked statically (the source is parsed with `ast` or read as text; nothing is imported for the
+generic checks), so a copy that comes back (a second definition of a name, a second literal of a
+fact) fails here even when every value still agrees.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections import defaultdict
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("pil", "robin_sim")
+
+# Upper-case names defined in more than one module on purpose: each means a different thing
+# in each module (or awaits the run-assembly refactor); name -> the modules allowed to define it.
+# A constant name defined anywhere else twice fails the test: import the one definition instead,
+# or give the new meaning its own name.
+SHARED_NAMES: dict[str, frozenset[str]] = {
+    name: frozenset(modules)
+    for name, modules in {
+        # the CLI's sub-commands; the experimenter's commands on the live page
+        "COMMANDS": ("robin_sim/cli/main.py", "robin_sim/live/commands.py"),
+        # each command's own default output folder
+        "DEFAULT_OUT": (
+            "robin_sim/cli/adapt.py",
+            "robin_sim/cli/baselines.py",
+            "robin_sim/cli/people.py",
+            "robin_sim/cli/study.py",
+            "robin_sim/cli/transfer.py",
+        ),
+        # P(next state) to act unasked; the gesture classifier's confidence
+        "DEFAULT_THRESHOLD": ("pil/anticipation.py", "robin_sim/vision/train.py"),
+        # the environment's observation index of a discarded reading; the vision reading's label
+        "DISCARDED": ("pil/env/assembly.py", "robin_sim/vision/train.py"),
+        # the video overlay's font; the reading picture's font
+        "FONT": ("robin_sim/render/overlay.py", "robin_sim/vision/picture.py"),
+        # each file kind's format version
+        "FORMAT": (
+            "pil/experiments/sweep_store.py",
+            "pil/table_io.py",
+            "robin_sim/render/state_log.py",
+            "robin_sim/vision/classifier.py",
+        ),
+        # the live stream's JPEG quality; the replay page's
+        "JPEG_QUALITY": ("robin_sim/live/frames.py", "robin_sim/replay/serve.py"),
+        # each module's logger
+        "LOG": (
+            "robin_sim/live/conductor.py",
+            "robin_sim/live/connections.py",
+            "robin_sim/live/guard.py",
+            "robin_sim/live/server.py",
+        ),
+        # a valid message's size; the socket's limit above which it closes
+        "MAX_MESSAGE_BYTES": ("robin_sim/live/inputs.py", "robin_sim/live/server.py"),
+        # a matrix value's text; a task file's name or description; a questionnaire's item
+        "MAX_TEXT": (
+            "pil/task/param_spec.py",
+            "pil/task/yaml_files.py",
+            "robin_sim/live/questionnaires.py",  # a questionnaire's item text
+        ),
+        # each report's own columns
+        "METRICS": (
+            "pil/experiments/baselines.py",
+            "pil/experiments/results_report.py",
+            "pil/experiments/study.py",
+        ),
+        # a render check's smallest visible object; the segmenter's smallest hand
+        "MIN_PIXELS": ("robin_sim/render/checks.py", "robin_sim/vision/segment.py"),
+        # the detection models; the MJCF model files
+        "MODELS": ("pil/task/detector.py", "robin_sim/cli/model_path.py"),
+        # the run parameters (left to the run-assembly refactor, issue 18)
+        "PARAMS": ("pil/task/params.py", "pil/task/parts.py"),
+        # a run's phases (train, test); the live participant's turn
+        "PHASES": ("pil/task/seeds.py", "robin_sim/live/participant.py"),
+        # the exploration rules; the validity rules
+        "RULES": ("pil/exploration.py", "pil/validity.py"),
+        # each web page's own static folder
+        "STATIC_DIR": ("robin_sim/live/server.py", "robin_sim/replay/serve.py"),
+        # an episode's and a live session's file names (left to the run-assembly refactor)
+        "SUMMARY_NAME": ("pil/experiments/sessions_load.py", "robin_sim/episode/run.py"),
+        "LOG_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
+        "VIDEO_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
+        # the step loop's Hand.OCCUPIED; the validity rules' set of hand states
+        "_OCCUPIED": ("pil/task/runner.py", "pil/validity.py"),
+        # each task file kind's keys
+        "_KEYS": (
+            "pil/experiments/adaptation.py",
+            "pil/experiments/people.py",
+            "pil/table_io.py",
+        ),
+    }.items()
+}
+
+
+def source_files() -> list[Path]:
+    """Every module of the packages."""
+    return [p for package in PACKAGES for p in sorted((ROOT / package).rglob("*.py"))]
+
+
+def rel(path: Path) -> str:
+    return path.relative_to(ROOT).as_posix()
+
+
+def _names(target: ast.expr) -> list[str]:
+    if isinstance(target, ast.Name):
+        return [target.id]
+    if isinstance(target, ast.Tuple | ast.List):
+        return [name for element in target.elts for name in _names(element)]
+    return []
+
+
+def module_constants(path: Path) -> set[str]:
+    """The upper-case names the module assigns at its top level (``A = ...``, ``A: T = ...``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    found: set[str] = set()
+    for node in tree.body:
+        targets: list[ast.expr] = []
+        if isinstance(node, ast.Assign):
+            targets = node.targets
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            targets = [node.target]
+        for target in targets:
+            found.update(n for n in _names(target) if n.lstrip("_") and n.upper() == n)
+    return found
+
+
+def definitions() -> dict[str, set[str]]:
+    """Constant name -> the modules defining it."""
+    where: dict[str, set[str]] = defaultdict(set)
+    for path in source_files():
+        for name in module_constants(path):
+            where[name].add(rel(path))
+    return where
+
+
+def test_no_constant_is_defined_in_two_modules() -> None:
+    copies = {
+        name: sorted(modules)
+        for name, modules in definitions().items()
+        if len(modules) > 1 and not modules <= SHARED_NAMES.get(name, frozenset())
+    }
+    assert not copies, (
+        "constants defined in more than one module (import the one definition, or give a "
+        f"different meaning its own name): {copies}"
+    )
+
+
+@pytest.mark.parametrize(
+    ("name", "module"),
+    [
+        ("POINT_OFFSET", "robin_sim/model/robot_spec.py"),
+        ("ROW_COLUMNS", "pil/experiments/run_row.py"),
+        ("ACTION_INDEX", "pil/table.py"),
+        ("STATE_ID_BY_OBJECT", "pil/table.py"),
+        ("DISCARDED", "robin_sim/vision/train.py"),
+        ("EPSILON", "pil/agents/bandit.py"),
+        ("EPSILON_RANGE", "pil/agents/bandit.py"),
+        ("EPSILON_DECAY", "pil/agents/bandit.py"),
+        ("EPSILON_DECAY_RANGE", "pil/agents/bandit.py"),
+        ("STEP_SIZE", "pil/agents/tamer.py"),
+        ("STEP_SIZE_RANGE", "pil/agents/tamer.py"),
+        ("FPS", "robin_sim/render/frame_spec.py"),
+        ("SIDE", "robin_sim/render/frame_spec.py"),
+        ("BASELINE", "pil/experiments/paper.py"),
+        ("INPUTS_NAME", "pil/experiments/sessions_load.py"),
+        ("PAIR_BY", "pil/experiments/study_tests.py"),
+        ("QUESTIONNAIRES_NAME", "pil/experiments/questionnaire_report.py"),
+        ("HUMAN_VIS_PREFIX", "robin_sim/model/names.py"),
+    ],
+)
+def test_issue_18_facts_have_their_one_home(name: str, module: str) -> None:
+    where = definitions()[name]
+    if name == "DISCARDED":  # the environment's observation index is another fact
+        where = where - {"pil/env/assembly.py"}
+    assert where == {module}
+
+
+@pytest.mark.parametrize(
+    ("name", "meanings"),
+    [
+        ("CAMERAS", 1),  # the detector that reads with the eyes; the filming ones: SCENE_CAMERAS
+        ("FINGERS", 1),  # Robin's; the person's: hand_poses.HUMAN_FINGERS
+        # the condition names are CONDITION_PARAMS' keys (episode/reading.py is gone); the
+        # detector's defaults: VISION_DEFAULTS
+        ("VISION_PARAMS", 0),
+        ("GESTURES", 1),  # pil.types' tuple; the live page's keys: inputs.GESTURE_BY_KEY
+    ],
+)
+def test_names_with_two_meanings_were_told_apart(name: str, meanings: int) -> None:
+    assert len(definitions()[name]) == meanings, definitions()[name]
+
+
+def literal_count(pattern: str, packages: tuple[str, ...] = PACKAGES) -> dict[str, int]:
+    """Module -> number of matches of the regex ``pattern`` in its source (where any)."""
+    found = {}
+    for path in (p for package in packages for p in sorted((ROOT / package).rglob("*.py"))):
+        n = len(re.findall(pattern, path.read_text(encoding="utf-8")))
+        if n:
+            found[rel(path)] = n
+    return found
+
+
+@pytest.mark.parametrize(
+    ("pattern", "home"),
+    [
+        # the pointing hand's offset above its place
+        (r"0\.14,\s*0\.0,\s*0\.13", "robin_sim/model/robot_spec.py"),
+        # H.264's even frame size
+        (r"must be even in both dimensions", "robin_sim/render/frame_spec.py"),
+        # the row's columns: the training counts are named once
+        (r'"train_rejected"', "pil/experiments/run_row.py"),
+        # states looked up by object id
+        (r"\{id\(s\)", "pil/table.py"),
+        # the reading label of a discarded reading
+        (r'(?m)^[A-Z_]+(\s*:[^=\n]+)?\s*=\s*"discarded"', "robin_sim/vision/train.py"),
+        # the live page's gesture keys
+        (r'"give_me":\s*Gesture', "robin_sim/live/inputs.py"),
+    ],
+)
+def test_a_fact_is_written_once(pattern: str, home: str) -> None:
+    assert literal_count(pattern) == {home: 1}
+
+
+def test_agent_settings_are_the_agents_defaults_and_ranges() -> None:
+    """epsilon, epsilon_decay and step_size: the run parameters read the agents' values (no
+    copy), so the TAMER agent's [0, 1] step_size is the parameter's range too."""
+    from pil.agents import bandit, tamer
+    from pil.task.params import PARAMS
+
+    for name, default, (low, high) in (
+        ("epsilon", bandit.EPSILON, bandit.EPSILON_RANGE),
+        ("epsilon_decay", bandit.EPSILON_DECAY, bandit.EPSILON_DECAY_RANGE),
+        ("step_size", tamer.STEP_SIZE, tamer.STEP_SIZE_RANGE),
+    ):
+        spec = PARAMS[name]
+        assert (spec.default, spec.low, spec.high) == (default, low, high), name
+    assert tamer.STEP_SIZE_RANGE == (0.0, 1.0)
+    assert (PARAMS["step_size"].low, PARAMS["step_size"].high) == (0.0, 1.0)
+
+
+def test_agent_settings_are_never_written_as_numbers_beside_their_name() -> None:
+    """No call names ``"epsilon"`` / ``"epsilon_decay"`` / ``"step_size"`` with a number
+    literal among its arguments (a ParamSpec copying a default or a range)."""
+    names = {"epsilon", "epsilon_decay", "step_size"}
+    copies = []
+    for path in source_files():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call) or not node.args:
+                continue
+            first = node.args[0]
+            if isinstance(first, ast.Constant) and first.value in names:
+                numbers = [
+                    a.value
+                    for a in [*node.args[1:], *(k.value for k in node.keywords)]
+                    if isinstance(a, ast.Constant) and isinstance(a.value, int | float)
+                ]
+                if numbers:
+                    copies.append(f"{rel(path)}:{node.lineno} {first.value} {numbers}")
+    assert not copies
+
+
+def test_frame_checks_are_the_episode_s_for_the_live_page_and_the_writer() -> None:
+    from robin_sim.episode import config as episode_config
+    from robin_sim.live import config as live_config
+    from robin_sim.render import frame_spec, video
+
+    assert episode_config.check_size is frame_spec.check_size
+    assert live_config.check_size is frame_spec.check_size
+    assert video.check_size is frame_spec.check_size
+    assert episode_config.FPS is frame_spec.FPS is video.FPS
+    # the live page narrows the episode's ranges, and only their upper ends
+    for live, episode in (
+        (live_config.LIVE_FPS, frame_spec.FPS),
+        (live_config.LIVE_SIDE, frame_spec.SIDE),
+    ):
+        assert (live.kind, live.low) == (episode.kind, episode.low)
+        assert live.high is not None and episode.high is not None and live.high <= episode.high
+
+
+def test_row_columns_and_lookups_are_imported_not_copied() -> None:
+    from pil import learner, table
+    from pil.experiments import run_row, study, systems
+
+    assert systems.ROW_COLUMNS is run_row.ROW_COLUMNS
+    assert study.STUDY_COLUMNS[1:] == run_row.ROW_COLUMNS
+    assert learner.ACTION_INDEX is table.ACTION_INDEX
+    assert learner.STATE_ID_BY_OBJECT is table.STATE_ID_BY_OBJECT
+
+
+def test_no_module_imports_a_private_name_of_another() -> None:
+    """A name shared between modules is public (e.g. the figures' ``pyplot`` and
+    ``finish_figure`` in :mod:`pil.experiments.plotting`, once ``figures._pyplot``)."""
+    private = []
+    for path in source_files():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] in PACKAGES:
+                private += [
+                    f"{rel(path)}: {node.module}.{a.name}"
+                    for a in node.names
+                    if a.name.startswith("_") and not a.name.startswith("__")
+                ]
+    assert not private
