@@ -31,7 +31,7 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from robin_sim.episode.config import EpisodeConfig, EpisodeTask  # noqa: E402
+from robin_sim.episode.config import EpisodeConfig, layout_of  # noqa: E402
 from robin_sim.live.conductor import Conductor  # noqa: E402
 from robin_sim.live.inputs import LiveInput  # noqa: E402
 from robin_sim.live.picking import Picker  # noqa: E402
@@ -45,8 +45,8 @@ WARMUP_S = 2.0
 
 def leg_pixel(config: LiveConfig) -> tuple[float, float]:
     """Leg 0's centre in the frame (the engine's picking camera model)."""
-    task = EpisodeTask.of(EpisodeConfig(scenario=config.scenario, video=False))
-    picker = Picker(task.layout, config.width, config.height)
+    layout = layout_of(EpisodeConfig(scenario=config.scenario, video=False).spec().run.scenario)
+    picker = Picker(layout, config.width, config.height)
     return picker.project(picker.data.xpos[picker.model.body(names.leg_body(0)).id])
 
 

@@ -165,26 +165,6 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     )
 
 
-@dataclass(frozen=True)
-class EpisodeTask:
-    """What an episode resolves to: the scenario and the scene layout (for tools that need
-    only those, e.g. the live benchmark)."""
-
-    scenario: Scenario
-    layout: SceneLayout
-
-    @property
-    def legs_total(self) -> int:
-        """Legs the person is to receive."""
-        return self.scenario.tables * self.scenario.legs_per_table
-
-    @classmethod
-    def of(cls, config: EpisodeConfig) -> EpisodeTask:
-        """Parse ``config`` and resolve its scenario's layout."""
-        scenario = parse_episode(config).run.scenario
-        return cls(scenario, layout_of(scenario))
-
-
 def layout_of(scenario: Scenario) -> SceneLayout:
     """The scene layout of ``scenario`` (its ``layout`` section, else the default), refused when
     it lacks the legs and spots the person will point at."""

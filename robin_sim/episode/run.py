@@ -25,7 +25,7 @@ from pil.task.assemble import Run
 from pil.task.records import StepRecord
 from robin_sim.episode.assemble import assemble, layout_of
 from robin_sim.episode.book import StepBook, run_summary, vision_of
-from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec, EpisodeTask
+from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec
 from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
 from robin_sim.episode.render_checks import RenderChecks
@@ -38,7 +38,6 @@ __all__ = [
     "EpisodeConfig",
     "EpisodeError",
     "EpisodeSpec",
-    "EpisodeTask",
     "StepBook",
     "run_episode",
     "run_summary",

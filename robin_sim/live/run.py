@@ -1,9 +1,9 @@
 """The parts of one live session, built in its physics thread like an episode's.
 
-:class:`LiveRun` resolves the scenario and layout (:class:`~robin_sim.episode.config.EpisodeTask`),
-builds the world, the simulated hand, the system's learner and the exact detector
-(:func:`pil.experiments.systems.test_parts`, as the episode does), the participant in the
-scripted person's place, the picker, the frame stream (MP4 included), the pacer and the step log.
+:class:`LiveRun` builds the world of the session's scenario and, through the one assembly
+(:func:`robin_sim.episode.assemble.assemble`, as the episode), the simulated hand, the system's
+learner and the exact detector; then the participant in the scripted person's place, the
+picker, the frame stream (MP4 included), the pacer and the step log.
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 

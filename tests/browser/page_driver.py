@@ -43,13 +43,13 @@ def leg_pixels(
 ) -> list[tuple[float, float]]:
     """Each leg's centre as a frame pixel, projected with the engine's picking camera model
     from the scene as it is laid out at the start of a session."""
-    from robin_sim.episode.config import EpisodeConfig, EpisodeTask
+    from robin_sim.episode.config import EpisodeConfig, layout_of
 
-    task = EpisodeTask.of(EpisodeConfig(scenario=scenario, video=False))
-    picker = Picker(task.layout, width, height)
+    layout = layout_of(EpisodeConfig(scenario=scenario, video=False).spec().run.scenario)
+    picker = Picker(layout, width, height)
     return [
         picker.project(picker.data.xpos[picker.model.body(names.leg_body(k)).id])
-        for k in range(len(task.layout.legs))
+        for k in range(len(layout.legs))
     ]
 
 
