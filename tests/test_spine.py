@@ -177,3 +177,29 @@ def test_the_vision_detector_is_a_registry_entry_not_a_swap() -> None:
     source = (ROOT / "robin_sim" / "episode" / "assemble.py").read_text()
     assert "CAMERAS as VISION" in source and "VISION: vision_factory(" in source
     assert not (ROOT / "robin_sim" / "episode" / "reading.py").exists()
+
+
+def test_the_public_api_imports_lazily() -> None:
+    """``from robin_sim import PhysicalWorld, run_episode, RunSpec, assemble`` works; importing
+    the packages alone pulls in neither MuJoCo nor the run assembly."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, pil, robin_sim\n"
+        "assert 'mujoco' not in sys.modules and 'pil.task.assemble' not in sys.modules\n"
+        "from robin_sim import PhysicalWorld, RunSpec, assemble, run_episode\n"
+        "import pil\n"
+        "assert pil.RunSpec is RunSpec and callable(assemble) and callable(run_episode)\n"
+        "assert set(robin_sim.__all__) <= set(dir(robin_sim)) and 'mujoco' in sys.modules\n"
+        "print(PhysicalWorld.__name__)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        env={"PYTHONPATH": str(ROOT), "MUJOCO_GL": "egl", "PATH": "/usr/bin:/bin"},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "PhysicalWorld"

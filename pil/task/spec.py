@@ -124,14 +124,21 @@ class RunSpec:
 
     def effective(self) -> RunSpec:
         """This spec with the system's own parameters applied (typed constants, not parsed)."""
-        overrides = self.system_spec.params
+        overrides = dict(self.system_spec.params)
         if not overrides:
             return self
         changed: dict[str, Any] = {}
-        for name, group in (("learner", self.learner), ("person", self.person)):
-            mine = {f.name: overrides[f.name] for f in fields(group) if f.name in overrides}
+        for name in ("learner", "person", "detector"):
+            group = getattr(self, name)
+            mine = {
+                f.name: overrides.pop(_RENAMED.get(f.name, f.name))
+                for f in fields(group)
+                if _RENAMED.get(f.name, f.name) in overrides
+            }
             if mine:
                 changed[name] = replace(group, **mine)
+        if overrides:  # a registry entry naming no run parameter: a bug in SYSTEM_SPECS
+            raise InvalidChoiceError("system parameter", next(iter(overrides)), PARAMS)
         return replace(self, **changed)
 
     def values(self) -> dict[str, Any]:
