@@ -84,8 +84,8 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         "STATIC_DIR": ("robin_sim/live/server.py", "robin_sim/replay/serve.py"),
         # an episode's and a live session's file names (left to the run-assembly refactor)
         "SUMMARY_NAME": ("pil/experiments/sessions_load.py", "robin_sim/episode/run.py"),
+        # an episode's step log (episode.jsonl); a live session's (log.jsonl)
         "LOG_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
-        "VIDEO_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
         # the step loop's Hand.OCCUPIED; the validity rules' set of hand states
         "_OCCUPIED": ("pil/task/runner.py", "pil/validity.py"),
         # each task file kind's keys

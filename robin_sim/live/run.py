@@ -21,6 +21,7 @@ from robin_sim.control.simulator import Simulator
 from robin_sim.episode.assemble import assemble, layout_of
 from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
+from robin_sim.episode.run import VIDEO_NAME  # the same file name as an episode's
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
@@ -32,7 +33,7 @@ from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
-LOG_NAME, VIDEO_NAME = "log.jsonl", "episode.mp4"
+LOG_NAME = "log.jsonl"  # the session's step log (an episode's is episode.jsonl)
 
 
 class LiveRun(ClosesOnExit):
