@@ -2,16 +2,20 @@
 
 On a normalised hand (:func:`~.landmarks.normalised`: wrist at the origin, palm size 1, image
 axes, y down) each finger's extension is the distance of its tip from the wrist over that of
-its middle joint: well above 1 when straight, below when curled. Soft memberships (0..1) of
-each gesture follow from the extensions, the thumb's direction and the hand's direction:
+its middle joint: about 1.3 when straight, below 1 when curled. The thumb's lead is how far
+its tip lies above every other point of the hand (thumb up), or below (thumb down), in palm
+sizes. Soft memberships (0..1) of each gesture follow:
 
-* open hand (four fingers straight): fingers up is **release** (an opened hand), otherwise the
-  palm held out is **give me**;
-* only the index straight: **pointing**;
-* no finger straight, the thumb out and up: **thumb up**; out and down: **thumb down**;
-  otherwise a fist: **grasp**.
+* the four fingers straight (an open hand): fingers up is **release** (an opened hand), any
+  other way is **give me** (the palm held out);
+* the thumb's tip above all the rest, middle, ring and little fingers curled: **thumb up**;
+  below all the rest: **thumb down** (the index is left out: the tracker often reads it
+  half-straight in a thumb up);
+* only the index straight, the thumb not leading: **pointing**;
+* all four curled, the thumb not leading: a fist, **grasp**.
 
-The reading's certainty is the winner's membership times its lead over the runner-up.
+The reading's certainty is the winner's membership times the square root of its lead over the
+runner-up (0 when two gestures fit equally).
 """
 
 from __future__ import annotations
@@ -20,11 +24,10 @@ import numpy as np
 
 GESTURE_NAMES = ("give_me", "grasp", "release", "thumb_up", "thumb_down", "pointing")
 FINGERS = ((5, 6, 8), (9, 10, 12), (13, 14, 16), (17, 18, 20))  # knuckle, middle joint, tip
-THUMB = (2, 4)  # its knuckle and tip
-STRAIGHT = (1.05, 0.12)  # extension ratio at which a finger counts half straight, and its width
-THUMB_OUT = (0.55, 0.15)  # thumb tip's distance beyond the index knuckle (palm sizes)
-VERTICAL = (0.5, 0.15)  # |y| of the thumb's unit direction at which it counts half vertical
-FINGERS_UP = (-0.45, 0.15)  # y of the hand's unit direction (wrist to middle knuckle)
+THUMB_TIP = 4
+STRAIGHT = (1.12, 0.06)  # extension at which a finger counts half straight, and the softness
+THUMB_LEAD = (0.25, 0.1)  # palm sizes the thumb's tip leads the rest by to count half a thumb
+FINGERS_UP = (0.45, 0.15)  # -y of the hand's unit direction (wrist to middle knuckle)
 
 
 def _soft(value: float, centre: float, width: float) -> float:
@@ -37,26 +40,31 @@ def extensions(shape: np.ndarray) -> np.ndarray:
     return np.array([norms[tip] / max(norms[mid], 1e-6) for _, mid, tip in FINGERS])
 
 
+def thumb_leads(shape: np.ndarray) -> tuple[float, float]:
+    """(up, down): how far the thumb's tip lies above / below every finger point (palm sizes)."""
+    ys = shape[5:, 1]
+    tip = float(shape[THUMB_TIP, 1])
+    return float(ys.min()) - tip, tip - float(ys.max())
+
+
 def memberships(shape: np.ndarray) -> dict[str, float]:
     """How much the shape looks like each gesture (0..1)."""
     straight = [_soft(e, *STRAIGHT) for e in extensions(shape)]
     curled = [1.0 - s for s in straight]
-    knuckle, tip = shape[THUMB[0], :2], shape[THUMB[1], :2]
-    out = _soft(float(np.linalg.norm(shape[THUMB[1], :2] - shape[5, :2])), *THUMB_OUT)
-    direction = (tip - knuckle) / max(float(np.linalg.norm(tip - knuckle)), 1e-6)
-    up = _soft(-float(direction[1]), *VERTICAL)
-    down = _soft(float(direction[1]), *VERTICAL)
+    lead_up, lead_down = thumb_leads(shape)
+    up, down = _soft(lead_up, *THUMB_LEAD), _soft(lead_down, *THUMB_LEAD)
+    thumb = max(up, down)
     hand = shape[9, :2] / max(float(np.linalg.norm(shape[9, :2])), 1e-6)
-    raised = _soft(-float(hand[1]), -FINGERS_UP[0], FINGERS_UP[1])
+    raised = _soft(-float(hand[1]), *FINGERS_UP)
     open_hand = min(straight)
-    fist = min(curled)
+    three_curled = min(curled[1:])
     return {
         "give_me": open_hand * (1.0 - raised),
         "release": open_hand * raised,
-        "pointing": min(straight[0], *curled[1:]),
-        "thumb_up": fist * out * up,
-        "thumb_down": fist * out * down,
-        "grasp": fist * (1.0 - out * max(up, down)),
+        "thumb_up": three_curled * up,
+        "thumb_down": three_curled * down,
+        "pointing": min(straight[0], three_curled) * (1.0 - thumb),
+        "grasp": min(curled) * (1.0 - thumb),
     }
 
 
