@@ -255,6 +255,10 @@ class LiveSession:
 
     def _act(self, item: LiveInput) -> None:
         participant = self._participant
+        if item.kind == "calibration" and self.webcam is None:
+            raise LiveInputError(
+                "calibration: this session has no webcam; start it with robin-pil live --webcam"
+            )
         if self.done.is_set():
             raise LiveInputError("the session has ended; nothing more is taken")
         if participant is None:
@@ -267,10 +271,7 @@ class LiveSession:
                 "start: this session runs already; 'start' leaves a protocol block's instructions"
             )
         elif item.kind == "calibration":
-            if self.webcam is None:
-                raise LiveInputError(
-                    "calibration: this session has no webcam; start it with robin-pil live --webcam"
-                )
+            assert self.webcam is not None
             self.webcam.calibration(str(item.action))
         elif item.kind == "thumb":
             if not participant.judging:

@@ -200,8 +200,9 @@ class HandReader:
         if anchor is None or np.hypot(cursor[0] - anchor[0], cursor[1] - anchor[1]) > DWELL_RADIUS:
             self._anchor = (cursor[0], cursor[1], now)
             return
-        reading.dwell = min(1.0, (now - anchor[2]) / self.dwell_s)
-        if reading.dwell >= 1.0 and self._latched != "pointing":
+        held = now - anchor[2]
+        reading.dwell = min(1.0, held / self.dwell_s)
+        if held >= self.dwell_s - 1e-6 and self._latched != "pointing":
             reading.decided = "pointing"
             reading.cursor = (anchor[0], anchor[1])
 
