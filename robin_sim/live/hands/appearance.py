@@ -3,7 +3,8 @@
 :class:`Appearance` starts from one example per gesture (the calibration at the start of a
 session) and takes every reading the participant later confirms (an approved action) or
 corrects (the gesture they made instead), so it follows how this person makes each gesture.
-A reading's confidence is its margin: ``1 - d_best / d_other``, where ``d_best`` is the
+Plain NumPy (a few hundred examples at most: a distance to each is quicker than a fitted
+index). A reading's confidence is its margin: ``1 - d_best / d_other``, where ``d_best`` is the
 distance to the nearest example of the predicted gesture and ``d_other`` to the nearest example
 of any other gesture (0: halfway between two gestures; near 1: close to one, far from the rest).
 """
@@ -13,7 +14,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from sklearn.neighbors import KNeighborsClassifier
 
 NEIGHBOURS = 3  # at most; fewer while a gesture has fewer examples
 MAX_EXAMPLES = 400  # per gesture: the oldest confirmed ones go first (calibration stays)
@@ -25,7 +25,7 @@ class Appearance:
     def __init__(self) -> None:
         self.examples: dict[str, list[np.ndarray]] = {}
         self.seeded: set[str] = set()  # gestures with a calibration example
-        self._model: KNeighborsClassifier | None = None
+        self._model: tuple[np.ndarray, np.ndarray] | None = None  # examples, label indices
 
     @property
     def gestures(self) -> tuple[str, ...]:
@@ -51,34 +51,35 @@ class Appearance:
             examples.pop(first)
         self._model = None
 
-    def _fitted(self) -> KNeighborsClassifier | None:
+    def _fitted(self) -> tuple[np.ndarray, np.ndarray] | None:
         if len(self.examples) < 2:
             return None
         if self._model is None:
-            labels = [label for label in self.gestures for _ in self.examples[label]]
-            data = np.array([f for label in self.gestures for f in self.examples[label]])
-            k = min(NEIGHBOURS, min(len(v) for v in self.examples.values()))
-            self._model = KNeighborsClassifier(n_neighbors=max(1, k), weights="distance")
-            self._model.fit(data, labels)
+            names = self.gestures
+            data = np.array([f for label in names for f in self.examples[label]])
+            index = np.array([k for k, label in enumerate(names) for _ in self.examples[label]])
+            self._model = (data, index)
         return self._model
 
     def predict(self, features: np.ndarray) -> tuple[str | None, float]:
-        """(gesture, margin in [0, 1]); (None, 0.0) with fewer than two gestures known."""
+        """(gesture, margin in [0, 1]); (None, 0.0) with fewer than two gestures known. The
+        gesture is the distance-weighted vote of the k nearest examples, k the smaller of
+        :data:`NEIGHBOURS` and the fewest examples a gesture has."""
         model = self._fitted()
         if model is None:
             return None, 0.0
-        x = np.asarray(features, float).reshape(1, -1)
-        label = str(model.predict(x)[0])
-        return label, self.margin(x[0], label)
-
-    def margin(self, x: np.ndarray, label: str) -> float:
-        nearest = {
-            name: float(np.min(np.linalg.norm(np.array(v) - x, axis=1)))
-            for name, v in self.examples.items()
-        }
-        best = nearest[label]
-        other = min(d for name, d in nearest.items() if name != label)
-        return float(np.clip(1.0 - best / max(other, 1e-9), 0.0, 1.0))
+        data, index = model
+        names = self.gestures
+        distances = np.linalg.norm(data - np.asarray(features, float), axis=1)
+        k = max(1, min(NEIGHBOURS, min(len(v) for v in self.examples.values())))
+        nearest = np.argsort(distances)[:k]
+        votes = np.bincount(
+            index[nearest], 1.0 / np.maximum(distances[nearest], 1e-9), minlength=len(names)
+        )
+        best = int(np.argmax(votes))
+        own = float(distances[index == best].min())
+        other = float(distances[index != best].min())
+        return names[best], float(np.clip(1.0 - own / max(other, 1e-9), 0.0, 1.0))
 
     def predict_many(self, rows: Sequence[np.ndarray]) -> list[tuple[str | None, float]]:
         return [self.predict(row) for row in rows]
