@@ -10,6 +10,7 @@ request the page makes is checked to go to the loopback server: nothing leaves t
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 from typing import Any
 
@@ -73,31 +74,53 @@ def end_session(page: Any, served: Any) -> dict[str, Any]:
     return json.loads((served.conductor.session.out_dir / "summary.json").read_text())
 
 
+def wait_log(folder: Path, feedback: str) -> list[dict[str, Any]]:
+    """Wait until ``log.jsonl`` has a step with ``feedback`` (the learner received it)."""
+    deadline = time.monotonic() + READ_TIMEOUT_S
+    while time.monotonic() < deadline:
+        path = folder / "log.jsonl"
+        log = read_jsonl(path) if path.exists() else []
+        if any(entry["feedback"] == feedback for entry in log):
+            return log
+        time.sleep(0.5)
+    raise AssertionError(f"no step with feedback {feedback!r} logged in {READ_TIMEOUT_S} s")
+
+
 def judged_by_camera(tmp_path: Path, live_server: Any, vflip: bool) -> tuple[Any, ...]:
-    """Point at a leg with a click; the camera's thumb judges the robot's move."""
+    """Point at a leg with a click, again whenever it is the participant's turn, until the
+    camera's thumb has judged one of the robot's actions (an action that ends at once, such as
+    closing on nothing, leaves no time to judge it; the next one does)."""
     y4m = write_y4m(HANDS / "thumb_up.mp4", tmp_path / "thumb.y4m", vflip=vflip)
     served = live_server(**session_options())
+    thumb = "down" if vflip else "up"
+    judged = f"(window.robinLive.webcam?.replies || []).some((r) => r.acted === 'thumb {thumb}')"
     with camera_browser(y4m) as browser:
         page, requests = open_camera_page(browser, served)
-        wait_status(page, "s.phase === 'waiting_for_gesture'", timeout_s=180)
-        click_frame_pixel(page, *leg_pixels(SCENARIO)[0])
-        thumb = "up" if not vflip else "down"
+        for _ in range(8):
+            wait_status(page, f"s.phase === 'waiting_for_gesture' || {judged}", timeout_s=180)
+            if page.evaluate(f"() => {judged}"):
+                break
+            done = page.evaluate("() => window.robinLive.status.actions")
+            click_frame_pixel(page, *leg_pixels(SCENARIO)[0])
+            wait_status(page, f"s.actions > {done} || {judged}", timeout_s=READ_TIMEOUT_S)
         wait_reading(page, f"r.acted === 'thumb {thumb}'")
-        wait_status(page, "s.actions >= 1", timeout_s=READ_TIMEOUT_S)
+        folder = served.conductor.session.out_dir
+        log = wait_log(folder, "ok" if thumb == "up" else "not ok")
         summary = end_session(page, served)
         page.close()
     assert_loopback_only(requests, served)
-    return served, summary
+    return served, summary, log
 
 
 def test_a_thumb_up_on_the_camera_approves_the_move(tmp_path, live_server) -> None:
-    served, summary = judged_by_camera(tmp_path, live_server, vflip=False)
+    served, summary, log = judged_by_camera(tmp_path, live_server, vflip=False)
     folder = served.conductor.session.out_dir
-    log = read_jsonl(folder / "log.jsonl")
-    assert log[0]["true_gesture"] == "pointing" and log[0]["feedback"] == "ok", log[0]
-    assert log[0]["feedback_read"] == "ok" and not log[0]["interrupted"]
+    judged = [e for e in log if e["feedback"] == "ok"]
+    assert judged[0]["true_gesture"] == "pointing" and judged[0]["feedback_read"] == "ok"
+    assert not judged[0]["interrupted"]
+    assert not any(e["feedback"] == "not ok" for e in log)
     acted = [e for e in hand_lines(folder) if e["reading"]["acted"] == "thumb up"]
-    assert len(acted) == 1, acted
+    assert len(acted) == len(judged) == 1, (acted, log)
     reading = acted[0]["reading"]
     assert reading["label"] == "thumb_up" and reading["confidence"] >= THRESHOLD
     assert summary["vision"]["source"] == "webcam"
@@ -106,12 +129,12 @@ def test_a_thumb_up_on_the_camera_approves_the_move(tmp_path, live_server) -> No
 
 
 def test_a_thumb_down_on_the_camera_stops_the_move(tmp_path, live_server) -> None:
-    served, summary = judged_by_camera(tmp_path, live_server, vflip=True)
+    served, summary, log = judged_by_camera(tmp_path, live_server, vflip=True)
     folder = served.conductor.session.out_dir
-    log = read_jsonl(folder / "log.jsonl")
-    assert log[0]["feedback"] == "not ok" and log[0]["feedback_read"] == "not ok", log[0]
+    judged = [e for e in log if e["feedback"] == "not ok"]
+    assert judged[0]["feedback_read"] == "not ok" and judged[0]["true_gesture"] == "pointing"
     acted = [e for e in hand_lines(folder) if e["reading"]["acted"] == "thumb down"]
-    assert len(acted) == 1, acted
+    assert len(acted) == len(judged) == 1, (acted, log)
     assert acted[0]["reading"]["label"] == "thumb_down"
     assert acted[0]["reading"]["confidence"] >= THRESHOLD
     assert summary["rejected"] == 1
