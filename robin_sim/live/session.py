@@ -242,8 +242,9 @@ class LiveSession:
             self._log_input(item.as_dict(), error)
             raise LiveInputError(error)
         assert webcam is not None and item.hand is not None
+        assert participant is not None and picker is not None
         try:
-            reading = webcam.read(item.hand, participant, picker.pick, self.view.clicked)  # type: ignore[arg-type]
+            reading = webcam.read(item.hand, participant, picker.pick, self.view.clicked)
         except LiveInputError as problem:
             self._log_input(item.as_dict(), str(problem))
             raise
