@@ -105,6 +105,7 @@ def server_run(raws: list[str], seeds: dict[str, np.ndarray]) -> dict[str, float
 
 def browser_run(folder: Path, readings: int, wait_s: float) -> dict[str, float]:
     """Readings/s of the tracker on the page of a real --webcam session."""
+    folder.mkdir(parents=True, exist_ok=True)
     y4m = write_y4m(HANDS / "thumb_up.mp4", folder / "thumb.y4m")
     config = LiveConfig(
         scenario="one_handover",
