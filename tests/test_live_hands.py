@@ -196,3 +196,19 @@ def test_a_correction_relabels_the_reading_with_the_gesture_made_instead() -> No
     reader.acted(right, "thumb up", (0, 2))
     reader.settled(right.seq, "thumb_up", (0, 2), approved=True)
     assert reader.summary()["confirmed"] == 1 and reader.appearance.size == 2
+
+
+def test_the_live_command_takes_webcam_and_refuses_a_lone_no_calibration() -> None:
+    from pil.errors import RobinPilError
+    from robin_sim.cli.live import session_configs
+    from robin_sim.cli.main import build_parser
+
+    def configs(*argv: str) -> list:
+        return session_configs(build_parser("live").parse_args(["live", *argv]))
+
+    assert configs()[0].webcam is False
+    config = configs("--webcam")[0]
+    assert config.webcam and config.calibrate
+    assert configs("--webcam", "--no-calibration")[0].calibrate is False
+    with pytest.raises(RobinPilError, match="--no-calibration is for --webcam sessions"):
+        configs("--no-calibration")
