@@ -75,6 +75,50 @@ def messages() -> tuple[list[str], dict[str, np.ndarray]]:
     return raws, seeds
 
 
+def accuracy() -> dict[str, float]:
+    """How well the footage's readings are read (the same figures tests/test_webcam_accuracy.py
+    holds to floors): by the shape rules (right and sure); by one-shot calibration (each
+    gesture's first reading) on the held-out readings; and adapting, each held-out reading
+    predicted, then confirmed (added) as an approved action would (prequential)."""
+    from robin_sim.live.hands.appearance import Appearance
+    from robin_sim.live.hands.reader import THRESHOLD
+    from robin_sim.live.hands.shape import read_shape
+
+    with np.load(HANDS / "landmarks.npz") as data:
+        rows = {key: data[key] for key in data.files}
+    found = [k for k, p in enumerate(rows["landmarks"]) if not np.isnan(p).any()]
+    shapes = {
+        k: normalised(rows["landmarks"][k], str(rows["handedness"][k]), float(rows["aspect"][k]))
+        for k in found
+    }
+    labels = {k: str(rows["label"][k]) for k in found}
+    sure = 0
+    for k in found:
+        label, certainty = read_shape(shapes[k])
+        sure += label == labels[k] and float(rows["score"][k]) * certainty >= THRESHOLD
+    one_shot, adapting, seen = Appearance(), Appearance(), set()
+    held = []
+    for k in found:
+        if labels[k] in seen:
+            held.append(k)
+        else:
+            seen.add(labels[k])
+            one_shot.seed(labels[k], features(shapes[k]))
+            adapting.seed(labels[k], features(shapes[k]))
+    right = sum(one_shot.predict(features(shapes[k]))[0] == labels[k] for k in held)
+    online = 0
+    for k in held:
+        online += adapting.predict(features(shapes[k]))[0] == labels[k]
+        adapting.add(labels[k], features(shapes[k]))
+    return {
+        "found": len(found) / len(rows["label"]),
+        "shape": sure / len(found),
+        "one_shot": right / len(held),
+        "adapting": online / len(held),
+        "held_out": float(len(held)),
+    }
+
+
 def per_reading_ms(raws: list[str], reader: HandReader | None) -> list[float]:
     """ms per message: parsed, and read by ``reader`` (None: parsed only)."""
     times = []
@@ -157,6 +201,12 @@ def main() -> int:
     parser.add_argument("--no-browser", action="store_true", help="the server's latency only")
     args = smoke.parse_args(parser, runs=1, readings=2, wait=240.0)
     raws, seeds = messages()
+    read = accuracy()
+    print(
+        f"accuracy on the footage's readings: hand found {read['found']:.1%}; shape rules "
+        f"{read['shape']:.1%} right and sure; one-shot calibration {read['one_shot']:.1%} of "
+        f"{read['held_out']:.0f} held out; adapting (each confirmed) {read['adapting']:.1%}"
+    )
     server = [server_run(raws, seeds) for _ in range(args.runs)]
     print(f"server: {len(raws)} readings a run, {args.runs} runs (medians over the runs)")
     click = statistics.median(r["click_ms"] for r in server)

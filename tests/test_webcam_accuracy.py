@@ -17,8 +17,8 @@ from robin_sim.live.hands.landmarks import features, normalised
 from robin_sim.live.hands.reader import THRESHOLD
 from robin_sim.live.hands.shape import read_shape
 
-SHAPE_FLOOR = 0.80  # right and sure, of the readings with a hand
-ONE_SHOT_FLOOR = 0.90  # calibrated from one reading per gesture, on the held-out readings
+SHAPE_FLOOR = 0.93  # right and sure, of the readings with a hand (measured 0.971)
+ONE_SHOT_FLOOR = 0.95  # one reading per gesture; on the held-out ones (measured 1.0)
 
 
 def readings() -> list[dict]:
@@ -77,7 +77,7 @@ def test_one_example_per_gesture_reads_the_held_out_frames() -> None:
     for label in model.seeded:  # every gesture, not only the frequent ones
         own = [r for r in held_out if r["label"] == label]
         hits = sum(model.predict(features(r["shape"]))[0] == label for r in own)
-        assert hits / len(own) >= 0.75, (label, hits, len(own))
+        assert hits / len(own) >= 0.9, (label, hits, len(own))
 
 
 def test_a_model_calibrated_on_one_hand_reads_the_other() -> None:

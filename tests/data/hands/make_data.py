@@ -8,9 +8,10 @@ Run once, from the repository root, with the footage folder (not needed at test 
    browser tests turn them into the fake camera's ``.y4m``, the thumb down by a vertical flip).
 2. ``landmarks.npz``: the vendored hand tracker, run in headless Debian chromium on frames of
    the footage (served from this machine's loopback, as the live page does), one reading per
-   frame, each found afresh (the tracker reset before every frame: tracking on from a blurred,
-   moving start once locked the raised thumb as the index finger for a whole sequence, which
-   the live page, starting on a held gesture, does not do). Sequences: the fist (grasp), the
+   frame, each found afresh (the tracker reset before every frame: with tracking on from the
+   blurred, moving start of the thumb up, it once took the raised thumb for the index finger
+   for the whole sequence; the live page's readings of the held clip had the thumb on top).
+   Sequences: the fist (grasp), the
    thumb up, the same frames flipped vertically (thumb down), the palm held out (give me) and
    the same rotated by 180 degrees (an open hand, fingers up: release). Arrays: ``landmarks``
    (N, 21, 3; NaN where no hand was found), ``handedness``, ``score``, ``aspect``, ``label``,
