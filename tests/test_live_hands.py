@@ -175,9 +175,29 @@ def test_calibration_takes_one_held_example_of_each_gesture() -> None:
         taken = reader.read(shown, now + 0.1)
         assert taken.acted == f"calibration {gesture}"
     assert not reader.calibrating and reader.calibrated
+    assert reader.calibration_status()["note"] == ""
     reading = reader.read(hand(THUMB_DOWN), now + 5)
     assert reading.source == "appearance" and reading.label == "thumb_down"
     assert reading.confidence > 0.5
+
+
+def test_calibration_refuses_a_hand_that_did_not_change() -> None:
+    reader = HandReader(640, 480)
+    reader.start_calibration(0.0)
+    palm = synthetic_hand(*OPEN)
+    palm[:, 1] = 2 * palm[0, 1] - palm[:, 1]
+    held = parse_input(message(palm, aspect=1.0), 640, 480).hand
+    reader.read(held, 0.0)
+    assert reader.read(held, 0.1).acted == "calibration give_me"
+    assert reader.asking == "grasp"
+    reader.read(held, 1.5)  # still the palm when the fist is asked for
+    assert reader.read(held, 1.6).acted == ""
+    assert reader.asking == "grasp"
+    assert reader.calibration_status()["note"] == (
+        "That looks like your give me: show the grasp instead."
+    )
+    reader.read(hand(FIST), 1.7)
+    assert reader.read(hand(FIST), 1.8).acted == "calibration grasp"
 
 
 def test_a_correction_relabels_the_reading_with_the_gesture_made_instead() -> None:

@@ -11,7 +11,8 @@ the scene (the index fingertip, mirrored as the self-view is); held within
 :data:`DWELL_RADIUS` pixels for :data:`DWELL_S` seconds it selects what is under it.
 
 Calibration (:meth:`HandReader.start_calibration`) asks for each gesture of
-:data:`CALIBRATION_ORDER` once and seeds the appearance model with the reading held for it.
+:data:`CALIBRATION_ORDER` once and seeds the appearance model with the reading held for it
+(refused while it looks like a gesture already taken: the hand has not changed yet).
 After each step the learner receives, :meth:`HandReader.settled` confirms the reading it
 acted on (approved or silent) or keeps it aside when corrected (thumb down); the gesture the
 person makes instead, once approved in the same step of the handover, relabels it.
@@ -37,6 +38,10 @@ DWELL_RADIUS = 40.0  # frame pixels the cursor may wander while held still
 CURSOR_MARGIN = 0.15  # of the camera image on each side left out of the cursor's range
 CALIBRATION_ORDER = ("give_me", "grasp", "release", "thumb_up", "thumb_down", "pointing")
 CALIBRATION_GAP_S = 1.0  # s after an example is taken before the next is looked for
+# An example this close to one already taken for another gesture is refused: the hand did not
+# change (features in palm sizes; on the footage the same gesture lies 0.2-1.7 apart, two
+# gestures at least 1.6)
+SAME_HAND = 1.0
 KEEP = 4000  # readings kept for the summary's figures
 
 
@@ -98,6 +103,7 @@ class HandReader:
         self.asking: str | None = None  # the gesture calibration asks for now
         self.calibrated = False
         self._calibration: list[str] = []
+        self.calibration_note = ""  # why the last held hand was not taken ("" none)
         self._gap_until = 0.0
         self._run: list[Reading] = []  # the current run of the same confident label
         self._latched: str | None = None  # decided and acted on; waits for the hand to change
@@ -125,6 +131,7 @@ class HandReader:
             "done": done,
             "calibrated": self.calibrated,
             "order": list(CALIBRATION_ORDER),
+            "note": self.calibration_note,
         }
 
     def _calibrate(self, reading: Reading, now: float) -> None:
@@ -138,6 +145,15 @@ class HandReader:
         asked = self.asking
         assert asked is not None
         example = np.mean([r.features for r in self._run if r.features is not None], axis=0)
+        for name, examples in self.appearance.examples.items():
+            if name != asked and np.linalg.norm(examples[0] - example) < SAME_HAND:
+                self.calibration_note = (
+                    f"That looks like your {name.replace('_', ' ')}: show the "
+                    f"{asked.replace('_', ' ')} instead."
+                )
+                self._run = []
+                return
+        self.calibration_note = ""
         self.appearance.seed(asked, example)
         reading.label, reading.acted = asked, f"calibration {asked}"
         self._calibration.pop(0)

@@ -196,7 +196,8 @@
     box.hidden = false;
     $("calibration-ask").textContent = calibration.instruction;
     const done = calibration.done.length;
-    $("calibration-done").textContent = `${done} of ${calibration.order.length} done`;
+    $("calibration-done").textContent = `${done} of ${calibration.order.length} done` +
+      (calibration.note ? `: ${calibration.note}` : "");
   }
 
   live.listeners.push((message) => {
