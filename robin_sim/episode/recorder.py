@@ -24,6 +24,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
+from types import TracebackType
 from typing import Protocol
 
 import numpy as np
@@ -196,6 +197,19 @@ class VideoRecorder(ClosesOnExit):
         the scene as it is, so that every video written plays; one whose last frame shows fewer
         legs delivered than the episode ended with gets one more frame showing them.
         """
+        self._finish(None)
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self._finish(exc)
+
+    def _finish(self, failure: BaseException | None) -> None:
+        """:meth:`close`, where ``failure`` (if any) ended the recording: then the states
+        file's own failure (a full disk again) does not hide it."""
         if self._remove is None:
             return
         self._remove()
@@ -205,10 +219,17 @@ class VideoRecorder(ClosesOnExit):
             if empty or self.view.info.legs_delivered != self._last_legs:
                 self._submit(self._sim, 1)
             self._write(self.pool.drain())
+        except BaseException as error:
+            failure = failure or error
+            raise
         finally:
             self.pool.close()
             started = time.perf_counter()
             self.writer.close()
             self.timing.encode_s += time.perf_counter() - started
             if self.states is not None:
-                self.states.save()
+                try:
+                    self.states.save()
+                except OSError:
+                    if failure is None:
+                        raise
