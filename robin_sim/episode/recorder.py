@@ -13,7 +13,7 @@ workers with the frame it belongs to (:class:`~robin_sim.render.worker.SecondVie
 state, the worker's second renderer, no floor reflection, round shapes of half the slices) and
 refreshed at :data:`EYE_FPS`; the frames in between repeat the last view. Its cost is mostly
 geometry, not pixels: a quarter of a 640x480 frame's CPU time at full detail, a seventh with
-the coarse shapes, about 4 % of an episode's CPU time at 30 fps (``bench/bench_eye_inset.py``).
+the coarse shapes, about 5 % of an episode's CPU time at 30 fps (``bench/bench_eye_inset.py``).
 With ``readings`` (the vision detector of ``--detector vision``) the inset shows, for a moment
 after each reading, what the robot read: its eye's view with the hand's box and the reading,
 instead of the live eye. The last frame shows the overlay as the episode ended (the legs
