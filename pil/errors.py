@@ -70,6 +70,14 @@ _OS_ADVICE: dict[int, str] = {
 }
 
 
+def naming(error: OSError, path: object) -> OSError:
+    """``error`` naming ``path`` when it names no file (a write to an open handle, FFmpeg's
+    writes): the command line's one line then says which file could not be written."""
+    if error.filename is not None:
+        return error
+    return OSError(error.errno, error.strerror, str(path))
+
+
 def os_error_line(error: OSError) -> str:
     """One line for an ``OSError`` that reached the command line: the file, the system's
     reason and what to do (files finished before it are kept)."""

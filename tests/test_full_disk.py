@@ -6,6 +6,7 @@ which needs root, as the project's CI runs; unprivileged, these tests are skippe
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import struct
@@ -97,6 +98,32 @@ def test_a_reserved_summary_is_replaced_in_place_on_a_full_disk(
     assert not [p for p in disk.iterdir() if p.name.startswith(".")]
 
 
+def test_writes_that_fill_the_disk_name_their_file(small_disk: Callable[[int, int], Path]) -> None:
+    """The states file and the step log name themselves in the error (a write to an open
+    handle names no file), and a states file that does not fit leaves no temporary file."""
+    from pil.errors import os_error_line
+    from robin_sim.episode.log import StepLog
+    from robin_sim.render.state_log import StateLog
+    from robin_sim.render.worker import FrameState
+
+    disk = small_disk(64, 8)
+    states = StateLog(disk / "states.npz", {"layout": {}, "size": [8, 8]})
+    rng = np.random.default_rng(0)  # random numbers: they do not compress into 8 KB
+    for k in range(200):
+        shapes = ((60,), (2, 3), (2, 4), (10, 4))
+        states.add(FrameState(k / 30, *(rng.random(shape) for shape in shapes)))
+    with pytest.raises(OSError) as caught:
+        states.save()
+    assert caught.value.errno == errno.ENOSPC
+    assert caught.value.filename == str(disk / "states.npz")
+    assert f"cannot write {str(disk / 'states.npz')!r} (No space" in os_error_line(caught.value)
+    assert sorted(p.name for p in disk.iterdir()) == ["filler"]
+    with StepLog(disk / "episode.jsonl") as log, pytest.raises(OSError) as caught:
+        log.write({"text": "x" * 64_000})
+    assert caught.value.errno == errno.ENOSPC
+    assert caught.value.filename == str(disk / "episode.jsonl")
+
+
 def small_video(path: Path, frames: int = 45) -> Path:
     with Mp4Writer(path, 64, 48, fps=15) as writer:
         for k in range(frames):
@@ -152,7 +179,10 @@ def test_an_episode_on_a_full_disk_leaves_a_summary_and_a_playable_video(
     ]
     assert main(argv) == 2
     line = last_line(capsys.readouterr().err)
-    assert line.startswith("robin-pil episode: error: cannot write") and "No space left" in line
+    assert (
+        line.startswith("robin-pil episode: error: cannot write")
+        and str(out / "episode.mp4") in line
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed" and "No space left" in summary["error"]
     frames = probe_video(out / "episode.mp4")["frames"]

@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_reserved
+from pil.errors import naming
 from robin_sim.closing import ClosesOnExit
 
 
@@ -40,14 +41,20 @@ class StepLog(ClosesOnExit):
 
     def write(self, entry: Mapping[str, Any]) -> None:
         """Write one step, flushed to the operating system at once."""
-        self._file.write(json.dumps(_plain(entry), sort_keys=False) + "\n")
-        self._file.flush()
+        try:
+            self._file.write(json.dumps(_plain(entry), sort_keys=False) + "\n")
+            self._file.flush()
+        except OSError as error:  # a full disk: a write to a handle names no file
+            raise naming(error, self.path)  # noqa: B904 (chained all the same)
         self.lines += 1
 
     def close(self) -> None:
         """Close the file (idempotent)."""
         if not self._file.closed:
-            self._file.close()
+            try:
+                self._file.close()
+            except OSError as error:
+                raise naming(error, self.path)  # noqa: B904 (chained all the same)
 
 
 SUMMARY_RESERVE = 16_384  # bytes a running summary holds: room for the final one on a full disk

@@ -10,12 +10,14 @@ wall time can be split (physics + control, rendering, encoding).
 
 The eye inset (the robot's left eye, :mod:`robin_sim.render.inset`) is rendered by the render
 workers with the frame it belongs to (:class:`~robin_sim.render.worker.SecondView`: the same
-state, the worker's second renderer, no floor reflection) and refreshed at :data:`EYE_FPS`; the
-frames in between repeat the last view. Rendered in this process at every frame it cost a
-640x480 frame 23-26 ms instead of 12.5-14 ms (``bench/bench_eye_inset.py``). With ``readings``
-(the vision detector of ``--detector vision``) the inset shows, for a moment after each reading,
-what the robot read: its eye's view with the hand's box and the reading, instead of the live
-eye. The last frame shows the overlay as the episode ended (the legs delivered by its last step).
+state, the worker's second renderer, no floor reflection, round shapes of half the slices) and
+refreshed at :data:`EYE_FPS`; the frames in between repeat the last view. Its cost is mostly
+geometry, not pixels: a quarter of a 640x480 frame's CPU time at full detail, a seventh with
+the coarse shapes, about 5 % of an episode's CPU time at 30 fps (``bench/bench_eye_inset.py``).
+With ``readings`` (the vision detector of ``--detector vision``) the inset shows, for a moment
+after each reading, what the robot read: its eye's view with the hand's box and the reading,
+instead of the live eye. The last frame shows the overlay as the episode ended (the legs
+delivered by its last step).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
+from types import TracebackType
 from typing import Protocol
 
 import numpy as np
@@ -195,6 +198,19 @@ class VideoRecorder(ClosesOnExit):
         the scene as it is, so that every video written plays; one whose last frame shows fewer
         legs delivered than the episode ended with gets one more frame showing them.
         """
+        self._finish(None)
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self._finish(exc)
+
+    def _finish(self, failure: BaseException | None) -> None:
+        """:meth:`close`, where ``failure`` (if any) ended the recording: then the states
+        file's own failure (a full disk again) does not hide it."""
         if self._remove is None:
             return
         self._remove()
@@ -204,10 +220,17 @@ class VideoRecorder(ClosesOnExit):
             if empty or self.view.info.legs_delivered != self._last_legs:
                 self._submit(self._sim, 1)
             self._write(self.pool.drain())
+        except BaseException as error:
+            failure = failure or error
+            raise
         finally:
             self.pool.close()
             started = time.perf_counter()
             self.writer.close()
             self.timing.encode_s += time.perf_counter() - started
             if self.states is not None:
-                self.states.save()
+                try:
+                    self.states.save()
+                except OSError:
+                    if failure is None:
+                        raise

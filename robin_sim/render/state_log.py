@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, naming
 from robin_sim.model.scene import SceneLayout
 from robin_sim.render.worker import FrameState
 
@@ -163,6 +163,9 @@ class StateLog:
             os.umask(umask)
             os.chmod(temp, 0o666 & ~umask)  # as the run's other files (mkstemp makes 0600)
             os.replace(temp, self.path)
+        except OSError as error:  # a full disk: name the file (a write to a handle names none)
+            Path(temp).unlink(missing_ok=True)
+            raise naming(error, self.path)  # noqa: B904 (the cause is chained all the same)
         except BaseException:
             Path(temp).unlink(missing_ok=True)
             raise

@@ -21,7 +21,7 @@ import av
 import numpy as np
 from av.container import OutputContainer
 
-from pil.errors import RobinPilError
+from pil.errors import RobinPilError, naming
 from robin_sim.closing import ClosesOnExit
 from robin_sim.render.frame_spec import FPS, check_size
 from robin_sim.render.mp4_trim import trim_torn_tail
@@ -90,7 +90,7 @@ class Mp4Writer(ClosesOnExit):
         """Encode one frame; its shape must be (height, width, 3) and dtype uint8."""
         if self._container is None:
             if self._failure is not None:  # the disk filled up: say so again, not "closed"
-                raise OSError(self._failure.errno, self._failure.strerror, str(self.path))
+                raise self._named(self._failure)
             raise VideoError(f"video {str(self.path)!r} is already closed")
         expected = (self.height, self.width, 3)
         if frame.shape != expected or frame.dtype != np.uint8:
@@ -104,7 +104,7 @@ class Mp4Writer(ClosesOnExit):
             self._container.mux(self._stream.encode(video_frame))
         except OSError as error:
             self._give_up(error)
-            raise
+            raise self._named(error) from error
         self.frames_written += 1
 
     def close(self) -> None:
@@ -120,7 +120,11 @@ class Mp4Writer(ClosesOnExit):
         except OSError as error:
             self._container = container
             self._give_up(error)
-            raise
+            raise self._named(error) from error
+
+    def _named(self, error: OSError) -> OSError:
+        """``error`` naming this video (FFmpeg's write errors name no file)."""
+        return naming(OSError(error.errno, error.strerror), self.path)
 
     def _give_up(self, error: OSError) -> None:
         """After a failed write (a full disk): close without writing more and cut the file back

@@ -28,6 +28,7 @@ FinishHook = Callable[[np.ndarray, Any], object]  # finish(frame, payload), edit
 START_TIMEOUT_S = 120.0  # a worker must have its scene and renderer ready by then
 FRAME_TIMEOUT_S = 300.0  # the oldest outstanding frame must arrive by then
 STOP_TIMEOUT_S = 10.0  # an idle worker must exit by then after being told to stop
+MIN_DIVISIONS = 6  # slices and stacks of a coarse SecondView's round shapes, at least
 
 
 class RenderPoolError(RenderError):
@@ -77,6 +78,10 @@ class SecondView:
     camera: str
     size: tuple[int, int]  # (width, height)
     reflections: bool = False  # off: halves a small view's cost, which is mostly geometry
+    # spheres, capsules and cylinders built of half the model's slices and stacks (its
+    # <visual><quality numslices numstacks>): at a small size the same picture, drawn with a
+    # third less work (the rest of a small view's cost does not depend on its size)
+    coarse: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,9 +131,17 @@ def warmed_renderer(
 
 
 def second_renderer(model: mujoco.MjModel, view: SecondView, shadows: bool) -> FrameRenderer:
-    """A warmed renderer of ``view`` (its camera checked against ``model``)."""
+    """A warmed renderer of ``view`` (its camera checked against ``model``; ``model``'s quality
+    is as it was on return: a renderer builds its shapes when it is made)."""
     camera_id(model, view.camera)
-    return warmed_renderer(model, view.size, view.camera, shadows, view.reflections)
+    quality = model.vis.quality
+    full = quality.numslices, quality.numstacks
+    if view.coarse:
+        quality.numslices, quality.numstacks = (max(MIN_DIVISIONS, n // 2) for n in full)
+    try:
+        return warmed_renderer(model, view.size, view.camera, shadows, view.reflections)
+    finally:
+        quality.numslices, quality.numstacks = full
 
 
 def check_state(model: mujoco.MjModel, state: FrameState) -> None:
