@@ -31,8 +31,8 @@ import dm_env
 import numpy as np
 from dm_env import specs
 
-from pil.errors import RobinPilError, check_rate
-from pil.task.params import MAX_SEED
+from pil.errors import RobinPilError
+from pil.task.params import MAX_SEED, STEP_RATE
 from pil.task.parts import build_parts, check_params, resolve_scenario
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.runner import MAX_PERFORMANCES
@@ -87,7 +87,7 @@ class AssemblyEnv(dm_env.Environment):
         one_hot: bool = False,
         **params: Any,
     ) -> None:
-        self.rate = check_rate(rate)
+        self.rate = STEP_RATE.parse(rate, "detection rate")
         if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
             raise RobinPilError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
         if not callable(world):

@@ -19,10 +19,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from pil.errors import check_rate
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.experiments.systems import check_system, test_parts, training_for
+from pil.task.params import RATE
 from pil.task.parts import check_params, derive_seeds
 from pil.task.person import ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import run, steps
@@ -182,12 +182,13 @@ def run_adaptation_study(
     values = check_params(dict(params or {}))
     for system in systems:
         check_system(system)
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         cache: dict[Any, Any] = {}
         for rate in rates:
             for system in systems:
-                row = run_adaptation(system, check_rate(rate), run_seed, change, values, cache)
+                row = run_adaptation(system, rate, run_seed, change, values, cache)
                 rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

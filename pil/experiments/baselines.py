@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.baseline_grid import (
     BASELINES,
     CRITERION,
@@ -39,7 +39,7 @@ from pil.experiments.paper import PAPER_RATES
 from pil.experiments.report import markdown_table, summary_markdown
 from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
 from pil.experiments.systems import ROW_COLUMNS, check_params, resolve_scenario, run_system
-from pil.task.params import REPS, SEED
+from pil.task.params import RATE, REPS, SEED
 from pil.task.runner import RunnerError
 
 RUN_COLUMNS: tuple[str, ...] = ("variant", "setting", "rep", *ROW_COLUMNS)
@@ -69,7 +69,7 @@ class BaselineConfig:
     params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}
 
     def __post_init__(self) -> None:
-        rates = tuple(check_rate(r) for r in self.rates)
+        rates = tuple(RATE.parse(r, "detection rate") for r in self.rates)
         if len(set(rates)) != len(rates) or not rates:
             raise RobinPilError(f"give each rate once (at least one), got {self.rates!r}")
         object.__setattr__(self, "rates", rates)

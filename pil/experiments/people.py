@@ -21,12 +21,13 @@ from typing import Any
 
 import numpy as np
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.adaptation import remap
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.task.detector import Detector
+from pil.task.params import RATE
 from pil.task.parts import build_parts, check_params, derive_seeds
 from pil.task.person import ScriptedPerson, plan_script
 from pil.task.runner import RunStats, run
@@ -153,12 +154,13 @@ def run_people_study(
         spec = SYSTEM_SPECS[check_system(system)]
         if spec.agent != "pil" or spec.trained_at is not None:
             raise RobinPilError(f"the people study runs PIL learners; {system!r} is not one")
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:
             for system in systems:
                 for mode in MODES:
-                    row = run_people(system, mode, check_rate(rate), run_seed, people, values)
+                    row = run_people(system, mode, rate, run_seed, people, values)
                     rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

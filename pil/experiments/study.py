@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from pil.atomic import write_text_atomic
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.paper import LOW_RATES, PAPER_RATES, PAPER_REPS, PAPER_TRAINING
 from pil.experiments.paper_comparison import (
     Figures,
@@ -49,6 +49,7 @@ from pil.experiments.systems import (
     check_system,
     spec_row,
 )
+from pil.task.params import RATE
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
 
@@ -71,7 +72,8 @@ class StudyConfig:
     base: RunSpec = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "rates", tuple(check_rate(r) for r in self.rates))
+        rates = tuple(RATE.parse(r, self.labels.get("rate", "detection rate")) for r in self.rates)
+        object.__setattr__(self, "rates", rates)
         repeated = sorted({r for r in self.rates if self.rates.count(r) > 1})
         if repeated:
             raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")

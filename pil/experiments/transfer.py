@@ -15,11 +15,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.study import rep_seeds
 from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
+from pil.task.params import RATE
 from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
 from pil.task.runner import run
 from pil.task.scenario import SCENARIOS_DIR, Scenario
@@ -102,10 +103,10 @@ def run_transfer_study(
     given = None if table_file is None else load_table(table_file)
     for system in systems:
         _learner_values(system, values)
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:
-            rate = check_rate(rate)
             for system in systems:
                 table = given
                 if table is None:
