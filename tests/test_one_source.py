@@ -75,7 +75,6 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         # the detection models; the MJCF model files
         "MODELS": ("pil/task/detector.py", "robin_sim/cli/model_path.py"),
         # the run parameters (left to the run-assembly refactor, issue 18)
-        "PARAMS": ("pil/task/params.py", "pil/task/parts.py"),
         # a run's phases (train, test); the live participant's turn
         "PHASES": ("pil/task/seeds.py", "robin_sim/live/participant.py"),
         # the exploration rules; the validity rules

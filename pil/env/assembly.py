@@ -73,7 +73,7 @@ class AssemblyEnv(dm_env.Environment):
     palm and watches the robot; ``robin_sim.person.body.PhysicalBody``); ``repeat_discarded``
     (default True, the study's): a discarded reading makes the person repeat the gesture
     inside the environment, so observations are never :data:`DISCARDED`; ``params``: any of
-    :data:`pil.task.parts.PARAMS` (``tables``, ``discard``, ``silent_ok``...).
+    :data:`pil.task.params.PARAMS` (``tables``, ``discard``, ``silent_ok``...).
     """
 
     def __init__(

@@ -28,7 +28,7 @@ from typing import Any
 from pil.experiments.run_row import ROW_COLUMNS, run_row
 from pil.task.assemble import Run, Training, assemble, pretraining
 from pil.task.parts import (
-    PARAMS,
+    DEFAULT_VALUES,
     build_parts,
     check_params,
     derive_seeds,
@@ -41,8 +41,8 @@ from pil.task.spec import RunSpec, parse_run_spec, spec_of
 from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, SystemSpec, check_system
 
 __all__ = [
+    "DEFAULT_VALUES",
     "PAPER_SYSTEMS",
-    "PARAMS",
     "ROW_COLUMNS",
     "SYSTEMS",
     "SYSTEM_SPECS",
@@ -158,10 +158,11 @@ def run_one(
     """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
 
     ``tables`` and the other assembly fields default to the scenario file's (10 tables in
-    ``scenarios/assembly.yaml``). ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``,
-    ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises an error listing the
-    valid ones. The row's columns are :data:`ROW_COLUMNS`; the same arguments always give the
-    same row. The arguments are parsed once (:func:`pil.task.spec.parse_run_spec`).
+    ``scenarios/assembly.yaml``). ``params`` are any of :data:`DEFAULT_VALUES` (e.g.
+    ``discard=0.3``, ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises
+    an error listing the valid ones. The row's columns are :data:`ROW_COLUMNS`; the same
+    arguments always give the same row. The arguments are parsed once
+    (:func:`pil.task.spec.parse_run_spec`).
     """
     given = params if tables is None else {**params, "tables": tables}
     spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=given)

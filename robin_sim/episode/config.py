@@ -80,7 +80,7 @@ class EpisodeConfig:
     eye_inset: bool = True  # the robot's left-eye view as a small inset in the video
     verify: bool = True  # off-screen render checks after grasps, handovers and placements
     progress: bool = True
-    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
+    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.params.PARAMS
 
     def spec(self) -> EpisodeSpec:
         """This config parsed (:func:`parse_episode`)."""
