@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.systems import check_system
@@ -56,6 +57,8 @@ class LiveConfig:
     render_workers: int = 0  # scene render processes; 0: in the physics thread (see README)
     eye_worker: bool = False  # the eye inset rendered in a process of its own, meanwhile
     reflections: bool = False  # the floor's reflection (an extra render pass)
+    # set by checked(): the learner side (its scenario loaded once) and what it was built from
+    resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
 
     def checked(self) -> LiveConfig:
         """This config with every value checked (nothing is built or written)."""
@@ -76,7 +79,9 @@ class LiveConfig:
         for name in ("eye_inset", "video", "eye_worker", "reflections"):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
-        scenario = self.scenario_of()
+        seed = SEED.parse(self.seed, "seed")
+        spec = self._spec(seed)
+        scenario = spec.scenario
         types = self.handover_types
         if types is not None:
             if isinstance(types, str) or not types:
@@ -93,28 +98,40 @@ class LiveConfig:
             fps=float(fps),
             speed=_number(self.speed, "speed", *SPEEDS),
             feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
-            seed=SEED.parse(self.seed, "seed"),
+            seed=seed,
             out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
             render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            resolved=(self._source(seed), spec),
         )
 
-    def run_spec(self) -> RunSpec:
-        """The session's learner side (of a :meth:`checked` config, not checked again): its
-        system and seed, the block's scenario, the exact detector at rate 1, the parameters'
-        defaults, in the physical world."""
+    def _source(self, seed: int) -> tuple[Any, ...]:
+        """What the learner side is built from (a config changed since: built again)."""
+        types = self.handover_types
+        return (self.system, seed, self.scenario, None if types is None else tuple(types))
+
+    def _spec(self, seed: int) -> RunSpec:
+        """The learner side: the one built by :meth:`checked` if it still fits, else built
+        (the scenario file loaded here, once per config)."""
+        if self.resolved is not None and self.resolved[0] == self._source(seed):
+            return self.resolved[1]
+        tables = DEFAULT_TABLES if self.scenario is None else None
+        scenario = resolve_scenario(self.scenario, {"tables": tables})
+        types = self.handover_types
+        if types and not isinstance(types, str):
+            scenario = replace(scenario, sequence=tuple(str(t) for t in types))
         defaults = check_params({})  # nothing given: nothing parsed
-        return spec_of(
-            self.system, EXACT_RATE, self.seed, self.scenario_of(), defaults, world=PHYSICAL
-        )
+        return spec_of(self.system, EXACT_RATE, seed, scenario, defaults, world=PHYSICAL)
+
+    def run_spec(self) -> RunSpec:
+        """The session's learner side (of a :meth:`checked` config: built there, its scenario
+        loaded once): its system and seed, the block's scenario, the exact detector at rate 1,
+        the parameters' defaults, in the physical world."""
+        return self._spec(self.seed)
 
     def scenario_of(self) -> Scenario:
         """The session's scenario: the block's handover types drawn in the scenario's way."""
-        tables = DEFAULT_TABLES if self.scenario is None else None
-        scenario = resolve_scenario(self.scenario, {"tables": tables})
-        if self.handover_types:
-            scenario = replace(scenario, sequence=tuple(self.handover_types))
-        return scenario
+        return self.run_spec().scenario
 
 
 def _name(value: object, what: str) -> str:
