@@ -174,9 +174,32 @@ def parse_run_spec(
         if name not in specs:
             raise InvalidChoiceError("parameter", name, specs)
     values = {name: specs[name].parse(value, label.get(name)) for name, value in given.items()}
-    values = {**parse_all(specs, {}), **values}  # defaults (not parsed) for the others
     if isinstance(scenario, str):
         scenario = SCENARIO.parse(scenario, label.get("scenario", "scenario"))
+    return build_run_spec(
+        system=system,
+        rate=RATE.parse(rate, label.get("rate", "detection rate")),
+        seed=SEED.parse(seed, label.get("seed", "seed")),
+        scenario=scenario,
+        values=values,
+        world=world,
+    )
+
+
+def build_run_spec(
+    *,
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario | str | Path | None,
+    values: Mapping[str, Any],
+    world: str = SYMBOLIC,
+) -> RunSpec:
+    """A :class:`RunSpec` of values already parsed by their specs (:func:`parse_run_spec`'s
+    own, or a sweep grid's row, checked by the grid), nothing checked again: ``values`` are
+    any of :data:`~pil.task.params.PARAMS` (the others: their defaults); ``scenario`` a
+    :class:`Scenario`, a file or name (read here), or None (the assembly)."""
+    values = {**parse_all(PARAMS, {}), **values}  # defaults (not parsed) for the others
     base = (
         scenario
         if isinstance(scenario, Scenario)
@@ -185,8 +208,8 @@ def parse_run_spec(
     changes = {name: values[name] for name in ASSEMBLY if values[name] is not None}
     return RunSpec(
         system=system,
-        rate=RATE.parse(rate, label.get("rate", "detection rate")),
-        seed=SEED.parse(seed, label.get("seed", "seed")),
+        rate=rate,
+        seed=seed,
         scenario=replace(base, **changes) if changes else base,
         learner=_settings(LearnerSettings, values),
         person=_settings(PersonSettings, values),

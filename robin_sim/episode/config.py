@@ -120,6 +120,21 @@ class EpisodeSpec:
     out: Path
 
 
+_DEFAULT = EpisodeConfig()
+# no video: a physical sweep run's (its other fields: the defaults, typed constants)
+NO_VIDEO = VideoSpec(
+    record=False,
+    camera=_DEFAULT.camera,
+    width=_DEFAULT.width,
+    height=_DEFAULT.height,
+    fps=_DEFAULT.fps,
+    shadows=_DEFAULT.shadows,
+    render_workers=_DEFAULT.render_workers,
+    policy_panel=_DEFAULT.policy_panel,
+    eye_inset=_DEFAULT.eye_inset,
+)
+
+
 def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     """``config`` with every option parsed and checked once (nothing is built or written).
 
