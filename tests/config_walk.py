@@ -4,7 +4,9 @@
 the run (the world, the person's body, the learner, the detector) and stops when the assembly
 returns, before the step loop. Meanwhile a profile hook (``sys.setprofile``) sees every call
 between the project's modules (``pil.*``, ``robin_sim.*``; the standard library and MuJoCo are
-left out). :class:`Walk` counts, over the calls that go from one module into another:
+left out). :class:`Walk` counts, over the calls that go from one module into another (with
+``data``: only the calls that take the config or a part of it, :data:`CONFIG_TYPES`, as an
+argument: the config followed as data):
 
 * ``stops``: such calls; ``modules``: the distinct modules entered;
 * ``returns``: calls into a module that was entered before and left (none of its frames on the
@@ -43,6 +45,40 @@ LAYERS: dict[str, int] = {
 }
 
 
+def config_types() -> tuple[type, ...]:
+    """The types the episode's config is made of, from the command line to the typed spec."""
+    import argparse
+
+    from pil.task.scenario import Scenario
+    from pil.task.spec import DetectorSettings, LearnerSettings, PersonSettings, RunSpec
+    from robin_sim.episode.config import EpisodeConfig, EpisodeSpec, VideoSpec
+    from robin_sim.vision.condition_params import CameraConditions
+
+    return (
+        argparse.Namespace,
+        EpisodeConfig,
+        EpisodeSpec,
+        VideoSpec,
+        RunSpec,
+        LearnerSettings,
+        PersonSettings,
+        DetectorSettings,
+        Scenario,
+        CameraConditions,
+    )
+
+
+def _takes(frame: FrameType, kinds: tuple[type, ...], methods: bool) -> bool:
+    """Whether the called function's arguments include one of ``kinds`` (``methods`` False:
+    a method of the config's own objects, reading it, is not counted for its ``self``)."""
+    code = frame.f_code
+    count = code.co_argcount + code.co_kwonlyargcount
+    names = code.co_varnames[:count]
+    if not methods:
+        names = tuple(name for name in names if name != "self")
+    return any(isinstance(frame.f_locals.get(name), kinds) for name in names)
+
+
 def layer_of(module: str) -> int:
     """The layer of ``module`` (:data:`LAYERS`)."""
     best = max((p for p in LAYERS if module == p or module.startswith(p + ".")), key=len)
@@ -61,6 +97,8 @@ class Walk:
     returns: list[tuple[str, str]] = field(default_factory=list)
     climbs: list[tuple[str, str]] = field(default_factory=list)
     entered: set[str] = field(default_factory=set)
+    data: tuple[type, ...] = ()  # only calls taking one of these (empty: every call)
+    methods: bool = True  # count the config objects' own methods (reading the config)
     _stack: list[str] = field(default_factory=list)
 
     def hook(self, frame: FrameType, event: str, arg: Any) -> None:
@@ -70,25 +108,30 @@ class Walk:
             if not _project(module):
                 return
             caller = self._stack[-1] if self._stack else None
-            if caller is not None and caller != module:
+            counted = not self.data or _takes(frame, self.data, self.methods)
+            if counted and caller is not None and caller != module:
                 self.crossings.append((caller, module))
                 if module in self.entered and module not in self._stack:
                     self.returns.append((caller, module))
                 if layer_of(caller) > layer_of(module):
                     self.climbs.append((caller, module))
-            self.entered.add(module)
+            if counted:
+                self.entered.add(module)
             self._stack.append(module)
-        elif event == "return" and _project(frame.f_globals.get("__name__", "")):
-            if self._stack:
-                self._stack.pop()
+        elif event == "return" and self._stack and _project(frame.f_globals.get("__name__", "")):
+            self._stack.pop()
 
     def figures(self) -> dict[str, int]:
-        """stops, modules, returns, climbs."""
+        """stops, modules, returns, climbs; and the distinct edges (caller -> callee) of each
+        (a loop over a scenario's types calls the same helper many times: one edge)."""
         return {
             "stops": len(self.crossings),
             "modules": len(self.entered),
             "returns": len(self.returns),
             "climbs": len(self.climbs),
+            "edges": len(set(self.crossings)),
+            "return_edges": len(set(self.returns)),
+            "climb_edges": len(set(self.climbs)),
         }
 
 
@@ -96,13 +139,15 @@ class _AssemblyDone(BaseException):
     """Raised when the run is assembled: the walk ends before the step loop."""
 
 
-def walk_episode(argv: Sequence[str]) -> Walk:
-    """The walk of ``robin-pil episode ARGV`` from the command line to the assembled run."""
+def walk_episode(argv: Sequence[str], *, data: bool = True, methods: bool = True) -> Walk:
+    """The walk of ``robin-pil episode ARGV`` from the command line to the assembled run
+    (``data``: the config followed as data, else every call between modules; ``methods``
+    False: the config objects' own methods, reading them, are not stops)."""
     import robin_sim.episode.run as episode_run
     from robin_sim.cli.main import main
 
     real = episode_run.assemble
-    walk = Walk()
+    walk = Walk(data=config_types() if data else (), methods=methods)
 
     def assembled(*args: Any, **kwargs: Any) -> Any:
         real(*args, **kwargs)
@@ -127,9 +172,15 @@ if __name__ == "__main__":
     import tempfile
 
     with tempfile.TemporaryDirectory() as folder:
+        every = walk_episode([*ARGV, str(Path(folder) / "every")], data=False)
+        handed = walk_episode([*ARGV, str(Path(folder) / "handed")], methods=False)
         found = walk_episode([*ARGV, str(Path(folder) / "out")])
-    print(found.figures())
-    for caller, module in found.returns:
+    print("every call:", every.figures())
+    print("the config handed on (its own methods left out):", handed.figures())
+    print("the config as data:", found.figures())
+    for caller, module in dict.fromkeys(found.crossings):
+        print("stop  ", caller, "->", module)
+    for caller, module in dict.fromkeys(found.returns):
         print("return", caller, "->", module)
     for caller, module in found.climbs:
         print("climb ", caller, "->", module)

@@ -172,8 +172,9 @@ def assemble(
         training = pretraining(spec, cache)
     table = None if training is None else training.table.copy()
     system = spec.system_spec
+    tested = spec.effective()  # the system's own parameters applied
     run = assemble_phase(
-        spec.effective(),
+        tested,
         "test",
         table=table,
         manual=system.manual,
@@ -185,7 +186,7 @@ def assemble(
     run = replace(run, training=training)
     if system.agent == "pil":
         return run
-    params = asdict(spec.effective().learner)
+    params = asdict(tested.learner)
     agent = AGENTS[system.agent](spec.seeds.phase("test").learner, table, params)
     return replace(run, learner=agent)  # type: ignore[arg-type]
 

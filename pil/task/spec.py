@@ -13,7 +13,7 @@ builds the run from the spec's typed fields::
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -107,16 +107,15 @@ class RunSpec:
     person: PersonSettings
     detector: DetectorSettings
     world: str = SYMBOLIC
+    # derived when the spec is made (a changed copy derives them again), so that assembling
+    # reads them as data: the run's sub-seeds (pil.task.seeds, the one place they are
+    # derived) and how the system learns and is tested
+    seeds: RunSeeds = field(init=False, repr=False, compare=False)
+    system_spec: SystemSpec = field(init=False, repr=False, compare=False)
 
-    @property
-    def seeds(self) -> RunSeeds:
-        """The run's sub-seeds (:mod:`pil.task.seeds`, the one place they are derived)."""
-        return sub_seeds(self.seed)
-
-    @property
-    def system_spec(self) -> SystemSpec:
-        """How the system learns and is tested."""
-        return SYSTEM_SPECS[self.system]
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "seeds", sub_seeds(self.seed))
+        object.__setattr__(self, "system_spec", SYSTEM_SPECS[self.system])
 
     def for_run(self, system: str, rate: float, seed: int) -> RunSpec:
         """This spec for another system, rate and seed, all already checked (a study's grid)."""
