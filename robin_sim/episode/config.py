@@ -151,7 +151,7 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
         labels=_LABELS,
     )
     if run.detector.model != VISION and given:
-        raise RobinPilError(
+        raise EpisodeError(
             f"{', '.join(given)} set the eye cameras' conditions and need "
             f"--detector {VISION}; the detector must be {DETECTOR_SPECS[PHYSICAL].valid()}"
         )
