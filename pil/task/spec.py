@@ -123,7 +123,13 @@ class RunSpec:
 
     def effective(self) -> RunSpec:
         """This spec with the system's own parameters applied (typed constants, not parsed)."""
-        overrides = dict(self.system_spec.params)
+        return self.changed(self.system_spec.params)
+
+    def changed(self, typed: Mapping[str, Any]) -> RunSpec:
+        """This spec with run parameters of the settings groups replaced by ``typed`` values
+        (typed constants of the code, e.g. a system's or a tuning grid's: not parsed); a name
+        of no settings group raises."""
+        overrides = dict(typed)
         if not overrides:
             return self
         changed: dict[str, Any] = {}
@@ -136,8 +142,8 @@ class RunSpec:
             }
             if mine:
                 changed[name] = replace(group, **mine)
-        if overrides:  # a registry entry naming no run parameter: a bug in SYSTEM_SPECS
-            raise InvalidChoiceError("system parameter", next(iter(overrides)), PARAMS)
+        if overrides:  # naming no run parameter of a group: a bug in the code that names it
+            raise InvalidChoiceError("run parameter", next(iter(overrides)), PARAMS)
         return replace(self, **changed)
 
     def values(self) -> dict[str, Any]:
