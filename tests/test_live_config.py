@@ -60,16 +60,16 @@ def test_session_names_never_reuse_a_folder(tmp_path: Path) -> None:
 def test_the_scenario_file_is_loaded_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """checked() loads the scenario and builds the learner side; checking again (the
     conductor, the session) and run_spec() reuse it; a changed scenario is loaded anew."""
-    import pil.task.parts as parts
+    import pil.task.spec as spec_module
 
     loads: list[object] = []
-    real = parts.load_scenario
+    real = spec_module.load_scenario
 
     def counting(*args: object) -> object:
         loads.append(args)
         return real(*args)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(parts, "load_scenario", counting)
+    monkeypatch.setattr(spec_module, "load_scenario", counting)
     config = LiveConfig(scenario="assembly", handover_types=("B", "A")).checked()
     again = config.checked()
     spec = again.run_spec()

@@ -17,9 +17,8 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.experiments.systems import check_system
 from pil.task.params import SEED
-from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
-from pil.task.spec import PHYSICAL, RunSpec, spec_of
+from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
@@ -115,13 +114,20 @@ class LiveConfig:
         (the scenario file loaded here, once per config)."""
         if self.resolved is not None and self.resolved[0] == self._source(seed):
             return self.resolved[1]
-        tables = DEFAULT_TABLES if self.scenario is None else None
-        scenario = resolve_scenario(self.scenario, {"tables": tables})
+        tables = {"tables": DEFAULT_TABLES} if self.scenario is None else {}
+        spec = build_run_spec(  # the parameters' defaults: nothing given, nothing parsed
+            system=self.system,
+            rate=EXACT_RATE,
+            seed=seed,
+            scenario=self.scenario,
+            values=tables,
+            world=PHYSICAL,
+        )
         types = self.handover_types
         if types and not isinstance(types, str):
-            scenario = replace(scenario, sequence=tuple(str(t) for t in types))
-        defaults = check_params({})  # nothing given: nothing parsed
-        return spec_of(self.system, EXACT_RATE, seed, scenario, defaults, world=PHYSICAL)
+            sequence = tuple(str(t) for t in types)
+            spec = replace(spec, scenario=replace(spec.scenario, sequence=sequence))
+        return spec
 
     def run_spec(self) -> RunSpec:
         """The session's learner side (of a :meth:`checked` config: built there, its scenario
