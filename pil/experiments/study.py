@@ -61,7 +61,7 @@ METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
 class StudyConfig:
     """What to run; the defaults are the paper's setup."""
 
-    rates: tuple[float, ...] = PAPER_RATES
+    rates: tuple[float, ...] = PAPER_RATES  # given as numbers or text: parsed here, once
     reps: int = PAPER_REPS
     seed: int = 0
     systems: tuple[str, ...] = PAPER_SYSTEMS

@@ -10,6 +10,8 @@ from typing import Any
 
 from pil.errors import RobinPilError, quote
 
+RATES_LABEL = "--rates: each detection rate (comma separated)"  # names a bad one
+
 
 def parse_rates(text: str) -> tuple[float, ...]:
     """``"0.4,0.6"`` as rates, each checked by the one rate spec (:data:`pil.task.params.RATE`);
@@ -18,7 +20,7 @@ def parse_rates(text: str) -> tuple[float, ...]:
 
     rates: list[float] = []
     for part in text.split(","):
-        rate = RATE.parse(part, "--rates: each detection rate (comma separated)")
+        rate = RATE.parse(part, RATES_LABEL)
         if rate in rates:
             raise RobinPilError(
                 f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"
