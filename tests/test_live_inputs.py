@@ -28,7 +28,7 @@ def test_valid_messages(raw: object, expected: LiveInput) -> None:
     assert parse_input(parsed.as_dict(), W, H) == parsed  # as the page sends it
 
 
-KINDS = "'point', 'gesture', 'thumb', 'end', 'start'"
+KINDS = "'point', 'gesture', 'thumb', 'end', 'start', 'hand', 'calibration'"
 GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
 
 
@@ -66,7 +66,7 @@ def test_junk_messages_get_one_clear_error(raw: object, message: str) -> None:
 
 
 def test_the_lists_the_page_uses() -> None:
-    assert INPUT_KINDS == ("point", "gesture", "thumb", "end", "start")
+    assert INPUT_KINDS == ("point", "gesture", "thumb", "end", "start", "hand", "calibration")
     assert GESTURE_KEYS == ("give_me", "grasp", "release")
     for kind in INPUT_KINDS:  # every kind is named in the error for an unknown one
         with pytest.raises(LiveInputError, match=repr(kind)):

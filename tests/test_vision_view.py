@@ -24,6 +24,10 @@ from robin_sim.vision.detector import DISCARDED, NO_HAND, VisionDetector  # noqa
 # resting where the open over the palm left it cut it to 11-21 px (or hid it) for legs 1-2
 CLEAR_BOX = 28
 HOME_TOLERANCE = 0.01  # m, grasp site to its home position
+PALM_TRIES = 6  # readings of the held-out palm per arm state
+# of the 24, one miss at most (docs/vision.md: the shipped model 24 at this seed, 22 at seed 1;
+# the whole-range candidate 24 at both; the robust model of 5eb42ec 7 in an earlier check)
+PALM_ALL_RIGHT = 23
 
 
 def _point_and_read(body: PhysicalBody, detector: VisionDetector, target: Target):
@@ -91,3 +95,18 @@ def test_the_vision_block_counts_no_hand_as_its_own_outcome() -> None:
         right = round(summary["detection_rate"] * summary["gestures_read"])
         outcomes = right + summary["misread"] + summary["discarded"] + summary["no_hand"]
         assert outcomes == summary["gestures_read"] == 2
+
+
+@pytest.mark.slow
+def test_the_give_me_palm_at_the_handover_point_is_read_as_give_me() -> None:
+    """The palm held out at the handover point, with the arm at home, closed on a leg, holding
+    it over the palm and holding a leg over a spot: Robin reads "give me" (a model trained
+    without the handover place read it as "pointing" in 1-3 of 6 readings per state)."""
+    from robin_sim.vision.palm_check import PALM_STATES, palm_readings
+
+    reads = palm_readings(tries=PALM_TRIES)
+    assert set(reads) == set(PALM_STATES)
+    for state, read in reads.items():
+        right = sum(r == "give_me" for r in read)
+        assert right >= PALM_TRIES - 1, f"{state}: read {read}"
+    assert sum(r == "give_me" for read in reads.values() for r in read) >= PALM_ALL_RIGHT, reads

@@ -16,7 +16,11 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 # source folder -> where its files sit inside the wheel (package data)
-SHIPPED = {"models": "robin_sim/model/mjcf", "scenarios": "pil/task/scenarios"}
+SHIPPED = {
+    "models": "robin_sim/model/mjcf",
+    "scenarios": "pil/task/scenarios",
+    "robin_sim/live/static/vendor": "robin_sim/live/static/vendor",  # the --webcam tracker
+}
 
 
 # what a clone does not have: a source copy without these builds like a fresh clone (setuptools

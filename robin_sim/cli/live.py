@@ -65,6 +65,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--speed", default="1", help="sim seconds per wall second (default 1)")
     parser.add_argument("--no-browser", action="store_true", help="print the URL only")
     parser.add_argument("--no-video", action="store_true", help="no MP4 of the session")
+    parser.add_argument(
+        "--webcam",
+        action="store_true",
+        help="read the participant's own hand on the page's camera (tracked in the browser; no "
+        "frame leaves it); clicks and keys still work (docs/webcam.md)",
+    )
+    parser.add_argument(
+        "--no-calibration",
+        action="store_true",
+        help="with --webcam: skip asking for each gesture once at the start (the hand's shape "
+        "alone is read until the participant's own gestures are learnt)",
+    )
 
 
 def _system_help() -> str:
@@ -95,7 +107,11 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         out_root=args.out,
         speed=parse_speed(args.speed),
         video=not args.no_video,
+        webcam=bool(getattr(args, "webcam", False)),
+        calibrate=not getattr(args, "no_calibration", False),
     ).checked()
+    if getattr(args, "no_calibration", False) and not base.webcam:
+        raise RobinPilError("--no-calibration is for --webcam sessions; add --webcam or drop it")
     if args.protocol is None:
         return [replace(base, session=session).checked()]
     from robin_sim.live.protocol import load_protocol

@@ -126,19 +126,22 @@ class Conductor:
         assert self._loop is not None
         self._loop.create_task(self._end("interrupted"))
 
-    async def receive(self, raw: str | bytes) -> None:
+    async def receive(self, raw: str | bytes) -> dict[str, Any] | None:
         """One message from the participant's tab, checked by
         :func:`~robin_sim.live.inputs.parse_input`: a running session takes it (and logs it,
         refused or not, in ``inputs.jsonl``); else only ``start`` on an instruction screen is
-        valid. :class:`LiveInputError` says what was wrong."""
+        valid. :class:`LiveInputError` says what was wrong. Returns the reply to a webcam
+        reading (what it was read as), else None."""
         if self.phase == "running":
-            self.session.receive(raw)  # parse_input, then submit; both logged
-            return
+            item = self.session.receive(raw)  # parse_input, then submit; both logged
+            return self.session.reading_reply() if item.kind == "hand" else None
         if self.phase == "questionnaire" and self._questioning is not None:
             if self._questioning.receive(raw):  # LiveInputError when not valid
                 await self._after_questions()
-            return
+            return None
         item = parse_input(raw, self.width, self.height)
+        if item.kind == "hand":
+            return None  # a reading between sessions: nothing to read it for
         if item.kind == "start" and self.phase == "instructions":
             await self._start()
         elif item.kind == "start":
@@ -146,6 +149,7 @@ class Conductor:
         else:
             shown = "the instructions: press Start" if self.phase == "instructions" else "none"
             raise LiveInputError(f"{item.kind}: no session is running (showing {shown})")
+        return None
 
     async def command(self, item: Command) -> dict[str, Any] | None:
         """An experimenter's command (:mod:`robin_sim.live.experimenter`); a saved note's

@@ -56,6 +56,8 @@ class LiveConfig:
     render_workers: int = 0  # scene render processes; 0: in the physics thread (see README)
     eye_worker: bool = False  # the eye inset rendered in a process of its own, meanwhile
     reflections: bool = False  # the floor's reflection (an extra render pass)
+    webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
+    calibrate: bool = True  # with the webcam: ask for each gesture once at the start
     # set by checked(): the learner side (its scenario loaded once) and what it was built from
     resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
 
@@ -75,7 +77,7 @@ class LiveConfig:
             value = getattr(self, name)
             if value is not None and not isinstance(value, str):
                 raise RobinPilError(f"{name} must be text, got {type(value).__name__}")
-        for name in ("eye_inset", "video", "eye_worker", "reflections"):
+        for name in ("eye_inset", "video", "eye_worker", "reflections", "webcam", "calibrate"):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
         seed = SEED.parse(self.seed, "seed")

@@ -76,10 +76,18 @@ class SessionFiles:
         self.started = time.perf_counter()
         self._lock = threading.Lock()
         self._inputs = (self.out_dir / INPUTS_NAME).open("w", encoding="utf-8")
-        self.inputs = self.rejected = 0
+        self.inputs = self.rejected = self.readings = 0
 
-    def log_input(self, raw: object, error: str, sim_time: float | None) -> None:
-        """One line of ``inputs.jsonl`` (thread-safe, flushed)."""
+    def log_input(
+        self,
+        raw: object,
+        error: str,
+        sim_time: float | None,
+        reading: dict[str, Any] | None = None,
+    ) -> None:
+        """One line of ``inputs.jsonl`` (thread-safe, flushed). A webcam ``reading`` (what
+        the hand tracker's message was read as) is logged with it and counted apart from the
+        inputs (the page clears a shown error when the inputs grow, not on every reading)."""
         if isinstance(raw, bytes | bytearray):
             raw = raw.decode("utf-8", "replace")
         if isinstance(raw, str) and len(raw) > MAX_RAW_CHARS:
@@ -92,11 +100,16 @@ class SessionFiles:
             "accepted": not error,
             "error": error,
         }
+        if reading is not None:
+            entry["reading"] = reading
         with self._lock:
             if self._inputs.closed:
                 return
             self._inputs.write(json.dumps(entry, default=str) + "\n")
             self._inputs.flush()
+            if reading is not None:
+                self.readings += 1
+                return
             self.inputs += 1
             self.rejected += bool(error)
 
@@ -113,8 +126,15 @@ class SessionFiles:
             notes.write(json.dumps(entry) + "\n")
         return entry
 
-    def save(self, status: str, error: str, run: LiveRun | None) -> dict[str, Any]:
-        """Close the inputs log and write ``summary.json``; the summary."""
+    def save(
+        self,
+        status: str,
+        error: str,
+        run: LiveRun | None,
+        vision: dict[str, Any] | None = None,
+    ) -> dict[str, Any]:
+        """Close the inputs log and write ``summary.json``; the summary (with the webcam's
+        ``vision`` block when given)."""
         from robin_sim.episode.book import run_summary  # imports MuJoCo
 
         with self._lock:
@@ -139,6 +159,8 @@ class SessionFiles:
                 error=error,
             )
         summary["live"] = self._live_block(run)
+        if vision is not None:
+            summary["vision"] = vision
         stream = None if run is None else run.stream
         if stream is not None and stream.writer is not None:
             summary["video"] = {
@@ -167,6 +189,7 @@ class SessionFiles:
             "handover_types": None if types is None else list(types),
             "inputs": self.inputs,
             "inputs_rejected": self.rejected,
+            "hand_readings": self.readings,
             "frames_streamed": 0 if stats is None else stats.frames,
             "stream_fps": None if fps is None else round(fps, 2),
             "started_utc": self.started_utc,

@@ -39,6 +39,9 @@ SECURITY_HEADERS = {
     "Referrer-Policy": "no-referrer",
     "Cache-Control": "no-store",
 }
+# With --webcam the page compiles the hand tracker's WebAssembly (served here): only that is
+# added; scripts still come from this server alone, and eval stays refused.
+WASM_SCRIPT_SRC = ("script-src 'self'", "script-src 'self' 'wasm-unsafe-eval'")
 # host[:port], the host a name or a bracketed IPv6 literal: nothing else (no userinfo, no path)
 NETLOC = re.compile(r"(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+)(?::([0-9]{1,5}))?")
 MAX_LOGGED = 20  # distinct refused values logged; later ones are counted, not logged
@@ -144,9 +147,18 @@ class Guard:
     """The middleware that refuses foreign Host and Origin values, and the reply headers."""
 
     def __init__(
-        self, host: str | None = None, on_request: Callable[[web.Request], None] | None = None
+        self,
+        host: str | None = None,
+        on_request: Callable[[web.Request], None] | None = None,
+        *,
+        wasm: bool = False,
     ) -> None:
+        """``wasm``: the page may compile WebAssembly from this server (``--webcam``)."""
         self.hosts = HostCheck(host)
+        self.headers = dict(SECURITY_HEADERS)
+        if wasm:
+            policy = self.headers["Content-Security-Policy"]
+            self.headers["Content-Security-Policy"] = policy.replace(*WASM_SCRIPT_SRC)
         self.log = RefusalLog()
         self.on_request = on_request  # told of every whole request (before any check)
 
@@ -168,10 +180,9 @@ class Guard:
             return _refusal(403, "403: requests from other sites' pages\n")
         return await handler(request)
 
-    @staticmethod
-    async def add_headers(request: web.Request, response: web.StreamResponse) -> None:
+    async def add_headers(self, request: web.Request, response: web.StreamResponse) -> None:
         """``on_response_prepare``: the security headers on every response."""
-        response.headers.update(SECURITY_HEADERS)
+        response.headers.update(self.headers)
 
     def install(self, app: web.Application) -> None:
         """Put the headers on every response of ``app`` (the middleware is given to it)."""

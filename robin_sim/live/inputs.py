@@ -9,6 +9,9 @@ choices. Valid messages (the live page's contract)::
     {"type": "thumb", "value": "up"}               up | down
     {"type": "end"}                                the participant ends the session
     {"type": "start"}                              leave a protocol block's instructions
+    {"type": "hand", "landmarks": [[x, y, z] * 21] | null, "handedness": "Left" | "Right" | null,
+     "score": s, "aspect": w / h}                  a hand tracker reading (``--webcam``)
+    {"type": "calibration", "action": "skip"}      skip | restart the webcam's calibration
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from typing import Any
 
 from pil.errors import RobinPilError
 from pil.types import Feedback, Gesture
+from robin_sim.live.hands.landmarks import HandError, HandInput, check_hand
 
 # The fields each kind takes besides "type".
 FIELDS: dict[str, tuple[str, ...]] = {
@@ -29,6 +33,8 @@ FIELDS: dict[str, tuple[str, ...]] = {
     "thumb": ("value",),
     "end": (),
     "start": (),
+    "hand": ("landmarks", "handedness", "score", "aspect"),
+    "calibration": ("action",),
 }
 GESTURE_BY_KEY: dict[str, Gesture] = {  # pointing is the click
     "give_me": Gesture.GIVE_ME,
@@ -39,7 +45,8 @@ THUMBS: dict[str, Feedback] = {"up": Feedback.OK, "down": Feedback.NOT_OK}
 INPUT_KINDS: tuple[str, ...] = tuple(FIELDS)
 GESTURE_KEYS: tuple[str, ...] = tuple(GESTURE_BY_KEY)
 THUMB_VALUES: tuple[str, ...] = tuple(THUMBS)
-MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes
+CALIBRATION_ACTIONS: tuple[str, ...] = ("skip", "restart")
+MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes (a hand reading about 1 KB)
 
 
 class LiveInputError(RobinPilError):
@@ -55,6 +62,8 @@ class LiveInput:
     y: float | None = None
     gesture: str | None = None  # one of GESTURE_KEYS
     thumb: str | None = None  # one of THUMB_VALUES
+    hand: HandInput | None = None  # a tracker reading (kind "hand")
+    action: str | None = None  # one of CALIBRATION_ACTIONS
 
     def as_dict(self) -> dict[str, Any]:
         """The message as the page sends it."""
@@ -64,6 +73,10 @@ class LiveInput:
             return {"type": "gesture", "gesture": self.gesture}
         if self.kind == "thumb":
             return {"type": "thumb", "value": self.thumb}
+        if self.kind == "hand" and self.hand is not None:
+            return self.hand.as_dict()
+        if self.kind == "calibration":
+            return {"type": "calibration", "action": self.action}
         return {"type": self.kind}
 
 
@@ -171,4 +184,11 @@ def _checked(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> L
         return LiveInput(kind, gesture=_choice(message, kind, "gesture", GESTURE_KEYS))
     if kind == "thumb":
         return LiveInput(kind, thumb=_choice(message, kind, "value", THUMB_VALUES))
+    if kind == "hand":
+        try:
+            return LiveInput(kind, hand=check_hand(message))
+        except HandError as problem:
+            raise LiveInputError(str(problem)) from None
+    if kind == "calibration":
+        return LiveInput(kind, action=_choice(message, kind, "action", CALIBRATION_ACTIONS))
     return LiveInput(kind)

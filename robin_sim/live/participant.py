@@ -49,6 +49,7 @@ class Gesturing:
 
     gesture: Gesture
     target: Target | None = None
+    reading: int | None = None  # the webcam reading it was read from (None: a click or key)
 
 
 class ThumbWatcher:
@@ -118,6 +119,10 @@ class LiveParticipant:
         self._approved = False  # the last action was let stand
         self._expected = Hand.FREE  # the hand that approved action leaves
         self._hand_before = Hand.FREE  # the hand when the current action began
+        # The participant's gesture of the step now running: the webcam learns from its verdict.
+        self.step_gesture: Gesture | None = None  # None: the robot went first
+        self.step_reading: int | None = None
+        self.step_key: tuple[int, int] = (0, 0)
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -213,6 +218,7 @@ class LiveParticipant:
             step = kind.steps[min(self._step, len(kind.steps) - 1)]
             intent = Intent(step.gesture, step.action, None, handover, table)
             self._set("robot_acting", "The robot anticipates your next instruction.")
+            self.step_gesture, self.step_reading = None, None
             return ScriptStep(intent, kind.name, self._step, first)
         self._set("waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture.")
         while self._gesture is None:
@@ -220,6 +226,8 @@ class LiveParticipant:
                 return None
             self._tick()
         gesturing, self._gesture = self._gesture, None
+        self.step_gesture, self.step_reading = gesturing.gesture, gesturing.reading
+        self.step_key = (handover, self._step)
         action = self._intended(gesturing, hand)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
         self._set("robot_acting", "The robot reads your gesture.")

@@ -36,6 +36,7 @@ from robin_sim.live.conductor import Conductor
 from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limits, bind
 from robin_sim.live.experimenter import experimenter_view
 from robin_sim.live.guard import Guard, is_loopback
+from robin_sim.live.hands.vendor import TEXT_TYPES, VENDOR_DIR, VENDOR_TYPES
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.session import Frame
 
@@ -48,6 +49,7 @@ STATIC_TYPES = {  # all /static/ serves
     "experimenter.js": "text/javascript",
     "questionnaire.js": "text/javascript",
     "questionnaire.css": "text/css",
+    "webcam.js": "text/javascript",
 }
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 STATUS_HZ = 5.0  # status messages per second
@@ -126,13 +128,16 @@ class LiveServer:
         self.tabs: list[Tab] = []
         self.limits = limits or Limits()
         self.connections = Connections(self.limits)
-        self.guard = Guard(host, on_request=self.connections.served)  # Host, Origin, headers
+        # --webcam: the page runs the hand tracker (WebAssembly served from here)
+        self.webcam = any(config.webcam for config in conductor.configs)
+        self.guard = Guard(host, on_request=self.connections.served, wasm=self.webcam)
         self.app = web.Application(
             middlewares=[self.guard.middleware, self._guard], client_max_size=64 * 1024
         )
         self.guard.install(self.app)
         self.app.router.add_get("/", self._index)
         self.app.router.add_get("/static/{name}", self._static)
+        self.app.router.add_get("/static/vendor/{name}", self._vendor)
         self.app.router.add_get("/ws", self._websocket)
         self.app.router.add_get("/favicon.ico", self._no_icon)
         self.app.router.add_get("/experimenter", self._experimenter_page)
@@ -175,6 +180,7 @@ class LiveServer:
 
     async def _index(self, request: web.Request) -> web.Response:
         page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
+        page = page.replace("{{WEBCAM}}", "on" if self.webcam else "off")
         return web.Response(text=page.replace("{{QUERY}}", self._query()), content_type="text/html")
 
     async def _no_icon(self, request: web.Request) -> web.Response:
@@ -186,6 +192,16 @@ class LiveServer:
             raise web.HTTPNotFound(text="404: not one of the page's files\n")
         body = (STATIC_DIR / name).read_bytes()
         return web.Response(body=body, content_type=STATIC_TYPES[name], charset="utf-8")
+
+    async def _vendor(self, request: web.Request) -> web.Response:
+        """The hand tracker's files (``--webcam`` only), by exact name as well."""
+        name = request.match_info["name"]
+        if not self.webcam or name not in VENDOR_TYPES:
+            raise web.HTTPNotFound(text="404: not one of the page's files\n")
+        kind = VENDOR_TYPES[name]
+        body = await asyncio.to_thread((VENDOR_DIR / name).read_bytes)
+        charset = "utf-8" if kind in TEXT_TYPES else None
+        return web.Response(body=body, content_type=kind, charset=charset)
 
     # --- WebSocket --------------------------------------------------------------------------
     async def _websocket(self, request: web.Request) -> web.WebSocketResponse:
@@ -234,7 +250,9 @@ class LiveServer:
             tab.send(_error("this tab watches read-only; the first tab opened controls"))
             return
         try:
-            await self.conductor.receive(data)  # checked with parse_input, then acted on
+            reply = await self.conductor.receive(data)  # checked with parse_input, then acted on
+            if reply is not None:
+                tab.send(reply)
         except LiveInputError as problem:
             tab.send(_error(str(problem)))
         except Exception as problem:  # never lets one message end the session

@@ -41,6 +41,7 @@ from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun, pacing_figures
 from robin_sim.live.status import LiveStatus
+from robin_sim.live.webcam import Webcam
 from robin_sim.person.body import PhysicalBody
 
 __all__ = ["Frame", "LiveConfig", "LiveSession"]
@@ -93,6 +94,12 @@ class LiveSession:
         self._files: SessionFiles | None = None
         self._paused = threading.Event()  # the experimenter paused physics
         self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
+        # --webcam: the participant's hand read from the tracker's landmarks (None: off)
+        self.webcam = (
+            Webcam(self.config.width, self.config.height, calibrate=self.config.calibrate)
+            if self.config.webcam
+            else None
+        )
 
     # --- the contract --------------------------------------------------------------------------
     def start(self) -> None:
@@ -118,6 +125,9 @@ class LiveSession:
     def submit(self, item: LiveInput) -> None:
         """Act on a checked message (thread-safe; logged with wall time).
         :class:`LiveInputError` when it cannot be acted on now (says why)."""
+        if item.kind == "hand":
+            self._hand(item)
+            return
         try:
             self._act(item)
         except LiveInputError as error:
@@ -159,6 +169,7 @@ class LiveSession:
         # inputs taken so far: the page clears a shown error once this grows
         status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected
         status["paused"] = self.paused
+        status["webcam"] = None if self.webcam is None else self.webcam.status()
         if self.paused and status["phase"] != "done":
             status["message"] = PAUSED_MESSAGE
         return status
@@ -209,8 +220,46 @@ class LiveSession:
         return pacing_figures(self._run_parts, self.config.speed, self.paused)
 
     # --- messages ------------------------------------------------------------------------------
+    def reading_reply(self) -> dict[str, Any] | None:
+        """The page's answer to the last hand reading (None without one)."""
+        webcam = self.webcam
+        if webcam is None or webcam.last is None:
+            return None
+        return webcam.reply(webcam.last)
+
+    def _hand(self, item: LiveInput) -> None:
+        """A tracker reading: read, acted on if it decides a gesture, and logged with what
+        became of it (never "not your turn": a reading that fits no moment does nothing)."""
+        webcam, participant, picker = self.webcam, self._participant, self._picker
+        error = ""
+        if webcam is None:
+            error = "hand: this session has no webcam; start it with robin-pil live --webcam"
+        elif self.done.is_set():
+            error = "the session has ended; nothing more is taken"
+        elif participant is None or picker is None:
+            error = "the session is still starting; wait for the first frame"
+        if error:
+            self._log_input(item.as_dict(), error)
+            raise LiveInputError(error)
+        assert webcam is not None and item.hand is not None
+        assert participant is not None and picker is not None
+        try:
+            reading = webcam.read(item.hand, participant, picker.pick, self.view.clicked)
+        except LiveInputError as problem:
+            self._log_input(item.as_dict(), str(problem))
+            raise
+        except Exception as problem:  # logged and refused: the session goes on
+            refused = LiveInputError(f"hand: could not be read ({problem!r:.200})")
+            self._log_input(item.as_dict(), str(refused))
+            raise refused from None
+        self._log_input(item.as_dict(), "", reading=reading.as_dict())
+
     def _act(self, item: LiveInput) -> None:
         participant = self._participant
+        if item.kind == "calibration" and self.webcam is None:
+            raise LiveInputError(
+                "calibration: this session has no webcam; start it with robin-pil live --webcam"
+            )
         if self.done.is_set():
             raise LiveInputError("the session has ended; nothing more is taken")
         if participant is None:
@@ -222,6 +271,9 @@ class LiveSession:
             raise LiveInputError(
                 "start: this session runs already; 'start' leaves a protocol block's instructions"
             )
+        elif item.kind == "calibration":
+            assert self.webcam is not None
+            self.webcam.calibration(str(item.action))
         elif item.kind == "thumb":
             if not participant.judging:
                 raise LiveInputError(
@@ -245,11 +297,11 @@ class LiveSession:
             else:
                 participant.offer(Gesturing(GESTURE_BY_KEY[str(item.gesture)]))
 
-    def _log_input(self, raw: object, error: str) -> None:
+    def _log_input(self, raw: object, error: str, reading: dict[str, Any] | None = None) -> None:
         files, participant = self._files, self._participant
         sim_time = None if participant is None else round(participant.body.world.time, 4)
         if files is not None:
-            files.log_input(raw, error, sim_time)
+            files.log_input(raw, error, sim_time, reading=reading)
 
     # --- the physics thread --------------------------------------------------------------------
     def _on_tick(self, _: object) -> None:
@@ -293,6 +345,8 @@ class LiveSession:
                 self._participant, self._picker = run.participant, run.picker
                 self._pacer, self._run_parts = run.pacer, run
                 self.view.table = getattr(run.parts.learner, "table", None)
+                if self.webcam is not None:
+                    self.webcam.start()
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
                 observer = _Booking(self, run)
@@ -315,7 +369,8 @@ class LiveSession:
         finally:
             if run is not None:
                 run.close()  # the MP4 is complete from here on
-            self._summary = files.save(status, error, run)
+            vision = None if self.webcam is None else self.webcam.summary()
+            self._summary = files.save(status, error, run, vision=vision)
             self.done.set()
 
     def _book(self, run: LiveRun, record: StepRecord) -> None:
@@ -342,4 +397,7 @@ class _Booking:
     def received(self, record: StepRecord) -> None:
         self.last = record
         self.run.participant.received(record)
+        webcam = self.session.webcam
+        if webcam is not None and not record.proactive:
+            webcam.settled(self.run.participant, record.feedback)
         self.session._book(self.run, record)

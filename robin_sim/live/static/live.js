@@ -47,6 +47,13 @@
     return true;
   }
   live.send = send;
+  live.showError = (text) => showError(text);
+  // The webcam's readings (many a second) go out without being kept in live.sent.
+  live.sendReading = (message) => {
+    if (socket.readyState !== WebSocket.OPEN) return false;
+    socket.send(JSON.stringify(message));
+    return true;
+  };
 
   function textMessage(message) {
     for (const listener of live.listeners) listener(message);
