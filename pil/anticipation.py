@@ -18,7 +18,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from pil.errors import RobinPilError
 from pil.table import AssociationTable
 from pil.types import ACTIONS, Action, State
 from pil.validity import ALL_STATES
@@ -44,17 +43,6 @@ class Anticipation:
             f"anticipated {self.state.gesture.value} (P={self.share:.2f} of "
             f"{self.evidence}); best action"
         )
-
-
-def check_threshold(threshold: float, min_count: int) -> tuple[float, int]:
-    """The threshold in (0, 1] and the whole-number minimum count >= 1, else one clear error."""
-    if isinstance(threshold, bool) or not isinstance(threshold, int | float):
-        raise RobinPilError(f"proactive_threshold must be a number in (0, 1], got {threshold!r}")
-    if not 0.0 < float(threshold) <= 1.0:
-        raise RobinPilError(f"proactive_threshold must lie in (0, 1], got {threshold}")
-    if isinstance(min_count, bool) or not isinstance(min_count, int) or min_count < 1:
-        raise RobinPilError(f"proactive_min_count must be a whole number >= 1, got {min_count!r}")
-    return float(threshold), min_count
 
 
 def can_anticipate(state: State, action: Action) -> bool:

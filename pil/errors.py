@@ -42,21 +42,6 @@ class InvalidChoiceError(RobinPilError):
 NEVER_DETECTED = "at rate 0 no gesture is ever read, so the task can never finish"
 
 
-def check_rate(rate: float, name: str = "detection rate", *, above_zero: bool = False) -> float:
-    """Return ``rate`` as a float if it lies in [0, 1] (``above_zero``: in (0, 1]), else raise
-    a clear error."""
-    valid = "(0, 1]" if above_zero else "[0, 1]"
-    try:
-        value = float(rate)
-    except (TypeError, ValueError):
-        raise RobinPilError(f"{name} must be a number in {valid}, got {quote(rate)}") from None
-    if not 0.0 <= value <= 1.0:
-        raise RobinPilError(f"{name} must lie in {valid} (e.g. 0.6 for 60 %), got {value}")
-    if above_zero and value == 0.0:
-        raise RobinPilError(f"{name} must lie in {valid}, got 0 ({NEVER_DETECTED})")
-    return value
-
-
 # errno -> what to do about it, for a file the program could not write or read
 _OS_ADVICE: dict[int, str] = {
     errno.ENOSPC: "the disk is full: free some space and run the command again",

@@ -39,7 +39,6 @@ from __future__ import annotations
 import random
 from collections.abc import Callable
 
-from pil.errors import InvalidChoiceError
 from pil.step_memory import ALL_ACTIONS
 from pil.table import AssociationTable
 from pil.types import ACTIONS
@@ -163,10 +162,3 @@ RULES: dict[str, Rule] = {
     "with-replacement": with_replacement,
     "untried-first": untried_first,
 }
-
-
-def check_rule(name: str) -> str:
-    """``name`` if it is one of :data:`RULES`, else an error listing them."""
-    if name not in RULES:
-        raise InvalidChoiceError("exploration rule", name, RULES)
-    return name

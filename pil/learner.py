@@ -16,10 +16,10 @@ import random
 from dataclasses import dataclass
 from pathlib import Path
 
-from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD, Anticipation, check_threshold
+from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD, Anticipation
 from pil.anticipation import anticipate as _anticipate
-from pil.errors import InvalidChoiceError, RobinPilError
-from pil.exploration import DEFAULT_RULE, RULES, check_rule
+from pil.errors import RobinPilError
+from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import StepMemory
 from pil.table import (
     ACTION_INDEX,
@@ -117,16 +117,14 @@ class Learner:
             )
         self.table = AssociationTable() if table is None else table
         self.correction = correction
-        self.exploration = check_rule(exploration)
+        # run parameters, checked once where they enter (pil.task.spec.parse_run_spec)
+        self.exploration = exploration
         self._rule = RULES[exploration]
-        if adaptation not in ADAPTATIONS:
-            raise InvalidChoiceError("adaptation", adaptation, ADAPTATIONS)
         self.adaptation = adaptation
         self._halve = adaptation == "halve"
         self.proactive = bool(proactive)
-        self.proactive_threshold, self.proactive_min_count = check_threshold(
-            proactive_threshold, proactive_min_count
-        )
+        self.proactive_threshold = float(proactive_threshold)
+        self.proactive_min_count = proactive_min_count
         self._rng = random.Random(seed)
         self._memory = StepMemory(step_memory)  # actions tried (refused) in this step
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step

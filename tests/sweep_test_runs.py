@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.systems import PARAMS as RUN_ONE_PARAMS
+from pil.experiments.systems import DEFAULT_VALUES as RUN_ONE_PARAMS
 from pil.experiments.systems import SYSTEMS, run_one
 
 PARAMS: dict[str, Any] = {**RUN_ONE_PARAMS, "delay": 0.0, "die": "", "marks": ""}

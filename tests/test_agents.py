@@ -70,10 +70,14 @@ def test_baselines_neither_correct_nor_act_on_a_discarded_gesture(tmp_path: Path
 
 
 def test_bad_agent_settings_are_refused() -> None:
+    """epsilon and step_size are checked once, where they enter (the registry); the agents
+    take them as given."""
+    from pil.task.spec import parse_run_spec
+
     with pytest.raises(RobinPilError, match="epsilon"):
-        BanditAgent(epsilon=1.5)
+        parse_run_spec(system="bandit", params={"epsilon": 1.5})
     with pytest.raises(RobinPilError, match="step_size"):
-        TamerAgent(step_size=-0.1)
+        parse_run_spec(system="tamer", params={"step_size": -0.1})
     with pytest.raises(RobinPilError, match="table must be an AssociationTable"):
         TamerAgent(table="x")  # type: ignore[arg-type]
 

@@ -109,8 +109,12 @@ def test_the_learner_anticipates_only_when_proactive() -> None:
     ("threshold", "count"), [(0.0, 3), (1.5, 3), (True, 3), ("x", 3), (0.8, 0), (0.8, 2.5)]
 )
 def test_bad_threshold_or_count_is_one_clear_error(threshold: object, count: object) -> None:
+    """Checked once, where they enter (the registry); the Learner takes them as given."""
+    from pil.task.spec import parse_run_spec
+
+    given = {"proactive": True, "proactive_threshold": threshold, "proactive_min_count": count}
     with pytest.raises(RobinPilError, match="proactive_"):
-        Learner(0, proactive=True, proactive_threshold=threshold, proactive_min_count=count)  # type: ignore[arg-type]
+        parse_run_spec(params=given)
 
 
 class SeeingWorld(SymbolicWorld):

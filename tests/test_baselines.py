@@ -111,7 +111,7 @@ def test_the_command_writes_its_table_and_its_p_values_are_scipys(
     [
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got '0'"),
         (["--tuning-reps", "x"], "--tuning-reps must be a whole number"),
-        (["--rates", "0.4,1.5"], "must lie in (0, 1]"),
+        (["--rates", "0.4,1.5"], "must be a number in (0, 1], got '1.5'"),
         (["--tables", "0"], "--tables must be a whole number from 1 to 1000"),
     ],
 )

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from pil.errors import InvalidChoiceError, RobinPilError
+from pil.errors import RobinPilError
 from pil.task.detector import Detector, DetectorError, check_confusion
+from pil.task.spec import parse_run_spec
 from pil.types import GESTURES, Gesture
 
 
@@ -33,15 +34,17 @@ def test_independent_model_hits_the_rate_on_average() -> None:
     assert abs(hits / 20000 - 0.7) < 0.015
 
 
-@pytest.mark.parametrize("rate", [1.5, -0.1, "high"])
+@pytest.mark.parametrize("rate", [1.5, -0.1, 0, "high"])
 def test_rate_outside_0_1_is_rejected(rate: object) -> None:
-    with pytest.raises(RobinPilError, match="detection rate"):
-        Detector(rate, seed=0)  # type: ignore[arg-type]
+    """The rate is checked once, where it enters (the RATE spec); the Detector takes it as
+    given."""
+    with pytest.raises(RobinPilError, match=r"detection rate must be a number in \(0, 1\], got"):
+        parse_run_spec(rate=rate)
 
 
 def test_unknown_model_lists_choices() -> None:
-    with pytest.raises(InvalidChoiceError, match="'exact', 'independent'"):
-        Detector(0.5, seed=0, model="perfect")
+    with pytest.raises(RobinPilError, match="'exact', 'independent'"):
+        parse_run_spec(params={"detector": "perfect"})
 
 
 def test_discards_and_misreads() -> None:
@@ -87,8 +90,8 @@ def test_bad_confusion_matrix_is_rejected(matrix: list[list[float]], message: st
 
 
 def test_bad_discard_and_deck_size_are_rejected() -> None:
-    with pytest.raises(RobinPilError, match="discard probability"):
-        Detector(0.5, seed=0, discard=2.0)
+    with pytest.raises(RobinPilError, match=r"'discard' must be a number in \[0, 1\], got 2.0"):
+        parse_run_spec(params={"discard": 2.0})
     with pytest.raises(DetectorError, match="deck size"):
         Detector(0.5, seed=0, deck_size=0)
 

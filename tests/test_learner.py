@@ -309,5 +309,8 @@ def test_every_rule_is_seeded(rule: str) -> None:
 
 
 def test_unknown_exploration_rule_lists_the_valid_ones() -> None:
-    with pytest.raises(InvalidChoiceError, match="'next-best', 'avoid-last', 'with-replacement'"):
-        Learner(exploration="greedy")
+    """Checked once, where it enters (the registry); the Learner takes it as given."""
+    from pil.task.spec import parse_run_spec
+
+    with pytest.raises(RobinPilError, match="'next-best', 'avoid-last', 'with-replacement'"):
+        parse_run_spec(params={"exploration": "greedy"})

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -54,3 +55,25 @@ def test_session_names_never_reuse_a_folder(tmp_path: Path) -> None:
     first.mkdir(parents=True)
     second = session_folder(LiveConfig(out_root=tmp_path))
     assert second != first and second.parent == first.parent == tmp_path / "P01"
+
+
+def test_the_scenario_file_is_loaded_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """checked() loads the scenario and builds the learner side; checking again (the
+    conductor, the session) and run_spec() reuse it; a changed scenario is loaded anew."""
+    import pil.task.spec as spec_module
+
+    loads: list[object] = []
+    real = spec_module.load_scenario
+
+    def counting(*args: object) -> object:
+        loads.append(args)
+        return real(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(spec_module, "load_scenario", counting)
+    config = LiveConfig(scenario="assembly", handover_types=("B", "A")).checked()
+    again = config.checked()
+    spec = again.run_spec()
+    assert [t.name for t in again.scenario_of().pool()] == ["B", "A"]
+    assert spec.scenario.sequence == ("B", "A") and spec.seed == 0 and len(loads) == 1
+    assert replace(config, scenario="one_handover", handover_types=None).checked().run_spec()
+    assert len(loads) == 2

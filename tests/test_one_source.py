@@ -75,7 +75,6 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         # the detection models; the MJCF model files
         "MODELS": ("pil/task/detector.py", "robin_sim/cli/model_path.py"),
         # the run parameters (left to the run-assembly refactor, issue 18)
-        "PARAMS": ("pil/task/params.py", "pil/task/parts.py"),
         # a run's phases (train, test); the live participant's turn
         "PHASES": ("pil/task/seeds.py", "robin_sim/live/participant.py"),
         # the exploration rules; the validity rules
@@ -221,6 +220,8 @@ def literal_count(pattern: str, packages: tuple[str, ...] = PACKAGES) -> dict[st
         (r'(?m)^[A-Z_]+(\s*:[^=\n]+)?\s*=\s*"discarded"', "robin_sim/vision/train.py"),
         # the live page's gesture keys
         (r'"give_me":\s*Gesture', "robin_sim/live/inputs.py"),
+        # the detection rate's range: one spec (no second rate check, e.g. check_rate)
+        (r'"gesture detection rate", 0\.0, 1\.0', "pil/task/params.py"),
     ],
 )
 def test_a_fact_is_written_once(pattern: str, home: str) -> None:
@@ -306,3 +307,9 @@ def test_no_module_imports_a_private_name_of_another() -> None:
                     if a.name.startswith("_") and not a.name.startswith("__")
                 ]
     assert not private
+
+
+def test_one_rate_check() -> None:
+    """A detection rate is checked by the RATE spec only: no other function checks one."""
+    assert literal_count(r"def check_rate\b") == {}
+    assert literal_count(r"\bcheck_rate\(") == {}

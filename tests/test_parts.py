@@ -8,7 +8,7 @@ import pytest
 
 from pil.errors import InvalidChoiceError
 from pil.experiments.systems import run_one
-from pil.task.parts import PARAMS, SEED_NAMES, build_parts, derive_seeds, phase_script
+from pil.task.parts import DEFAULT_VALUES, SEED_NAMES, build_parts, derive_seeds, phase_script
 from pil.task.runner import run, steps
 from pil.task.scenario import load_scenario
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
@@ -59,7 +59,7 @@ def test_seeds_and_scripts() -> None:
         phase_script(scenario, "warmup", seeds)
     with pytest.raises(InvalidChoiceError, match="unknown parameter 'discrad'"):
         build_parts(scenario, 0.5, 1, discrad=0.2)
-    assert PARAMS["discard"] == 0.5 and PARAMS["repeat_discarded"] is True
+    assert DEFAULT_VALUES["discard"] == 0.5 and DEFAULT_VALUES["repeat_discarded"] is True
 
 
 def test_parameter_values_from_text_are_converted() -> None:

@@ -66,7 +66,10 @@ def test_patience(scenario) -> None:  # type: ignore[no-untyped-def]
     assert not ScriptedPerson(script).loses_patience(10)
     patient = ScriptedPerson(script, patience=2)
     assert not patient.loses_patience(1) and patient.loses_patience(2)
+    # checked once, where they enter (the registry); the person takes them as given
+    from pil.task.spec import parse_run_spec
+
     with pytest.raises(RobinPilError, match="patience"):
-        ScriptedPerson(script, patience=-1)
+        parse_run_spec(params={"patience": -1})
     with pytest.raises(RobinPilError, match="silent_ok"):
-        ScriptedPerson(script, silent_ok=1.5)
+        parse_run_spec(params={"silent_ok": 1.5})

@@ -30,9 +30,24 @@ from pil.task.spec import (
 ROOT = Path(__file__).resolve().parents[1]
 
 
+# the checks besides the registry's specs, by the name they are counted under: the system's
+# name, the video frame's size and a confusion matrix (a matrix parameter's own check)
+VALIDATORS: dict[str, tuple[str, str]] = {
+    "system": ("pil.task.systems", "check_system"),
+    "frame size": ("robin_sim.render.frame_spec", "check_size"),
+    "confusion matrix": ("pil.task.detector", "check_confusion"),
+}
+
+
 @pytest.fixture
 def parse_calls(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
-    """Every ParamSpec.parse call, counted by the parameter's name (the real parse runs)."""
+    """Every validation counted by what it checks (the real checks run): each ParamSpec.parse
+    by its parameter's name, and each of :data:`VALIDATORS` wherever it was imported. The
+    constructors (Detector, ScriptedPerson, Learner, the agents) check nothing: they take
+    the values the edge parsed."""
+    import importlib
+    import sys
+
     calls: Counter[str] = Counter()
     real = ParamSpec.parse
 
@@ -41,6 +56,18 @@ def parse_calls(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
         return real(self, value, label)
 
     monkeypatch.setattr(ParamSpec, "parse", counting)
+    for what, (module, name) in VALIDATORS.items():
+        check = getattr(importlib.import_module(module), name)
+
+        def counted(*args: Any, _check: Any = check, _what: str = what, **kwargs: Any) -> Any:
+            calls[_what] += 1
+            return _check(*args, **kwargs)
+
+        for loaded in list(sys.modules.values()):
+            if getattr(loaded, "__name__", "").split(".")[0] in ("pil", "robin_sim") and (
+                getattr(loaded, name, None) is check
+            ):
+                monkeypatch.setattr(loaded, name, counted)
     return calls
 
 
@@ -83,7 +110,7 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
     assert summary["status"] == "finished" and summary["rate"] == 0.8
     assert summary["person"]["reaction_time"] == 0.5
     given = {"rate", "seed", "scenario", "size", "fps", "camera", "discard", "reaction_time"}
-    given |= {"exploration", "render_workers"}
+    given |= {"exploration", "render_workers", "system"}
     # --size is two values (width and height), each checked once
     assert parse_calls.pop("size") == 2
     # the scenario file's own assembly keys are checked once, when the file is read
@@ -92,16 +119,81 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
     assert all(count == 1 for count in parse_calls.values()), parse_calls
 
 
-def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str]) -> None:
+@pytest.mark.parametrize("system", ["c3", "bandit"])
+def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system: str) -> None:
+    """Every value given is checked once (the learner's exploration rule and the agent's
+    settings included): by the registry, not again by the constructors."""
     from pil.experiments.systems import run_one
 
-    row = run_one("c3", "0.6", "4", tables="1", discard="0.3", patience="2")
+    given = {"discard": "0.3", "patience": "2", "exploration": "avoid-last", "epsilon": "0.2"}
+    row = run_one(system, "0.6", "4", tables="1", **given)
     assert row["tables"] == 1 and row["discard"] == 0.3 and row["patience"] == 2
-    assert set(parse_calls) >= {"rate", "seed", "tables", "discard", "patience"}
-    mine = {k: v for k, v in parse_calls.items() if k in {"rate", "seed", "discard", "patience"}}
-    assert all(count == 1 for count in mine.values()), parse_calls
+    names = {"rate", "seed", "system", *given}
+    # the scenario file's own assembly keys: checked once, when the file is read
+    assert set(parse_calls) == names | set(ASSEMBLY), parse_calls
+    assert all(parse_calls[name] == 1 for name in names), parse_calls
     # tables: once as given, once as the scenario file's own value when the file is read
     assert parse_calls["tables"] == 2, parse_calls
+    # tables: once as given, once as the scenario file's own value when the file is read
+    assert parse_calls["tables"] == 2, parse_calls
+
+
+def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
+    """The grid parses every value once; its per-cell check and the worker (called here in
+    this process) take the typed row as given: nothing is parsed again, and the row is the
+    one :func:`run_one` makes of the same values given as text."""
+    from pil.experiments.sweep_exec import execute_run
+    from pil.experiments.sweep_grid import build_grid, load_target
+    from pil.experiments.systems import run_one
+
+    target = load_target("learner")
+    grid = build_grid(
+        target,
+        systems=["pil", "c1"],
+        rates=["0.6", "1.0"],
+        reps=2,
+        params=["discard=0,0.3", "patience=2"],
+        tables=1,
+    )
+    runs = grid.runs()
+    outcomes = [execute_run(target.worker_function, *run.call_args()) for run in runs]
+    assert len(outcomes) == 2 * 2 * 2 * 2, len(outcomes)
+    assert all(outcome["status"] == "ok" for outcome in outcomes), outcomes[0]
+    # once each value as given (two rates, two discards), once the table count and the seed
+    assert parse_calls["rate"] == 2 and parse_calls["discard"] == 2, parse_calls
+    assert parse_calls["patience"] == 1 and parse_calls["seed"] == 1, parse_calls
+    assert parse_calls["system"] == 0, parse_calls  # the grid checks them against its systems
+    args, kwargs = runs[-1].call_args()
+    text = {name: str(value) for name, value in kwargs.items()}
+    again = run_one(args[0], str(args[1]), str(args[2]), **text)
+    assert {k: v for k, v in outcomes[-1]["metrics"].items() if k in again} == again
+
+
+@pytest.mark.slow
+def test_the_episode_walk_goes_down_without_returning() -> None:
+    """The episode's config from the command line to the assembled run (stopped before the
+    step loop; tests/config_walk.py): handed down the layers it never climbs back up nor
+    returns to a module it left. Read as data (the config objects' own methods counted too)
+    it makes 8 stops and comes back 3 times, each to read the typed config, never to check it:
+    cli.episode makes the EpisodeConfig and then parses it (two calls into the config
+    module), the learner's assembly applies the system's own parameters
+    (RunSpec.effective) and reads the scenario's types (Scenario's methods)."""
+    import tempfile
+
+    from config_walk import ARGV, walk_episode
+
+    with tempfile.TemporaryDirectory() as folder:
+        handed = walk_episode([*ARGV, str(Path(folder) / "a")], methods=False)
+        data = walk_episode([*ARGV, str(Path(folder) / "b")])
+        every = walk_episode([*ARGV, str(Path(folder) / "c")], data=False)
+    assert handed.figures()["returns"] == 0 and handed.figures()["climbs"] == 0, handed.returns
+    assert data.figures()["climbs"] == 0 and every.figures()["climbs"] == 0, every.climbs
+    assert data.figures()["stops"] <= 8 and data.figures()["returns"] <= 3, data.returns
+    assert set(data.returns) <= {
+        ("robin_sim.cli.episode", "robin_sim.episode.config"),
+        ("pil.task.assemble", "pil.task.spec"),
+        ("pil.task.assemble", "pil.task.scenario"),
+    }, data.returns
 
 
 def test_the_settings_cover_the_registry_exactly() -> None:

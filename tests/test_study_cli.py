@@ -43,8 +43,11 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--rates", "1.5"], "must lie in (0, 1]"),
-        (["--rates", "0.4,abc"], "'abc' is not a number"),
+        (
+            ["--rates", "1.5"],
+            "detection rate (comma separated) must be a number in (0, 1], got '1.5'",
+        ),
+        (["--rates", "0.4,abc"], "must be a number in (0, 1], got 'abc'"),
         (["--reps", "0"], "--reps must be a whole number from 1 to 100000, got 0"),
         (["--seed", "-1"], "--seed must be a whole number from 0 to"),
         (["--rates", "0.4,0.6,0.4"], "rate 0.4 is given twice"),

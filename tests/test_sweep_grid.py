@@ -13,7 +13,7 @@ from pil.experiments.sweep_grid import (
     parse_param,
     split_list,
 )
-from pil.experiments.systems import PARAMS, SYSTEMS
+from pil.experiments.systems import DEFAULT_VALUES, SYSTEMS
 from pil.task.params import ParamError
 
 
@@ -25,7 +25,7 @@ def learner():
 def test_learner_target_lists_run_one_params_and_systems(learner) -> None:
     assert learner.function == "pil.experiments.systems:run_one"
     assert learner.systems == tuple(SYSTEMS)
-    assert set(PARAMS) <= set(learner.params)
+    assert set(DEFAULT_VALUES) <= set(learner.params)
     assert "scenario" in learner.params  # keyword-only argument of run_one
     assert not {"system", "rate", "seed", "rep"} & set(learner.params)
 
@@ -83,7 +83,7 @@ def test_unknown_parameter_lists_the_valid_ones(learner) -> None:
         parse_param("dicsard=0.3", learner)
     message = str(caught.value)
     assert "'dicsard'" in message
-    assert all(f"'{name}'" in message for name in PARAMS)
+    assert all(f"'{name}'" in message for name in DEFAULT_VALUES)
 
 
 @pytest.mark.parametrize(

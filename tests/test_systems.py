@@ -8,7 +8,7 @@ import pytest
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.experiments.systems import (
-    PARAMS,
+    DEFAULT_VALUES,
     ROW_COLUMNS,
     SYSTEM_SPECS,
     SYSTEMS,
@@ -103,8 +103,9 @@ def test_full_rate_training_matches_the_expected_exploration_cost(rule: str) -> 
 
 
 def test_params_defaults_are_documented() -> None:
-    assert PARAMS["tables"] is None and PARAMS["detector"] == "exact"  # None: the scenario's
-    assert set(PARAMS) <= set(ROW_COLUMNS)
+    # None: the scenario's
+    assert DEFAULT_VALUES["tables"] is None and DEFAULT_VALUES["detector"] == "exact"
+    assert set(DEFAULT_VALUES) <= set(ROW_COLUMNS)
 
 
 def test_scenario_file_settings_are_kept_unless_overridden() -> None:

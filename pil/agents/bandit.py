@@ -16,7 +16,7 @@ and valid values (the run parameters of :mod:`pil.task.params` read them).
 
 from __future__ import annotations
 
-from pil.agents.base import FeedbackAgent, check_setting
+from pil.agents.base import FeedbackAgent
 from pil.table import N_STATES, AssociationTable
 from pil.types import ACTIONS
 
@@ -43,8 +43,8 @@ class BanditAgent(FeedbackAgent):
         step_memory: bool = FeedbackAgent.STEP_MEMORY_OWN,
     ) -> None:
         super().__init__(seed, table=table, step_memory=step_memory)
-        self.epsilon = check_setting(epsilon, "epsilon", EPSILON_RANGE)
-        self.epsilon_decay = check_setting(epsilon_decay, "epsilon_decay", EPSILON_DECAY_RANGE)
+        self.epsilon = float(epsilon)  # checked once where they enter (the registry)
+        self.epsilon_decay = float(epsilon_decay)
         self.values = [[PRIOR] * _N for _ in range(N_STATES)]
         self.pulls = [[0] * _N for _ in range(N_STATES)]
 

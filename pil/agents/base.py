@@ -9,7 +9,6 @@ and not-OK, kept by every agent so that tables can be saved, shown and compared 
 
 from __future__ import annotations
 
-import math
 import os
 import random
 from pathlib import Path
@@ -22,19 +21,6 @@ from pil.table import START, AssociationTable, action_index, approves, state_id
 from pil.table_io import save_table
 from pil.types import Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES
-
-
-def check_setting(value: float, name: str, bounds: tuple[float, float]) -> float:
-    """``value`` as a float if it lies in ``bounds`` (inclusive), else a clear error naming
-    ``name`` and the range (the baselines' settings; the run parameters use the same bounds)."""
-    low, high = bounds
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = math.nan
-    if isinstance(value, bool) or not low <= number <= high:  # NaN fails too
-        raise RobinPilError(f"{name} must be a number in [{low:g}, {high:g}], got {value!r}")
-    return number
 
 
 @runtime_checkable

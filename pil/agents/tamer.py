@@ -16,7 +16,7 @@ values (the run parameter ``step_size`` of :mod:`pil.task.params` reads them).
 
 from __future__ import annotations
 
-from pil.agents.base import FeedbackAgent, check_setting
+from pil.agents.base import FeedbackAgent
 from pil.table import AssociationTable
 from pil.types import ACTIONS, GESTURES, Hand
 from pil.validity import ALL_STATES
@@ -48,7 +48,7 @@ class TamerAgent(FeedbackAgent):
         step_memory: bool = FeedbackAgent.STEP_MEMORY_OWN,
     ) -> None:
         super().__init__(seed, table=table, step_memory=step_memory)
-        self.step_size = check_setting(step_size, "step_size", STEP_SIZE_RANGE)
+        self.step_size = float(step_size)  # checked once where it enters (the registry)
         self.weights = [[0.0] * N_FEATURES for _ in ACTIONS]
 
     def predict(self, sid: int, index: int) -> float:

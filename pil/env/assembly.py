@@ -17,13 +17,14 @@ get the person's verdict as the reward.
 The world is anything with the :class:`pil.task.world.World` protocol: the
 :class:`~pil.task.world.SymbolicWorld` by default, or a factory that builds another (a
 physical one) for each episode. The person, detector and seeds are the study's
-(:func:`pil.task.parts.build_parts`), so the same ``seed`` gives the same episode.
+(:func:`pil.task.assemble.assemble_phase` of the environment's
+:class:`~pil.task.spec.RunSpec`), so the same ``seed`` gives the same episode.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -31,12 +32,13 @@ import dm_env
 import numpy as np
 from dm_env import specs
 
-from pil.errors import RobinPilError, check_rate
-from pil.task.params import MAX_SEED
-from pil.task.parts import build_parts, check_params, resolve_scenario
+from pil.errors import RobinPilError
+from pil.task.assemble import assemble_phase
+from pil.task.params import MAX_SEED, STEP_RATE
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.runner import MAX_PERFORMANCES
 from pil.task.scenario import Scenario
+from pil.task.spec import parse_run_spec
 from pil.task.world import SymbolicWorld, World
 from pil.types import ACTIONS, GESTURES, START_ACTION, Action, Feedback, Hand, State
 
@@ -73,7 +75,7 @@ class AssemblyEnv(dm_env.Environment):
     palm and watches the robot; ``robin_sim.person.body.PhysicalBody``); ``repeat_discarded``
     (default True, the study's): a discarded reading makes the person repeat the gesture
     inside the environment, so observations are never :data:`DISCARDED`; ``params``: any of
-    :data:`pil.task.parts.PARAMS` (``tables``, ``discard``, ``silent_ok``...).
+    :data:`pil.task.params.PARAMS` (``tables``, ``discard``, ``silent_ok``...).
     """
 
     def __init__(
@@ -87,7 +89,7 @@ class AssemblyEnv(dm_env.Environment):
         one_hot: bool = False,
         **params: Any,
     ) -> None:
-        self.rate = check_rate(rate)
+        self.rate = STEP_RATE.parse(rate, "detection rate")
         if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
             raise RobinPilError(f"seed must be a whole number from 0 to {MAX_SEED}, got {seed!r}")
         if not callable(world):
@@ -95,8 +97,9 @@ class AssemblyEnv(dm_env.Environment):
                 f"world must be a factory of worlds (e.g. SymbolicWorld), got {world!r}"
             )
         self.seed = seed
-        self._values = check_params(params)
-        self._scenario = resolve_scenario(scenario, self._values)
+        # the parameters and the scenario parsed once, here; the rate as parsed above (the
+        # environment allows 0), the seed of each episode set by reset()
+        self._spec = replace(parse_run_spec(scenario=scenario, params=params), rate=self.rate)
         self._make_world = world
         self._make_body = body
         self.one_hot = bool(one_hot)
@@ -130,9 +133,8 @@ class AssemblyEnv(dm_env.Environment):
         self.episode += 1
         self.world = self._make_world()
         body = None if self._make_body is None else self._make_body(self.world)
-        parts = build_parts(
-            self._scenario, self.rate, self.run_seed(self.episode), body=body, **self._values
-        )
+        spec = self._spec.for_run("pil", self.rate, self.run_seed(self.episode))
+        parts = assemble_phase(spec, "test", body=body)
         self._started = True
         self._person, self._detector = parts.person, parts.detector
         self._repeat_discarded = bool(parts.options["repeat_discarded"])

@@ -19,15 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from pil.errors import check_rate
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
-from pil.experiments.systems import check_system, test_parts, training_for
-from pil.task.parts import check_params, derive_seeds
-from pil.task.person import ScriptedPerson, ScriptStep, plan_script
-from pil.task.runner import run, steps
+from pil.experiments.systems import check_system
+from pil.task.assemble import assemble, pretraining
+from pil.task.params import RATE
+from pil.task.person import ScriptStep, plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, build_type
-from pil.task.world import SymbolicWorld
+from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Feedback, Gesture
 
 DEFAULT_CHANGE = SCENARIOS_DIR / "mapping_change.yaml"
@@ -90,33 +89,22 @@ def changed_script(
 
 
 def run_adaptation(
-    system: str,
-    rate: float,
-    seed: int,
-    change: MappingChange,
-    values: Mapping[str, Any],
-    cache: MutableMapping[Any, Any] | None = None,
+    spec: RunSpec, change: MappingChange, cache: MutableMapping[Any, Any] | None = None
 ) -> dict[str, Any]:
-    """One paired run of ``system``: with the change and without it (same seeds)."""
-    scenario = change.scenario
-    training = training_for(system, rate, seed, scenario, values, cache)
-    control = test_parts(system, rate, seed, scenario, values, cache, training)
-    base = run(
-        control.learner, control.person, control.detector, SymbolicWorld(), **control.options
-    )
-    parts = test_parts(system, rate, seed, scenario, values, cache, training)
-    seeds = derive_seeds(seed)
-    script = changed_script(scenario, change, seeds["test_draw"])
-    person = ScriptedPerson(
-        script, seeds["test_person"], silent_ok=values["silent_ok"], patience=values["patience"]
-    )
+    """One paired run of ``spec`` (its scenario: the change's): with the change and without
+    it (same seeds), both assembled from the spec (:func:`pil.task.assemble.assemble`)."""
+    system, rate, seed, scenario = spec.system, spec.rate, spec.seed, spec.scenario
+    training = pretraining(spec, cache)
+    base = assemble(spec, cache=cache, training=training).run()
+    script = changed_script(scenario, change, spec.seeds.phase("test").draw)
+    parts = assemble(spec, cache=cache, training=training, script=script)
     changed_from = change.from_table - 1
     habit, main = math.nan, None
     seen: set[tuple[int, int]] = set()
     instructions = rejections = 0
     adapted_after = math.nan
     last = None
-    for record in steps(parts.learner, person, parts.detector, SymbolicWorld(), **parts.options):
+    for record in parts.steps():
         last = record
         if record.table < changed_from:
             continue
@@ -179,15 +167,16 @@ def run_adaptation_study(
     progress: Any = None,
 ) -> list[dict[str, Any]]:
     """Every system at every rate, ``reps`` paired runs each (common random numbers)."""
-    values = check_params(dict(params or {}))
+    base = parse_run_spec(scenario=change.scenario, params=params)  # parsed once, here
     for system in systems:
         check_system(system)
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         cache: dict[Any, Any] = {}
         for rate in rates:
             for system in systems:
-                row = run_adaptation(system, check_rate(rate), run_seed, change, values, cache)
+                row = run_adaptation(base.for_run(system, rate, run_seed), change, cache)
                 rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

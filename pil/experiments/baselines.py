@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.baseline_grid import (
     BASELINES,
     CRITERION,
@@ -38,9 +38,10 @@ from pil.experiments.baseline_grid import (
 from pil.experiments.paper import PAPER_RATES
 from pil.experiments.report import markdown_table, summary_markdown
 from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
-from pil.experiments.systems import ROW_COLUMNS, check_params, resolve_scenario, run_system
-from pil.task.params import REPS, SEED
+from pil.experiments.systems import ROW_COLUMNS, spec_row
+from pil.task.params import RATE, REPS, SEED
 from pil.task.runner import RunnerError
+from pil.task.spec import RunSpec, parse_run_spec
 
 RUN_COLUMNS: tuple[str, ...] = ("variant", "setting", "rep", *ROW_COLUMNS)
 TUNING_COLUMNS: tuple[str, ...] = (
@@ -69,7 +70,7 @@ class BaselineConfig:
     params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}
 
     def __post_init__(self) -> None:
-        rates = tuple(check_rate(r) for r in self.rates)
+        rates = tuple(RATE.parse(r, "detection rate") for r in self.rates)
         if len(set(rates)) != len(rates) or not rates:
             raise RobinPilError(f"give each rate once (at least one), got {self.rates!r}")
         object.__setattr__(self, "rates", rates)
@@ -104,18 +105,19 @@ class BaselineResult:
 def _run(
     setting: Setting,
     seeds: Sequence[int],
+    base: RunSpec,
     config: BaselineConfig,
     progress: Callable[[int], None] | None,
 ) -> tuple[list[dict[str, Any]], int]:
-    """``setting``'s runs at every rate and seed, and how many got stuck (left out)."""
-    values = check_params({**(config.params or {}), **setting.params})
-    scenario = resolve_scenario(None, values)
+    """``setting``'s runs at every rate and seed, and how many got stuck (left out); ``base``
+    is the config's parameters, parsed once (the setting's own are typed constants)."""
+    spec = base.changed(setting.params)
     rows, stuck = [], 0
     for rep, seed in enumerate(seeds):
         cache: dict[Any, Any] = {}  # the person's scripts of this seed (no training runs)
         for rate in config.rates:
             try:
-                row = run_system(setting.learner, rate, seed, scenario, values, cache)
+                row = spec_row(spec.for_run(setting.learner, rate, seed), cache)
             except RunnerError:  # a step never ended (a memoryless greedy baseline)
                 stuck += 1
             else:
@@ -129,12 +131,12 @@ def run_baselines(
     config: BaselineConfig, progress: Callable[[int], None] | None = None
 ) -> BaselineResult:
     """Tune on the tuning seeds, then run the table on the evaluation seeds."""
-    check_params(dict(config.params or {}))  # a bad parameter fails before any run
+    base = parse_run_spec(params=config.params)  # parsed once: a bad one fails before any run
     tuning_seeds, seeds = split_seeds(config.seed, config.tuning_reps, config.reps)
     scores: dict[str, list[Score]] = {}
     for learner in LEARNERS:
         scores[learner] = [
-            score(s, *_run(s, tuning_seeds, config, progress)) for s in grid(learner)
+            score(s, *_run(s, tuning_seeds, base, config, progress)) for s in grid(learner)
         ]
     best = {learner: choose_best(found) for learner, found in scores.items()}
     variants: list[tuple[str, Setting]] = [(f"pil:{s.name}", s) for s in pil_references()]
@@ -148,7 +150,7 @@ def run_baselines(
     for variant, setting in variants:
         key = (setting.learner, setting.describe())
         if key not in done:
-            found, stuck = _run(setting, seeds, config, progress)
+            found, stuck = _run(setting, seeds, base, config, progress)
             if stuck:
                 raise RunnerError(
                     f"{variant} ({setting.describe()}): {stuck} evaluation runs "

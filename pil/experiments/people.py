@@ -21,17 +21,17 @@ from typing import Any
 
 import numpy as np
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.adaptation import remap
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.experiments.systems import SYSTEM_SPECS, check_system
-from pil.task.detector import Detector
-from pil.task.parts import build_parts, check_params, derive_seeds
-from pil.task.person import ScriptedPerson, plan_script
-from pil.task.runner import RunStats, run
+from pil.task.assemble import assemble_phase
+from pil.task.params import RATE
+from pil.task.person import plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
-from pil.task.world import SymbolicWorld
+from pil.task.seeds import sub_seeds
+from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Gesture
 
 DEFAULT_PEOPLE = SCENARIOS_DIR / "two_people.yaml"
@@ -70,66 +70,38 @@ def person_types(people: People, name: str, types: Sequence[HandoverType]) -> li
     return out
 
 
-def _run(
-    script: Sequence[Any],
-    rate: float,
-    seeds: Mapping[str, int],
-    learner: Any,
-    values: Mapping[str, Any],
-) -> RunStats:
-    person = ScriptedPerson(
-        script, seeds["test_person"], silent_ok=values["silent_ok"], patience=values["patience"]
-    )
-    detector = Detector(
-        rate,
-        seeds["test_detector"],
-        model=values["detector"],
-        deck_size=len(script),
-        discard=values["discard"],
-        confusion=values["confusion"],
-    )
-    options = {
-        "repeat_discarded": bool(values["repeat_discarded"]),
-        "max_actions_per_gesture": values["max_actions_per_gesture"],
-    }
-    return run(learner, person, detector, SymbolicWorld(), **options)
-
-
-def run_people(
-    system: str, mode: str, rate: float, seed: int, people: People, values: Mapping[str, Any]
-) -> dict[str, Any]:
-    """One run of the whole assembly by the people taking turns, in ``mode``."""
-    spec = SYSTEM_SPECS[check_system(system)]
-    learner_values = {**values, **spec.params}
+def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
+    """One run of the whole assembly by the people taking turns, in ``mode``; each learner's
+    run is assembled from ``spec`` (its system's parameters applied) with the people's
+    script (:func:`pil.task.assemble.assemble_phase`)."""
+    tested = spec.effective()
     scenario, names = people.scenario, list(people.overrides)
     legs = scenario.legs_per_table
-    seeds = derive_seeds(seed)
-    types = scenario.draw_types(scenario.tables * legs, seeds["test_draw"])
+    seeds = spec.seeds.phase("test")
+    types = scenario.draw_types(scenario.tables * legs, seeds.draw)
     by_table = [
         person_types(people, names[k % len(names)], types[k * legs : (k + 1) * legs])
         for k in range(scenario.tables)
     ]
     if mode == "shared":
         script = plan_script([t for table in by_table for t in table], legs, scenario.spots)
-        learner = build_parts(scenario, rate, seeds, **learner_values).learner
-        parts = [_run(script, rate, seeds, learner, learner_values)]
+        parts = [assemble_phase(tested, "test", seeds=seeds, script=script).run()]
     else:
         parts = []
         for i in range(len(names)):
             own = [t for k, table in enumerate(by_table) if k % len(names) == i for t in table]
             if not own:  # fewer tables than people: this person builds none and costs nothing
                 continue
-            sub = derive_seeds(int(np.random.SeedSequence([seed, i]).generate_state(1)[0] >> 1))
-            learner = build_parts(scenario, rate, sub, **learner_values).learner
-            parts.append(
-                _run(plan_script(own, legs, scenario.spots), rate, sub, learner, learner_values)
-            )
+            word = int(np.random.SeedSequence([spec.seed, i]).generate_state(1)[0] >> 1)
+            script = plan_script(own, legs, scenario.spots)
+            run = assemble_phase(tested, "test", seeds=sub_seeds(word).phase("test"), script=script)
+            parts.append(run.run())
     return {
-        "system": system,
+        "system": spec.system,
         "mode": mode,
-        "run": f"{system} {mode}",
-        "rate": rate,
-        "seed": int(seed),
+        "run": f"{spec.system} {mode}",
+        "rate": spec.rate,
+        "seed": int(spec.seed),
         "people": len(names),
         "tables": scenario.tables,
         "gestures": sum(p.gestures for p in parts),
@@ -148,17 +120,18 @@ def run_people_study(
     progress: Any = None,
 ) -> list[dict[str, Any]]:
     """Both modes for every system, rate and repetition (same handover order per seed)."""
-    values = check_params({})
+    base = parse_run_spec(scenario=people.scenario)  # parsed once, here
     for system in systems:
         spec = SYSTEM_SPECS[check_system(system)]
         if spec.agent != "pil" or spec.trained_at is not None:
             raise RobinPilError(f"the people study runs PIL learners; {system!r} is not one")
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:
             for system in systems:
                 for mode in MODES:
-                    row = run_people(system, mode, check_rate(rate), run_seed, people, values)
+                    row = run_people(base.for_run(system, rate, run_seed), mode, people)
                     rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

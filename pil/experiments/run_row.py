@@ -3,7 +3,7 @@ them in that order (one source for both: a column without a value is a KeyError 
 
 Counts come from the test run's :class:`~pil.task.counting.RunStats` by name, ``train_*`` ones
 from the training run's; ``total_*`` add the two, as the paper does; then every parameter of
-:data:`pil.task.parts.PARAMS` as the run used it.
+:data:`pil.task.parts.DEFAULT_VALUES` as the run used it.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from pil.task.counting import RunStats
-from pil.task.parts import PARAMS
+from pil.task.parts import DEFAULT_VALUES
 
 TRAIN = "train_"  # prefix of the training run's counts
 TOTAL = "total_"  # prefix of training + test counts
@@ -42,7 +42,7 @@ ROW_COLUMNS: tuple[str, ...] = (
     "train_corrections",
     "train_repeats",
     "train_rejected",
-    *PARAMS,
+    *DEFAULT_VALUES,
 )
 
 

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from pil.atomic import write_text_atomic
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.paper import LOW_RATES, PAPER_RATES, PAPER_REPS, PAPER_TRAINING
 from pil.experiments.paper_comparison import (
     Figures,
@@ -49,6 +49,7 @@ from pil.experiments.systems import (
     check_system,
     spec_row,
 )
+from pil.task.params import RATE
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
 
@@ -60,7 +61,7 @@ METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
 class StudyConfig:
     """What to run; the defaults are the paper's setup."""
 
-    rates: tuple[float, ...] = PAPER_RATES
+    rates: tuple[float, ...] = PAPER_RATES  # given as numbers or text: parsed here, once
     reps: int = PAPER_REPS
     seed: int = 0
     systems: tuple[str, ...] = PAPER_SYSTEMS
@@ -71,7 +72,8 @@ class StudyConfig:
     base: RunSpec = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "rates", tuple(check_rate(r) for r in self.rates))
+        rates = tuple(RATE.parse(r, self.labels.get("rate", "detection rate")) for r in self.rates)
+        object.__setattr__(self, "rates", rates)
         repeated = sorted({r for r in self.rates if self.rates.count(r) > 1})
         if repeated:
             raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")

@@ -31,6 +31,12 @@ KINDS: dict[str, str] = {
     "learner": "pil.experiments.systems:run_one",
     "physical": "robin_sim.episode.physical_run:run_physical",
 }
+# what a worker calls for each kind's row: the run function of values the grid parsed (typed,
+# trusted: nothing is checked again in the worker); its results are the kind's function's
+RUNNERS: dict[str, str] = {
+    "learner": "pil.experiments.systems:run_checked",
+    "physical": "robin_sim.episode.physical_run:run_physical_checked",
+}
 # where each kind's parameter specs live (later sources override earlier ones)
 PARAM_SOURCES: dict[str, tuple[str, ...]] = {
     "learner": ("pil.task.params:PARAMS", "pil.task.params:RUN_OPTIONS"),
@@ -90,6 +96,12 @@ class RunTarget:
     open_params: bool  # the function takes **params and names no PARAMS: accept any name
     check: str | None = None  # import path of check(system, rate, seed, **params), if any
     cost: str | None = None  # import path of cost(system, rate, seed, **params), if any
+    runner: str | None = None  # what a worker calls (a kind's trusted runner); None: function
+
+    @property
+    def worker_function(self) -> str:
+        """The import path a worker calls with a grid row's typed values."""
+        return self.runner or self.function
 
     def spec(self, name: str) -> ParamSpec:
         """The spec of parameter ``name`` (an open target's unknown names: any value)."""
@@ -143,7 +155,8 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
     for name in RESERVED:
         params.pop(name, None)
     params = dict(sorted(params.items()))
-    return RunTarget(kind, function, systems, params, open_params, check, cost)
+    runner = RUNNERS.get(kind) if own else None
+    return RunTarget(kind, function, systems, params, open_params, check, cost, runner)
 
 
 @dataclass(frozen=True, slots=True)

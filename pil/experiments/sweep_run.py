@@ -127,7 +127,7 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
             try:
                 tally = execute(
                     specs=todo,
-                    function=target.function,
+                    function=target.worker_function,  # the grid's values, trusted
                     backend=backend,
                     on_outcome=record,
                     first_attempt=lambda run_id: store.attempts(run_id) + 1,

@@ -28,7 +28,7 @@ from typing import Any
 from pil.experiments.run_row import ROW_COLUMNS, run_row
 from pil.task.assemble import Run, Training, assemble, pretraining
 from pil.task.parts import (
-    PARAMS,
+    DEFAULT_VALUES,
     build_parts,
     check_params,
     derive_seeds,
@@ -37,12 +37,12 @@ from pil.task.parts import (
 from pil.task.person import PersonBody
 from pil.task.runner import RunStats
 from pil.task.scenario import Scenario
-from pil.task.spec import RunSpec, parse_run_spec, spec_of
+from pil.task.spec import RunSpec, build_run_spec, parse_run_spec, spec_of
 from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, SystemSpec, check_system
 
 __all__ = [
+    "DEFAULT_VALUES",
     "PAPER_SYSTEMS",
-    "PARAMS",
     "ROW_COLUMNS",
     "SYSTEMS",
     "SYSTEM_SPECS",
@@ -53,6 +53,7 @@ __all__ = [
     "check_system",
     "derive_seeds",
     "resolve_scenario",
+    "run_checked",
     "run_one",
     "spec_row",
     "test_parts",
@@ -139,11 +140,23 @@ def run_system(
 
 
 def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
-    """Everything :func:`run_one` checks before it runs (system, rate, seed, parameters, the
-    scenario file); returns the resolved scenario. A sweep calls it before its first run."""
-    scenario = params.pop("scenario", None)
-    spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=params)
-    return spec.scenario
+    """What a sweep grid cannot check value by value, for a row it parsed (its values typed,
+    not checked again): the scenario file and the assembly it makes; returns the resolved
+    scenario. A sweep calls it once per distinct cell before its first run."""
+    return _row_spec(system, rate, seed, params).scenario
+
+
+def _row_spec(system: str, rate: float, seed: int, params: Mapping[str, Any]) -> RunSpec:
+    """The spec of a sweep grid's row (values parsed by the grid's specs; nothing parsed)."""
+    values = dict(params)
+    scenario = values.pop("scenario", None)
+    return build_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, values=values)
+
+
+def run_checked(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
+    """:func:`run_one` of a sweep grid's row, whose values the grid parsed (typed, trusted):
+    what a sweep's worker runs, so no value is checked again there."""
+    return spec_row(_row_spec(system, rate, seed, params))
 
 
 def run_one(
@@ -158,10 +171,11 @@ def run_one(
     """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
 
     ``tables`` and the other assembly fields default to the scenario file's (10 tables in
-    ``scenarios/assembly.yaml``). ``params`` are any of :data:`PARAMS` (e.g. ``discard=0.3``,
-    ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises an error listing the
-    valid ones. The row's columns are :data:`ROW_COLUMNS`; the same arguments always give the
-    same row. The arguments are parsed once (:func:`pil.task.spec.parse_run_spec`).
+    ``scenarios/assembly.yaml``). ``params`` are any of :data:`DEFAULT_VALUES` (e.g.
+    ``discard=0.3``, ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises
+    an error listing the valid ones. The row's columns are :data:`ROW_COLUMNS`; the same
+    arguments always give the same row. The arguments are parsed once
+    (:func:`pil.task.spec.parse_run_spec`).
     """
     given = params if tables is None else {**params, "tables": tables}
     spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=given)

@@ -12,64 +12,51 @@ location, where the assembly taught human.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.experiments.study import rep_seeds
 from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
-from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
-from pil.task.runner import run
-from pil.task.scenario import SCENARIOS_DIR, Scenario
-from pil.task.world import SymbolicWorld
+from pil.task.assemble import assemble_phase
+from pil.task.params import RATE
+from pil.task.scenario import SCENARIOS_DIR, load_scenario
+from pil.task.spec import RunSpec, parse_run_spec
 
 TIDY = SCENARIOS_DIR / "tidy.yaml"
 STARTS: tuple[str, ...] = ("scratch", "table")
 TRANSFER_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
 
 
-def _learner_values(system: str, values: Mapping[str, Any]) -> dict[str, Any]:
+def _check_learner(system: str) -> None:
     spec = SYSTEM_SPECS[check_system(system)]
     if spec.agent != "pil" or spec.trained_at is not None:
         raise RobinPilError(f"transfer runs PIL learners from scratch; {system!r} is not one")
-    return {**values, **spec.params}
 
 
-def assembly_table(
-    scenario: Scenario,
-    rate: float,
-    seed: int,
-    values: Mapping[str, Any],
-) -> AssociationTable:
-    """The table a PIL run leaves after assembling ``scenario``'s test tables."""
-    parts = build_parts(scenario, rate, derive_seeds(seed), **values)
-    run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
-    return parts.learner.table
+def assembly_table(spec: RunSpec) -> AssociationTable:
+    """The table a PIL run of ``spec`` (its system's parameters applied) leaves after
+    assembling its scenario's test tables."""
+    run = assemble_phase(spec.effective(), "test")
+    run.run()
+    return run.learner.table
 
 
-def run_transfer(
-    system: str,
-    rate: float,
-    seed: int,
-    task: Scenario,
-    start: str,
-    table: AssociationTable | None,
-    values: Mapping[str, Any],
-) -> dict[str, Any]:
-    """One run of the second task from ``start`` ("scratch" or "table")."""
+def run_transfer(spec: RunSpec, start: str, table: AssociationTable | None) -> dict[str, Any]:
+    """One run of ``spec``'s task (its scenario: the second task) from ``start`` ("scratch"
+    or "table")."""
     used = None if start == "scratch" else table.copy()  # type: ignore[union-attr]
-    learner_values = _learner_values(system, values)
-    parts = build_parts(task, rate, derive_seeds(seed), table=used, **learner_values)
-    stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
+    stats = assemble_phase(spec.effective(), "test", table=used).run()
     return {
-        "system": system,
+        "system": spec.system,
         "start": start,
-        "run": f"{system} from {start}",
-        "rate": rate,
-        "seed": int(seed),
-        "task": task.name,
+        "run": f"{spec.system} from {start}",
+        "rate": spec.rate,
+        "seed": int(spec.seed),
+        "task": spec.scenario.name,
         "gestures": stats.gestures,
         "actions": stats.actions,
         "rejected": stats.rejected,
@@ -96,26 +83,23 @@ def run_transfer_study(
     repetition's own assembly; ``save_first``: save the first repetition's assembly table
     at the first rate there (to reuse with ``table_file``).
     """
-    values = check_params(dict(params or {}))
-    assembly = resolve_scenario(None, values)
-    task = resolve_scenario(TIDY, {})
+    assembly = parse_run_spec(params=params)  # parsed once, here (the first task's)
+    task = replace(assembly, scenario=load_scenario(TIDY))  # the second task: as shipped
     given = None if table_file is None else load_table(table_file)
     for system in systems:
-        _learner_values(system, values)
+        _check_learner(system)
+    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:
-            rate = check_rate(rate)
             for system in systems:
                 table = given
                 if table is None:
-                    table = assembly_table(
-                        assembly, rate, run_seed, _learner_values(system, values)
-                    )
+                    table = assembly_table(assembly.for_run(system, rate, run_seed))
                     if save_first is not None and rep == 0 and rate == rates[0]:
                         save_table(table, save_first)
                 for start in STARTS:
-                    row = run_transfer(system, rate, run_seed, task, start, table, values)
+                    row = run_transfer(task.for_run(system, rate, run_seed), start, table)
                     rows.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)

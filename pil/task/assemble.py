@@ -13,7 +13,7 @@ a name (or ``measured:FILE``) -> a factory, which ``robin_sim`` extends with ``v
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Mapping, MutableMapping
+from collections.abc import Callable, Iterator, Mapping, MutableMapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from typing import Any, TypeVar
 
@@ -155,6 +155,7 @@ def assemble(
     detectors: Mapping[str, DetectorFactory] = DETECTORS,
     cache: MutableMapping[Any, Any] | None = None,
     training: Training | None = None,
+    script: Sequence[ScriptStep] | None = None,
 ) -> Run:
     """The test run of ``spec``: its system's learner (pre-trained for c1-c4), the scripted
     person (with ``body`` in a physical world), the detector of ``detectors`` and ``world``
@@ -162,7 +163,8 @@ def assemble(
 
     ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
     runs, scripts): share it only between specs that differ in system and rate. ``training``
-    defaults to :func:`training`.
+    defaults to :func:`pretraining`'s; ``script`` to the scenario's test script (drawn by the
+    spec's seed), e.g. a changed mapping's (pil.experiments.adaptation).
     """
     if world is None:
         if spec.world != SYMBOLIC:
@@ -172,8 +174,9 @@ def assemble(
         training = pretraining(spec, cache)
     table = None if training is None else training.table.copy()
     system = spec.system_spec
+    tested = spec.effective()  # the system's own parameters applied
     run = assemble_phase(
-        spec.effective(),
+        tested,
         "test",
         table=table,
         manual=system.manual,
@@ -181,11 +184,12 @@ def assemble(
         body=body,
         detectors=detectors,
         cache=cache,
+        script=script,
     )
     run = replace(run, training=training)
     if system.agent == "pil":
         return run
-    params = asdict(spec.effective().learner)
+    params = asdict(tested.learner)
     agent = AGENTS[system.agent](spec.seeds.phase("test").learner, table, params)
     return replace(run, learner=agent)  # type: ignore[arg-type]
 
@@ -221,13 +225,15 @@ def assemble_phase(
     body: PersonBody | None = None,
     detectors: Mapping[str, DetectorFactory] = DETECTORS,
     cache: MutableMapping[Any, Any] | None = None,
+    script: Sequence[ScriptStep] | None = None,
 ) -> Run:
     """A PIL learner, the scripted person and the detector for ``phase`` ("train" or "test")
     of ``spec`` as it is (no system parameters applied) on ``world`` (default: symbolic).
-    ``seeds`` default to the spec's; ``table`` is used as is (not copied)."""
+    ``seeds`` default to the spec's; ``table`` is used as is (not copied); ``script``: the
+    person's (default: the scenario's, drawn by the phase's seed; e.g. a changed mapping's)."""
     seeds = spec.seeds.phase(phase) if seeds is None else seeds
     world = SymbolicWorld() if world is None else world
-    script = script_of(spec.scenario, phase, seeds, cache)
+    script = script_of(spec.scenario, phase, seeds, cache) if script is None else tuple(script)
     mind = spec.person
     person = ScriptedPerson(
         script,

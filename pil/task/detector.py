@@ -24,7 +24,7 @@ import random
 from collections.abc import Sequence
 from typing import Protocol
 
-from pil.errors import InvalidChoiceError, RobinPilError, check_rate
+from pil.errors import RobinPilError
 from pil.types import GESTURES, Feedback, Gesture
 
 MODELS: tuple[str, ...] = ("exact", "independent")
@@ -89,7 +89,12 @@ def check_confusion(matrix: Sequence[Sequence[float]]) -> tuple[tuple[float, ...
 
 
 class Detector:
-    """Reads the person's gestures at detection rate ``rate``."""
+    """Reads the person's gestures at detection rate ``rate``.
+
+    ``rate``, ``model``, ``discard`` and ``confusion`` are run parameters, checked once where
+    they enter (:func:`pil.task.spec.parse_run_spec`, the specs of :mod:`pil.task.params`) and
+    taken here as given: build a checked one with ``assemble(parse_run_spec(...))``.
+    """
 
     def __init__(
         self,
@@ -101,18 +106,16 @@ class Detector:
         discard: float = DEFAULT_DISCARD,
         confusion: Sequence[Sequence[float]] | None = None,
     ) -> None:
-        self.rate = check_rate(rate)
-        if model not in MODELS:
-            raise InvalidChoiceError("detector model", model, MODELS)
+        self.rate = float(rate)
         self.model = model
         if isinstance(deck_size, bool) or not isinstance(deck_size, int) or deck_size < 1:
             raise DetectorError(f"deck size must be a whole number >= 1, got {deck_size!r}")
         self.deck_size = deck_size
-        self.discard = check_rate(discard, "discard probability")
+        self.discard = float(discard)
         self._rng = random.Random(seed)
         self._deck: list[bool] = []
         self._misread: dict[Gesture, tuple[tuple[Gesture, ...], tuple[float, ...]]] = {}
-        rows = check_confusion(confusion) if confusion is not None else None
+        rows = None if confusion is None else tuple(tuple(row) for row in confusion)
         for i, gesture in enumerate(GESTURES):
             others = tuple(g for g in GESTURES if g is not gesture)
             if rows is None:

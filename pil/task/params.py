@@ -14,6 +14,7 @@ keys, the sweep grid and the CLI options all validate through these specs::
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 from pil.agents.bandit import EPSILON, EPSILON_DECAY, EPSILON_DECAY_RANGE, EPSILON_RANGE
@@ -42,6 +43,7 @@ __all__ = [  # the spec type is re-exported: callers import parameters from here
     "RUN_OPTIONS",
     "SCENARIO",
     "SEED",
+    "STEP_RATE",
     "ParamError",
     "ParamSpec",
     "parse_all",
@@ -140,6 +142,7 @@ PARAMS: dict[str, ParamSpec] = {
             "P(next state | state) needed to act unasked",
             0.0,
             1.0,
+            low_open=True,
         ),
         ParamSpec(
             "proactive_min_count",
@@ -187,6 +190,8 @@ RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword 
 RATE = ParamSpec(
     "rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True, why_low=NEVER_DETECTED
 )
+# a step-level environment (pil.env) may miss every gesture: rate 0 is valid there
+STEP_RATE = replace(RATE, low_open=False, why_low="", doc="gesture detection rate (0: all missed)")
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
 REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
 

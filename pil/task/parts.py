@@ -8,7 +8,7 @@ that assemble a phase from their own sub-seeds (people, transfer, the dm_env env
     for record in parts.steps():
         ...
 
-:data:`PARAMS` names every parameter with its default; their types and valid ranges are the
+:data:`DEFAULT_VALUES` names every parameter with its default; their types and valid ranges are the
 specs of :mod:`pil.task.params`, which :func:`check_params` applies.
 """
 
@@ -31,7 +31,7 @@ from pil.task.seeds import PHASES, SEED_NAMES, SEED_PARTS, PhaseSeeds, derive_se
 from pil.task.spec import spec_of
 
 __all__ = [
-    "PARAMS",
+    "DEFAULT_VALUES",
     "PERSON_PARAMS",
     "PHASES",
     "SCENARIO_KEYS",
@@ -47,7 +47,7 @@ __all__ = [
 
 RunParts = Run  # the assembled pieces of a run (the name earlier code knows)
 SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY)  # None (the default): the scenario file's
-PARAMS: dict[str, Any] = {name: spec.default for name, spec in PARAM_SPECS.items()}
+DEFAULT_VALUES: dict[str, Any] = {name: spec.default for name, spec in PARAM_SPECS.items()}
 # The person's parameters (recorded in an episode's summary).
 PERSON_PARAMS: tuple[str, ...] = ("silent_ok", "patience", "reaction_time", "reaction_spread")
 
@@ -106,7 +106,7 @@ def build_parts(
 
     ``seed`` is a run seed or the sub-seeds of :func:`derive_seeds`; ``table`` a pre-trained
     association table (used as is, not copied); ``manual`` selects manual repetition (no
-    correction); ``params`` are any of :data:`PARAMS` (the assembly ones are taken from
+    correction); ``params`` are any of :data:`DEFAULT_VALUES` (the assembly ones are taken from
     ``scenario``, not from ``params``); ``body`` makes the person visible in a physical world.
     """
     values = check_params(params)

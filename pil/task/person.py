@@ -31,7 +31,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from pil.errors import RobinPilError, check_rate
 from pil.task.scenario import HandoverType, Scenario
 from pil.task.watching import InstantWatcher, ReactionTime
 from pil.task.world import Intent, Outcome, Target, Watcher
@@ -179,7 +178,8 @@ class ScriptedPerson:
 
     ``body``, when given, makes what the person does visible in a physical world;
     ``reaction_time`` is the mean and spread (s) of the delay between recognising an unwanted
-    action and the thumb down.
+    action and the thumb down. ``silent_ok`` and ``patience`` are run parameters, checked once
+    where they enter (:func:`pil.task.spec.parse_run_spec`) and taken here as given.
     """
 
     def __init__(
@@ -194,9 +194,7 @@ class ScriptedPerson:
     ) -> None:
         self.script = tuple(script)
         self.body = body
-        self.silent_ok = check_rate(silent_ok, "silent_ok probability")
-        if isinstance(patience, bool) or not isinstance(patience, int) or patience < 0:
-            raise RobinPilError(f"patience must be a whole number >= 0 (0 = off), got {patience!r}")
+        self.silent_ok = float(silent_ok)
         self.patience = patience
         self.reaction_time = reaction_time or ReactionTime()
         self._rng = random.Random(seed)

@@ -13,7 +13,7 @@ builds the run from the spec's typed fields::
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -107,16 +107,15 @@ class RunSpec:
     person: PersonSettings
     detector: DetectorSettings
     world: str = SYMBOLIC
+    # derived when the spec is made (a changed copy derives them again), so that assembling
+    # reads them as data: the run's sub-seeds (pil.task.seeds, the one place they are
+    # derived) and how the system learns and is tested
+    seeds: RunSeeds = field(init=False, repr=False, compare=False)
+    system_spec: SystemSpec = field(init=False, repr=False, compare=False)
 
-    @property
-    def seeds(self) -> RunSeeds:
-        """The run's sub-seeds (:mod:`pil.task.seeds`, the one place they are derived)."""
-        return sub_seeds(self.seed)
-
-    @property
-    def system_spec(self) -> SystemSpec:
-        """How the system learns and is tested."""
-        return SYSTEM_SPECS[self.system]
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "seeds", sub_seeds(self.seed))
+        object.__setattr__(self, "system_spec", SYSTEM_SPECS[self.system])
 
     def for_run(self, system: str, rate: float, seed: int) -> RunSpec:
         """This spec for another system, rate and seed, all already checked (a study's grid)."""
@@ -124,7 +123,13 @@ class RunSpec:
 
     def effective(self) -> RunSpec:
         """This spec with the system's own parameters applied (typed constants, not parsed)."""
-        overrides = dict(self.system_spec.params)
+        return self.changed(self.system_spec.params)
+
+    def changed(self, typed: Mapping[str, Any]) -> RunSpec:
+        """This spec with run parameters of the settings groups replaced by ``typed`` values
+        (typed constants of the code, e.g. a system's or a tuning grid's: not parsed); a name
+        of no settings group raises."""
+        overrides = dict(typed)
         if not overrides:
             return self
         changed: dict[str, Any] = {}
@@ -137,8 +142,8 @@ class RunSpec:
             }
             if mine:
                 changed[name] = replace(group, **mine)
-        if overrides:  # a registry entry naming no run parameter: a bug in SYSTEM_SPECS
-            raise InvalidChoiceError("system parameter", next(iter(overrides)), PARAMS)
+        if overrides:  # naming no run parameter of a group: a bug in the code that names it
+            raise InvalidChoiceError("run parameter", next(iter(overrides)), PARAMS)
         return replace(self, **changed)
 
     def values(self) -> dict[str, Any]:
@@ -174,9 +179,32 @@ def parse_run_spec(
         if name not in specs:
             raise InvalidChoiceError("parameter", name, specs)
     values = {name: specs[name].parse(value, label.get(name)) for name, value in given.items()}
-    values = {**parse_all(specs, {}), **values}  # defaults (not parsed) for the others
     if isinstance(scenario, str):
         scenario = SCENARIO.parse(scenario, label.get("scenario", "scenario"))
+    return build_run_spec(
+        system=system,
+        rate=RATE.parse(rate, label.get("rate", "detection rate")),
+        seed=SEED.parse(seed, label.get("seed", "seed")),
+        scenario=scenario,
+        values=values,
+        world=world,
+    )
+
+
+def build_run_spec(
+    *,
+    system: str,
+    rate: float,
+    seed: int,
+    scenario: Scenario | str | Path | None,
+    values: Mapping[str, Any],
+    world: str = SYMBOLIC,
+) -> RunSpec:
+    """A :class:`RunSpec` of values already parsed by their specs (:func:`parse_run_spec`'s
+    own, or a sweep grid's row, checked by the grid), nothing checked again: ``values`` are
+    any of :data:`~pil.task.params.PARAMS` (the others: their defaults); ``scenario`` a
+    :class:`Scenario`, a file or name (read here), or None (the assembly)."""
+    values = {**parse_all(PARAMS, {}), **values}  # defaults (not parsed) for the others
     base = (
         scenario
         if isinstance(scenario, Scenario)
@@ -185,8 +213,8 @@ def parse_run_spec(
     changes = {name: values[name] for name in ASSEMBLY if values[name] is not None}
     return RunSpec(
         system=system,
-        rate=RATE.parse(rate, label.get("rate", "detection rate")),
-        seed=SEED.parse(seed, label.get("seed", "seed")),
+        rate=rate,
+        seed=seed,
         scenario=replace(base, **changes) if changes else base,
         learner=_settings(LearnerSettings, values),
         person=_settings(PersonSettings, values),

@@ -8,21 +8,19 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError, check_rate, quote
+from pil.errors import RobinPilError, quote
+
+RATES_LABEL = "--rates: each detection rate (comma separated)"  # names a bad one
 
 
 def parse_rates(text: str) -> tuple[float, ...]:
-    """``"0.4,0.6"`` as rates; a bad one raises naming the valid range."""
-    rates = []
+    """``"0.4,0.6"`` as rates, each checked by the one rate spec (:data:`pil.task.params.RATE`);
+    a bad one raises naming the valid range and the value given."""
+    from pil.task.params import RATE
+
+    rates: list[float] = []
     for part in text.split(","):
-        try:
-            value = float(part)
-        except ValueError:
-            raise RobinPilError(
-                f"--rates: {part.strip()!r} is not a number; give rates in (0, 1] separated "
-                "by commas, e.g. 0.4,0.6,0.8,1.0"
-            ) from None
-        rate = check_rate(value, f"--rates: detection rate {part.strip()}", above_zero=True)
+        rate = RATE.parse(part, RATES_LABEL)
         if rate in rates:
             raise RobinPilError(
                 f"--rates: rate {rate:g} is given twice; give each rate once, e.g. 0.4,0.6,0.8,1.0"

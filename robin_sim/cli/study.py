@@ -12,17 +12,18 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS, rates_text
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
-from robin_sim.cli.options import add_progress_switch, parse_rates, parse_systems, systems_help
+from robin_sim.cli.options import RATES_LABEL, add_progress_switch, parse_systems, systems_help
 
 DEFAULT_OUT = Path("out/study")
 
 
-def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
+def _study_rates(text: str | None, detector: str) -> tuple[Any, ...]:
     """The rates to run: ``--rates``, or for a measured detector its file's measured rate."""
     from pil.task.detector import CAMERAS, MEASURED_PREFIX, MODELS, NO_CAMERAS, load_measured
 
@@ -41,7 +42,8 @@ def _study_rates(text: str | None, detector: str) -> tuple[float, ...]:
             f"--detector: unknown detection model {detector!r}; choose exact, independent "
             "or measured:FILE"
         )
-    return parse_rates(rates_text() if text is None else text)
+    # as given: parsed once, by the study's config (the RATE spec)
+    return tuple((rates_text() if text is None else text).split(","))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -137,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
         seed=SEED.parse(args.seed, "--seed"),
         scenario=args.scenario,  # a bad file: refused now, by the config (parsed once)
         params=params,
-        labels={"tables": "--tables", "scenario": "--scenario"},
+        labels={"tables": "--tables", "scenario": "--scenario", "rate": RATES_LABEL},
     )
     count = _seed_count(args.seeds)
     # before the computation; the folder stays locked until the files are written

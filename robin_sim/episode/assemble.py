@@ -4,7 +4,7 @@
 body in it (:class:`~robin_sim.person.body.PhysicalBody`, seeded by the run's sub-seeds) and
 hands them to the learner side's assembly with the detector registry extended by ``vision``
 (Robin's eye cameras, :class:`~robin_sim.vision.detector.VisionDetector`) — an entry like the
-others. The world's layout is the scenario's (:func:`~robin_sim.episode.config.layout_of`). The
+others. The world's layout is the scenario's (:func:`layout_of`). The
 episode, a physical sweep run and a live session are assembled here::
 
     spec = EpisodeConfig(scenario="one_handover", video=False).spec()
@@ -21,10 +21,12 @@ from pil.task.assemble import assemble as assemble_learner
 from pil.task.detector import CAMERAS as VISION
 from pil.task.detector import GestureReader
 from pil.task.spec import PHYSICAL, RunSpec
-from robin_sim.episode.config import EpisodeError, EpisodeSpec, layout_of
+from robin_sim.episode.config import EpisodeError, EpisodeSpec
 from robin_sim.vision.condition_params import CameraConditions, parse_conditions
 
 if TYPE_CHECKING:
+    from pil.task.scenario import Scenario
+    from robin_sim.model.scene import SceneLayout
     from robin_sim.robot.world import PhysicalWorld
 
 
@@ -73,3 +75,19 @@ def assemble(
     body = PhysicalBody(world, seed=run_spec.seeds.body)
     detectors = {**DETECTORS, VISION: vision_factory(conditions or parse_conditions({}))}
     return assemble_learner(run_spec, world=world, body=body, detectors=detectors, cache=cache)
+
+
+def layout_of(scenario: Scenario) -> SceneLayout:
+    """The scene layout of ``scenario`` (its ``layout`` section, else the default), refused when
+    it lacks the legs and spots the person will point at."""
+    from robin_sim.model.scene import SceneLayout  # imports MuJoCo
+
+    layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+    if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
+        raise EpisodeError(
+            f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
+            f"{scenario.legs_per_table} legs per table, but its layout has "
+            f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
+            "layout section or lower spots / legs_per_table"
+        )
+    return layout

@@ -5,8 +5,8 @@ Every option is checked there, by the specs of :mod:`pil.task.params`, the camer
 (:mod:`robin_sim.vision.condition_params`) and the few video ones below, before an episode
 builds anything or writes a file; below, nothing checks a value again. The run's learner side
 is a :class:`~pil.task.spec.RunSpec` of the physical world; the scene layout is resolved when
-the world is built (:func:`layout_of`, which refuses a layout without
-the legs and spots the person will point at). Nothing here imports MuJoCo.
+the world is built (:func:`robin_sim.episode.assemble.layout_of`, which refuses a layout
+without the legs and spots the person will point at). Nothing here imports MuJoCo.
 """
 
 from __future__ import annotations
@@ -14,19 +14,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from pil.errors import RobinPilError
 from pil.task.detector import CAMERAS as VISION
 from pil.task.params import ParamSpec
-from pil.task.scenario import Scenario
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
 from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
 from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions, parse_conditions
-
-if TYPE_CHECKING:  # the module is imported before the GL backend is chosen: no MuJoCo here
-    from robin_sim.model.scene import SceneLayout
 
 VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
@@ -80,7 +76,7 @@ class EpisodeConfig:
     eye_inset: bool = True  # the robot's left-eye view as a small inset in the video
     verify: bool = True  # off-screen render checks after grasps, handovers and placements
     progress: bool = True
-    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.parts.PARAMS
+    params: Mapping[str, Any] = field(default_factory=dict)  # any of pil.task.params.PARAMS
 
     def spec(self) -> EpisodeSpec:
         """This config parsed (:func:`parse_episode`)."""
@@ -120,6 +116,21 @@ class EpisodeSpec:
     out: Path
 
 
+_DEFAULT = EpisodeConfig()
+# no video: a physical sweep run's (its other fields: the defaults, typed constants)
+NO_VIDEO = VideoSpec(
+    record=False,
+    camera=_DEFAULT.camera,
+    width=_DEFAULT.width,
+    height=_DEFAULT.height,
+    fps=_DEFAULT.fps,
+    shadows=_DEFAULT.shadows,
+    render_workers=_DEFAULT.render_workers,
+    policy_panel=_DEFAULT.policy_panel,
+    eye_inset=_DEFAULT.eye_inset,
+)
+
+
 def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     """``config`` with every option parsed and checked once (nothing is built or written).
 
@@ -140,7 +151,7 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
         labels=_LABELS,
     )
     if run.detector.model != VISION and given:
-        raise RobinPilError(
+        raise EpisodeError(
             f"{', '.join(given)} set the eye cameras' conditions and need "
             f"--detector {VISION}; the detector must be {DETECTOR_SPECS[PHYSICAL].valid()}"
         )
@@ -163,19 +174,3 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     return EpisodeSpec(
         run, conditions, video, bool(config.verify), bool(config.progress), Path(config.out)
     )
-
-
-def layout_of(scenario: Scenario) -> SceneLayout:
-    """The scene layout of ``scenario`` (its ``layout`` section, else the default), refused when
-    it lacks the legs and spots the person will point at."""
-    from robin_sim.model.scene import SceneLayout  # imports MuJoCo
-
-    layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
-    if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
-        raise EpisodeError(
-            f"scenario {scenario.name!r} needs {scenario.spots} table spots and "
-            f"{scenario.legs_per_table} legs per table, but its layout has "
-            f"{len(layout.spots)} spots and {len(layout.legs)} legs; add them to its "
-            "layout section or lower spots / legs_per_table"
-        )
-    return layout

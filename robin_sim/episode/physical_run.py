@@ -15,13 +15,14 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.systems import run_one
+from pil.errors import InvalidChoiceError, RobinPilError
+from pil.experiments.systems import check_system, run_checked
 from pil.task.detector import CAMERAS
-from pil.task.params import ASSEMBLY, ParamSpec
-from pil.task.spec import DETECTOR_SPECS, PHYSICAL
-from robin_sim.episode.config import EpisodeConfig, EpisodeSpec, parse_episode
+from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec
+from pil.task.spec import DETECTOR_SPECS, PHYSICAL, build_run_spec
+from robin_sim.episode.config import DEFAULT_TABLES, NO_VIDEO, EpisodeSpec
 from robin_sim.episode.run import run_episode
-from robin_sim.vision.condition_params import CONDITION_PARAMS
+from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions
 
 PHYSICAL_PARAMS: dict[str, ParamSpec] = {
     "tables": ASSEMBLY["tables"],
@@ -34,29 +35,33 @@ VISION_PREFIX = "vision_"  # the vision block's numbers in a results row
 
 
 def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> EpisodeSpec:
-    """The episode of a sweep's row, parsed once (its grid row is this run's edge)."""
+    """The episode of a sweep's grid row, whose values the grid parsed by
+    :data:`PHYSICAL_PARAMS` and the run parameters (typed: nothing is parsed again)."""
     options = dict(params)
-    tables = options.pop("tables", None)
-    verify = PHYSICAL_PARAMS["verify"].parse(options.pop("verify", False), "verify")
+    verify = bool(options.pop("verify", PHYSICAL_PARAMS["verify"].default))
     scenario = options.pop("scenario", None)
-    config = EpisodeConfig(
-        tables=tables,
-        rate=rate,
-        seed=seed,
-        system=system,
-        scenario=scenario,
-        out=Path("."),
-        video=False,
-        verify=verify,
-        progress=False,
-        params=options,
+    given = {name: options.pop(name) for name in CONDITION_PARAMS if name in options}
+    if options.get("tables") is None:
+        options.pop("tables", None)
+        if scenario is None:
+            options["tables"] = DEFAULT_TABLES  # as the episode: one table of the assembly
+    run = build_run_spec(
+        system=system, rate=rate, seed=seed, scenario=scenario, values=options, world=PHYSICAL
     )
-    return parse_episode(config)
+    vision = run.detector.model == CAMERAS
+    if given and not vision:
+        raise RobinPilError(
+            f"{', '.join(given)} set the eye cameras' conditions and need detector={CAMERAS}"
+        )
+    defaults = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
+    conditions = CameraConditions(**{**defaults, **given}) if vision else None
+    return EpisodeSpec(run, conditions, NO_VIDEO, verify, False, Path("."))
 
 
 def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:
-    """Everything a physical run checks before it starts (parameters, the scenario, its
-    layout's legs and spots); a sweep calls it before its first run."""
+    """What a sweep grid cannot check value by value, for a row it parsed: the scenario, its
+    layout's legs and spots, the camera conditions' detector; a sweep calls it once per
+    distinct cell before its first run."""
     from robin_sim.episode.assemble import layout_of  # imports MuJoCo
 
     layout_of(_spec(system, rate, seed, params).run.scenario)
@@ -78,10 +83,10 @@ def expected_cost(system: str, rate: float, seed: int, **params: Any) -> float:
     options = {k: v for k, v in params.items() if k not in PHYSICAL_PARAMS}
     if params.get("detector") not in (None, CAMERAS):
         options["detector"] = params["detector"]  # the eye cameras' twin: the exact detector
-    tables = PHYSICAL_PARAMS["tables"].parse(params.get("tables"), "tables")
+    tables = params.get("tables")  # parsed by the grid
     if tables is None and options.get("scenario") is None:
         tables = 1  # as the episode: one table of the paper's assembly
-    row = run_one(system, rate, seed, tables=tables, **options)
+    row = run_checked(system, rate, seed, tables=tables, **options)
     rejected = row["rejected"]
     return APPROVED_S * (row["actions"] - rejected) + REJECTED_S * rejected
 
@@ -89,9 +94,26 @@ def expected_cost(system: str, rate: float, seed: int, **params: Any) -> float:
 def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
     """One physical run without video, as a flat results row (the sweep's physical kind).
 
-    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.params.PARAMS`; the step
-    log and summary go to a temporary folder that is removed afterwards.
+    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.params.PARAMS`, given as
+    text or typed: each is parsed here by its spec (a sweep's worker runs
+    :func:`run_physical_checked` on values its grid parsed); the step log and summary go to a
+    temporary folder that is removed afterwards.
     """
+    from pil.task.params import RATE, SEED
+
+    specs = {**PARAMS, **RUN_OPTIONS, **PHYSICAL_PARAMS}
+    for name in params:
+        if name not in specs:
+            raise InvalidChoiceError("physical parameter", name, specs)
+    parsed = {name: specs[name].parse(value) for name, value in params.items()}
+    check_system(system)
+    rate, seed = RATE.parse(rate, "detection rate"), SEED.parse(seed, "seed")
+    return run_physical_checked(system, rate, seed, **parsed)
+
+
+def run_physical_checked(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
+    """:func:`run_physical` of a sweep grid's row, whose values the grid parsed (typed,
+    trusted): what a sweep's worker runs, so no value is checked again there."""
     spec = _spec(system, rate, seed, params)
     if spec.run.detector.model == CAMERAS:
         from robin_sim.render.gl_backend import ensure_gl_backend

@@ -23,7 +23,7 @@ from pil.errors import RobinPilError
 from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
 from pil.task.records import StepRecord
-from robin_sim.episode.assemble import assemble, layout_of
+from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook, run_summary, vision_of
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec
 from robin_sim.episode.interrupts import InterruptGuard
@@ -53,14 +53,15 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
     """
     spec = config if isinstance(config, EpisodeSpec) else config.spec()
     video, scenario = spec.video, spec.run.scenario
-    layout = layout_of(scenario)
-    world = PhysicalWorld(layout)
+    parts = assemble(spec)  # the world of the scenario's layout, the body, learner, detector
+    world = parts.world
+    if not isinstance(world, PhysicalWorld):
+        raise EpisodeError(f"an episode runs in a physical world, got {type(world).__name__}")
     if video.record:
         from robin_sim.render.renderer import camera_id, check_frame_size
 
         check_frame_size(world.sim.model, video.width, video.height)
         camera_id(world.sim.model, video.camera)
-    parts = assemble(spec, world=world)
     legs_total = scenario.tables * scenario.legs_per_table
     # Ctrl-C / SIGTERM from here on: acted on between ticks
     with InterruptGuard() as guard, ExitStack() as claim:
@@ -90,7 +91,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                             world.sim,
                             view,
                             out / VIDEO_NAME,
-                            layout=layout,
+                            layout=world.layout,
                             width=video.width,
                             height=video.height,
                             fps=video.fps,

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.systems import check_system
 from pil.task.params import SEED
-from pil.task.parts import check_params, resolve_scenario
 from pil.task.scenario import Scenario
-from pil.task.spec import PHYSICAL, RunSpec, spec_of
+from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
@@ -58,6 +58,8 @@ class LiveConfig:
     reflections: bool = False  # the floor's reflection (an extra render pass)
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
+    # set by checked(): the learner side (its scenario loaded once) and what it was built from
+    resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
 
     def checked(self) -> LiveConfig:
         """This config with every value checked (nothing is built or written)."""
@@ -78,7 +80,9 @@ class LiveConfig:
         for name in ("eye_inset", "video", "eye_worker", "reflections", "webcam", "calibrate"):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
-        scenario = self.scenario_of()
+        seed = SEED.parse(self.seed, "seed")
+        spec = self._spec(seed)
+        scenario = spec.scenario
         types = self.handover_types
         if types is not None:
             if isinstance(types, str) or not types:
@@ -95,28 +99,47 @@ class LiveConfig:
             fps=float(fps),
             speed=_number(self.speed, "speed", *SPEEDS),
             feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
-            seed=SEED.parse(self.seed, "seed"),
+            seed=seed,
             out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
             render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            resolved=(self._source(seed), spec),
         )
 
-    def run_spec(self) -> RunSpec:
-        """The session's learner side (of a :meth:`checked` config, not checked again): its
-        system and seed, the block's scenario, the exact detector at rate 1, the parameters'
-        defaults, in the physical world."""
-        defaults = check_params({})  # nothing given: nothing parsed
-        return spec_of(
-            self.system, EXACT_RATE, self.seed, self.scenario_of(), defaults, world=PHYSICAL
+    def _source(self, seed: int) -> tuple[Any, ...]:
+        """What the learner side is built from (a config changed since: built again)."""
+        types = self.handover_types
+        return (self.system, seed, self.scenario, None if types is None else tuple(types))
+
+    def _spec(self, seed: int) -> RunSpec:
+        """The learner side: the one built by :meth:`checked` if it still fits, else built
+        (the scenario file loaded here, once per config)."""
+        if self.resolved is not None and self.resolved[0] == self._source(seed):
+            return self.resolved[1]
+        tables = {"tables": DEFAULT_TABLES} if self.scenario is None else {}
+        spec = build_run_spec(  # the parameters' defaults: nothing given, nothing parsed
+            system=self.system,
+            rate=EXACT_RATE,
+            seed=seed,
+            scenario=self.scenario,
+            values=tables,
+            world=PHYSICAL,
         )
+        types = self.handover_types
+        if types and not isinstance(types, str):
+            sequence = tuple(str(t) for t in types)
+            spec = replace(spec, scenario=replace(spec.scenario, sequence=sequence))
+        return spec
+
+    def run_spec(self) -> RunSpec:
+        """The session's learner side (of a :meth:`checked` config: built there, its scenario
+        loaded once): its system and seed, the block's scenario, the exact detector at rate 1,
+        the parameters' defaults, in the physical world."""
+        return self._spec(self.seed)
 
     def scenario_of(self) -> Scenario:
         """The session's scenario: the block's handover types drawn in the scenario's way."""
-        tables = DEFAULT_TABLES if self.scenario is None else None
-        scenario = resolve_scenario(self.scenario, {"tables": tables})
-        if self.handover_types:
-            scenario = replace(scenario, sequence=tuple(self.handover_types))
-        return scenario
+        return self.run_spec().scenario
 
 
 def _name(value: object, what: str) -> str:
