@@ -117,19 +117,25 @@ class HumanHand:
         return self.follow(waypoints, now)
 
     def withdraw(
-        self, clear_x: float, now: float, raise_by: float = 0.0, speed: float = HAND_SPEED
+        self,
+        clear_x: float,
+        now: float,
+        raise_by: float = 0.0,
+        speed: float = HAND_SPEED,
+        aside: float = 0.0,
     ) -> float:
         """Draw the hand straight back (+x, towards the person) to ``clear_x``, out of the
-        robot's way, then raise it ``raise_by`` m, at ``speed`` (:data:`CARRY_SPEED` with a
-        leg on the palm); returns the duration (0 if it is there already)."""
+        robot's way, then raise it ``raise_by`` m and move it ``aside`` m along y, at
+        ``speed`` (:data:`CARRY_SPEED` with a leg on the palm); returns the duration (0 if it
+        is there already)."""
         here = self.pose()
         if here.translation()[0] >= clear_x - 1e-6:
             return 0.0
         back = here.translation().copy()
         back[0] = clear_x
         waypoints = [mink.SE3.from_rotation_and_translation(here.rotation(), back)]
-        if raise_by > 0.0:
-            up = back + np.array([0.0, 0.0, raise_by])
+        if raise_by > 0.0 or aside != 0.0:
+            up = back + np.array([0.0, aside, raise_by])
             waypoints.append(mink.SE3.from_rotation_and_translation(here.rotation(), up))
         return self.follow(waypoints, now, speed)
 

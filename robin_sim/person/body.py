@@ -16,7 +16,8 @@ the scene, in the order a person does it:
   approval a leg that lies on the palm is carried to the bin beside the table. A thumb at the
   held-out palm is first drawn back and raised into Robin's view, as the pointing hand is:
   there Robin's own hand and the leg it holds over the palm, or a leg lying on the palm, hid
-  it from Robin's eyes (a leg on the palm is carried along, slowly, and stays on it).
+  it from Robin's eyes (a leg on the palm is carried along, slowly, and stays on it); an
+  empty hand also moves aside, clear of Robin's arm reaching to the palm.
 * :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
   robot's reach the robot can pick it up again; anywhere else (the floor, the palm, another leg)
   the person puts it back on the table at its place: a person intervention, the one scene
@@ -53,6 +54,10 @@ SETTLE = 0.1  # s after a hand motion before the next
 # m, Robin's grasp site to the held-out palm centre within which its hand (and a leg it holds
 # there) hides a thumb shown at the palm from its eyes (holding a leg over the palm: 3.5 cm)
 HIDES_PALM = 0.15
+# m along y the drawn-back thumb moves aside, away from Robin's active (left, +y) arm reaching
+# to the palm, which still hid part of a thumb held straight back (boxes 8-10 px, 5 of 60
+# thumbs down discarded); aside, both eyes see it whole (boxes 33 px and more)
+THUMB_ASIDE = -0.15
 
 
 class PhysicalBody:
@@ -104,13 +109,18 @@ class PhysicalBody:
 
         A thumb at the held-out palm that Robin's hand is near, or with a leg lying on the
         palm, is drawn back and raised into Robin's view first (:meth:`thumb_hidden_at_palm`),
-        as the pointing hand is; a leg on the palm is carried along at :data:`CARRY_SPEED`.
+        as the pointing hand is, and moved :data:`THUMB_ASIDE` clear of Robin's arm; a leg on
+        the palm is carried straight back and up at :data:`CARRY_SPEED` (Robin's hand is home
+        then).
         A thumb that already went down (the person stopped a motion or rejected its result,
         which the robot then took back) stays where it is."""
         stopped = self.last_watcher is not None and self.last_watcher.stopped_at is not None
         if feedback is not Feedback.NONE and not stopped and self.thumb_hidden_at_palm():
-            speed = CARRY_SPEED if self.leg_on_palm() is not None else HAND_SPEED
-            self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed))
+            carried = self.leg_on_palm() is not None  # moved along the leg only: it never rolls
+            speed, aside = (CARRY_SPEED, 0.0) if carried else (HAND_SPEED, THUMB_ASIDE)
+            self._move(
+                self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed, aside)
+            )
         self.display.show(feedback)
         self.world.run(FEEDBACK_HOLD)
 
