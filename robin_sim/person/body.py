@@ -55,8 +55,8 @@ SETTLE = 0.1  # s after a hand motion before the next
 # there) hides a thumb shown at the palm from its eyes (holding a leg over the palm: 3.5 cm)
 HIDES_PALM = 0.15
 # m along y the drawn-back thumb moves aside, away from Robin's active (left, +y) arm reaching
-# to the palm, which still hid part of a thumb held straight back (boxes 8-10 px, 5 of 60
-# thumbs down discarded); aside, both eyes see it whole (boxes 33 px and more)
+# to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
+# thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
 THUMB_ASIDE = -0.15
 
 
