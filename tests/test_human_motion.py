@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim.control.human_hand import HAND_SPEED, TIP_ANGLE, HumanHand
+from robin_sim.control.human_hand import HAND_SPEED, SLIDE_IN, TIP_ANGLE, HumanHand
 from robin_sim.control.simulator import HandTargets, Simulator
 from robin_sim.control.trajectory import rotation_angle
 from robin_sim.model import robot_spec as spec
@@ -86,3 +86,24 @@ def test_withdraw_draws_the_hand_straight_back(rig) -> None:
     sim.run(hand.withdraw(0.95, sim.time) + 0.04)
     assert hand.pose().translation() == pytest.approx([0.95, here[1], here[2]], abs=1e-9)
     assert hand.withdraw(0.95, sim.time) == 0.0  # already clear: no motion
+
+
+def test_a_raised_hand_comes_down_on_the_persons_side_before_sliding_under(rig) -> None:
+    """From a thumb shown drawn back and raised, the palm comes down on the person's side
+    first, slides in 4 cm low and rises into place: between the slide-in point and the palm's
+    place it is never higher, so the fingers never sweep down past a leg held over the palm."""
+    sim, hand = rig
+    goal = np.array(SceneLayout().handover)
+    sim.run(hand.hold_out_palm(goal, sim.time) + 0.04)
+    sim.run(hand.withdraw(0.95, sim.time, 0.20) + 0.04)
+    start = hand.pose().translation()
+    positions = _record(sim, hand)
+    sim.run(hand.slide_under(goal, sim.time) + 0.04)
+    under = hand.hand_pose_for_palm(goal).translation()
+    low_z = under[2] - 0.04
+    # above the slide-in height the hand is straight below where it was, or rising into place
+    high = [p for p in positions if p[2] > low_z + 1e-3 and p[0] > under[0] + 1e-3]
+    assert high and all(abs(p[0] - start[0]) < 1e-3 for p in high)
+    assert min(p[2] for p in positions) == pytest.approx(low_z, abs=1e-3)
+    assert max(p[0] for p in positions if p[2] < low_z + 1e-3) >= under[0] + SLIDE_IN - 1e-3
+    assert hand.palm_centre() == pytest.approx(goal, abs=1e-3)

@@ -13,7 +13,14 @@ import pytest
 from robin_sim.vision.build import pending, render_all, train_and_report
 from robin_sim.vision.build_config import MIN_SAMPLES, BuildConfig
 from robin_sim.vision.classifier import CLASSES, GestureModel, ModelFileError, load_shipped
-from robin_sim.vision.dataset import CHUNK, SPLITS, chunk_path, sample_spec
+from robin_sim.vision.dataset import (
+    CHUNK,
+    HANDOVER_HAND,
+    HANDOVER_PALM,
+    SPLITS,
+    chunk_path,
+    sample_spec,
+)
 
 
 def _arrays(model: GestureModel) -> list[np.ndarray]:
@@ -48,38 +55,84 @@ def test_same_seed_rebuilds_the_same_model_and_runs_resume(tmp_path: Path) -> No
     assert not np.array_equal(a.weights[0], c.weights[0])
 
 
-def test_splits_draw_skin_and_light_from_disjoint_ranges() -> None:
+def test_splits_vary_every_factor_across_its_range_and_hold_out_light() -> None:
+    """Training samples span every skin tone, pose jitter up to more than twice the usual and
+    hands held up to 16 cm above their place (the factor bench's levels lie inside), a quarter
+    each above a place, drawn back and raised, at the handover point and in the working box;
+    the held-out split's light is never in the training ranges."""
+    from robin_sim.vision.factors import FACTORS
+
     def inside(value: float, intervals: tuple[tuple[float, float], ...]) -> bool:
         return any(lo <= value <= hi for lo, hi in intervals)
 
+    train = [sample_spec(0, "train", i) for i in range(600)]
+    skin = np.array([s.skin for s in train])
+    jitter = np.array([s.jitter for s in train])
+    lift = np.array([s.lift for s in train])
+    assert skin.min() < 0.05 and skin.max() > 3.95
+    assert np.histogram(skin, bins=4, range=(0, 4))[0].min() > 100  # every tone, evenly
+    assert jitter.min() < 0.05 and jitter.max() > 2.4 and (jitter > 2.0).sum() > 50
+    assert lift.min() < -0.03 and lift.max() > 0.15 and (lift > 0.12).sum() > 50
+    drawn_back = [s for s in train if abs(s.hand[0] - 0.95) < 0.07 and s.hand[2] > 1.0]
+    assert len(drawn_back) > 110  # where Robin reads a pointing in an episode
+    at_palm = [s for s in train if np.linalg.norm(s.hand - HANDOVER_HAND) < 0.08]
+    assert len(at_palm) > 110  # where the palm is held out: give me, release, thumbs
+    labels = {s.label for s in at_palm}
+    assert labels == set(range(len(CLASSES)))  # every class is shown there too
+    ranges = SPLITS["train"]
+    trained = {"skin": ranges.skin, "jitter": (ranges.jitter,), "lift": (ranges.lift,)}
+    for field, levels in FACTORS.values():  # the bench's levels lie in the trained ranges
+        assert all(inside(level, trained[field]) for level in levels), field
     for i in range(200):
         held = sample_spec(0, "heldout", i)
-        assert not inside(held.skin, SPLITS["train"].skin)
         assert not inside(held.lighting, SPLITS["train"].lighting)
-        train = sample_spec(0, "train", i)
-        assert not inside(train.skin, SPLITS["heldout"].skin)
+        assert not inside(held.light_tilt, ((0.0, 0.5 - 1e-9),))
     a, b = sample_spec(0, "train", 7), sample_spec(0, "train", 7)  # same seed, same sample
     assert a.seed == b.seed and np.array_equal(a.hand, b.hand) and a.skin == b.skin
+    assert a.jitter == b.jitter and a.lift == b.lift
     assert [sample_spec(0, "train", i).label for i in range(7)] == list(range(7))
     assert CHUNK > 0
 
 
+def test_the_handover_place_puts_the_palm_where_the_person_holds_it_out() -> None:
+    """The data set's handover hand puts the model's palm site on the scene's handover point,
+    within the person's jitter of where ``PhysicalBody`` holds the palm out for "give me"."""
+    from robin_sim.render.gl_backend import ensure_gl_backend
+
+    ensure_gl_backend()
+    import mujoco
+
+    from robin_sim.model import names
+    from robin_sim.model.scene import DEFAULT_HANDOVER, build_model
+    from robin_sim.person.body import PALM_JITTER
+
+    model = build_model()
+    data = mujoco.MjData(model)
+    mocap = int(model.body_mocapid[model.body(names.HUMAN_MOCAP_BODY).id])
+    data.mocap_pos[mocap] = HANDOVER_HAND
+    mujoco.mj_kinematics(model, data)
+    np.testing.assert_allclose(data.site(names.HUMAN_PALM_SITE).xpos, DEFAULT_HANDOVER, atol=1e-9)
+    np.testing.assert_allclose(HANDOVER_PALM, DEFAULT_HANDOVER)
+    assert PALM_JITTER < 0.02  # the data set's spread (sd 2 cm) covers the person's
+
+
 def test_a_factor_level_fixes_one_field_of_every_sample() -> None:
     """The factor bench's override sets the field; ``lift`` raises the hand where it is held;
-    the splits hold jitter at 1 and lift at 0 (the shipped model's data set)."""
+    the condition sweep holds jitter at 1 and lift at 0."""
     from dataclasses import replace
 
     from robin_sim.vision.factors import FACTORS
 
     for i in range(50):
         spec = sample_spec(0, "heldout", i)
-        assert spec.jitter == 1.0 and spec.lift == 0.0
-        np.testing.assert_array_equal(spec.held_at, spec.hand)
         for field, levels in FACTORS.values():
             fixed = replace(spec, **{field: levels[-1]})
             assert getattr(fixed, field) == levels[-1]
         lifted = replace(spec, lift=0.12)
-        np.testing.assert_allclose(lifted.held_at - spec.hand, [0.0, 0.0, 0.12])
+        np.testing.assert_allclose(lifted.held_at, spec.hand + np.array([0.0, 0.0, 0.12]))
+        swept = sample_spec(0, "sweep", i)
+        assert swept.jitter == 1.0 and swept.lift == 0.0
+        np.testing.assert_array_equal(swept.held_at, swept.hand)
 
 
 def test_train_gestures_rejects_too_few_samples_with_exit_2(tmp_path: Path) -> None:

@@ -13,7 +13,7 @@ from person_steps import intent as _intent
 
 from pil.errors import RobinPilError
 from pil.task.world import Target, World
-from pil.types import Action, Hand
+from pil.types import Action, Gesture, Hand
 from robin_sim.control.trajectory import pose
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.body import PERSON_CLEAR_X
@@ -202,6 +202,9 @@ def test_open_over_the_palm_needs_the_palm_under_the_leg() -> None:
         (Action.HUMAN, GIVE),
     ):
         assert acted.act(action, intent).succeeded
+    assert not world.palm_is_out()  # the thumb up was shown drawn back, out of Robin's way
+    acted.body.perform(Gesture.GIVE_ME, None)  # the palm slides back under the held leg
+    assert world.palm_is_out() and world.held_leg() == 0
     palm = world.human.palm_centre()
     wants_spot = _intent("pointing", "location", Target("spot", 0))  # meant, not yet shown
     for action in (Action.OBJECT, Action.LOCATION):  # stopped moves leave the palm out

@@ -26,6 +26,7 @@ TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
 # A palm held out under the robot's hand first draws back and down, so it never sweeps into a
 # held leg on its way to point somewhere.
 POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m
+SLIDE_IN = 0.2  # m: the palm slides in under a held leg from this far on the person's side
 
 
 class HumanHand:
@@ -102,25 +103,40 @@ class HumanHand:
 
     def slide_under(self, palm_centre: np.ndarray, now: float) -> float:
         """Bring the palm back under something held above ``palm_centre``: in from the
-        person's side 4 cm below, then up into place (never from above)."""
+        person's side 4 cm below, then up into place (never from above). A hand raised on
+        the person's side (a thumb shown drawn back) comes down there first, so its fingers
+        never sweep down past the held leg's end."""
         goal = self.hand_pose_for_palm(palm_centre)
         low = goal.translation() + np.array([0.0, 0.0, -0.04])
-        return self.follow([pose(low + np.array([0.2, 0.0, 0.0])), pose(low), goal], now)
+        entry = low + np.array([SLIDE_IN, 0.0, 0.0])
+        waypoints = [pose(entry), pose(low), goal]
+        here = self.pose().translation()
+        if here[0] >= entry[0] and here[2] > entry[2]:
+            waypoints.insert(0, pose(np.array([here[0], here[1], entry[2]])))
+        return self.follow(waypoints, now)
 
-    def withdraw(self, clear_x: float, now: float, raise_by: float = 0.0) -> float:
+    def withdraw(
+        self,
+        clear_x: float,
+        now: float,
+        raise_by: float = 0.0,
+        speed: float = HAND_SPEED,
+        aside: float = 0.0,
+    ) -> float:
         """Draw the hand straight back (+x, towards the person) to ``clear_x``, out of the
-        robot's way, then raise it ``raise_by`` m; returns the duration (0 if it is there
-        already)."""
+        robot's way, then raise it ``raise_by`` m and move it ``aside`` m along y, at
+        ``speed`` (:data:`CARRY_SPEED` with a leg on the palm); returns the duration (0 if it
+        is there already)."""
         here = self.pose()
         if here.translation()[0] >= clear_x - 1e-6:
             return 0.0
         back = here.translation().copy()
         back[0] = clear_x
         waypoints = [mink.SE3.from_rotation_and_translation(here.rotation(), back)]
-        if raise_by > 0.0:
-            up = back + np.array([0.0, 0.0, raise_by])
+        if raise_by > 0.0 or aside != 0.0:
+            up = back + np.array([0.0, aside, raise_by])
             waypoints.append(mink.SE3.from_rotation_and_translation(here.rotation(), up))
-        return self.follow(waypoints, now)
+        return self.follow(waypoints, now, speed)
 
     def take_away(self, bin_position: np.ndarray, now: float) -> float:
         """Carry what lies on the palm to the bin, tip it in, and go back to rest.

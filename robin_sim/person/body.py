@@ -13,7 +13,11 @@ the scene, in the order a person does it:
 * :meth:`~PhysicalBody.watch` the robot act (:mod:`robin_sim.person.watcher`): recognise an
   unwanted action from the motion and stop it with a thumb down one reaction time later.
 * :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; after an
-  approval a leg that lies on the palm is carried to the bin beside the table.
+  approval a leg that lies on the palm is carried to the bin beside the table. A thumb at the
+  held-out palm is first drawn back and raised into Robin's view, as the pointing hand is:
+  there Robin's own hand and the leg it holds over the palm, or a leg lying on the palm, hid
+  it from Robin's eyes (a leg on the palm is carried along, slowly, and stays on it); an
+  empty hand also moves aside, clear of Robin's arm reaching to the palm.
 * :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
   robot's reach the robot can pick it up again; anywhere else (the floor, the palm, another leg)
   the person puts it back on the table at its place: a person intervention, the one scene
@@ -29,6 +33,7 @@ import numpy as np
 
 from pil.task.world import Intent, Target
 from pil.types import Feedback, Gesture
+from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
@@ -46,6 +51,13 @@ POINT_RAISE = 0.20
 # robot counts as a palm held out there.
 PALM_JITTER = PALM_OUT_RADIUS / 2
 SETTLE = 0.1  # s after a hand motion before the next
+# m, Robin's grasp site to the held-out palm centre within which its hand (and a leg it holds
+# there) hides a thumb shown at the palm from its eyes (holding a leg over the palm: 3.5 cm)
+HIDES_PALM = 0.15
+# m along y the drawn-back thumb moves aside, away from Robin's active (left, +y) arm reaching
+# to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
+# thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
+THUMB_ASIDE = -0.15
 
 
 class PhysicalBody:
@@ -79,12 +91,12 @@ class PhysicalBody:
             self.world.run(GESTURE_HOLD)
             self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
             return
-        if gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
+        if gesture in (Gesture.GIVE_ME, Gesture.RELEASE) and self.leg_held_over_palm_place():
+            self._move(self.hand.slide_under(self.palm_goal, self.world.time))
+        elif gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
             jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)
             self.palm_goal = np.array(self.world.layout.handover) + np.array([*jitter, 0.0])
             self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
-        elif gesture is Gesture.RELEASE and self._leg_held_over_palm_place():
-            self._move(self.hand.slide_under(self.palm_goal, self.world.time))
         self.world.run(GESTURE_HOLD)
 
     def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
@@ -93,9 +105,33 @@ class PhysicalBody:
         return self.last_watcher
 
     def show_feedback(self, feedback: Feedback) -> None:
-        """Show the thumb and hold it (the robot reads it meanwhile)."""
+        """Show the thumb and hold it (the robot reads it meanwhile).
+
+        A thumb at the held-out palm that Robin's hand is near, or with a leg lying on the
+        palm, is drawn back and raised into Robin's view first (:meth:`thumb_hidden_at_palm`),
+        as the pointing hand is, and moved :data:`THUMB_ASIDE` clear of Robin's arm; a leg on
+        the palm is carried straight back and up at :data:`CARRY_SPEED` (Robin's hand is home
+        then).
+        A thumb that already went down (the person stopped a motion or rejected its result,
+        which the robot then took back) stays where it is."""
+        stopped = self.last_watcher is not None and self.last_watcher.stopped_at is not None
+        if feedback is not Feedback.NONE and not stopped and self.thumb_hidden_at_palm():
+            carried = self.leg_on_palm() is not None  # moved along the leg only: it never rolls
+            speed, aside = (CARRY_SPEED, 0.0) if carried else (HAND_SPEED, THUMB_ASIDE)
+            self._move(
+                self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed, aside)
+            )
         self.display.show(feedback)
         self.world.run(FEEDBACK_HOLD)
+
+    def thumb_hidden_at_palm(self) -> bool:
+        """The palm is held out and Robin's hand is near it (within :data:`HIDES_PALM`), or a
+        leg lies on it: there Robin's eyes see its own hand and the legs, not the thumb."""
+        if not self.world.palm_is_out():
+            return False
+        site = self.world.sim.site_pose().translation()
+        near = float(np.linalg.norm(site - self.hand.palm_centre())) <= HIDES_PALM
+        return near or self.leg_on_palm() is not None
 
     def after_feedback(self, feedback: Feedback) -> None:
         """After an approval, carry a leg that lies on the palm to the bin."""
@@ -137,7 +173,7 @@ class PhysicalBody:
                 return leg
         return None
 
-    def _leg_held_over_palm_place(self) -> bool:
+    def leg_held_over_palm_place(self) -> bool:
         """The robot holds a leg above where the palm was held out, and the palm is away."""
         held = self.world.held_leg()
         if held is None or self.world.palm_is_out():

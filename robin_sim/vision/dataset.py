@@ -2,13 +2,15 @@
 
 Sample ``i`` of split ``s`` draws everything from ``default_rng([seed, s, i])`` (so a sample
 never depends on which worker renders it or in which order): its class (cycling through the
-seven), where the hand is (above a leg or a table spot as when pointing, or anywhere the person
-holds it), its performance (pose jitter, hand size, skin tone), the aim's error and the
-condition (light intensity and direction, sensor noise, blur). The *training* split and the
-*held-out* split draw skin tones and light from disjoint ranges (:data:`SPLITS`), so the
-held-out accuracy measures conditions never trained on. ``jitter`` (scale of the pose jitter)
-and ``lift`` (m the hand is held above its place) are drawn too, fixed at 1 and 0 in every
-split today; the factor bench (:mod:`robin_sim.vision.factors`) sets them per level.
+seven), where the hand is (a quarter each: above a leg or a table spot as when pointing, drawn
+back and raised there as the person holds a pointing up to be read, at the handover point where
+the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
+in the person's working box) and how much higher (``lift``), its performance (pose jitter
+scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
+intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
+heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws
+light from ranges the *training* split never has, so the held-out accuracy measures light never
+trained on.
 
 A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels,
 per-sample conditions and the seed it was drawn from; finished chunks are kept, so an
@@ -50,21 +52,25 @@ class Ranges:
     light_tilt: tuple[tuple[float, float], ...]
     camera_noise: tuple[float, float] = (0.0, 10.0)
     blur: tuple[float, float] = (0.0, 0.8)
-    jitter: tuple[float, float] = (1.0, 1.0)  # scale of the performance's pose jitter
-    lift: tuple[float, float] = (0.0, 0.0)  # m the hand is held higher than its place
+    jitter: tuple[float, float] = (0.0, 2.5)  # scale of the performance's pose jitter
+    lift: tuple[float, float] = (-0.04, 0.16)  # m the hand is held higher than its place
 
 
 WHOLE_SKIN = ((0.0, 4.0),)  # every tone of the five-tone scale (hand_poses.SKIN_TONES)
 SPLITS: dict[str, Ranges] = {
-    "train": Ranges(
-        skin=((0.0, 1.3), (2.7, 4.0)), lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)
-    ),
+    "train": Ranges(skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)),
     "heldout": Ranges(
-        skin=((1.5, 2.5),), lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
+        skin=WHOLE_SKIN, lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
     ),
     # the condition sweep (robin_sim.vision.conditions): every skin tone, the light and noise
-    # set per condition
-    "sweep": Ranges(skin=WHOLE_SKIN, lighting=((1.0, 1.0),), light_tilt=((0.0, 0.5),)),
+    # set per condition, the usual pose jitter, the hand at its place
+    "sweep": Ranges(
+        skin=WHOLE_SKIN,
+        lighting=((1.0, 1.0),),
+        light_tilt=((0.0, 0.5),),
+        jitter=(1.0, 1.0),
+        lift=(0.0, 0.0),
+    ),
 }
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
 # Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
@@ -73,7 +79,15 @@ PLACES = np.array(
     [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
     + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
 )
-BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.08]))  # m, x y z
+# the pointing hand drawn back and raised (robin_sim.person.body: PERSON_CLEAR_X, POINT_RAISE)
+DRAWN_BACK_X, DRAWN_BACK_RAISE = 0.95, 0.20
+# The hand (mocap position) with its palm held out at the handover point: the scene's
+# DEFAULT_HANDOVER (palm surface centre) less the palm site's offset in the hand frame
+# (models/scene.xml, human_palm_site); tests/test_vision_train.py checks both against the model.
+HANDOVER_PALM = np.array([0.60, 0.0, robot_spec.HANDOVER_HEIGHT])
+PALM_SITE = np.array([-0.03, 0.0, 0.012])
+HANDOVER_HAND = HANDOVER_PALM - PALM_SITE
+BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.12]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 
 
@@ -112,8 +126,15 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     """Sample ``index`` of ``split``."""
     rng = np.random.default_rng([seed, SPLIT_IDS[split], index])
     ranges = SPLITS[split]
-    if rng.random() < 0.5:
+    where = rng.random()
+    if where < 1 / 4:  # above a place, as while pointing
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
+    elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
+        place = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET
+        back = np.array([DRAWN_BACK_X, place[1], place[2] + DRAWN_BACK_RAISE])
+        hand = back + rng.normal(0, 0.02, 3)
+    elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
+        hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
     else:
         hand = rng.uniform(*BOX)
     return SampleSpec(

@@ -42,7 +42,8 @@ def palm_readings(
         for state in arm_states(world, body):
             if state not in states:
                 continue
-            palm_was_out = world.palm_is_out()
+            # the palm stays under a leg held over it (the way to rest would sweep into it)
+            palm_was_out = world.palm_is_out() or body.leg_held_over_palm_place()
             body.perform(Gesture.GIVE_ME, None)
             reads[state] = []
             for _ in range(tries):

@@ -1,0 +1,80 @@
+"""The thumb at the handover point must be seen: after Robin brought a leg over the palm, and
+with the delivered leg lying on it, the person draws the hand back and up into Robin's view
+before showing the thumb, and Robin reads it with its eye cameras.
+
+Real MuJoCo physics (the arm brought to its states by real actions), EGL renders of the eye
+cameras, the installed gesture model.
+"""
+
+from __future__ import annotations
+
+from robin_sim.render.gl_backend import ensure_gl_backend
+
+ensure_gl_backend()  # before mujoco is imported
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from pil.task.world import Target  # noqa: E402
+from pil.types import Action, Feedback, Gesture  # noqa: E402
+from robin_sim.person.body import PERSON_CLEAR_X, POINT_RAISE, THUMB_ASIDE, PhysicalBody  # noqa: E402
+from robin_sim.robot.world import PhysicalWorld  # noqa: E402
+from robin_sim.vision.arm_states import PALM_LEG, _act  # noqa: E402
+from robin_sim.vision.detector import VisionDetector  # noqa: E402
+
+TRIES = 6  # readings of each thumb, a new performance each time
+RIGHT = 5  # of the 6 at least (docs/vision.md: measured 6/6 each; at the palm 1/6 up, 2/6 down)
+TOLERANCE = 0.01  # m: the hand drawn back and raised as meant; the held leg where it was
+SHOWN = {Feedback.OK: "thumb_up", Feedback.NOT_OK: "thumb_down"}
+
+
+def _read(detector: VisionDetector, feedback: Feedback) -> int:
+    """How many of :data:`TRIES` readings of ``feedback`` are right."""
+    for _ in range(TRIES):
+        detector.read_feedback(feedback)
+    return sum(r.read == SHOWN[feedback] for r in detector.records[-TRIES:])
+
+
+@pytest.mark.slow
+def test_a_thumb_at_the_palm_is_shown_in_robins_view_and_read() -> None:
+    """After ``human`` (Robin's hand and the held leg just above the palm) a thumb up and a
+    thumb down are each shown drawn back, raised and aside, clear of the held leg and of
+    Robin's arm, and read right;
+    after the open over the palm the leg is carried along on the palm, the thumb up is read,
+    and the leg then goes to the bin. No person contact throughout."""
+    world = PhysicalWorld()
+    body = PhysicalBody(world)
+    detector = VisionDetector(world.sim, display=body.display, seed=0)
+    try:
+        world.start_table(0)
+        _act(world, body, Gesture.POINTING, Action.OBJECT, Target("leg", PALM_LEG))
+        _act(world, body, Gesture.GRASP, Action.CLOSE)
+        for i, feedback in enumerate((Feedback.OK, Feedback.NOT_OK)):
+            body.perform(Gesture.GIVE_ME, None)  # the second time: slid back under the leg
+            if i == 0:
+                assert world.execute(Action.HUMAN, None).succeeded
+            assert world.palm_is_out() and body.thumb_hidden_at_palm()
+            held = world.leg_position(PALM_LEG)
+            out = body.hand.pose().translation()
+            body.show_feedback(feedback)
+            here = body.hand.pose().translation()  # drawn back and raised into view
+            assert here[0] == pytest.approx(PERSON_CLEAR_X, abs=TOLERANCE), here
+            aside = out + np.array([0.0, THUMB_ASIDE, POINT_RAISE])
+            assert here[1:] == pytest.approx(aside[1:], abs=TOLERANCE), here
+            assert world.held_leg() == PALM_LEG
+            assert np.linalg.norm(world.leg_position(PALM_LEG) - held) < TOLERANCE
+            right = _read(detector, feedback)
+            assert right >= RIGHT, f"{feedback.value} after human: {right}/{TRIES} read right"
+        body.perform(Gesture.RELEASE, None)  # slid under the held leg
+        assert world.execute(Action.OPEN, None).succeeded
+        assert body.leg_on_palm() == PALM_LEG and body.thumb_hidden_at_palm()
+        body.show_feedback(Feedback.OK)
+        assert body.leg_on_palm() == PALM_LEG, "the leg fell off the palm carried back"
+        assert not body.thumb_hidden_at_palm()
+        right = _read(detector, Feedback.OK)
+        assert right >= RIGHT, f"ok with the leg on the palm: {right}/{TRIES} read right"
+        body.after_feedback(Feedback.OK)
+        assert PALM_LEG in world.delivered and body.leg_on_palm() is None
+        assert world.person_contacts.events == 0
+    finally:
+        detector.close()
