@@ -21,9 +21,7 @@ from typing import Any
 
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
-from pil.experiments.systems import check_system
 from pil.task.assemble import assemble, pretraining
-from pil.task.params import RATE
 from pil.task.person import ScriptStep, plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, build_type
 from pil.task.spec import RunSpec, parse_run_spec
@@ -166,11 +164,10 @@ def run_adaptation_study(
     params: Mapping[str, Any] | None = None,
     progress: Any = None,
 ) -> list[dict[str, Any]]:
-    """Every system at every rate, ``reps`` paired runs each (common random numbers)."""
-    base = parse_run_spec(scenario=change.scenario, params=params)  # parsed once, here
-    for system in systems:
-        check_system(system)
-    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
+    """Every system at every rate, ``reps`` paired runs each (common random numbers).
+    ``systems`` and ``rates`` are taken as checked by the edge (``robin-pil adapt``'s
+    ``run_options``); the scenario and ``params`` are parsed here, once."""
+    base = parse_run_spec(scenario=change.scenario, params=params)
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         cache: dict[Any, Any] = {}

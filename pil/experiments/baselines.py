@@ -16,7 +16,7 @@ import csv
 import io
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -68,15 +68,21 @@ class BaselineConfig:
     tuning_reps: int = 10
     seed: int = 0
     params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}
+    # the names of the values in messages (e.g. {"reps": "--reps"} from the command line)
+    labels: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
-        rates = tuple(RATE.parse(r, "detection rate") for r in self.rates)
+        """The edge: rates, repetitions and seed, given as numbers or text, parsed once here."""
+        label = self.labels.get
+        rates = tuple(RATE.parse(r, label("rate", "detection rate")) for r in self.rates)
         if len(set(rates)) != len(rates) or not rates:
-            raise RobinPilError(f"give each rate once (at least one), got {self.rates!r}")
+            where = label("rates", "rates")
+            raise RobinPilError(f"{where}: give each rate once (at least one), got {self.rates!r}")
         object.__setattr__(self, "rates", rates)
-        REPS.parse(self.reps, "reps")
-        REPS.parse(self.tuning_reps, "tuning reps")
-        SEED.parse(self.seed, "seed")
+        object.__setattr__(self, "reps", REPS.parse(self.reps, label("reps", "reps")))
+        tuning = REPS.parse(self.tuning_reps, label("tuning_reps", "tuning reps"))
+        object.__setattr__(self, "tuning_reps", tuning)
+        object.__setattr__(self, "seed", SEED.parse(self.seed, label("seed", "seed")))
         for name in self.params or {}:
             if name in _TUNED:
                 raise RobinPilError(

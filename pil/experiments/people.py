@@ -21,13 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from pil.errors import RobinPilError
 from pil.experiments.adaptation import remap
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
-from pil.experiments.systems import SYSTEM_SPECS, check_system
 from pil.task.assemble import assemble_phase
-from pil.task.params import RATE
 from pil.task.person import plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
 from pil.task.seeds import sub_seeds
@@ -119,13 +116,10 @@ def run_people_study(
     seed: int = 0,
     progress: Any = None,
 ) -> list[dict[str, Any]]:
-    """Both modes for every system, rate and repetition (same handover order per seed)."""
-    base = parse_run_spec(scenario=people.scenario)  # parsed once, here
-    for system in systems:
-        spec = SYSTEM_SPECS[check_system(system)]
-        if spec.agent != "pil" or spec.trained_at is not None:
-            raise RobinPilError(f"the people study runs PIL learners; {system!r} is not one")
-    rates = [RATE.parse(rate, "detection rate") for rate in rates]  # once, before any run
+    """Both modes for every system, rate and repetition (same handover order per seed).
+    ``systems`` (PIL learners from scratch) and ``rates`` are taken as checked by the edge
+    (``robin-pil people``'s ``run_options``); the scenario is parsed here, once."""
+    base = parse_run_spec(scenario=people.scenario)
     rows = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
         for rate in rates:

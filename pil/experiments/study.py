@@ -49,6 +49,7 @@ from pil.experiments.systems import (
     check_system,
     spec_row,
 )
+from pil.task.detector import MEASURED_PREFIX, load_measured
 from pil.task.params import RATE
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
@@ -61,7 +62,9 @@ METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
 class StudyConfig:
     """What to run; the defaults are the paper's setup."""
 
-    rates: tuple[float, ...] = PAPER_RATES  # given as numbers or text: parsed here, once
+    # given as numbers or text: parsed here, once; DETECTOR_RATES (none given): the
+    # detector's own (a measured file's measured rate, else the paper's rates)
+    rates: tuple[float, ...] = PAPER_RATES
     reps: int = PAPER_REPS
     seed: int = 0
     systems: tuple[str, ...] = PAPER_SYSTEMS
@@ -72,11 +75,13 @@ class StudyConfig:
     base: RunSpec = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        rates = tuple(RATE.parse(r, self.labels.get("rate", "detection rate")) for r in self.rates)
-        object.__setattr__(self, "rates", rates)
-        repeated = sorted({r for r in self.rates if self.rates.count(r) > 1})
-        if repeated:
-            raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")
+        if self.rates:
+            label = self.labels.get("rate", "detection rate")
+            rates = tuple(RATE.parse(r, label) for r in self.rates)
+            object.__setattr__(self, "rates", rates)
+            repeated = sorted({r for r in rates if rates.count(r) > 1})
+            if repeated:
+                raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")
         seed = self.seed
         if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
             raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
@@ -89,10 +94,23 @@ class StudyConfig:
             raise RobinPilError(f"reps must be a whole number >= 1, got {self.reps!r}")
         base = parse_run_spec(scenario=self.scenario, params=self.params, labels=self.labels)
         object.__setattr__(self, "base", base)
+        if not self.rates:
+            object.__setattr__(self, "rates", detector_rates(base.detector.model))
 
     def runs(self) -> int:
         """How many runs the study makes."""
         return len(self.rates) * self.reps * len(self.systems)
+
+
+DETECTOR_RATES: tuple[float, ...] = ()  # a study's rates: the detector's own
+
+
+def detector_rates(model: str) -> tuple[float, ...]:
+    """The rates a detection model runs at by default: a measured file's measured rate (the
+    file as read when its name was parsed), else the paper's rates."""
+    if model.startswith(MEASURED_PREFIX):
+        return (round(load_measured(model[len(MEASURED_PREFIX) :]).rate, 4),)
+    return PAPER_RATES
 
 
 def rep_seeds(seed: int, reps: int) -> list[int]:

@@ -20,6 +20,7 @@ The detector owns its seeded RNG, so its draws do not depend on anything else in
 
 from __future__ import annotations
 
+import functools
 import random
 from collections.abc import Sequence
 from typing import Protocol
@@ -198,7 +199,27 @@ MAX_MEASURED_BYTES = 1_000_000  # a measured error model is a few hundred bytes
 
 
 def load_measured(path: str) -> MeasuredErrors:
-    """Read a measured error model file; any problem raises one :class:`DetectorError`."""
+    """A measured error model file, read and checked once (by the parameter's parse, at the
+    edge): the model of an unchanged file is reused (the study's runs, its measured rate).
+    Any problem raises one :class:`DetectorError`."""
+    import os
+
+    try:
+        stat = os.stat(path)
+    except (OSError, ValueError):
+        return read_measured(path)  # the file's problem, said once by its reader
+    return _read_unchanged(str(path), stat.st_mtime_ns, stat.st_size, stat.st_ino)
+
+
+@functools.lru_cache(maxsize=16)
+def _read_unchanged(path: str, mtime_ns: int, size: int, inode: int) -> MeasuredErrors:
+    """:func:`read_measured` of ``path`` as it is now (its size and times as given)."""
+    return read_measured(path)
+
+
+def read_measured(path: str) -> MeasuredErrors:
+    """Read and check a measured error model file; any problem raises one
+    :class:`DetectorError`."""
     import json
     from pathlib import Path
 

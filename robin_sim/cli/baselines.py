@@ -10,7 +10,7 @@ import argparse
 from pathlib import Path
 
 from pil.experiments.paper import rates_text
-from robin_sim.cli.options import parse_rates, progress_bar
+from robin_sim.cli.options import RATES_LABEL, progress_bar
 
 DEFAULT_OUT = Path("out/baselines")
 
@@ -45,15 +45,23 @@ def run(args: argparse.Namespace) -> int:
     """Tune, run the table and write it; bad input raises a RobinPilError (exit code 2)."""
     from pil.experiments.baselines import BaselineConfig, run_baselines, write_outputs
     from pil.outdir import check_out_dir
-    from pil.task.params import ASSEMBLY, REPS, SEED
+    from pil.task.params import ASSEMBLY
 
     tables = ASSEMBLY["tables"].parse(args.tables, "--tables")
+    # as given: parsed once, by the config (the edge)
     config = BaselineConfig(
-        rates=parse_rates(args.rates),
-        reps=REPS.parse(args.reps, "--reps"),
-        tuning_reps=REPS.parse(args.tuning_reps, "--tuning-reps"),
-        seed=SEED.parse(args.seed, "--seed"),
+        rates=tuple(args.rates.split(",")),
+        reps=args.reps,
+        tuning_reps=args.tuning_reps,
+        seed=args.seed,
         params={} if tables is None else {"tables": tables},
+        labels={
+            "rate": RATES_LABEL,
+            "rates": "--rates",
+            "reps": "--reps",
+            "tuning_reps": "--tuning-reps",
+            "seed": "--seed",
+        },
     )
     check_out_dir(args.out)  # before the computation, not after it
     with progress_bar(config.runs(), "baselines", args) as bar:

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
-from pil.experiments.paper import PAPER_REPS, rates_text
+from pil.experiments.paper import PAPER_REPS
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
 from robin_sim.cli.options import RATES_LABEL, add_progress_switch, parse_systems, systems_help
@@ -23,27 +23,18 @@ from robin_sim.cli.options import RATES_LABEL, add_progress_switch, parse_system
 DEFAULT_OUT = Path("out/study")
 
 
-def _study_rates(text: str | None, detector: str) -> tuple[Any, ...]:
-    """The rates to run: ``--rates``, or for a measured detector its file's measured rate."""
-    from pil.task.detector import CAMERAS, MEASURED_PREFIX, MODELS, NO_CAMERAS, load_measured
+def _refuse_rates_of_measured(config: Any, given: str | None) -> None:
+    """``--rates`` with ``--detector measured:FILE``: refused, the file sets the rate (the
+    detector as the config parsed it, once; its file as then read)."""
+    from pil.task.detector import MEASURED_PREFIX, load_measured
 
-    if detector.startswith(MEASURED_PREFIX):
-        errors = load_measured(detector[len(MEASURED_PREFIX) :])  # fails here, before any run
-        if text is not None:
-            raise RobinPilError(
-                f"--rates cannot be combined with --detector {detector}: the file sets the "
-                f"detection rate (measured d = {errors.rate:.3f}); drop --rates"
-            )
-        return (round(errors.rate, 4),)
-    if detector == CAMERAS:
-        raise RobinPilError(f"--detector {CAMERAS}: {NO_CAMERAS}")
-    if detector not in MODELS:
+    model = config.base.detector.model
+    if given is not None and model.startswith(MEASURED_PREFIX):
+        errors = load_measured(model[len(MEASURED_PREFIX) :])
         raise RobinPilError(
-            f"--detector: unknown detection model {detector!r}; choose exact, independent "
-            "or measured:FILE"
+            f"--rates cannot be combined with --detector {model}: the file sets the "
+            f"detection rate (measured d = {errors.rate:.3f}); drop --rates"
         )
-    # as given: parsed once, by the study's config (the RATE spec)
-    return tuple((rates_text() if text is None else text).split(","))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -119,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
-    from pil.experiments.study import StudyConfig, run_study, write_outputs
+    from pil.experiments.study import DETECTOR_RATES, StudyConfig, run_study, write_outputs
     from pil.experiments.systems import PAPER_SYSTEMS
     from pil.outdir import claimed_out_dir
     from pil.task.params import REPS, SEED
@@ -134,13 +125,21 @@ def run(args: argparse.Namespace) -> int:
     systems = PAPER_SYSTEMS if args.systems is None else parse_systems(args.systems)
     config = StudyConfig(
         systems=systems,
-        rates=_study_rates(args.rates, args.detector),
+        # as given: parsed once, by the study's config (the RATE spec; none given: the
+        # paper's rates, or a measured detector's own)
+        rates=DETECTOR_RATES if args.rates is None else tuple(args.rates.split(",")),
         reps=REPS.parse(args.reps, "--reps"),
         seed=SEED.parse(args.seed, "--seed"),
         scenario=args.scenario,  # a bad file: refused now, by the config (parsed once)
         params=params,
-        labels={"tables": "--tables", "scenario": "--scenario", "rate": RATES_LABEL},
+        labels={
+            "tables": "--tables",
+            "scenario": "--scenario",
+            "rate": RATES_LABEL,
+            "detector": "--detector",
+        },
     )
+    _refuse_rates_of_measured(config, args.rates)
     count = _seed_count(args.seeds)
     # before the computation; the folder stays locked until the files are written
     with claimed_out_dir(args.out):
