@@ -295,3 +295,64 @@ def test_the_public_api_imports_lazily() -> None:
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "PhysicalWorld"
+
+
+@pytest.mark.parametrize(
+    ("command", "extra"),
+    [
+        ("adapt", ["--systems", "pil"]),
+        ("transfer", ["--systems", "pil"]),
+        ("people", ["--systems", "pil"]),
+        ("baselines", ["--tuning-reps", "1", "--tables", "1"]),
+    ],
+)
+def test_a_studys_rates_are_checked_once_by_its_command_line(
+    parse_calls: Counter[str], tmp_path: Path, command: str, extra: list[str]
+) -> None:
+    """``--rates`` of adapt, transfer, people and baselines: each rate checked once, at the
+    command line (run_options, or baselines' BaselineConfig); the study functions take the
+    typed rates and systems as given."""
+    from robin_sim.cli.main import main
+
+    argv = [command, "--rates", "0.8,1.0", "--reps", "1", *extra, "--no-progress"]
+    assert main([*argv, "--out", str(tmp_path / command)]) == 0
+    assert parse_calls["rate"] == 2, parse_calls
+    assert parse_calls["system"] == 0, parse_calls  # checked against the command's systems
+
+
+def test_the_studys_detector_and_its_file_are_checked_once(
+    parse_calls: Counter[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``robin-pil study --detector measured:FILE``: the detector is checked once, by the
+    study's config (the registry), and the file read and checked once (its rate and every
+    run's detector reuse it); the command line checks neither."""
+    import shutil
+
+    from pil.task import detector
+    from robin_sim.cli.main import main
+
+    measured = tmp_path / "measured.json"  # a file of its own: read fresh by this test
+    shutil.copy(ROOT / "robin_sim" / "vision" / "data" / "measured.json", measured)
+    reads: list[str] = []
+    real = detector.read_measured
+
+    def counted(path: str) -> detector.MeasuredErrors:
+        reads.append(path)
+        return real(path)
+
+    monkeypatch.setattr(detector, "read_measured", counted)
+    argv = ["study", "--detector", f"measured:{measured}", "--systems", "pil,c3", "--reps", "2"]
+    assert main([*argv, "--tables", "1", "--no-progress", "--out", str(tmp_path / "s")]) == 0
+    assert parse_calls["detector"] == 1 and parse_calls["rate"] == 0, parse_calls
+    assert reads == [str(measured)], reads
+    rows = (tmp_path / "s" / "runs.csv").read_text().splitlines()
+    assert len(rows) == 1 + 2 * 2 and all(",0.8613," in row for row in rows[1:]), rows[:2]
+
+
+def test_the_parts_below_the_edge_check_nothing() -> None:
+    """The person's reaction time takes the values the registry checked (reaction_time,
+    reaction_spread in PARAMS): it has no check of its own."""
+    from pil.task.watching import ReactionTime
+
+    assert "__post_init__" not in vars(ReactionTime)
+    assert PARAMS["reaction_time"].high == 10.0 and PARAMS["reaction_spread"].low == 0.0

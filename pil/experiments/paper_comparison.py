@@ -16,7 +16,7 @@ from typing import Any
 from pil.experiments.paper import PAPER_RATES, PAPER_TRAINING
 from pil.experiments.report import Row, markdown_table, mean_sd, number
 from pil.exploration import RULES
-from pil.task.scenario import Scenario
+from pil.task.spec import RunSpec
 
 Figures = dict[float, dict[str, float]]
 
@@ -59,21 +59,21 @@ def training_figures(rows: Sequence[Row]) -> Figures:
 
 
 def rule_training(
-    scenario: Scenario, rates: Sequence[float], seeds: Sequence[int], values: Mapping[str, Any]
+    base: RunSpec, rates: Sequence[float], seeds: Sequence[int]
 ) -> dict[str, Figures]:
-    """The training figures of every exploration rule, at ``rates``, one run per seed."""
-    from pil.experiments.systems import pretrain
-    from pil.task.parts import derive_seeds
+    """The training figures of every exploration rule, at ``rates``, one run per seed:
+    ``base``'s training run (a PIL run with correction on the training tables), each rule
+    applied as a typed value (nothing parsed again)."""
+    from pil.task.assemble import assemble_phase
 
     out: dict[str, Figures] = {}
     for rule in RULES:
         runs: dict[tuple[float, str], tuple[float, float]] = {}
-        params = {**values, "exploration": rule}
+        spec = base.changed({"exploration": rule})
         for rep, seed in enumerate(seeds):
-            sub = derive_seeds(seed)
             cache: dict[Any, Any] = {}
             for rate in rates:
-                stats = pretrain(scenario, rate, sub, params, cache).stats
+                stats = assemble_phase(spec.for_run("pil", rate, seed), "train", cache=cache).run()
                 runs[(rate, str(rep))] = (stats.gestures, stats.actions)
         out[rule] = _figures(runs)
     return out

@@ -152,7 +152,7 @@ def training_by_rule(config: StudyConfig) -> dict[str, Figures]:
     """The training figures of every exploration rule at the study's rates (same seeds)."""
     base = config.base
     rates = sorted({*config.rates, 1.0})
-    return rule_training(base.scenario, rates, rep_seeds(config.seed, config.reps), base.values())
+    return rule_training(base, rates, rep_seeds(config.seed, config.reps))
 
 
 def claim_config(config: StudyConfig) -> StudyConfig | None:

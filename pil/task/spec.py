@@ -22,7 +22,7 @@ from pil.task.detector import CAMERAS, MODELS
 from pil.task.params import ASSEMBLY, PARAMS, RATE, SCENARIO, SEED, ParamSpec, parse_all
 from pil.task.scenario import Scenario, load_scenario
 from pil.task.seeds import RunSeeds, sub_seeds
-from pil.task.systems import SYSTEM_SPECS, SystemSpec, check_system
+from pil.task.systems import DEFAULT_SYSTEM, SYSTEM_SPECS, SystemSpec, check_system
 
 SYMBOLIC, PHYSICAL = "symbolic", "physical"
 WORLDS: tuple[str, ...] = (SYMBOLIC, PHYSICAL)  # the instant world, or MuJoCo (robin_sim)
@@ -155,9 +155,9 @@ class RunSpec:
 
 def parse_run_spec(
     *,
-    system: str = "pil",
-    rate: Any = RATE.default,
-    seed: Any = SEED.default,
+    system: str | None = None,
+    rate: Any = None,
+    seed: Any = None,
     scenario: Scenario | str | Path | None = None,
     params: Mapping[str, Any] | None = None,
     world: str = SYMBOLIC,
@@ -167,12 +167,15 @@ def parse_run_spec(
 
     ``params`` are any of :data:`pil.task.params.PARAMS` (assembly ones change the scenario);
     an unknown name raises listing the valid ones. ``labels`` name values in messages (e.g.
-    ``{"rate": "--rate"}``).
+    ``{"rate": "--rate"}``). ``system``, ``rate`` and ``seed`` not given (None) are the
+    defaults (pil, the registry's rate and seed), typed constants not checked (a study's base
+    spec, whose runs set them with :meth:`RunSpec.for_run`).
     """
     label = dict(labels or {})
     if world not in WORLDS:
         raise InvalidChoiceError("world", world, WORLDS)
-    check_system(system)
+    if system is not None:
+        check_system(system)
     specs = {**PARAMS, "detector": DETECTOR_SPECS[world]}
     given = dict(params or {})
     for name in given:
@@ -182,9 +185,11 @@ def parse_run_spec(
     if isinstance(scenario, str):
         scenario = SCENARIO.parse(scenario, label.get("scenario", "scenario"))
     return build_run_spec(
-        system=system,
-        rate=RATE.parse(rate, label.get("rate", "detection rate")),
-        seed=SEED.parse(seed, label.get("seed", "seed")),
+        system=DEFAULT_SYSTEM if system is None else system,
+        rate=RATE.default
+        if rate is None
+        else RATE.parse(rate, label.get("rate", "detection rate")),
+        seed=SEED.default if seed is None else SEED.parse(seed, label.get("seed", "seed")),
         scenario=scenario,
         values=values,
         world=world,

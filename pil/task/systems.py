@@ -32,6 +32,8 @@ class SystemSpec:
     params: Mapping[str, Any] = field(default_factory=dict)  # parameters it overrides
 
 
+DEFAULT_SYSTEM = "pil"  # a run spec's system unless one is named
+
 SYSTEM_SPECS: dict[str, SystemSpec] = {
     "pil": SystemSpec("PIL from scratch, with correction"),
     "c1": SystemSpec("pre-trained at d, with correction", "d"),
