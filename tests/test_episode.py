@@ -15,10 +15,10 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from pil.experiments.systems import test_parts as learner_parts  # noqa: E402
-from pil.task.parts import check_params, resolve_scenario  # noqa: E402
+from pil.task.assemble import assemble  # noqa: E402
 from pil.task.runner import steps  # noqa: E402
 from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
+from pil.task.spec import parse_run_spec  # noqa: E402
 from pil.task.world import SymbolicWorld  # noqa: E402
 from robin_sim.episode.log import read_step_log  # noqa: E402
 from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
@@ -39,9 +39,15 @@ DECISION_KEYS = (
 
 
 def _learner_only(config: EpisodeConfig) -> list[dict]:
-    values = check_params({**config.params, "tables": config.tables})
-    scenario = resolve_scenario(config.scenario, values)
-    parts = learner_parts(config.system, config.rate, config.seed, scenario, values)
+    params = {**config.params, "tables": config.tables}
+    spec = parse_run_spec(
+        system=config.system,
+        rate=config.rate,
+        seed=config.seed,
+        scenario=config.scenario,
+        params=params,
+    )
+    parts = assemble(spec)
     records = steps(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
     return [record.to_dict() for record in records]
 

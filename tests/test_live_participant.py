@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import pytest
 
-from pil.experiments.systems import test_parts as learner_parts
-from pil.task.parts import check_params, resolve_scenario
+from pil.task.assemble import assemble
 from pil.task.records import StepRecord
 from pil.task.runner import steps
+from pil.task.spec import parse_run_spec
 from pil.task.world import SymbolicWorld
 from pil.types import Feedback
 from robin_sim.live.participant import Gesturing, LiveParticipant
@@ -66,10 +66,10 @@ class ActsAtOnce:
 
 @pytest.mark.slow
 def test_live_decisions_equal_the_studys_with_the_proactive_robot() -> None:
-    values = check_params({"tables": 1})
-    scenario = resolve_scenario(None, values)
     seed = 1  # the proactive robot anticipates in this one table (test_proactive_episode)
-    study = learner_parts("proactive", 1.0, seed, scenario, values)
+    spec = parse_run_spec(system="proactive", rate=1.0, seed=seed, params={"tables": 1})
+    scenario = spec.scenario
+    study = assemble(spec)
     expected = [
         r.to_dict()
         for r in steps(
@@ -79,7 +79,7 @@ def test_live_decisions_equal_the_studys_with_the_proactive_robot() -> None:
     assert any(e["proactive"] for e in expected)
     world = PhysicalWorld()
     body = PhysicalBody(world, seed=seed)
-    parts = learner_parts("proactive", 1.0, seed, scenario, values, body=body)
+    parts = assemble(spec, body=body)
     script = parts.person.script
     types = [scenario.type_named(s.handover_type) for s in script if s.step == 0]
 

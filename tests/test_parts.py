@@ -1,4 +1,5 @@
-"""build_parts: one run's learner, person and detector from a seed, shared with episodes."""
+"""assemble(parse_run_spec(...)): one run's learner, person and detector from a seed, shared with
+episodes."""
 
 from __future__ import annotations
 
@@ -8,9 +9,11 @@ import pytest
 
 from pil.errors import InvalidChoiceError
 from pil.experiments.systems import run_one
-from pil.task.parts import DEFAULT_VALUES, SEED_NAMES, build_parts, derive_seeds, phase_script
+from pil.task.assemble import assemble
+from pil.task.parts import DEFAULT_VALUES, SEED_NAMES, derive_seeds, phase_script
 from pil.task.runner import run, steps
 from pil.task.scenario import load_scenario
+from pil.task.spec import parse_run_spec
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action
 
@@ -26,17 +29,15 @@ class MeasuringWorld(SymbolicWorld):
 
 
 def test_parts_reproduce_run_one() -> None:
-    scenario = load_scenario().with_changes(tables=2)
-    parts = build_parts(scenario, 0.6, seed=4)
+    parts = assemble(parse_run_spec(rate=0.6, seed=4, params={"tables": 2}))
     stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
     row = run_one("pil", 0.6, 4, tables=2)
     assert (stats.gestures, stats.actions, stats.legs) == (row["gestures"], row["actions"], 8)
 
 
 def test_same_seed_same_decisions_in_another_world() -> None:
-    scenario = load_scenario().with_changes(tables=1)
-    first = build_parts(scenario, 0.6, seed=8)
-    second = build_parts(scenario, 0.6, seed=8)
+    spec = parse_run_spec(rate=0.6, seed=8, params={"tables": 1})
+    first, second = assemble(spec), assemble(spec)
     symbolic = list(
         steps(first.learner, first.person, first.detector, SymbolicWorld(), **first.options)
     )
@@ -58,15 +59,17 @@ def test_seeds_and_scripts() -> None:
     with pytest.raises(InvalidChoiceError, match="'train', 'test'"):
         phase_script(scenario, "warmup", seeds)
     with pytest.raises(InvalidChoiceError, match="unknown parameter 'discrad'"):
-        build_parts(scenario, 0.5, 1, discrad=0.2)
+        parse_run_spec(rate=0.5, seed=1, params={"discrad": 0.2})
     assert DEFAULT_VALUES["discard"] == 0.5 and DEFAULT_VALUES["repeat_discarded"] is True
 
 
 def test_parameter_values_from_text_are_converted() -> None:
     from pil.errors import RobinPilError
-    from pil.task.parts import check_params
 
-    values = check_params(
+    def checked(params: dict) -> dict:
+        return parse_run_spec(params=params).values()
+
+    values = checked(
         {"discard": "0.3", "repeat_discarded": "false", "patience": "2", "legs_per_table": 3.0}
     )
     assert values["discard"] == 0.3 and values["repeat_discarded"] is False
@@ -74,14 +77,14 @@ def test_parameter_values_from_text_are_converted() -> None:
     with pytest.raises(
         RobinPilError, match=r"'patience' must be a whole number from 0 to 1000, got '2.5'"
     ):
-        check_params({"patience": "2.5"})
+        checked({"patience": "2.5"})
     with pytest.raises(
         RobinPilError, match="'repeat_discarded' must be true or false, got 'maybe'"
     ):
-        check_params({"repeat_discarded": "maybe"})
+        checked({"repeat_discarded": "maybe"})
     with pytest.raises(
         RobinPilError,
         match=r"'tables' must be a whole number from 1 to 1000 "
         r"\(or empty: the scenario's\), got True",
     ):
-        check_params({"tables": True})
+        checked({"tables": True})

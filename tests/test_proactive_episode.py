@@ -7,9 +7,9 @@ from pathlib import Path
 import pytest
 
 from pil.experiments.systems import SYSTEM_SPECS
-from pil.experiments.systems import test_parts as learner_parts
-from pil.task.parts import check_params, resolve_scenario
+from pil.task.assemble import assemble
 from pil.task.runner import steps
+from pil.task.spec import parse_run_spec
 from pil.task.world import SymbolicWorld
 from robin_sim.cli.main import main
 from robin_sim.episode.log import read_step_log
@@ -55,8 +55,7 @@ def test_a_proactive_episode_runs_to_the_end_and_acts_before_gestures(tmp_path: 
         assert earlier and entry["gesture_count"] == earlier[-1]["gesture_count"]  # no gesture
         if entry["feedback"] == "not ok":
             assert entry["interrupted"]
-    values = check_params({"tables": 1})
-    parts = learner_parts("proactive", 1.0, 1, resolve_scenario(None, values), values)
+    parts = assemble(parse_run_spec(system="proactive", rate=1.0, seed=1, params={"tables": 1}))
     assert summary["gestures"] == len(parts.person.script) - summary["anticipated_ok"]
     symbolic = [
         r.to_dict()

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import pytest
 
-from pil.experiments.systems import SYSTEM_SPECS, run_one
-from pil.task.parts import build_parts, check_params, derive_seeds, resolve_scenario
+from pil.experiments.systems import run_one
+from pil.task.assemble import assemble
 from pil.task.runner import steps
+from pil.task.spec import parse_run_spec
 from pil.task.world import SymbolicWorld
 
 
@@ -19,11 +20,9 @@ def test_every_leg_is_counted_with_anticipations(rate: float, seed: int) -> None
 
 
 def test_an_anticipated_delivery_raises_the_leg_count() -> None:
-    values = {**check_params({}), **SYSTEM_SPECS["proactive"].params}
-    scenario = resolve_scenario(None, values)
     found = 0
     for seed in (0, 1):
-        parts = build_parts(scenario, 1.0, derive_seeds(seed), **values)
+        parts = assemble(parse_run_spec(system="proactive", rate=1.0, seed=seed))
         records = list(
             steps(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
         )

@@ -12,13 +12,12 @@ from pil.experiments.systems import (
     ROW_COLUMNS,
     SYSTEM_SPECS,
     SYSTEMS,
-    check_params,
     derive_seeds,
-    pretrain,
-    resolve_scenario,
     run_one,
 )
+from pil.task.assemble import assemble, assemble_phase
 from pil.task.scenario import DEFAULT_SCENARIO
+from pil.task.spec import parse_run_spec
 
 
 @pytest.mark.parametrize("system", list(SYSTEMS))
@@ -89,9 +88,8 @@ EXPECTED_FULL_RATE_ACTIONS = {
 
 @pytest.mark.parametrize("rule", sorted(EXPECTED_FULL_RATE_ACTIONS))
 def test_full_rate_training_matches_the_expected_exploration_cost(rule: str) -> None:
-    values = check_params({"exploration": rule})
-    scenario = resolve_scenario(None, values)
-    runs = [pretrain(scenario, 1.0, derive_seeds(seed), values).stats for seed in range(200)]
+    base = parse_run_spec(params={"exploration": rule})
+    runs = [assemble_phase(base.for_run("pil", 1.0, seed), "train").run() for seed in range(200)]
     gestures = statistics.fmean(r.gestures for r in runs)
     actions = statistics.fmean(r.actions for r in runs)
     assert gestures == 110
@@ -117,15 +115,13 @@ def test_scenario_file_settings_are_kept_unless_overridden() -> None:
     assert (row["tables"], row["legs"], row["gestures"]) == (2, 6, 28)
 
 
-def test_test_parts_match_run_one_for_every_system() -> None:
-    from pil.experiments.systems import test_parts
+def test_assembled_runs_match_run_one_for_every_system() -> None:
     from pil.task.runner import run
     from pil.task.world import SymbolicWorld
 
-    values = check_params({"tables": 1})
-    scenario = resolve_scenario(None, values)
+    base = parse_run_spec(params={"tables": 1})
     for system in SYSTEMS:
-        parts = test_parts(system, 0.6, 5, scenario, values)
+        parts = assemble(base.for_run(system, 0.6, 5))
         assert parts.options["manual"] is (system in ("c3", "c4"))
         assert parts.learner.table.is_empty() is (SYSTEM_SPECS[system].trained_at is None)
         stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)

@@ -26,18 +26,11 @@ from pathlib import Path
 from typing import Any
 
 from pil.experiments.run_row import ROW_COLUMNS, run_row
-from pil.task.assemble import Run, Training, assemble, pretraining
-from pil.task.parts import (
-    DEFAULT_VALUES,
-    build_parts,
-    check_params,
-    derive_seeds,
-    resolve_scenario,
-)
-from pil.task.person import PersonBody
+from pil.task.assemble import Training, assemble
+from pil.task.parts import DEFAULT_VALUES, derive_seeds, resolve_scenario
 from pil.task.runner import RunStats
 from pil.task.scenario import Scenario
-from pil.task.spec import RunSpec, build_run_spec, parse_run_spec, spec_of
+from pil.task.spec import RunSpec, build_run_spec, parse_run_spec
 from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, SystemSpec, check_system
 
 __all__ = [
@@ -48,7 +41,6 @@ __all__ = [
     "SYSTEM_SPECS",
     "SystemSpec",
     "Training",
-    "check_params",
     "check_run",
     "check_system",
     "derive_seeds",
@@ -56,55 +48,7 @@ __all__ = [
     "run_checked",
     "run_one",
     "spec_row",
-    "test_parts",
-    "training_for",
 ]
-
-
-def pretrain(
-    scenario: Scenario,
-    rate: float,
-    seeds: Mapping[str, int],
-    values: Mapping[str, Any],
-    cache: MutableMapping[Any, Any] | None = None,
-) -> Training:
-    """A PIL run with correction on the training tables at ``rate`` (sub-seeds ``seeds``)."""
-    run = build_parts(scenario, rate, seeds, phase="train", cache=cache, **values)
-    return Training(run.learner.table, run.run())
-
-
-def training_for(
-    system: str,
-    rate: float,
-    seed: int,
-    scenario: Scenario,
-    values: Mapping[str, Any],
-    cache: MutableMapping[Any, Any] | None = None,
-) -> Training | None:
-    """The pre-training ``system`` starts from (None for ``pil``), from ``cache`` if there;
-    ``values`` are checked parameters (:func:`check_params`)."""
-    check_system(system)
-    return pretraining(spec_of(system, rate, seed, scenario, values), cache)
-
-
-def test_parts(
-    system: str,
-    rate: float,
-    seed: int,
-    scenario: Scenario,
-    values: Mapping[str, Any],
-    cache: MutableMapping[Any, Any] | None = None,
-    training: Training | None = None,
-    body: PersonBody | None = None,
-) -> Run:
-    """Learner (pre-trained for c1-c4), person and detector for ``system``'s test tables, from
-    checked ``values`` (:func:`check_params`): :func:`pil.task.assemble.assemble` of them."""
-    check_system(system)
-    spec = spec_of(system, rate, seed, scenario, values)
-    return assemble(spec, cache=cache, training=training, body=body)
-
-
-test_parts.__test__ = False  # type: ignore[attr-defined]  # not a pytest test
 
 
 def spec_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dict[str, Any]:
@@ -124,19 +68,6 @@ def spec_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> di
         "scenario": spec.scenario.name,
     }
     return run_row(cells, stats, train, spec.effective().values())
-
-
-def run_system(
-    system: str,
-    rate: float,
-    seed: int,
-    scenario: Scenario,
-    values: Mapping[str, Any],
-    cache: MutableMapping[Any, Any] | None = None,
-) -> dict[str, Any]:
-    """:func:`spec_row` of a resolved scenario and checked ``values`` (:func:`check_params`)."""
-    check_system(system)
-    return spec_row(spec_of(system, rate, seed, scenario, values), cache)
 
 
 def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:

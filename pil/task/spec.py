@@ -226,26 +226,3 @@ def build_run_spec(
         detector=_settings(DetectorSettings, values),
         world=world,
     )
-
-
-def spec_of(
-    system: str,
-    rate: float,
-    seed: int,
-    scenario: Scenario,
-    values: Mapping[str, Any],
-    world: str = SYMBOLIC,
-) -> RunSpec:
-    """A spec of values already checked (:func:`pil.task.parts.check_params`, or a checked
-    config's), not checked again: for the experiments that hold checked ``values``
-    (adaptation, baselines, people) and a live session's checked config."""
-    return RunSpec(
-        system=system,
-        rate=float(rate),
-        seed=int(seed),
-        scenario=scenario,
-        learner=_settings(LearnerSettings, values),
-        person=_settings(PersonSettings, values),
-        detector=_settings(DetectorSettings, values),
-        world=world,
-    )
