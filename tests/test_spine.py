@@ -134,8 +134,6 @@ def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system:
     assert all(parse_calls[name] == 1 for name in names), parse_calls
     # tables: once as given, once as the scenario file's own value when the file is read
     assert parse_calls["tables"] == 2, parse_calls
-    # tables: once as given, once as the scenario file's own value when the file is read
-    assert parse_calls["tables"] == 2, parse_calls
 
 
 def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
@@ -311,13 +309,26 @@ def test_a_studys_rates_are_checked_once_by_its_command_line(
 ) -> None:
     """``--rates`` of adapt, transfer, people and baselines: each rate checked once, at the
     command line (run_options, or baselines' BaselineConfig); the study functions take the
-    typed rates and systems as given."""
+    typed rates and systems as given. Every other value is checked once too."""
     from robin_sim.cli.main import main
 
     argv = [command, "--rates", "0.8,1.0", "--reps", "1", *extra, "--no-progress"]
     assert main([*argv, "--out", str(tmp_path / command)]) == 0
-    assert parse_calls["rate"] == 2, parse_calls
+    assert parse_calls.pop("rate") == 2, parse_calls  # two rates, each once
     assert parse_calls["system"] == 0, parse_calls  # checked against the command's systems
+    # the scenario files' own assembly keys: checked once per file, when it is read
+    # (transfer reads two: the assembly and the tidying task)
+    files = 2 if command == "transfer" else 1
+    assert {name: parse_calls.pop(name, 0) for name in set(ASSEMBLY) - {"tables"}} == {
+        name: files for name in set(ASSEMBLY) - {"tables"}
+    }, parse_calls
+    if command == "baselines":
+        assert parse_calls.pop("reps") == 2, parse_calls  # --reps and --tuning-reps
+        # tables: once as given, once as the scenario file's own value when the file is read
+        assert parse_calls.pop("tables") == 2, parse_calls
+    else:
+        assert parse_calls.pop("tables") == files, parse_calls
+    assert all(count == 1 for count in parse_calls.values()), parse_calls
 
 
 def test_the_studys_detector_and_its_file_are_checked_once(
@@ -343,7 +354,11 @@ def test_the_studys_detector_and_its_file_are_checked_once(
     monkeypatch.setattr(detector, "read_measured", counted)
     argv = ["study", "--detector", f"measured:{measured}", "--systems", "pil,c3", "--reps", "2"]
     assert main([*argv, "--tables", "1", "--no-progress", "--out", str(tmp_path / "s")]) == 0
-    assert parse_calls["detector"] == 1 and parse_calls["rate"] == 0, parse_calls
+    assert parse_calls.pop("rate", 0) == 0, parse_calls  # the file's measured rate
+    # tables: once as given, once as the scenario file's own value when the file is read
+    assert parse_calls.pop("tables") == 2, parse_calls
+    assert {"detector", "reps", "seed", "exploration"} <= set(parse_calls), parse_calls
+    assert all(count == 1 for count in parse_calls.values()), parse_calls
     assert reads == [str(measured)], reads
     rows = (tmp_path / "s" / "runs.csv").read_text().splitlines()
     assert len(rows) == 1 + 2 * 2 and all(",0.8613," in row for row in rows[1:]), rows[:2]

@@ -70,6 +70,8 @@ class BaselineConfig:
     params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}
     # the names of the values in messages (e.g. {"reps": "--reps"} from the command line)
     labels: Mapping[str, str] = field(default_factory=dict, compare=False)
+    # the runs' spec: params parsed once, here (the learner, rate and seed vary)
+    base: RunSpec = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         """The edge: rates, repetitions and seed, given as numbers or text, parsed once here."""
@@ -89,6 +91,10 @@ class BaselineConfig:
                     f"parameter {name!r} is set by the tuning grid and the "
                     f"table; give only others (e.g. tables, discard)"
                 )
+        base = parse_run_spec(params=self.params, labels=self.labels)
+        object.__setattr__(self, "base", base)
+        typed = base.values()  # the given parameters as parsed (for the summary)
+        object.__setattr__(self, "params", {name: typed[name] for name in self.params or {}})
 
     def runs(self) -> int:
         """How many runs :func:`run_baselines` makes (at most: equal settings run once)."""
@@ -137,7 +143,7 @@ def run_baselines(
     config: BaselineConfig, progress: Callable[[int], None] | None = None
 ) -> BaselineResult:
     """Tune on the tuning seeds, then run the table on the evaluation seeds."""
-    base = parse_run_spec(params=config.params)  # parsed once: a bad one fails before any run
+    base = config.base  # parsed once, by the config: a bad one failed before any run
     tuning_seeds, seeds = split_seeds(config.seed, config.tuning_reps, config.reps)
     scores: dict[str, list[Score]] = {}
     for learner in LEARNERS:

@@ -12,6 +12,7 @@ repetition uses that seed (common random numbers: same handover order, same dete
 
 from __future__ import annotations
 
+import copy
 import csv
 import io
 from collections.abc import Callable, Mapping, Sequence
@@ -161,15 +162,17 @@ def claim_config(config: StudyConfig) -> StudyConfig | None:
     rates = tuple(r for r in config.rates if r in LOW_RATES)
     if not rates or not {"pil", *CLAIM_SYSTEMS} <= set(config.systems):
         return None
-    repeat = config.base.detector.repeat_discarded
-    return StudyConfig(
-        rates=rates,
-        reps=config.reps,
-        seed=config.seed,
-        systems=("pil", *CLAIM_SYSTEMS),
-        scenario=config.scenario,
-        params={**config.params, "repeat_discarded": not repeat},
-    )
+    repeat = not config.base.detector.repeat_discarded
+    claim = copy.copy(config)  # the study's checked values, not parsed again
+    typed = {
+        "rates": rates,
+        "systems": ("pil", *CLAIM_SYSTEMS),
+        "params": {**config.params, "repeat_discarded": repeat},
+        "base": config.base.changed({"repeat_discarded": repeat}),
+    }
+    for name, value in typed.items():
+        object.__setattr__(claim, name, value)
+    return claim
 
 
 def all_tests(rows: Sequence[Row], claim: Sequence[Row] | None = None) -> list[dict[str, Any]]:

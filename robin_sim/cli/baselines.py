@@ -45,22 +45,21 @@ def run(args: argparse.Namespace) -> int:
     """Tune, run the table and write it; bad input raises a RobinPilError (exit code 2)."""
     from pil.experiments.baselines import BaselineConfig, run_baselines, write_outputs
     from pil.outdir import check_out_dir
-    from pil.task.params import ASSEMBLY
 
-    tables = ASSEMBLY["tables"].parse(args.tables, "--tables")
     # as given: parsed once, by the config (the edge)
     config = BaselineConfig(
         rates=tuple(args.rates.split(",")),
         reps=args.reps,
         tuning_reps=args.tuning_reps,
         seed=args.seed,
-        params={} if tables is None else {"tables": tables},
+        params={} if args.tables is None else {"tables": args.tables},
         labels={
             "rate": RATES_LABEL,
             "rates": "--rates",
             "reps": "--reps",
             "tuning_reps": "--tuning-reps",
             "seed": "--seed",
+            "tables": "--tables",
         },
     )
     check_out_dir(args.out)  # before the computation, not after it
