@@ -336,7 +336,8 @@ def test_the_studys_detector_and_its_file_are_checked_once(
 ) -> None:
     """``robin-pil study --detector measured:FILE``: the detector is checked once, by the
     study's config (the registry), and the file read and checked once (its rate and every
-    run's detector reuse it); the command line checks neither."""
+    run's detector reuse it); the command line checks neither. The systems, repetitions and
+    seed are checked once too, by the config."""
     import shutil
 
     from pil.task import detector
@@ -355,6 +356,7 @@ def test_the_studys_detector_and_its_file_are_checked_once(
     argv = ["study", "--detector", f"measured:{measured}", "--systems", "pil,c3", "--reps", "2"]
     assert main([*argv, "--tables", "1", "--no-progress", "--out", str(tmp_path / "s")]) == 0
     assert parse_calls.pop("rate", 0) == 0, parse_calls  # the file's measured rate
+    assert parse_calls.pop("system") == 2, parse_calls  # pil and c3, each once
     # tables: once as given, once as the scenario file's own value when the file is read
     assert parse_calls.pop("tables") == 2, parse_calls
     assert {"detector", "reps", "seed", "exploration"} <= set(parse_calls), parse_calls

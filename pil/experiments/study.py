@@ -51,7 +51,7 @@ from pil.experiments.systems import (
     spec_row,
 )
 from pil.task.detector import MEASURED_PREFIX, load_measured
-from pil.task.params import RATE
+from pil.task.params import RATE, REPS, SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
 
@@ -83,20 +83,27 @@ class StudyConfig:
             repeated = sorted({r for r in rates if rates.count(r) > 1})
             if repeated:
                 raise RobinPilError(f"rate {repeated[0]:g} is given twice; give each rate once")
-        seed = self.seed
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-            raise RobinPilError(f"seed must be a whole number >= 0, got {seed!r}")
+        named = self.labels.get
+        object.__setattr__(self, "seed", SEED.parse(self.seed, named("seed", "seed")))
         object.__setattr__(self, "systems", tuple(self.systems))
         for system in self.systems:
-            check_system(system)
-        if len(set(self.systems)) != len(self.systems) or not self.systems:
-            raise RobinPilError(f"give each system once (at least one), got {self.systems!r}")
-        if isinstance(self.reps, bool) or not isinstance(self.reps, int) or self.reps < 1:
-            raise RobinPilError(f"reps must be a whole number >= 1, got {self.reps!r}")
+            check_system(system, named("system", "system"))
+            if self.systems.count(system) > 1:
+                raise RobinPilError(f"system {system!r} is given twice; give each system once")
+        if not self.systems:
+            raise RobinPilError("no system given: give at least one")
+        object.__setattr__(self, "reps", REPS.parse(self.reps, named("reps", "reps")))
         base = parse_run_spec(scenario=self.scenario, params=self.params, labels=self.labels)
         object.__setattr__(self, "base", base)
         if not self.rates:
             object.__setattr__(self, "rates", detector_rates(base.detector.model))
+
+    def for_seed(self, seed: int) -> StudyConfig:
+        """This study with another master seed (a whole number >= 0, e.g. of
+        :func:`pil.experiments.study_seeds.seeds_of`): its checked values, not parsed again."""
+        other = copy.copy(self)
+        object.__setattr__(other, "seed", seed)
+        return other
 
     def runs(self) -> int:
         """How many runs the study makes."""

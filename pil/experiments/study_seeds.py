@@ -11,7 +11,6 @@ holds a finished study with the same settings is read back, not re-run (resumabl
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -219,7 +218,7 @@ def run_study_seeds(
     seeds = seeds_of(config, count)
 
     def one(seed: int) -> StudyConfig:
-        return dataclasses.replace(config, seed=seed)
+        return config.for_seed(seed)
 
     by_seed = run_seeds(
         out,

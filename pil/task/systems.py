@@ -70,8 +70,9 @@ class _Descriptions(Mapping[str, str]):
 SYSTEMS: Mapping[str, str] = _Descriptions()
 
 
-def check_system(system: str) -> str:
-    """``system`` if it is one of :data:`SYSTEMS`, else an error naming them."""
+def check_system(system: str, label: str = "system") -> str:
+    """``system`` if it is one of :data:`SYSTEMS`, else an error naming them (``label``: its
+    name in the message, e.g. ``--systems: system``)."""
     if system not in SYSTEM_SPECS:
-        raise InvalidChoiceError("system", system, SYSTEM_SPECS)
+        raise InvalidChoiceError(label, system, SYSTEM_SPECS)
     return system
