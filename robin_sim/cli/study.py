@@ -122,9 +122,8 @@ def run(args: argparse.Namespace) -> int:
         "step_memory": args.step_memory,
     }
     # as given: parsed once, by the study's config
-    systems = (
-        PAPER_SYSTEMS if args.systems is None else [s.strip() for s in args.systems.split(",")]
-    )
+    given = None if args.systems is None else args.systems.split(",")
+    systems = PAPER_SYSTEMS if given is None else tuple(name.strip() for name in given)
     config = StudyConfig(
         systems=systems,
         # as given: parsed once, by the study's config (the RATE spec; none given: the
