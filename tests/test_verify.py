@@ -21,7 +21,7 @@ from person_steps import Acted  # noqa: E402
 
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.task.world import Intent, Outcome, Target  # noqa: E402
-from pil.types import Action, Gesture  # noqa: E402
+from pil.types import Action, Feedback, Gesture  # noqa: E402
 from robin_sim.model import names  # noqa: E402
 from robin_sim.render.checks import (  # noqa: E402
     verify_at_spot,
@@ -292,19 +292,15 @@ def test_robin_grasp_is_in_hand_and_handover_ends_on_the_palm() -> None:
         assert not verify_in_hand(model, world.data, 1, "l", renderer).ok
         assert _execute(acted, Action.HUMAN).succeeded
         held_over_palm = copy.copy(world.data)
-        # Keep the last state before the person starts carrying the leg away (the open's end).
-        palm_out = world.data.mocap_pos.copy()
-        resting: list[mujoco.MjData] = []
-
-        def keep_while_palm_out(sim: object) -> None:
-            if np.array_equal(world.data.mocap_pos, palm_out):
-                resting[:] = [copy.copy(world.data)]
-
-        remove = world.sim.add_observer(keep_while_palm_out)
-        assert _execute(acted, Action.OPEN).succeeded
-        remove()
+        # The person's release brings the palm back under the held leg; the open's end is kept
+        # before the thumb, after which the person carries the leg away on the palm.
+        meant = Intent(Gesture.RELEASE, Action.OPEN, None, handover=0, table=0)
+        acted.body.perform(meant.gesture, meant.target)
+        assert world.execute(Action.OPEN, None, acted.body.watch(meant, acted.reaction)).succeeded
+        on_palm = copy.copy(world.data)
+        acted.body.show_feedback(Feedback.OK)
+        acted.body.after_feedback(Feedback.OK)
         assert world.delivered == [0]
-        on_palm = resting[0]
         # physics: released, the leg's axis lies one radius (0.02 m) above the palm surface
         palm_site = on_palm.site("human_palm_site").xpos
         assert abs(on_palm.body("leg0").xpos[2] - palm_site[2] - 0.02) < 0.002

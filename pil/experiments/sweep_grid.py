@@ -112,9 +112,9 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
     """The run target of ``kind`` (``learner`` or ``physical``) or of a custom ``function``.
 
     Valid parameters are the keyword-only arguments of the function plus the spec mappings of
-    :data:`PARAM_SOURCES` (for a custom function: ``PARAMS`` of its module, if any: specs or
-    defaults); valid systems come from ``SYSTEMS`` of the function's module or of
-    ``pil.experiments.systems``; the whole-run check is :data:`CHECKS`' (for a custom
+    :data:`PARAM_SOURCES` (for a custom function: ``PARAMS`` or ``DEFAULT_VALUES`` of its
+    module, if any: specs or defaults); valid systems come from ``SYSTEMS`` of the function's
+    module or of ``pil.experiments.systems``; the whole-run check is :data:`CHECKS`' (for a custom
     function: ``check_run`` of its module, if any).
     """
     own = function is None  # the kind's own run function: its whole-run check applies
@@ -131,7 +131,8 @@ def load_target(kind: str, function: str | None = None) -> RunTarget:
         modules.append(importlib.import_module(_SYSTEMS_MODULE))
         sources = [import_object(path) for path in PARAM_SOURCES[kind]]
     else:
-        sources = [getattr(modules[0], "PARAMS", None) or {}]
+        module = modules[0]
+        sources = [getattr(module, "PARAMS", None) or getattr(module, "DEFAULT_VALUES", None) or {}]
     cost: str | None = None
     if own:
         check, cost = CHECKS[kind], COSTS.get(kind)

@@ -51,7 +51,8 @@ def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> Episod
     vision = run.detector.model == CAMERAS
     if given and not vision:
         raise RobinPilError(
-            f"{', '.join(given)} set the eye cameras' conditions and need detector={CAMERAS}"
+            f"{', '.join(given)} set the eye cameras' conditions and need --detector {CAMERAS} "
+            f"(or --param detector={CAMERAS})"
         )
     defaults = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
     conditions = CameraConditions(**{**defaults, **given}) if vision else None
