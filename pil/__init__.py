@@ -10,10 +10,10 @@ first use, so that ``from pil import Learner`` stays light)::
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from pil.errors import RobinPilError
+from pil.lazy_names import lazy_names
 from pil.learner import Decision, Learner
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
@@ -51,14 +51,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    """A run-assembly name, imported from its module on first use."""
-    if name not in _LAZY:
-        raise AttributeError(f"module 'pil' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names("pil", _LAZY, globals(), __all__)
