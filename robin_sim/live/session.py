@@ -26,18 +26,17 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.task.records import StepRecord
 from pil.task.runner import steps
-from pil.types import Gesture
+from robin_sim.live.acting import apply_input
+from robin_sim.live.booking import Booking, tail_entry
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.inputs import (
-    GESTURE_BY_KEY,
-    THUMBS,
     LiveInput,
     LiveInputError,
     parse_input,
 )
-from robin_sim.live.participant import Gesturing, LiveParticipant
+from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun, pacing_figures
 from robin_sim.live.status import LiveStatus
@@ -48,19 +47,6 @@ __all__ = ["Frame", "LiveConfig", "LiveSession"]
 STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
 STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
 LOG_TAIL = 40  # steps kept for the experimenter's view
-TAIL_KEYS = (
-    "t",
-    "handover",
-    "step",
-    "true_gesture",
-    "action",
-    "target",
-    "feedback",
-    "delivered",
-    "legs_delivered",
-    "sim_time",
-    "reason",
-)
 PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
 PAUSED_MESSAGE = "Paused by the experimenter: please wait."
 
@@ -255,47 +241,9 @@ class LiveSession:
         self._log_input(item.as_dict(), "", reading=reading.as_dict())
 
     def _act(self, item: LiveInput) -> None:
-        participant = self._participant
-        if item.kind == "calibration" and self.webcam is None:
-            raise LiveInputError(
-                "calibration: this session has no webcam; start it with robin-pil live --webcam"
-            )
         if self.done.is_set():
             raise LiveInputError("the session has ended; nothing more is taken")
-        if participant is None:
-            raise LiveInputError("the session is still starting; wait for the first frame")
-        phase = participant.phase
-        if item.kind == "end":
-            participant.offer("end")
-        elif item.kind == "start":
-            raise LiveInputError(
-                "start: this session runs already; 'start' leaves a protocol block's instructions"
-            )
-        elif item.kind == "calibration":
-            assert self.webcam is not None
-            self.webcam.calibration(str(item.action))
-        elif item.kind == "thumb":
-            if not participant.judging:
-                raise LiveInputError(
-                    "There is no robot action to judge now: give a thumb "
-                    "while Robin moves or just after."
-                )
-            participant.offer(THUMBS[str(item.thumb)])
-        else:
-            if phase not in ("waiting_for_gesture", "waiting_for_thumb"):
-                raise LiveInputError(
-                    "It is not your turn yet: Robin is still acting. Wait until it asks for "
-                    "your gesture, or give thumb down to stop it."
-                )
-            if item.kind == "point":
-                # a point always has x and y (parse_input); the picker comes with the participant
-                x, y, picker = item.x, item.y, self._picker
-                assert x is not None and y is not None and picker is not None
-                target = picker.pick(float(x), float(y))
-                self.view.clicked(target, float(x), float(y))
-                participant.offer(Gesturing(Gesture.POINTING, target))
-            else:
-                participant.offer(Gesturing(GESTURE_BY_KEY[str(item.gesture)]))
+        apply_input(item, self._participant, self._picker, self.webcam, self.view)
 
     def _log_input(self, raw: object, error: str, reading: dict[str, Any] | None = None) -> None:
         files, participant = self._files, self._participant
@@ -349,7 +297,9 @@ class LiveSession:
                     self.webcam.start()
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
-                observer = _Booking(self, run)
+                observer = Booking(
+                    self.view, run.participant, self.webcam, lambda r: self.book(run, r)
+                )
                 for record in steps(
                     parts.learner,
                     run.participant,
@@ -359,7 +309,7 @@ class LiveSession:
                     **parts.options,
                 ):
                     if record is not observer.last:  # a repeat request: no feedback to receive
-                        self._book(run, record)
+                        self.book(run, record)
             done = run.participant.legs_delivered >= run.participant.legs_total
             status = "finished" if done else "ended"
         except SessionStopped as stopped:
@@ -373,31 +323,9 @@ class LiveSession:
             self._summary = files.save(status, error, run, vision=vision)
             self.done.set()
 
-    def _book(self, run: LiveRun, record: StepRecord) -> None:
+    def book(self, run: LiveRun, record: StepRecord) -> None:
+        """Log and count ``record`` (the learner has its feedback)."""
         entry = run.book.add(record)
-        self.log_tail.append({key: entry.get(key) for key in TAIL_KEYS})
+        self.log_tail.append(tail_entry(entry))
         run.participant.legs_delivered = record.legs_delivered
         self.view.finished(record, run.totals)
-
-
-class _Booking:
-    """The step loop's observer: the page's view, and each step logged and counted as soon as
-    the learner has its feedback (before the participant carries a delivered leg away)."""
-
-    def __init__(self, session: LiveSession, run: LiveRun) -> None:
-        self.session, self.run = session, run
-        self.last: StepRecord | None = None  # the record booked last
-
-    def decided(self, record: StepRecord) -> None:
-        self.session.view.decided(record)
-
-    def answered(self, record: StepRecord) -> None:
-        self.session.view.answered(record)
-
-    def received(self, record: StepRecord) -> None:
-        self.last = record
-        self.run.participant.received(record)
-        webcam = self.session.webcam
-        if webcam is not None and not record.proactive:
-            webcam.settled(self.run.participant, record.feedback)
-        self.session._book(self.run, record)
