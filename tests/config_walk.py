@@ -52,7 +52,7 @@ def config_types() -> tuple[type, ...]:
     from pil.task.scenario import Scenario
     from pil.task.spec import DetectorSettings, LearnerSettings, PersonSettings, RunSpec
     from robin_sim.episode.config import EpisodeConfig, EpisodeSpec, VideoSpec
-    from robin_sim.vision.condition_params import CameraConditions
+    from robin_sim.vision.condition_params import VisionSettings
 
     return (
         argparse.Namespace,
@@ -64,7 +64,7 @@ def config_types() -> tuple[type, ...]:
         PersonSettings,
         DetectorSettings,
         Scenario,
-        CameraConditions,
+        VisionSettings,
     )
 
 

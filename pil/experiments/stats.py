@@ -281,9 +281,9 @@ def tests_markdown(results: Sequence[Mapping[str, Any]], within: Sequence[str] =
     body = []
     for r in results:
         star = " *" if not math.isnan(r["p_holm"]) and r["p_holm"] < 0.05 else ""
+        spec = ".3f" if str(r["measure"]).endswith("rate") else ".1f"  # a share, or a count
         diff = (
-            f"{_fmt(r['mean_diff'], '.1f')} [{_fmt(r['ci_low'], '.1f')}, "
-            f"{_fmt(r['ci_high'], '.1f')}]"
+            f"{_fmt(r['mean_diff'], spec)} [{_fmt(r['ci_low'], spec)}, {_fmt(r['ci_high'], spec)}]"
         )
         body.append(
             [

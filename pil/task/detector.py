@@ -23,7 +23,7 @@ from __future__ import annotations
 import functools
 import random
 from collections.abc import Sequence
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 from pil.errors import RobinPilError
 from pil.types import GESTURES, Feedback, Gesture
@@ -52,6 +52,17 @@ class GestureReader(Protocol):
 
     def read_feedback(self, feedback: Feedback) -> Feedback:
         """The thumb as read."""
+        ...
+
+
+@runtime_checkable
+class LearnsFromFeedback(Protocol):
+    """A reader that learns from the robot's feedback, as the learner does (e.g. Robin's eye
+    cameras with ``adapt``): told the gesture of the state the learner acted on and whether the
+    robot took the action as approved (its own reading of the thumb), right after the learner."""
+
+    def verdict(self, gesture: Gesture, approved: bool) -> None:
+        """The robot's verdict on an action taken for ``gesture``."""
         ...
 
 

@@ -30,7 +30,7 @@ from pil.anticipation import Anticipation
 from pil.errors import RobinPilError
 from pil.learner import Learner
 from pil.task.counting import RunStats
-from pil.task.detector import GestureReader
+from pil.task.detector import GestureReader, LearnsFromFeedback
 from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
@@ -217,6 +217,8 @@ def steps(
                     feedback_read=heard,
                 )
                 learner.feedback(state, action, ok)
+                if isinstance(detector, LearnsFromFeedback):
+                    detector.verdict(state.gesture, ok)  # what the learner just received
                 if observer is not None:
                     observer.received(record)
                 person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin

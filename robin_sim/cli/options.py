@@ -52,6 +52,9 @@ def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
     return f"comma-separated systems (default: {default}); any of {names}"
 
 
+DEFAULT_REPS = 20  # repetitions of a study's runs
+
+
 def add_run_options(
     parser: argparse.ArgumentParser,
     *,
@@ -59,12 +62,19 @@ def add_run_options(
     out: Path,
     systems: Sequence[str],
     accepts: Sequence[str] | None = None,
+    reps_help: str | None = None,
 ) -> None:
     """``--systems`` (``systems`` by default, ``accepts`` the valid choices: every system if
-    None), ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and ``--no-progress``."""
+    None), ``--rates``, ``--reps``, ``--seed``, ``--seeds``, ``--out`` and ``--no-progress``;
+    with ``reps_help`` ``--reps`` defaults to None (the command picks it) and says so."""
     parser.add_argument("--systems", default=None, help=systems_help(",".join(systems), accepts))
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
-    parser.add_argument("--reps", type=int, default=20, help="repetitions (default: %(default)s)")
+    parser.add_argument(
+        "--reps",
+        type=int,
+        default=None if reps_help else DEFAULT_REPS,
+        help=reps_help or "repetitions (default: %(default)s)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
     parser.add_argument(
         "--seeds",

@@ -1,8 +1,11 @@
-"""``robin-pil people``: two people with different mappings, one shared table vs one each.
+"""``robin-pil people``: two people with different mappings, one shared table vs one each;
+``--appearance``: people who look different to Robin's eye cameras, fixed vs adapted model.
 
-Writes ``people.csv``, ``people.md`` (mean ± sd, paired tests of shared against per-person),
-``tests.csv`` and ``people.png``; with ``--seeds K`` K such studies in ``OUT/seed_<n>/`` and
-their comparisons over seeds (``seeds.md``).
+The mappings study writes ``people.csv``, ``people.md`` (mean ± sd, paired tests of shared
+against per-person), ``tests.csv`` and ``people.png``; with ``--seeds K`` K such studies in
+``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``). The appearance study
+(:mod:`robin_sim.appearance`) writes ``appearance_runs.csv``, ``appearance_tables.csv``,
+``tests.csv``, ``appearance.md`` and ``appearance.png``.
 """
 
 from __future__ import annotations
@@ -10,9 +13,12 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from robin_sim.cli.options import add_run_options, progress_bar, run_options
+from pil.errors import RobinPilError
+from robin_sim.cli.options import DEFAULT_REPS, add_run_options, progress_bar, run_options
 
 DEFAULT_OUT = Path("out/people")
+APPEARANCE_REPS = 5  # repetitions of the appearance study (physical episodes: minutes each)
+MAX_WORKERS = 16
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -20,21 +26,55 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from pil.experiments.people import PEOPLE_SYSTEMS
 
     parser.add_argument(
-        "--people", default=None, help="people file (default: scenarios/two_people.yaml)"
+        "--people",
+        default=None,
+        help="people file (default: scenarios/two_people.yaml; with --appearance "
+        "scenarios/appearance_people.yaml)",
+    )
+    parser.add_argument(
+        "--appearance",
+        action="store_true",
+        help="the appearance study: Robin's eye cameras read people who look different, with "
+        "the shipped gesture model (fixed) and one adapting to each person (adapted)",
+    )
+    parser.add_argument(
+        "--person",
+        action="append",
+        default=None,
+        help="with --appearance: only this person of the file (repeatable)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=2,
+        help="with --appearance: episodes run at once (0: in this process) (default: 2)",
     )
     parser.add_argument(
         "--tables",
         type=int,
         default=None,
-        help="test tables, taken in turns (default: the scenario's, 10)",
+        help="test tables, taken in turns (default: the scenario's, 10); with --appearance "
+        "the tables of each run (default: the file's, 3)",
     )
     add_run_options(
-        parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=PEOPLE_SYSTEMS, accepts=PEOPLE_SYSTEMS
+        parser,
+        rates="0.8,1.0",
+        out=DEFAULT_OUT,
+        systems=PEOPLE_SYSTEMS,
+        accepts=PEOPLE_SYSTEMS,
+        reps_help=f"repetitions (default: {DEFAULT_REPS}; with --appearance "
+        f"{APPEARANCE_REPS}, each its own seed, shared by the fixed and adapted runs)",
     )
 
 
 def run(args: argparse.Namespace) -> int:
     """Run both modes and write the outputs; bad input raises before anything runs."""
+    if args.appearance:
+        return run_appearance(args, APPEARANCE_REPS if args.reps is None else args.reps)
+    if args.person is not None:
+        raise RobinPilError("--person chooses people of the appearance study: add --appearance")
+    if args.reps is None:
+        args.reps = DEFAULT_REPS
     from pil.experiments.people import (
         DEFAULT_PEOPLE,
         PEOPLE_SYSTEMS,
@@ -80,4 +120,28 @@ def run(args: argparse.Namespace) -> int:
             )
         written = write_people(rows, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
+    return 0
+
+
+def run_appearance(args: argparse.Namespace, reps: int) -> int:
+    """The appearance study (``--appearance``); bad input raises before anything runs."""
+    from pil.outdir import claimed_out_dir
+    from robin_sim.appearance.people import DEFAULT_APPEARANCE, load_appearance
+    from robin_sim.appearance.study import plan_study, run_study
+
+    if args.seeds != 1:
+        raise RobinPilError(
+            "--seeds: the appearance study's repetitions each have their own seed already; "
+            "give more with --reps"
+        )
+    if args.workers < 0 or args.workers > MAX_WORKERS:
+        raise RobinPilError(f"--workers must be 0 to {MAX_WORKERS}, got {args.workers}")
+    people = load_appearance(DEFAULT_APPEARANCE if args.people is None else args.people)
+    plan = plan_study(people, reps=reps, seed=args.seed, tables=args.tables, persons=args.person)
+    with (
+        claimed_out_dir(args.out) as out,
+        progress_bar(len(plan.runs), "appearance", args) as bar,
+    ):
+        written = run_study(plan, out, workers=args.workers, progress=bar.update)
+    print(f"{len(plan.runs)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0

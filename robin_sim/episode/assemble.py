@@ -22,7 +22,7 @@ from pil.task.detector import CAMERAS as VISION
 from pil.task.detector import GestureReader
 from pil.task.spec import PHYSICAL, RunSpec
 from robin_sim.episode.config import EpisodeError, EpisodeSpec
-from robin_sim.vision.condition_params import CameraConditions, parse_conditions
+from robin_sim.vision.condition_params import VisionSettings, parse_conditions
 
 if TYPE_CHECKING:
     from pil.task.scenario import Scenario
@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from robin_sim.robot.world import PhysicalWorld
 
 
-def vision_factory(conditions: CameraConditions) -> DetectorFactory:
+def vision_factory(conditions: VisionSettings) -> DetectorFactory:
     """The registry entry ``vision``: Robin's eye cameras under ``conditions``, reading the
     person's hand shown by their body (seeded by the phase's detector sub-seed)."""
 
@@ -48,6 +48,9 @@ def vision_factory(conditions: CameraConditions) -> DetectorFactory:
             lighting=conditions.lighting,
             camera_noise=conditions.camera_noise,
             seed=context.seed,
+            skin=conditions.skin,
+            pose_jitter=conditions.pose_jitter,
+            adapt=conditions.adapt,
         )
 
     return make

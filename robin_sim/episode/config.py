@@ -22,7 +22,7 @@ from pil.task.params import ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
 from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
-from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions, parse_conditions
+from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings, parse_conditions
 
 VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
@@ -109,7 +109,7 @@ class EpisodeSpec:
     the files go."""
 
     run: RunSpec
-    conditions: CameraConditions | None
+    conditions: VisionSettings | None
     video: VideoSpec
     verify: bool
     progress: bool

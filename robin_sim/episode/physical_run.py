@@ -22,7 +22,7 @@ from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES, NO_VIDEO, EpisodeSpec
 from robin_sim.episode.run import run_episode
-from robin_sim.vision.condition_params import CONDITION_PARAMS, CameraConditions
+from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings
 
 PHYSICAL_PARAMS: dict[str, ParamSpec] = {
     "tables": ASSEMBLY["tables"],
@@ -55,7 +55,7 @@ def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> Episod
             f"(or --param detector={CAMERAS})"
         )
     defaults = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
-    conditions = CameraConditions(**{**defaults, **given}) if vision else None
+    conditions = VisionSettings(**{**defaults, **given}) if vision else None
     return EpisodeSpec(run, conditions, NO_VIDEO, verify, False, Path("."))
 
 

@@ -1,4 +1,6 @@
-"""The camera conditions a vision run takes as parameters (``--param lighting=0.3``).
+"""What a vision run takes as parameters (``--param lighting=0.3``): the camera conditions,
+the person's looks (``skin``, ``pose_jitter``) and whether Robin adapts its gesture model to
+the person (``adapt``, :mod:`robin_sim.vision.adapting`).
 
 One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.Condition`
 checks its values against them, the episode's edge parses them apart from the run's
@@ -33,19 +35,45 @@ CONDITION_PARAMS: dict[str, ParamSpec] = {
         0.0,
         128.0,
     ),
+    "skin": ParamSpec(
+        "skin",
+        "float",
+        None,
+        "the person's skin tone, 0 (lightest) to 4 (darkest) on the five-tone scale",
+        0.0,
+        4.0,
+        optional=True,
+        empty="each performance draws a tone (a crowd, not one person)",
+    ),
+    "pose_jitter": ParamSpec(
+        "pose_jitter",
+        "float",
+        1.0,
+        "scale of how much the person's hand poses vary (1: usual, 2: twice as much)",
+        0.0,
+        2.5,
+    ),
+    "adapt": ParamSpec(
+        "adapt",
+        "bool",
+        False,
+        "Robin adapts its gesture model to the person from their feedback",
+    ),
 }
 
 
 @dataclass(frozen=True, slots=True)
-class CameraConditions:
-    """The eye cameras' conditions of a vision run, typed (parsed once by
-    :func:`parse_conditions`)."""
+class VisionSettings:
+    """A vision run's settings, typed (parsed once by :func:`parse_conditions`)."""
 
     lighting: float
     camera_noise: float
+    skin: float | None = None  # None: each performance draws a tone
+    pose_jitter: float = 1.0
+    adapt: bool = False
 
 
-def parse_conditions(given: Mapping[str, Any]) -> CameraConditions:
+def parse_conditions(given: Mapping[str, Any]) -> VisionSettings:
     """The conditions ``given`` (text or numbers; missing: defaults), each checked by its spec."""
     for name in given:
         if name not in CONDITION_PARAMS:
@@ -54,4 +82,4 @@ def parse_conditions(given: Mapping[str, Any]) -> CameraConditions:
         name: spec.parse(given[name]) if name in given else spec.default
         for name, spec in CONDITION_PARAMS.items()
     }
-    return CameraConditions(**values)
+    return VisionSettings(**values)

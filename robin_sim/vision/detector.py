@@ -12,7 +12,10 @@ way round reaches the learner as the wrong feedback. Only pixels decide: the tru
 used to *show* the pose (when the detector is given the display) and to keep the record.
 
 Conditions replace the detection rate: ``lighting`` (scale of the scene's light, 1 = as
-built) and ``camera_noise`` (sd of pixel noise, 8-bit units).
+built) and ``camera_noise`` (sd of pixel noise, 8-bit units). The person's looks: ``skin``
+(one tone for every performance; None: each draws one) and ``pose_jitter`` (how much their
+poses vary). With ``adapt`` the gesture model follows the person from the robot's feedback
+(:mod:`robin_sim.vision.adapting`; :meth:`VisionDetector.verdict`).
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
 from robin_sim.person.gestures import GestureDisplay, pose_for
 from robin_sim.person.hand_poses import Performance
+from robin_sim.vision.adapting import AdaptedModel, FeedbackLabels
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, ModelFileError, load_shipped
 from robin_sim.vision.condition_params import CONDITION_PARAMS
 from robin_sim.vision.eyes import Condition, EyeCameras
@@ -99,6 +103,9 @@ class VisionDetector:
         seed: int = 0,
         gesture_model: GestureModel | None = None,
         vary_performance: bool = True,
+        skin: float | None = None,
+        pose_jitter: float = 1.0,
+        adapt: bool = False,
     ) -> None:
         self.sim = sim
         self.condition = Condition(lighting=lighting, camera_noise=camera_noise)
@@ -110,6 +117,9 @@ class VisionDetector:
         self.eyes = EyeCameras(sim.model)
         self.rng = np.random.default_rng(seed)
         self.vary_performance = vary_performance
+        self.skin, self.pose_jitter = skin, pose_jitter
+        self.adapted = AdaptedModel(self.gesture_model) if adapt else None
+        self.labels = None if self.adapted is None else FeedbackLabels(self.adapted)
         self.records: list[VisionRecord] = []
         self.detected = self.discarded = self.misread = 0
         self.last_reading: Reading | None = None
@@ -160,7 +170,7 @@ class VisionDetector:
         look_at(self.sim, target)
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
         views, depths = see(self.eyes, data, target, self.condition, self.rng)
-        reading = read_views(self.gesture_model, views, depths)
+        reading = read_views(self.adapted or self.gesture_model, views, depths)
         self.last_reading, self.last_view = reading, views[0].rgb
         return reading
 
@@ -183,7 +193,10 @@ class VisionDetector:
 
     def _show(self, pose: str) -> None:
         if self.display is not None:
-            performance = Performance.draw(self.rng) if self.vary_performance else None
+            performance = None
+            if self.vary_performance:
+                skin = {} if self.skin is None else {"skin_range": (self.skin, self.skin)}
+                performance = Performance.draw(self.rng, jitter=self.pose_jitter, **skin)
             self.display.show(pose, performance)
 
     def _read(self, kind: str, pose: str, classes: tuple[str, ...]) -> VisionRecord:
@@ -206,6 +219,8 @@ class VisionDetector:
     def detect(self, gesture: Gesture) -> Gesture | None:
         """What Robin reads while the person shows ``gesture`` (None: discarded)."""
         record = self._read("gesture", pose_for(gesture), GESTURE_CLASSES)
+        if self.labels is not None and self.last_reading is not None:
+            self.labels.read(self.last_reading.features)
         if record.discarded:
             self.discarded += 1
             return None
@@ -224,6 +239,12 @@ class VisionDetector:
         """
         record = self._read("feedback", pose_for(feedback), FEEDBACK_CLASSES)
         return Feedback.NONE if record.discarded else FEEDBACK_OF[record.read]
+
+    def verdict(self, gesture: Gesture, approved: bool) -> None:
+        """The robot's verdict on an action for ``gesture`` (the learner's state, after its
+        correction): with ``adapt``, an approval labels this instruction's readings."""
+        if self.labels is not None:
+            self.labels.verdict(pose_for(gesture), approved)
 
     # --- the summary ---------------------------------------------------------------------------
     def summary(self) -> dict[str, object]:
@@ -254,6 +275,9 @@ class VisionDetector:
             "feedback_no_hand": sum(r.no_hand for r in thumbs),
             "confusion": confusion,
             "reads": dict(Counter(r.outcome for r in self.records)),
+            "skin": self.skin,
+            "pose_jitter": self.pose_jitter,
+            "adapt": None if self.labels is None else self.labels.summary(),
         }
 
     def close(self) -> None:

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import mujoco
 import numpy as np
 
 from robin_sim.control.gaze import pose_head
 from robin_sim.model import names
-from robin_sim.vision.classifier import CLASSES, NO_GESTURE, GestureModel
+from robin_sim.vision.classifier import CLASSES, NO_GESTURE
 from robin_sim.vision.eyes import Condition, EyeCameras, EyeView
 from robin_sim.vision.features import hand_features
 from robin_sim.vision.segment import HandRegion, find_hand
@@ -30,6 +31,7 @@ class Reading:
     probabilities: np.ndarray  # (7,) in CLASSES order
     boxes: tuple[tuple[int, int, int, int] | None, ...]  # per eye
     threshold: float
+    features: np.ndarray | None = None  # (eyes that found a hand, F); None: none did
 
     def among(self, classes: Sequence[str]) -> tuple[str, float]:
         """Best of ``classes`` (plus "no gesture") and its renormalised probability."""
@@ -75,19 +77,30 @@ def eye_features(
     ]
 
 
+class Classifier(Protocol):
+    """What reads feature rows: the shipped :class:`GestureModel` or an adapted one
+    (:class:`robin_sim.vision.adapting.AdaptedModel`)."""
+
+    @property
+    def threshold(self) -> float: ...
+
+    def probabilities(self, features: np.ndarray) -> np.ndarray: ...
+
+
 def read_views(
-    gesture_model: GestureModel, views: Sequence[EyeView], depths: Sequence[float]
+    gesture_model: Classifier, views: Sequence[EyeView], depths: Sequence[float]
 ) -> Reading:
     """Classify the hand seen in ``views`` (one per eye) and fuse the eyes."""
     found = regions(views, depths)
     rows = [f for f in eye_features(views, found) if f is not None]
-    if rows:
-        probabilities = gesture_model.probabilities(np.stack(rows)).mean(axis=0)
+    features = np.stack(rows) if rows else None
+    if features is not None:
+        probabilities = gesture_model.probabilities(features).mean(axis=0)
     else:
         probabilities = np.zeros(len(CLASSES))
         probabilities[CLASSES.index(NO_GESTURE)] = 1.0
     boxes = tuple(None if r is None else r.box for r in found)
-    return Reading(probabilities, boxes, gesture_model.threshold)
+    return Reading(probabilities, boxes, gesture_model.threshold, features)
 
 
 def see(

@@ -1,0 +1,217 @@
+"""The appearance study's runs: each person, each classifier, each repetition, one episode.
+
+A run is a physical episode without video read by Robin's eye cameras (PIL, the people file's
+assembly and tables) with the person's looks; ``fixed`` reads with the shipped gesture model,
+``adapted`` with the model adapting to the person (``adapt``). Repetition ``r`` of every person
+and classifier has the same seed (:func:`pil.experiments.study.rep_seeds`), so the two
+classifiers see the same handover order and the same performances: their runs pair.
+
+Each finished run is one JSON file in ``OUT/runs`` (its row and its per-table rows), written
+whole or not at all, with its episode log beside it; a run whose file exists is not run again,
+so an interrupted study (Ctrl-C to the process group, or SIGTERM) resumes where it stopped.
+Runs go to a ``spawn`` process pool (each worker builds its own scene and OpenGL context).
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import signal
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pil.atomic import write_text_atomic
+from robin_sim.appearance.people import AppearancePeople, Looks
+
+CLASSIFIERS: tuple[str, ...] = ("fixed", "adapted")
+RUNS_DIR = "runs"
+
+
+@dataclass(frozen=True, slots=True)
+class AppearanceRun:
+    """One run of the study."""
+
+    person: Looks
+    classifier: str
+    rep: int
+    seed: int
+    tables: int
+    scenario: str | None
+
+    @property
+    def run_id(self) -> str:
+        return f"{self.person.name}-{self.classifier}-{self.rep:03d}"
+
+
+def plan_runs(people: AppearancePeople, reps: int, seeds: list[int]) -> list[AppearanceRun]:
+    """Every run of the study, by person, repetition and classifier."""
+    return [
+        AppearanceRun(person, classifier, rep, seeds[rep], people.tables, people.scenario_file)
+        for person in people.people
+        for rep in range(reps)
+        for classifier in CLASSIFIERS
+    ]
+
+
+def table_rows(log: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Per table, from an episode log: instruction gestures read (one per performance: the
+    first record of each gesture count), read right, the detection rate, and the robot's
+    actions."""
+    first: dict[int, dict[str, Any]] = {}
+    for record in log:
+        first.setdefault(int(record["gesture_count"]), record)
+    tables: dict[int, dict[str, Any]] = {}
+    for record in first.values():
+        if record.get("true_gesture") is None or record.get("detected_gesture", "") == "":
+            continue
+        row = tables.setdefault(int(record["table"]), {"gestures": 0, "read_right": 0})
+        row["gestures"] += 1
+        row["read_right"] += record["detected_gesture"] == record["true_gesture"]
+    for record in log:
+        if record.get("action") is not None:
+            row = tables.setdefault(int(record["table"]), {"gestures": 0, "read_right": 0})
+            row["actions"] = row.get("actions", 0) + 1
+    out = []
+    for table, row in sorted(tables.items()):
+        gestures = row["gestures"]
+        out.append(
+            {
+                "table": table + 1,
+                "gestures": gestures,
+                "read_right": row["read_right"],
+                "detection_rate": row["read_right"] / gestures if gestures else None,
+                "actions": row.get("actions", 0),
+            }
+        )
+    return out
+
+
+def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
+    """Run ``run`` as an episode into ``out/runs/<id>`` and write its result file."""
+    from robin_sim.episode.config import EpisodeConfig
+    from robin_sim.episode.run import run_episode
+    from robin_sim.render.gl_backend import ensure_gl_backend
+
+    ensure_gl_backend()
+    folder = out / RUNS_DIR / run.run_id
+    params = {k: v for k, v in run.person.values().items() if v is not None}
+    params.update(detector="vision", adapt=run.classifier == "adapted")
+    config = EpisodeConfig(
+        tables=run.tables,
+        seed=run.seed,
+        scenario=run.scenario,
+        out=folder,
+        video=False,
+        verify=False,
+        progress=False,
+        params=params,
+    )
+    error = ""
+    try:
+        summary = run_episode(config.spec())
+    except KeyboardInterrupt:
+        raise
+    except Exception as problem:  # the run failed: recorded, the study goes on
+        error = str(problem)
+        summary = json.loads((folder / "summary.json").read_text())
+    log_path = folder / "episode.jsonl"
+    log = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
+    vision = summary.get("vision") or {}
+    row = {
+        "person": run.person.name,
+        "classifier": run.classifier,
+        "rep": run.rep,
+        "seed": run.seed,
+        **run.person.values(),
+        "status": summary["status"],
+        "error": error,
+        "tables": run.tables,
+        "legs_delivered": summary["legs_delivered"],
+        "legs_total": summary["legs_total"],
+        "gestures": summary["gestures"],
+        "actions": summary["actions"],
+        "detection_rate": vision.get("detection_rate"),
+        "misread": vision.get("misread"),
+        "discarded": vision.get("discarded"),
+        "no_hand": vision.get("no_hand"),
+        "feedback_misread": vision.get("feedback_misread"),
+        "examples": (vision.get("adapt") or {}).get("examples", 0),
+    }
+    tables = [
+        {"person": run.person.name, "classifier": run.classifier, "rep": run.rep, **t}
+        for t in table_rows(log)
+    ]
+    result = {"row": row, "tables": tables}
+    write_text_atomic(out / RUNS_DIR / f"{run.run_id}.json", json.dumps(result, indent=1) + "\n")
+    return result
+
+
+def finished(out: Path, run: AppearanceRun) -> dict[str, Any] | None:
+    """The result of ``run`` when its file is whole, else None (it runs again)."""
+    path = out / RUNS_DIR / f"{run.run_id}.json"
+    try:
+        result = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(result, dict) or not isinstance(result.get("row"), dict):
+        return None
+    row = result["row"]
+    same = row.get("seed") == run.seed and row.get("tables") == run.tables
+    same = same and all(row.get(k) == v for k, v in run.person.values().items())
+    return result if same else None
+
+
+def _worker_init() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+
+
+def _raise_interrupt(signum: int, frame: object) -> None:
+    raise KeyboardInterrupt
+
+
+def run_all(
+    runs: list[AppearanceRun],
+    out: Path,
+    workers: int,
+    progress: Callable[[int], object] = lambda n: None,
+) -> list[dict[str, Any]]:
+    """Every run's result, in ``runs`` order; finished runs are read back, the others run in
+    a spawn pool of ``workers`` processes (0: in this process)."""
+    results: dict[str, dict[str, Any]] = {}
+    todo = []
+    for run in runs:
+        done = finished(out, run)
+        if done is None:
+            todo.append(run)
+        else:
+            results[run.run_id] = done
+    progress(len(results))
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    if todo and workers == 0:
+        for run in todo:
+            results[run.run_id] = run_one(run, out)
+            progress(1)
+    elif todo:
+        previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+        context = multiprocessing.get_context("spawn")
+        pool = ProcessPoolExecutor(
+            min(workers, len(todo)), mp_context=context, initializer=_worker_init
+        )
+        try:
+            futures: dict[Future[dict[str, Any]], AppearanceRun] = {
+                pool.submit(run_one, run, out): run for run in todo
+            }
+            pending = set(futures)
+            while pending:
+                done_now, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done_now:
+                    results[futures[future].run_id] = future.result()
+                    progress(1)
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+            signal.signal(signal.SIGTERM, previous)
+    return [results[run.run_id] for run in runs]
