@@ -11,6 +11,7 @@ import argparse
 import json
 from pathlib import Path
 
+from pil.errors import RobinPilError
 from robin_sim.cli.options import add_progress_switch
 
 HOLDS_SIGNALS = True  # run inside main's guard: a Ctrl-C at start-up still leaves the files
@@ -51,7 +52,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="how the robot reads the person: exact (default, the study's), independent, "
         "measured:FILE, or vision (its eye cameras; conditions --param lighting=0.3, "
-        "--param camera_noise=12)",
+        "--param camera_noise=12; the person's looks --param skin=0, --param pose_jitter=2)",
+    )
+    parser.add_argument(
+        "--adapt",
+        action="store_true",
+        help="with --detector vision: the gesture model adapts to the person from the robot's "
+        "feedback (the same as --param adapt=true)",
     )
     parser.add_argument(
         "--no-eye-inset", action="store_true", help="no inset of the robot's eye view in the video"
@@ -105,6 +112,10 @@ def run(args: argparse.Namespace) -> int:
     params = _params(args.param)
     if args.detector is not None:
         params["detector"] = args.detector
+    if args.adapt:
+        if "adapt" in params:
+            raise RobinPilError("give --adapt or --param adapt=..., not both")
+        params["adapt"] = "true"
     config = EpisodeConfig(
         tables=args.tables,
         rate=args.rate,

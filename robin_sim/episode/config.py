@@ -152,7 +152,7 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     )
     if run.detector.model != VISION and given:
         raise EpisodeError(
-            f"{', '.join(given)} set the eye cameras' conditions and need "
+            f"{', '.join(given)} are the eye cameras' parameters and need "
             f"--detector {VISION}; the detector must be {DETECTOR_SPECS[PHYSICAL].valid()}"
         )
     if config.size is not None:

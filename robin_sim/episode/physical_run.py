@@ -51,7 +51,7 @@ def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> Episod
     vision = run.detector.model == CAMERAS
     if given and not vision:
         raise RobinPilError(
-            f"{', '.join(given)} set the eye cameras' conditions and need --detector {CAMERAS} "
+            f"{', '.join(given)} are the eye cameras' parameters and need --detector {CAMERAS} "
             f"(or --param detector={CAMERAS})"
         )
     defaults = {name: spec.default for name, spec in CONDITION_PARAMS.items()}

@@ -7,7 +7,7 @@ this person's confirmed readings, pulled towards the shipped weights (an L2 pena
 difference, the "L2-SP" prior of transfer learning) so that a few examples move it a little
 and classes the person never showed keep their shipped weights. The refit is a small smooth
 convex problem (softmax cross-entropy over the person's examples plus the pull), solved by
-SciPy's L-BFGS from the current weights.
+SciPy's L-BFGS from the current weights (on one BLAS thread: a few milliseconds).
 
 Where the labels come from (:class:`FeedbackLabels`): only what the robot itself perceives. The
 eye readings made for one instruction (every performance of it: the discarded ones, the one
@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import minimize
+from threadpoolctl import threadpool_limits
 
 from robin_sim.vision.classifier import CLASSES, GestureModel
 
@@ -99,9 +100,12 @@ class AdaptedModel:
             return value, np.concatenate([grad_w.ravel(), grad_b])
 
         start = np.concatenate([self.weights.ravel(), self.bias])
-        result = minimize(
-            loss, start, jac=True, method="L-BFGS-B", options={"maxiter": REFIT_ITERATIONS}
-        )
+        # products this small run best on one thread: OpenBLAS's threads, spun up for each
+        # one, cost 25x more on a busy machine (bench/bench_adapting.py)
+        with threadpool_limits(limits=1, user_api="blas"):
+            result = minimize(
+                loss, start, jac=True, method="L-BFGS-B", options={"maxiter": REFIT_ITERATIONS}
+            )
         self.weights = result.x[: w0.size].reshape(shape)
         self.bias = result.x[w0.size :]
         self.refits += 1
