@@ -58,11 +58,13 @@ class GestureReader(Protocol):
 @runtime_checkable
 class LearnsFromFeedback(Protocol):
     """A reader that learns from the robot's feedback, as the learner does (e.g. Robin's eye
-    cameras with ``adapt``): told the gesture of the state the learner acted on and whether the
-    robot took the action as approved (its own reading of the thumb), right after the learner."""
+    cameras with ``adapt``): told right after the learner whether the robot took its action as
+    approved (its own reading of the thumb, or silence) and, for an approval, the gesture that
+    action means by what the learner has learnt (:func:`pil.gesture_evidence.meant_gesture`;
+    None: no such evidence yet). The person's own gesture never reaches it."""
 
-    def verdict(self, gesture: Gesture, approved: bool) -> None:
-        """The robot's verdict on an action taken for ``gesture``."""
+    def verdict(self, meant: Gesture | None, approved: bool) -> None:
+        """The robot's verdict on its last action, and what the action means if approved."""
         ...
 
 

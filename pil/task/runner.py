@@ -28,13 +28,15 @@ from typing import Any, Protocol
 
 from pil.anticipation import Anticipation
 from pil.errors import RobinPilError
+from pil.gesture_evidence import meant_gesture
 from pil.learner import Learner
+from pil.table import AssociationTable
 from pil.task.counting import RunStats
 from pil.task.detector import GestureReader, LearnsFromFeedback
 from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
-from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
+from pil.types import START_ACTION, START_HAND, Action, Feedback, Gesture, Hand, State, hand_after
 
 # Random exploration has a geometric tail: 25 misses in a row at p = 3/4 happen about once a
 # study, 100 about once in 1e10 studies.
@@ -217,8 +219,8 @@ def steps(
                     feedback_read=heard,
                 )
                 learner.feedback(state, action, ok)
-                if isinstance(detector, LearnsFromFeedback):
-                    detector.verdict(state.gesture, ok)  # what the learner just received
+                if isinstance(detector, LearnsFromFeedback):  # what the learner just received
+                    detector.verdict(_meant(learner, action, state) if ok else None, ok)
                 if observer is not None:
                     observer.received(record)
                 person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin
@@ -305,6 +307,15 @@ def _anticipate(
         observer.received(record)
     person.after_feedback(feedback)
     return record
+
+
+def _meant(learner: Learner, action: Action, state: State) -> Gesture | None:
+    """The gesture an approved ``action`` means by the learner's table (None: a learner
+    without one, or no evidence yet)."""
+    table = getattr(learner, "table", None)
+    if not isinstance(table, AssociationTable):
+        return None
+    return meant_gesture(table, action, state.previous_action, state.hand)
 
 
 def run(

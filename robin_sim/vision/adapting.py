@@ -9,12 +9,17 @@ and classes the person never showed keep their shipped weights. The refit is a s
 convex problem (softmax cross-entropy over the person's examples plus the pull), solved by
 SciPy's L-BFGS from the current weights (on one BLAS thread: a few milliseconds).
 
-Where the labels come from (:class:`FeedbackLabels`): only what the robot itself perceives. The
-eye readings made for one instruction (every performance of it: the discarded ones, the one
-acted on, the ones after a thumb down) wait until the robot takes an action for it as approved
-(its own reading of the thumb, or silence); then each is labelled with the gesture of the state
-the learner acted on (after PIL's correction) and the model is refitted. The person's true
-gesture is never used.
+Where the labels come from (:class:`FeedbackLabels`): only what the robot itself perceives and
+has learnt. The eye readings made for one instruction (every performance of it: the discarded
+ones, the one acted on, the ones after a thumb down) wait until the robot takes an action for
+it as approved (its own reading of the thumb, or silence); then each is labelled with the
+gesture that action means by the learner's table (:func:`pil.gesture_evidence.meant_gesture`),
+and the model is refitted. Not with the gesture the robot read: PIL learns the action of a
+gesture misread the same way again and again for the misread state, so the misread action is
+approved, and labelling by the reading would teach the model its own mistakes (tried: a person
+in dim light read right 0.91 with the shipped model fell to 0.85). Without evidence (early
+on, or a context where two gestures lead to the same action) the readings are dropped
+unlabelled. The person's true gesture is never used.
 """
 
 from __future__ import annotations
@@ -119,6 +124,7 @@ class FeedbackLabels:
     pending: list[np.ndarray] = field(default_factory=list)  # feature rows per reading
     confirmed: int = 0  # readings labelled
     steps: int = 0  # approved actions that labelled readings
+    unlabelled: int = 0  # readings dropped at an approval without evidence of the gesture
 
     def read(self, features: np.ndarray | None) -> None:
         """A gesture reading was made (None: no eye found a hand: nothing to learn from)."""
@@ -126,20 +132,25 @@ class FeedbackLabels:
             self.pending.append(np.asarray(features))
             del self.pending[:-MAX_PENDING]
 
-    def verdict(self, pose: str, approved: bool) -> None:
-        """The robot took an action for the gesture ``pose`` (the class name of the state's
-        gesture) as ``approved`` or not; an approval labels the waiting readings."""
+    def verdict(self, pose: str | None, approved: bool) -> None:
+        """The robot took its last action as ``approved`` or not; an approval ends the
+        instruction: its readings are labelled ``pose`` (the class name of the gesture the
+        action means) or, without one, dropped."""
         if not approved or not self.pending:
             return
-        self.model.learn(np.concatenate(self.pending), pose)
-        self.confirmed += len(self.pending)
-        self.steps += 1
+        if pose is None:
+            self.unlabelled += len(self.pending)
+        else:
+            self.model.learn(np.concatenate(self.pending), pose)
+            self.confirmed += len(self.pending)
+            self.steps += 1
         self.pending.clear()
 
     def summary(self) -> dict[str, int]:
         """The summary's ``adapt`` figures."""
         return {
             "readings_confirmed": self.confirmed,
+            "readings_unlabelled": self.unlabelled,
             "approvals_learnt_from": self.steps,
             "examples": self.model.size,
             "refits": self.model.refits,

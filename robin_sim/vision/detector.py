@@ -240,11 +240,12 @@ class VisionDetector:
         record = self._read("feedback", pose_for(feedback), FEEDBACK_CLASSES)
         return Feedback.NONE if record.discarded else FEEDBACK_OF[record.read]
 
-    def verdict(self, gesture: Gesture, approved: bool) -> None:
-        """The robot's verdict on an action for ``gesture`` (the learner's state, after its
-        correction): with ``adapt``, an approval labels this instruction's readings."""
+    def verdict(self, meant: Gesture | None, approved: bool) -> None:
+        """The robot's verdict on its last action (:class:`pil.task.detector.LearnsFromFeedback`):
+        with ``adapt``, an approval labels this instruction's readings with the gesture the
+        action means (none without that evidence)."""
         if self.labels is not None:
-            self.labels.verdict(pose_for(gesture), approved)
+            self.labels.verdict(None if meant is None else pose_for(meant), approved)
 
     # --- the summary ---------------------------------------------------------------------------
     def summary(self) -> dict[str, object]:
