@@ -8,8 +8,11 @@ the scene, in the order a person does it:
   the meant leg or spot, holds it there, then draws the hand back out of the robot's way and
   raises it into Robin's view (where the robot reads it);
   "give me" holds the palm out at the handover point (a little off it each time: a person never
-  holds the hand at exactly the same place); "release" brings the palm back under a leg that
-  the robot holds where the palm was.
+  holds the hand at exactly the same place), but never over a leg the robot holds lower, under
+  that place (after a drop there): the leg, lifted, caught on the palm and was torn from the
+  fingers; the palm is shown drawn back instead, the robot brings the leg to the handover
+  point, and "release" brings the palm back under a leg that the robot holds where the palm
+  was (or would have been).
 * :meth:`~PhysicalBody.watch` the robot act (:mod:`robin_sim.person.watcher`): recognise an
   unwanted action from the motion and stop it with a thumb down one reaction time later.
 * :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; after an
@@ -34,6 +37,7 @@ import numpy as np
 from pil.task.world import Intent, Target
 from pil.types import Feedback, Gesture
 from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
+from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
@@ -58,6 +62,7 @@ HIDES_PALM = 0.15
 # to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
 # thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
 THUMB_ASIDE = -0.15
+LEG_SAMPLE = 0.01  # m between the points of a held leg's axis tested against the palm's place
 
 
 class PhysicalBody:
@@ -96,7 +101,10 @@ class PhysicalBody:
         elif gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
             jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)
             self.palm_goal = np.array(self.world.layout.handover) + np.array([*jitter, 0.0])
-            self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
+            if self.leg_held_below(self.palm_goal):  # shown drawn back, clear of the leg
+                self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
+            else:
+                self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
         self.world.run(GESTURE_HOLD)
 
     def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
@@ -179,7 +187,28 @@ class PhysicalBody:
         if held is None or self.world.palm_is_out():
             return False
         centre = self.world.leg_position(held)
-        return bool(np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
+        above = centre[2] > self.palm_goal[2]  # a leg held lower has no palm slid under it
+        return bool(above and np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
+
+    def leg_held_below(self, palm_centre: np.ndarray) -> bool:
+        """The robot holds a leg lower than a palm held out at ``palm_centre`` and under it:
+        some point of the leg's axis (sampled every :data:`LEG_SAMPLE` m) lies within the
+        palm box's footprint grown by the leg's radius. Lifted from there, the leg would catch
+        on the palm (which collides with legs) and be torn from Robin's fingers."""
+        held = self.world.held_leg()
+        if held is None:
+            return False
+        world = self.world
+        centre = world.leg_position(held)
+        if centre[2] >= palm_centre[2]:
+            return False
+        axis = world.data.xmat[world.model.body(names.leg_body(held)).id].reshape(3, 3)[:, 0]
+        reach = spec.LEG_LENGTH / 2 - spec.LEG_RADIUS  # the capsule's axis, either way
+        along = np.linspace(-reach, reach, int(np.ceil(2 * reach / LEG_SAMPLE)) + 1)
+        points = centre[:2] + along[:, None] * axis[:2]
+        box = world.model.geom(names.HUMAN_PALM_GEOM).size[:2] + spec.LEG_RADIUS
+        inside = np.all(np.abs(points - np.asarray(palm_centre)[:2]) <= box, axis=1)
+        return bool(inside.any())
 
     def _move(self, duration: float, settle: float = SETTLE) -> float:
         """Let a started hand motion play out (physics runs); returns the time it took."""

@@ -6,10 +6,12 @@ out (where the robot sees it; the layout's handover point when it is not out). T
 read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag.
 
 The world holds the person's mocap hand as a part of the scene (:attr:`PhysicalWorld.human`) but
-never moves it: the person's body (:mod:`robin_sim.person.body`) does. After a wanted "open"
-lets a leg go onto the palm (or a spot), the robot's hand rises clear and goes back to its home
-pose (:meth:`PhysicalWorld.rest_hand`: out of the line from its eyes to the person's pointing
-hand); the person then carries a delivered leg away.
+never moves it: the person's body (:mod:`robin_sim.person.body`) does. An "open" after "human"
+lets the leg go where "human" brought it (the palm, or the handover point, where the person
+then slides the palm under it). After a wanted "open" lets a leg go onto the palm (or a spot),
+the robot's hand rises clear and goes back to its home pose (:meth:`PhysicalWorld.rest_hand`:
+out of the line from its eyes to the person's pointing hand); the person then carries a
+delivered leg away.
 :meth:`PhysicalWorld.start_table` lays out a new table's legs: the legs are put back at the
 layout's poses (a scene change between tables, done only while the hand is empty and never
 during an action) and the arm returns home.
@@ -18,6 +20,7 @@ during an action) and the arm returns home.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Literal
 
 import mink
 import mujoco
@@ -271,11 +274,9 @@ class PhysicalWorld:
         """Remember where an open would let go, and which legs went to the person's palm."""
         if action in (Action.HUMAN, Action.LOCATION) and result.succeeded:
             assert isinstance(robot_action, MoveAction)
-            if action is Action.HUMAN:
-                self.release = ReleasePlace(self.human.palm_centre(), "palm")
-            else:
-                point = robot_action.release_point
-                self.release = None if point is None else ReleasePlace(point, "spot")
+            point = robot_action.release_point  # the palm it went to, or where it waits
+            kind: Literal["palm", "spot"] = "palm" if action is Action.HUMAN else "spot"
+            self.release = None if point is None else ReleasePlace(point, kind)
         elif action is Action.OBJECT and result.succeeded:
             self.release = None
         elif action is Action.OPEN and result.succeeded and release is not None:
