@@ -22,9 +22,9 @@ the scene, in the order a person does it:
   it from Robin's eyes (a leg on the palm is carried along, slowly, and stays on it); an
   empty hand also moves aside, clear of Robin's arm reaching to the palm.
 * :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
-  robot's reach the robot can pick it up again; anywhere else (the floor, the palm, another leg)
-  the person puts it back on the table at its place: a person intervention, the one scene
-  change besides laying out a new table.
+  robot's reach, clear of the other legs, the robot can pick it up again; anywhere else (the
+  floor, the palm, on or against another leg) the person puts it back on the table at its
+  place: a person intervention, the one scene change besides laying out a new table.
 
 The body sees the world as a person would (where the legs and the robot's hand are); it is never
 told what the robot will do next. Only the mocap hand and visual-only geoms move.
@@ -42,7 +42,7 @@ from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
 from robin_sim.robot.planning import HANDOVER_TOLERANCE, PALM_OUT_RADIUS
-from robin_sim.robot.targets import target_point
+from robin_sim.robot.targets import axis_points, reaches_into, target_point
 from robin_sim.robot.world import PhysicalWorld
 
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
@@ -62,7 +62,6 @@ HIDES_PALM = 0.15
 # to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
 # thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
 THUMB_ASIDE = -0.15
-LEG_SAMPLE = 0.01  # m between the points of a held leg's axis tested against the palm's place
 
 
 class PhysicalBody:
@@ -192,23 +191,18 @@ class PhysicalBody:
 
     def leg_held_below(self, palm_centre: np.ndarray) -> bool:
         """The robot holds a leg lower than a palm held out at ``palm_centre`` and under it:
-        some point of the leg's axis (sampled every :data:`LEG_SAMPLE` m) lies within the
-        palm box's footprint grown by the leg's radius. Lifted from there, the leg would catch
-        on the palm (which collides with legs) and be torn from Robin's fingers."""
+        the leg's axis reaches into the palm box's footprint (:func:`reaches_into`). Lifted
+        from there, the leg would catch on the palm (which collides with legs) and be torn
+        from Robin's fingers."""
         held = self.world.held_leg()
         if held is None:
             return False
-        world = self.world
-        centre = world.leg_position(held)
+        centre = self.world.leg_position(held)
         if centre[2] >= palm_centre[2]:
             return False
-        axis = world.data.xmat[world.model.body(names.leg_body(held)).id].reshape(3, 3)[:, 0]
-        reach = spec.LEG_LENGTH / 2 - spec.LEG_RADIUS  # the capsule's axis, either way
-        along = np.linspace(-reach, reach, int(np.ceil(2 * reach / LEG_SAMPLE)) + 1)
-        points = centre[:2] + along[:, None] * axis[:2]
-        box = world.model.geom(names.HUMAN_PALM_GEOM).size[:2] + spec.LEG_RADIUS
-        inside = np.all(np.abs(points - np.asarray(palm_centre)[:2]) <= box, axis=1)
-        return bool(inside.any())
+        half = self.world.model.geom(names.HUMAN_PALM_GEOM).size[:2]  # the hand unturned
+        points = axis_points(centre, self.world.leg_axis(held))
+        return reaches_into(points, palm_centre, np.array([1.0, 0.0]), (half[0], half[1]))
 
     def _move(self, duration: float, settle: float = SETTLE) -> float:
         """Let a started hand motion play out (physics runs); returns the time it took."""

@@ -46,9 +46,7 @@ from robin_sim.robot.contacts import PersonContacts
 from robin_sim.robot.head import HeadController
 from robin_sim.robot.motion import never
 from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace, make_action
-from robin_sim.robot.targets import (
-    reach_text,
-)
+from robin_sim.robot.targets import fingers_blocked, reach_text
 
 REST_RISE_Z = 1.0  # m: an empty hand going home rises to at least this height first
 
@@ -234,13 +232,19 @@ class PhysicalWorld:
     def _on_table(self, leg: int) -> bool:
         return abs(self.leg_position(leg)[2] - spec.GRASP_HEIGHT) < 0.01
 
+    def leg_axis(self, leg: int) -> np.ndarray:
+        """Unit vector along leg ``leg``'s axis (world frame, measured)."""
+        return self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0].copy()
+
     def graspable_where_it_lies(self, leg: int) -> bool:
-        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest."""
-        x, y, _ = self.leg_position(leg)
-        axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
+        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest, and no other
+        leg lies where the open fingers come down around it (:func:`fingers_blocked`)."""
+        centre, axis = self.leg_position(leg), self.leg_axis(leg)
         flat = abs(float(axis[2])) < 0.1  # within about 6 degrees of horizontal
         resting = self.leg_speed(leg) < 0.01
-        return self._on_table(leg) and flat and resting and spec.in_left_reach(x, y)
+        others = [(self.leg_position(k), self.leg_axis(k)) for k in range(self.leg_count)]
+        free = not fingers_blocked(centre, axis, others[:leg] + others[leg + 1 :])
+        return self._on_table(leg) and flat and resting and spec.in_left_reach(*centre[:2]) and free
 
     def put_leg_back(self, leg: int) -> None:
         """The person puts leg ``leg`` back at its layout place on the table (a person
@@ -253,8 +257,7 @@ class PhysicalWorld:
     def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axis of ``leg`` where it lies; off the table: its layout place."""
         if self._on_table(leg):
-            axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
-            return self.leg_position(leg), axis
+            return self.leg_position(leg), self.leg_axis(leg)
         x, y, yaw = self.layout.legs[leg]
         return np.array([x, y, spec.GRASP_HEIGHT]), np.array([np.cos(yaw), np.sin(yaw), 0.0])
 
