@@ -14,6 +14,7 @@ import pytest
 
 from pil.task.world import Target
 from pil.types import Action, Hand
+from robin_sim.model.scene import SceneLayout
 from robin_sim.robot.actions import OpenAction
 from robin_sim.robot.world import PhysicalWorld
 
@@ -61,3 +62,18 @@ def test_a_leg_dropped_above_a_spot_is_grasped_again() -> None:
     _carry(world, 1, Action.OBJECT, Target("spot", 3))  # with a leg in hand: above the spot
     _drop_and_stop_while_rising(world, 1)
     _regrasp_and_carry(world, 1)
+
+
+@pytest.mark.parametrize("apart", [0.06, 0.08, 0.10, 0.12])
+def test_a_leg_counts_as_graspable_where_it_lies_only_if_the_close_holds_it(apart: float) -> None:
+    """Two parallel legs, axes ``apart`` m apart: where the other leg lies in the open fingers'
+    way, the close catches nothing (measured: 6 and 8 cm), and the person must not leave such a
+    leg for the robot (the stuck episodes: a dropped leg rolled against another, axes 4 cm
+    apart, and every close after that closed on nothing)."""
+    world = PhysicalWorld(SceneLayout(legs=((0.44, 0.31, 0.0), (0.44, 0.31 + apart, 0.0))))
+    world.run(0.5)
+    graspable = world.graspable_where_it_lies(0)
+    assert world.execute(Action.OBJECT, Target("leg", 0)).succeeded
+    close = world.execute(Action.CLOSE, None)
+    assert graspable == close.succeeded, (apart, graspable, close.detail)
+    assert graspable == (apart >= 0.10)

@@ -143,7 +143,7 @@ def test_build_model_caches_nothing() -> None:
 
 
 # --- the default spots: four places for "location", one per leg of a table ----------------------
-OPEN_HAND_HALF = (0.055, 0.08)  # m: open fingers along / across a grasped leg's axis (measured)
+OPEN_HAND_HALF = (spec.FINGER_ALONG, spec.FINGER_SPREAD)  # m: open fingers along / across the axis
 CLOSED_HAND_HALF_WIDTH = 0.045  # m: closed fingers and the palm cylinder, across the leg axis
 PALM_FOOTPRINT_HALF = (0.09 + 0.01, 0.05 + 0.01)  # m: the person's palm box + 1 cm jitter
 

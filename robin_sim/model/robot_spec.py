@@ -29,6 +29,10 @@ HAND_OPEN_CTRL: tuple[float, ...] = (0.0, -0.5, 0.35, -0.5, 0.35, -0.5, 0.35)
 HAND_CLOSED_CTRL: tuple[float, ...] = (0.0, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6)
 HAND_CLOSE_TIME = 0.6  # s, time to wait after switching to HAND_CLOSED_CTRL before lifting
 HAND_OPEN_TIME = 0.4  # s, time for the fingers to clear a released leg
+# Where the open fingers come down around a leg grasped at its centre: this far either side of
+# its axis and along it (m). Another leg there keeps the close from holding it (measured: two
+# parallel legs with axes 6 or 8 cm apart: "closed on nothing"; 10 cm apart: held).
+FINGER_SPREAD, FINGER_ALONG = 0.08, 0.055
 
 # Grasp site frame (``names.grasp_site``): origin where the axis of a grasped leg lies; z along
 # the approach direction, pointing out of the palm (top-down grasp: z points down); y along the

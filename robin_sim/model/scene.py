@@ -27,8 +27,8 @@ Spot = tuple[float, float]  # x, y (m) on the table top
 # the four spots for "location" in a second row further out (x 0.68), each spot's row half-way
 # between two legs' rows. A leg placed on a spot lies along x like the resting ones (the wrist
 # keeps the grasp's yaw), so placed and resting legs overlap in x only over 6 cm, 2 cm apart;
-# the open fingers (0.08 m either side of a grasped leg's axis, 0.055 m along it) clear every
-# other leg by >= 3 cm, and every spot lies >= 7 cm (y) outside the person's palm at the
+# the open fingers (spec.FINGER_SPREAD either side of a grasped leg's axis, FINGER_ALONG along
+# it) clear every other leg by >= 3 cm, and every spot lies >= 7 cm (y) outside the palm at the
 # handover point, so the hand never reaches under the held-out palm. See models/robin/README.md.
 DEFAULT_LEGS: tuple[LegPose, ...] = (
     (0.44, 0.19, 0.0),

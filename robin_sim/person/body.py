@@ -8,8 +8,11 @@ the scene, in the order a person does it:
   the meant leg or spot, holds it there, then draws the hand back out of the robot's way and
   raises it into Robin's view (where the robot reads it);
   "give me" holds the palm out at the handover point (a little off it each time: a person never
-  holds the hand at exactly the same place); "release" brings the palm back under a leg that
-  the robot holds where the palm was.
+  holds the hand at exactly the same place), but never over a leg the robot holds lower, under
+  that place (after a drop there): the leg, lifted, caught on the palm and was torn from the
+  fingers; the palm is shown drawn back instead, the robot brings the leg to the handover
+  point, and "release" brings the palm back under a leg that the robot holds where the palm
+  was (or would have been).
 * :meth:`~PhysicalBody.watch` the robot act (:mod:`robin_sim.person.watcher`): recognise an
   unwanted action from the motion and stop it with a thumb down one reaction time later.
 * :meth:`~PhysicalBody.show_feedback`: thumb up or down (nothing for silence), held; after an
@@ -19,9 +22,9 @@ the scene, in the order a person does it:
   it from Robin's eyes (a leg on the palm is carried along, slowly, and stays on it); an
   empty hand also moves aside, clear of Robin's arm reaching to the palm.
 * :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
-  robot's reach the robot can pick it up again; anywhere else (the floor, the palm, another leg)
-  the person puts it back on the table at its place: a person intervention, the one scene
-  change besides laying out a new table.
+  robot's reach, clear of the other legs, the robot can pick it up again; anywhere else (the
+  floor, the palm, on or against another leg) the person puts it back on the table at its
+  place: a person intervention, the one scene change besides laying out a new table.
 
 The body sees the world as a person would (where the legs and the robot's hand are); it is never
 told what the robot will do next. Only the mocap hand and visual-only geoms move.
@@ -34,11 +37,12 @@ import numpy as np
 from pil.task.world import Intent, Target
 from pil.types import Feedback, Gesture
 from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
+from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
 from robin_sim.robot.planning import HANDOVER_TOLERANCE, PALM_OUT_RADIUS
-from robin_sim.robot.targets import target_point
+from robin_sim.robot.targets import axis_points, reaches_into, target_point
 from robin_sim.robot.world import PhysicalWorld
 
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
@@ -96,7 +100,10 @@ class PhysicalBody:
         elif gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
             jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)
             self.palm_goal = np.array(self.world.layout.handover) + np.array([*jitter, 0.0])
-            self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
+            if self.leg_held_below(self.palm_goal):  # shown drawn back, clear of the leg
+                self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
+            else:
+                self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
         self.world.run(GESTURE_HOLD)
 
     def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
@@ -179,7 +186,23 @@ class PhysicalBody:
         if held is None or self.world.palm_is_out():
             return False
         centre = self.world.leg_position(held)
-        return bool(np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
+        above = centre[2] > self.palm_goal[2]  # a leg held lower has no palm slid under it
+        return bool(above and np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
+
+    def leg_held_below(self, palm_centre: np.ndarray) -> bool:
+        """The robot holds a leg lower than a palm held out at ``palm_centre`` and under it:
+        the leg's axis reaches into the palm box's footprint (:func:`reaches_into`). Lifted
+        from there, the leg would catch on the palm (which collides with legs) and be torn
+        from Robin's fingers."""
+        held = self.world.held_leg()
+        if held is None:
+            return False
+        centre = self.world.leg_position(held)
+        if centre[2] >= palm_centre[2]:
+            return False
+        half = self.world.model.geom(names.HUMAN_PALM_GEOM).size[:2]  # the hand unturned
+        points = axis_points(centre, self.world.leg_axis(held))
+        return reaches_into(points, palm_centre, np.array([1.0, 0.0]), (half[0], half[1]))
 
     def _move(self, duration: float, settle: float = SETTLE) -> float:
         """Let a started hand motion play out (physics runs); returns the time it took."""

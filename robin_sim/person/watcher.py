@@ -14,11 +14,15 @@ control tick it checks whether the motion so far contradicts what the person wan
   hand opening on its way to the leg wanted is not a mismatch), or the hand
   heads more than
   :data:`HEADING_SEEN` away from the wanted place once it has moved :data:`ARM_SEEN`
-  sideways, or it comes down away from that place.
+  sideways, or it comes down away from that place. For "human" and "location" with a leg in
+  the hand the person follows the leg's centre, not the hand: the robot brings the leg there,
+  and a leg held off its centre (7 cm, measured after a close caught a rolled leg) puts the
+  hand that far beside the palm or spot.
 
 From the tick it recognises an unwanted action, the person needs their reaction time; then
 the thumb goes down and the robot stops. An action that ran to its end is judged by its
-result (the leg in the hand, the hand at the place and height meant); a wrong result gets
+result (the leg in the hand, the hand or the carried leg at the place and height meant); a
+wrong result gets
 the thumb down one reaction time later, and the robot takes the action back.
 """
 
@@ -53,9 +57,12 @@ class PhysicalWatcher:
         hand = world.sim.hand
         self._tips = hand.joint_qadr[hand.distal]  # qpos addresses of the two fingertips
         self._site = world.data.site(names.grasp_site(names.ACTIVE_SIDE)).xpos  # a live view
-        self.start = self._site.copy()
         self.start_fingers = self._fingertips()
         self.start_held = world.held_leg()
+        # the leg in the hand is what "human" and "location" bring to the place
+        carries = intent.action in (Action.HUMAN, Action.LOCATION)
+        self._carried = self.start_held if carries else None
+        self.start = self._watched()
         self.highest = float(self.start[2])
         self.goal = self._goal()  # where the hand should go (xy, z of the surface), if a move
         self.recognized_at: float | None = None  # when the person saw it was unwanted
@@ -99,6 +106,13 @@ class PhysicalWatcher:
     def _fingertips(self) -> np.ndarray:
         return self.world.data.qpos[self._tips]
 
+    def _watched(self) -> np.ndarray:
+        """What the person follows to the place: the centre of the leg the hand carries (the
+        robot brings it there, wherever the fingers hold it), else the hand's grasp site."""
+        if self._carried is not None:
+            return self.world.leg_position(self._carried)
+        return self._site.copy()
+
     def _goal(self) -> np.ndarray | None:
         action, target, world = self.intent.action, self.intent.target, self.world
         if action is Action.HUMAN:
@@ -110,7 +124,7 @@ class PhysicalWatcher:
 
     def _mismatch(self) -> str:
         """Why the motion so far is not the wanted action ("" while it may still be)."""
-        here = self._site
+        here = self._watched()
         moved = here - self.start
         sideways = float(np.linalg.norm(moved[:2]))
         turned = float(np.abs(self._fingertips() - self.start_fingers).max())
@@ -147,7 +161,7 @@ class PhysicalWatcher:
     def _wrong_result(self) -> str:
         """Why the finished action's result is not the wanted one ("" when it is)."""
         world, wanted = self.world, self.intent.action
-        here = self._site
+        here = self._watched()
         if wanted is Action.CLOSE:
             if float(np.linalg.norm(here - self.start)) > ARM_SEEN:
                 return "the hand is not where it was"

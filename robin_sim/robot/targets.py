@@ -129,3 +129,42 @@ def location_surface(target: Target | None, layout: SceneLayout, near: np.ndarra
     spots = np.array(layout.spots)
     nearest = int(np.argmin(np.linalg.norm(spots - np.asarray(near)[:2], axis=1)))
     return spot_surface(layout, nearest)
+
+
+AXIS_SAMPLE = 0.01  # m between the points of a leg's axis tested against a region
+
+
+def axis_points(centre: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Points (x, y) every :data:`AXIS_SAMPLE` m along the axis of a leg lying at ``centre``
+    along ``axis`` (the capsule's segment, without its round caps), shape (n, 2)."""
+    reach = spec.LEG_LENGTH / 2 - spec.LEG_RADIUS
+    along = np.linspace(-reach, reach, int(np.ceil(2 * reach / AXIS_SAMPLE)) + 1)
+    direction = np.asarray(axis, float)[:2]
+    return np.asarray(centre, float)[:2] + along[:, None] * direction
+
+
+def reaches_into(
+    points: np.ndarray, centre: np.ndarray, along: np.ndarray, half: tuple[float, float]
+) -> bool:
+    """True when a leg whose axis passes through ``points`` reaches into the rectangle around
+    ``centre`` (x, y) with half sizes ``half`` along the unit vector ``along`` and across it:
+    some point lies within the rectangle grown by a leg's radius."""
+    u = np.asarray(along, float)[:2]
+    u = u / np.linalg.norm(u)
+    v = np.array([-u[1], u[0]])
+    rel = points - np.asarray(centre, float)[:2]
+    inside = (np.abs(rel @ u) <= half[0] + spec.LEG_RADIUS) & (
+        np.abs(rel @ v) <= half[1] + spec.LEG_RADIUS
+    )
+    return bool(inside.any())
+
+
+def fingers_blocked(
+    centre: np.ndarray, axis: np.ndarray, others: list[tuple[np.ndarray, np.ndarray]]
+) -> bool:
+    """True when another leg (centre and axis, in ``others``) lies where the open fingers come
+    down to grasp a leg at ``centre`` along ``axis``: within :data:`~robot_spec.FINGER_SPREAD`
+    either side of its axis, :data:`~robot_spec.FINGER_ALONG` along it. A leg dropped there,
+    against another, is put back by the person instead."""
+    half = (spec.FINGER_ALONG, spec.FINGER_SPREAD)
+    return any(reaches_into(axis_points(c, a), centre, axis, half) for c, a in others)

@@ -6,10 +6,12 @@ out (where the robot sees it; the layout's handover point when it is not out). T
 read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag.
 
 The world holds the person's mocap hand as a part of the scene (:attr:`PhysicalWorld.human`) but
-never moves it: the person's body (:mod:`robin_sim.person.body`) does. After a wanted "open"
-lets a leg go onto the palm (or a spot), the robot's hand rises clear and goes back to its home
-pose (:meth:`PhysicalWorld.rest_hand`: out of the line from its eyes to the person's pointing
-hand); the person then carries a delivered leg away.
+never moves it: the person's body (:mod:`robin_sim.person.body`) does. An "open" after "human"
+lets the leg go where "human" brought it (the palm, or the handover point, where the person
+then slides the palm under it). After a wanted "open" lets a leg go onto the palm (or a spot),
+the robot's hand rises clear and goes back to its home pose (:meth:`PhysicalWorld.rest_hand`:
+out of the line from its eyes to the person's pointing hand); the person then carries a
+delivered leg away.
 :meth:`PhysicalWorld.start_table` lays out a new table's legs: the legs are put back at the
 layout's poses (a scene change between tables, done only while the hand is empty and never
 during an action) and the arm returns home.
@@ -18,6 +20,7 @@ during an action) and the arm returns home.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Literal
 
 import mink
 import mujoco
@@ -43,9 +46,7 @@ from robin_sim.robot.contacts import PersonContacts
 from robin_sim.robot.head import HeadController
 from robin_sim.robot.motion import never
 from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace, make_action
-from robin_sim.robot.targets import (
-    reach_text,
-)
+from robin_sim.robot.targets import fingers_blocked, reach_text
 
 REST_RISE_Z = 1.0  # m: an empty hand going home rises to at least this height first
 
@@ -231,13 +232,19 @@ class PhysicalWorld:
     def _on_table(self, leg: int) -> bool:
         return abs(self.leg_position(leg)[2] - spec.GRASP_HEIGHT) < 0.01
 
+    def leg_axis(self, leg: int) -> np.ndarray:
+        """Unit vector along leg ``leg``'s axis (world frame, measured)."""
+        return self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0].copy()
+
     def graspable_where_it_lies(self, leg: int) -> bool:
-        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest."""
-        x, y, _ = self.leg_position(leg)
-        axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
+        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest, and no other
+        leg lies where the open fingers come down around it (:func:`fingers_blocked`)."""
+        centre, axis = self.leg_position(leg), self.leg_axis(leg)
         flat = abs(float(axis[2])) < 0.1  # within about 6 degrees of horizontal
         resting = self.leg_speed(leg) < 0.01
-        return self._on_table(leg) and flat and resting and spec.in_left_reach(x, y)
+        others = [(self.leg_position(k), self.leg_axis(k)) for k in range(self.leg_count)]
+        free = not fingers_blocked(centre, axis, others[:leg] + others[leg + 1 :])
+        return self._on_table(leg) and flat and resting and spec.in_left_reach(*centre[:2]) and free
 
     def put_leg_back(self, leg: int) -> None:
         """The person puts leg ``leg`` back at its layout place on the table (a person
@@ -250,8 +257,7 @@ class PhysicalWorld:
     def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
         """Centre and axis of ``leg`` where it lies; off the table: its layout place."""
         if self._on_table(leg):
-            axis = self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0]
-            return self.leg_position(leg), axis
+            return self.leg_position(leg), self.leg_axis(leg)
         x, y, yaw = self.layout.legs[leg]
         return np.array([x, y, spec.GRASP_HEIGHT]), np.array([np.cos(yaw), np.sin(yaw), 0.0])
 
@@ -271,11 +277,9 @@ class PhysicalWorld:
         """Remember where an open would let go, and which legs went to the person's palm."""
         if action in (Action.HUMAN, Action.LOCATION) and result.succeeded:
             assert isinstance(robot_action, MoveAction)
-            if action is Action.HUMAN:
-                self.release = ReleasePlace(self.human.palm_centre(), "palm")
-            else:
-                point = robot_action.release_point
-                self.release = None if point is None else ReleasePlace(point, "spot")
+            point = robot_action.release_point  # the palm it went to, or where it waits
+            kind: Literal["palm", "spot"] = "palm" if action is Action.HUMAN else "spot"
+            self.release = None if point is None else ReleasePlace(point, kind)
         elif action is Action.OBJECT and result.succeeded:
             self.release = None
         elif action is Action.OPEN and result.succeeded and release is not None:
