@@ -117,10 +117,21 @@ def test_a_small_study_runs_pairs_and_resumes(tmp_path: Path) -> None:
     assert all(int(r["examples"]) == 0 for r in runs if r["classifier"] == "fixed")
     tables = _rows(out / "appearance_tables.csv")
     assert len(tables) == 4 and all(t["table"] == "1" for t in tables)
+    for t in tables:
+        assert int(t["readings"]) >= int(t["read_right"]) > 0
+        if t["classifier"] == "fixed":  # read by the shipped model itself
+            assert t["shipped_detection_rate"] == t["detection_rate"]
     tests = _rows(out / "tests.csv")
     assert {t["measure"] for t in tests} == {"detection_rate", "gestures", "actions"}
     assert all(t["pairing"] == "rep+seed" and t["n"] == "2" for t in tests)
-    assert all((t["system_a"], t["system_b"]) == ("fixed", "adapted") for t in tests)
+    # adapted runs against fixed runs; and the adapted model against the shipped one reading
+    # the same views (the detection rate only)
+    pairs = {(t["system_a"], t["system_b"], t["measure"]) for t in tests}
+    assert ("fixed", "adapted", "actions") in pairs
+    assert ("shipped_same_views", "adapted", "detection_rate") in pairs
+    assert ("shipped_same_views", "adapted", "actions") not in pairs
+    report = (out / "appearance.md").read_text()
+    assert "| darkest_dim | shipped_same_views |" in report
     # resumed: finished runs are read back, not run again; a damaged one runs again
     files = sorted((out / "runs").glob("*.json"))
     stamps = {p: p.stat().st_mtime_ns for p in files}
@@ -149,11 +160,18 @@ def test_an_adapting_episode_learns_only_from_what_it_took_as_approved(tmp_path:
     adapt = vision["adapt"]
     log = [json.loads(line) for line in (out / "episode.jsonl").read_text().splitlines()]
     approved = [e for e in log if e["action"] is not None and e["feedback_read"] != "not ok"]
-    # each approval labels the readings made for its instruction: never more approvals than
-    # the robot took, never more readings than were made (no hand found: none to learn from)
+    # each approval labels the readings made for its instruction (or drops them without
+    # evidence of the gesture): never more approvals than the robot took, never more readings
+    # than were made (no hand found: none to learn from)
     assert 0 < adapt["approvals_learnt_from"] <= len(approved)
     assert adapt["approvals_learnt_from"] <= adapt["readings_confirmed"]
-    assert adapt["readings_confirmed"] <= vision["gestures_read"] - vision["no_hand"]
+    labelled_or_not = adapt["readings_confirmed"] + adapt["readings_unlabelled"]
+    assert labelled_or_not <= vision["gestures_read"] - vision["no_hand"]
     assert adapt["refits"] == adapt["approvals_learnt_from"]
     assert adapt["examples"] >= adapt["readings_confirmed"]  # one row per eye that saw the hand
+    # every reading also records what the shipped model reads in the same views
+    readings = [v for e in log for v in e.get("vision") or [] if v["kind"] == "gesture"]
+    assert readings and all("shipped" in v for v in readings)
+    right = sum(v["shipped"] == v["shown"] for v in readings) / len(readings)
+    assert vision["shipped_detection_rate"] == pytest.approx(right)
     assert DEFAULT_APPEARANCE.exists()

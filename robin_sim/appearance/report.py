@@ -15,6 +15,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from robin_sim.appearance.runs import CLASSIFIERS
 
 APPEARANCE_MEASURES = ("detection_rate", "gestures", "actions")
@@ -29,8 +31,14 @@ def _csv(rows: Sequence[dict[str, Any]]) -> str:
     return csv_text(list(rows), columns)
 
 
+SAME_VIEWS = "shipped_same_views"  # the shipped model on the adapted runs' own views
+
+
 def appearance_tests(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """``adapted`` against ``fixed`` per person (finished runs whose twin finished too)."""
+    """Two families, per person: ``adapted`` against ``fixed`` runs (each pair one seed: the
+    whole session, learner included) on the detection rate, gestures and actions; and, in the
+    adapted runs, the adapted model against the shipped one reading the very same views
+    (:data:`SAME_VIEWS`), on the detection rate. Finished runs only (with their twins)."""
     from pil.experiments.stats import compare
 
     done = [r for r in rows if r["status"] == "finished"]
@@ -39,7 +47,7 @@ def appearance_tests(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     paired = [r for r in done if (r["person"], r["rep"]) in pairs]
     if not paired:
         return []
-    return compare(
+    runs = compare(
         paired,
         "fixed",
         compare_by="classifier",
@@ -47,6 +55,20 @@ def appearance_tests(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
         metrics=APPEARANCE_MEASURES,
         pair_by=("rep", "seed"),
     )
+    adapted = [r for r in done if r["classifier"] == "adapted"]
+    views = [
+        {**r, "classifier": SAME_VIEWS, "detection_rate": r["shipped_detection_rate"]}
+        for r in adapted
+    ] + adapted
+    same = compare(
+        views,
+        SAME_VIEWS,
+        compare_by="classifier",
+        within=("person",),
+        metrics=("detection_rate",),
+        pair_by=("rep", "seed"),
+    )
+    return runs + same
 
 
 def _mean_ci(values: Sequence[float]) -> tuple[float, float, float]:
@@ -58,8 +80,51 @@ def _mean_ci(values: Sequence[float]) -> tuple[float, float, float]:
     return mean_ci(values)
 
 
+def _series(
+    tables_rows: Sequence[dict[str, Any]], person: str, classifier: str, key: str
+) -> dict[int, list[float]]:
+    """Per table number, the values of ``key`` in ``person``'s ``classifier`` runs (the shipped
+    model on the adapted runs' views: classifier :data:`SAME_VIEWS`)."""
+    source = "adapted" if classifier == SAME_VIEWS else classifier
+    column = "shipped_detection_rate" if classifier == SAME_VIEWS else key
+    out: dict[int, list[float]] = {}
+    for t in tables_rows:
+        if t["person"] == person and t["classifier"] == source and t[column] is not None:
+            out.setdefault(int(t["table"]), []).append(float(t[column]))
+    return out
+
+
+def per_table_lines(
+    tables_rows: Sequence[dict[str, Any]], rows: Sequence[dict[str, Any]]
+) -> list[str]:
+    """The detection rate per table (mean over finished runs): fixed runs, adapted runs, and
+    the shipped model reading the adapted runs' own views."""
+    finished = {(r["person"], r["classifier"], r["rep"]) for r in rows if r["status"] == "finished"}
+    kept = [t for t in tables_rows if (t["person"], t["classifier"], t["rep"]) in finished]
+    numbers = sorted({int(t["table"]) for t in kept})
+    lines = [
+        "## Detection rate per table (mean over the finished runs)",
+        "",
+        "`shipped_same_views`: the shipped model reading the adapted runs' own views (the same "
+        "images, so only the classifier differs).",
+        "",
+        "| person | classifier | " + " | ".join(f"table {n}" for n in numbers) + " |",
+        "|---|---|" + "---|" * len(numbers),
+    ]
+    for person in dict.fromkeys(t["person"] for t in kept):
+        for classifier in (*CLASSIFIERS, SAME_VIEWS):
+            series = _series(kept, person, classifier, "detection_rate")
+            cells = [f"{np.mean(series[n]):.3f}" if n in series else "-" for n in numbers]
+            lines.append(f"| {person} | {classifier} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def summary_lines(
-    rows: Sequence[dict[str, Any]], tests: Sequence[dict[str, Any]], reps: int, tables: int
+    rows: Sequence[dict[str, Any]],
+    tests: Sequence[dict[str, Any]],
+    reps: int,
+    tables: int,
+    tables_rows: Sequence[dict[str, Any]] = (),
 ) -> list[str]:
     """The report's text (markdown)."""
     from pil.experiments.stats import describe_tests, tests_markdown
@@ -93,6 +158,7 @@ def summary_lines(
                 + " | ".join(cells)
                 + " |"
             )
+    lines += ["", *per_table_lines(tables_rows, rows)]
     failed = [r for r in rows if r["status"] != "finished"]
     if failed:
         lines += ["", f"{len(failed)} runs did not finish (left out with their twins):", ""]
@@ -113,8 +179,9 @@ FIGURE_ROWS = (("detection_rate", "detection rate (read right)"), ("actions", "r
 
 
 def write_figure(tables: Sequence[dict[str, Any]], path: Path) -> Path:
-    """Per table, fixed against adapted (mean and 95 % interval over repetitions): the
-    detection rate (top) and PIL's actions (bottom), one column per person."""
+    """Per table (mean and 95 % interval over repetitions): the detection rate (top: fixed,
+    adapted, and the shipped model on the adapted runs' views, dashed) and PIL's actions
+    (bottom), one column per person."""
     from pil.experiments.plotting import pyplot
 
     plt = pyplot()
@@ -122,39 +189,35 @@ def write_figure(tables: Sequence[dict[str, Any]], path: Path) -> Path:
     fig, axes = plt.subplots(
         len(FIGURE_ROWS), len(people), figsize=(4.2 * len(people), 6.4), squeeze=False
     )
+    lines = (
+        ("fixed", "tab:grey", "-"),
+        ("adapted", "tab:blue", "-"),
+        (SAME_VIEWS, "tab:orange", "--"),
+    )
     for column, person in enumerate(people):
         for row, (key, label) in enumerate(FIGURE_ROWS):
             ax = axes[row][column]
-            for classifier, colour in zip(CLASSIFIERS, ("tab:grey", "tab:blue"), strict=True):
-                mine = [
-                    t for t in tables if t["person"] == person and t["classifier"] == classifier
-                ]
-                numbers = sorted({int(t["table"]) for t in mine})
-                means, lows, highs = [], [], []
-                for number in numbers:
-                    values = [
-                        float(t[key])
-                        for t in mine
-                        if int(t["table"]) == number and t[key] is not None
-                    ]
-                    m, lo, hi = _mean_ci(values)
-                    means.append(m)
-                    lows.append(m - lo)
-                    highs.append(hi - m)
+            for classifier, colour, style in lines:
+                if classifier == SAME_VIEWS and key != "detection_rate":
+                    continue
+                series = _series(tables, person, classifier, key)
+                numbers = sorted(series)
+                stats = [_mean_ci(series[n]) for n in numbers]
                 ax.errorbar(
                     numbers,
-                    means,
-                    yerr=[lows, highs],
+                    [m for m, _, _ in stats],
+                    yerr=[[m - lo for m, lo, _ in stats], [hi - m for m, _, hi in stats]],
                     marker="o",
                     capsize=3,
                     color=colour,
+                    linestyle=style,
                     label=classifier,
                 )
             ax.set_title(person if row == 0 else "")
             ax.set_xlabel("table")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=8)
+            ax.legend(fontsize=7)
     fig.suptitle("Eye cameras per table: the shipped model (fixed) and the adapted one")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -171,6 +234,7 @@ def write_appearance(
 
     rows = [r["row"] for r in results]
     table_rows = [t for r in results for t in r["tables"]]
+    finished_tables = [t for r in results if r["row"]["status"] == "finished" for t in r["tables"]]
     written = [out / "appearance_runs.csv", out / "appearance_tables.csv"]
     written[0].write_text(_csv(rows))
     written[1].write_text(_csv(table_rows))
@@ -179,6 +243,6 @@ def write_appearance(
         written.append(out / "tests.csv")
         written[-1].write_text(csv_text(tests, csv_columns(("person",))))
     written.append(out / "appearance.md")
-    written[-1].write_text("\n".join(summary_lines(rows, tests, reps, tables)) + "\n")
-    written.append(write_figure(table_rows, out / "appearance.png"))
+    written[-1].write_text("\n".join(summary_lines(rows, tests, reps, tables, table_rows)) + "\n")
+    written.append(write_figure(finished_tables, out / "appearance.png"))
     return written

@@ -29,6 +29,7 @@ from robin_sim.appearance.people import AppearancePeople, Looks
 
 CLASSIFIERS: tuple[str, ...] = ("fixed", "adapted")
 RUNS_DIR = "runs"
+RESULT_FORMAT = 2  # of a run's result file: one of another format runs again
 
 
 @dataclass(frozen=True, slots=True)
@@ -58,32 +59,31 @@ def plan_runs(people: AppearancePeople, reps: int, seeds: list[int]) -> list[App
 
 
 def table_rows(log: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """Per table, from an episode log: instruction gestures read (one per performance: the
-    first record of each gesture count), read right, the detection rate, and the robot's
-    actions."""
-    first: dict[int, dict[str, Any]] = {}
+    """Per table, from an episode log: the eye cameras' gesture readings, how many were read
+    right, the detection rate, what the shipped model reads right in the very same views
+    (adapting runs; otherwise the same), and the robot's actions."""
+    tables: dict[int, dict[str, int]] = {}
     for record in log:
-        first.setdefault(int(record["gesture_count"]), record)
-    tables: dict[int, dict[str, Any]] = {}
-    for record in first.values():
-        if record.get("true_gesture") is None or record.get("detected_gesture", "") == "":
-            continue
-        row = tables.setdefault(int(record["table"]), {"gestures": 0, "read_right": 0})
-        row["gestures"] += 1
-        row["read_right"] += record["detected_gesture"] == record["true_gesture"]
-    for record in log:
-        if record.get("action") is not None:
-            row = tables.setdefault(int(record["table"]), {"gestures": 0, "read_right": 0})
-            row["actions"] = row.get("actions", 0) + 1
+        row = tables.setdefault(
+            int(record["table"]), {"readings": 0, "read_right": 0, "shipped_right": 0}
+        )
+        row["actions"] = row.get("actions", 0) + (record.get("action") is not None)
+        for reading in record.get("vision") or []:
+            if reading["kind"] != "gesture":
+                continue
+            row["readings"] += 1
+            row["read_right"] += reading["read"] == reading["shown"]
+            row["shipped_right"] += reading.get("shipped", reading["read"]) == reading["shown"]
     out = []
     for table, row in sorted(tables.items()):
-        gestures = row["gestures"]
+        n = row["readings"]
         out.append(
             {
                 "table": table + 1,
-                "gestures": gestures,
+                "readings": n,
                 "read_right": row["read_right"],
-                "detection_rate": row["read_right"] / gestures if gestures else None,
+                "detection_rate": row["read_right"] / n if n else None,
+                "shipped_detection_rate": row["shipped_right"] / n if n else None,
                 "actions": row.get("actions", 0),
             }
         )
@@ -135,6 +135,8 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         "gestures": summary["gestures"],
         "actions": summary["actions"],
         "detection_rate": vision.get("detection_rate"),
+        "shipped_detection_rate": vision.get("shipped_detection_rate")
+        or vision.get("detection_rate"),
         "misread": vision.get("misread"),
         "discarded": vision.get("discarded"),
         "no_hand": vision.get("no_hand"),
@@ -145,7 +147,7 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         {"person": run.person.name, "classifier": run.classifier, "rep": run.rep, **t}
         for t in table_rows(log)
     ]
-    result = {"row": row, "tables": tables}
+    result = {"format": RESULT_FORMAT, "row": row, "tables": tables}
     write_text_atomic(out / RUNS_DIR / f"{run.run_id}.json", json.dumps(result, indent=1) + "\n")
     return result
 
@@ -158,6 +160,8 @@ def finished(out: Path, run: AppearanceRun) -> dict[str, Any] | None:
     except (OSError, ValueError):
         return None
     if not isinstance(result, dict) or not isinstance(result.get("row"), dict):
+        return None
+    if result.get("format") != RESULT_FORMAT:
         return None
     row = result["row"]
     same = row.get("seed") == run.seed and row.get("tables") == run.tables

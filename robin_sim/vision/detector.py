@@ -60,6 +60,7 @@ class VisionRecord:
     confidence: float
     boxes: tuple[tuple[int, int, int, int] | None, ...]  # hand box per eye (pixels)
     sim_time: float
+    shipped: str | None = None  # adapting: what the shipped model reads in the same views
 
     @property
     def discarded(self) -> bool:
@@ -87,7 +88,15 @@ class VisionRecord:
             "confidence": round(self.confidence, 4),
             "boxes": [None if b is None else list(map(int, b)) for b in self.boxes],
             "sim_time": round(self.sim_time, 4),
+            **({} if self.shipped is None else {"shipped": self.shipped}),
         }
+
+
+def _decide(reading: Reading, classes: tuple[str, ...]) -> tuple[str, str, float]:
+    """(what is read: a class or :data:`DISCARDED`, the best class in context, its confidence)."""
+    label, confidence = reading.among(classes)
+    kept = label != NO_GESTURE and confidence >= reading.threshold
+    return (label if kept else DISCARDED), label, confidence
 
 
 class VisionDetector:
@@ -202,16 +211,15 @@ class VisionDetector:
     def _read(self, kind: str, pose: str, classes: tuple[str, ...]) -> VisionRecord:
         self._show(pose)
         reading = self.look()
-        label, confidence = reading.among(classes)
-        kept = label != NO_GESTURE and confidence >= reading.threshold
+        read, label, confidence = _decide(reading, classes)
+        shipped = None
+        if self.adapted is not None:  # the shipped model on the very same views, for the record
+            base, rows = self.gesture_model, reading.features
+            # no hand: "no gesture" at 1 either way
+            p = reading.probabilities if rows is None else base.probabilities(rows).mean(axis=0)
+            shipped = _decide(Reading(p, reading.boxes, base.threshold), classes)[0]
         record = VisionRecord(
-            kind,
-            pose,
-            label if kept else DISCARDED,
-            label,
-            confidence,
-            reading.boxes,
-            self.sim.time,
+            kind, pose, read, label, confidence, reading.boxes, self.sim.time, shipped
         )
         self.records.append(record)
         return record
@@ -279,6 +287,12 @@ class VisionDetector:
             "skin": self.skin,
             "pose_jitter": self.pose_jitter,
             "adapt": None if self.labels is None else self.labels.summary(),
+            # adapting: the share the shipped model reads right in the very same views
+            "shipped_detection_rate": (
+                sum(r.shipped == r.shown for r in gestures) / len(gestures)
+                if gestures and self.labels is not None
+                else None
+            ),
         }
 
     def close(self) -> None:
