@@ -41,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--person",
         action="append",
         default=None,
-        help="with --appearance: only this person of the file (repeatable)",
+        help="with --appearance: only this person of the file, repeatable (default: every person)",
     )
     parser.add_argument(
         "--workers",
