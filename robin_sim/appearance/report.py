@@ -182,6 +182,8 @@ def write_figure(tables: Sequence[dict[str, Any]], path: Path) -> Path:
     """Per table (mean and 95 % interval over repetitions): the detection rate (top: fixed,
     adapted, and the shipped model on the adapted runs' views, dashed) and PIL's actions
     (bottom), one column per person."""
+    from matplotlib.ticker import MaxNLocator
+
     from pil.experiments.plotting import pyplot
 
     plt = pyplot()
@@ -214,6 +216,7 @@ def write_figure(tables: Sequence[dict[str, Any]], path: Path) -> Path:
                     label=classifier,
                 )
             ax.set_title(person if row == 0 else "")
+            ax.xaxis.set_major_locator(MaxNLocator(integer=True))
             ax.set_xlabel("table")
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
