@@ -10,6 +10,7 @@
   const live = window.robinLive;
   const $ = (id) => document.getElementById(id);
   const MIN_INTERVAL_MS = 1000 / 15; // at most 15 readings a second
+  const TRACKING_GAP_MS = 400; // a longer gap between frames starts the tracker afresh (below)
   const KEEP = 500;
   const BONES = [[0, 1], [1, 2], [2, 3], [3, 4], [0, 5], [5, 6], [6, 7], [7, 8], [5, 9],
     [9, 10], [10, 11], [11, 12], [9, 13], [13, 14], [14, 15], [15, 16], [13, 17], [0, 17],
@@ -97,8 +98,14 @@
   async function tick() {
     if (live.closed) return;
     const now = performance.now();
+    let rest = 10; // ms until the next look
     if (!busy && running() && video.readyState >= 2 && now - lastSent >= MIN_INTERVAL_MS) {
       busy = true;
+      // Tracking carries the last frame's hand into the next; after a long gap (a slow
+      // machine: headless software rendering reads about one frame a second) the hand has
+      // moved on and the tracker can lock onto a wrong finger layout (a thumb up read as
+      // pointing for minutes), so it starts from the palm detector again.
+      if (now - lastSent > TRACKING_GAP_MS) hands.reset();
       lastSent = now;
       try {
         await hands.send({ image: video });
@@ -108,8 +115,11 @@
       } finally {
         busy = false;
       }
+      // the tracker runs on the page's own thread: on a slow machine it gets at most half of
+      // it, so clicks, keys and the scene stay responsive between readings
+      rest = Math.max(rest, performance.now() - now);
     }
-    setTimeout(tick, 10);
+    setTimeout(tick, rest);
   }
 
   const round = (value, places) => Number(value.toFixed(places));
