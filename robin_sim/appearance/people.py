@@ -1,4 +1,4 @@
-"""The people of the appearance study, read from a YAML file (``scenarios/appearance_people.yaml``).
+"""The people of the appearance study, read from a YAML file (``scenarios/people_appearance.yaml``).
 
 Each person is a name and their looks: vision parameters of
 :data:`robin_sim.vision.condition_params.CONDITION_PARAMS` (``skin``, ``pose_jitter``,
@@ -19,7 +19,7 @@ from pil.task.params import ASSEMBLY
 from pil.task.scenario import SCENARIOS_DIR, Scenario, ScenarioError
 from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings, parse_conditions
 
-DEFAULT_APPEARANCE = SCENARIOS_DIR / "appearance_people.yaml"
+DEFAULT_APPEARANCE = SCENARIOS_DIR / "people_appearance.yaml"
 _APPEARANCE_KEYS = ("name", "description", "scenario", "tables", "people")
 LOOKS = tuple(name for name in CONDITION_PARAMS if name != "adapt")
 MAX_PEOPLE = 12

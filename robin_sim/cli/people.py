@@ -29,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--people",
         default=None,
         help="people file (default: scenarios/two_people.yaml; with --appearance "
-        "scenarios/appearance_people.yaml)",
+        "scenarios/people_appearance.yaml)",
     )
     parser.add_argument(
         "--appearance",
