@@ -26,6 +26,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from robin_sim.appearance.people import AppearancePeople, Looks
+from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 
 CLASSIFIERS: tuple[str, ...] = ("fixed", "adapted")
 RUNS_DIR = "runs"
@@ -169,14 +170,6 @@ def finished(out: Path, run: AppearanceRun) -> dict[str, Any] | None:
     return result if same else None
 
 
-def _worker_init() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
-
-
-def _raise_interrupt(signum: int, frame: object) -> None:
-    raise KeyboardInterrupt
-
-
 def run_all(
     runs: list[AppearanceRun],
     out: Path,
@@ -200,10 +193,10 @@ def run_all(
             results[run.run_id] = run_one(run, out)
             progress(1)
     elif todo:
-        previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+        previous = signal.signal(signal.SIGTERM, raise_interrupt)
         context = multiprocessing.get_context("spawn")
         pool = ProcessPoolExecutor(
-            min(workers, len(todo)), mp_context=context, initializer=_worker_init
+            min(workers, len(todo)), mp_context=context, initializer=worker_leaves_ctrl_c
         )
         try:
             futures: dict[Future[dict[str, Any]], AppearanceRun] = {

@@ -21,8 +21,9 @@ from robin_sim.vision.build_config import BuildConfig
 from robin_sim.vision.dataset import CHUNK, chunk_path, chunk_ready, chunks_for, load_split
 
 
-def _worker_init() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+def worker_leaves_ctrl_c() -> None:
+    """Initializer of a spawn pool's worker: Ctrl-C is the parent's to handle."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _jobs(config: BuildConfig) -> list[tuple[str, int]]:
@@ -70,10 +71,10 @@ def run_jobs(
     if not jobs:
         return 0
     os.environ.setdefault("MUJOCO_GL", "egl")
-    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    previous = signal.signal(signal.SIGTERM, raise_interrupt)
     context = multiprocessing.get_context("spawn")
     pool = ProcessPoolExecutor(
-        min(workers, len(jobs)), mp_context=context, initializer=_worker_init
+        min(workers, len(jobs)), mp_context=context, initializer=worker_leaves_ctrl_c
     )
     from robin_sim.vision.render_set import render_chunk
 
@@ -96,7 +97,8 @@ def run_jobs(
     return done
 
 
-def _raise_interrupt(signum: int, frame: object) -> None:
+def raise_interrupt(signum: int, frame: object) -> None:
+    """A SIGTERM handler: stop as Ctrl-C would (finished files stay)."""
     raise KeyboardInterrupt
 
 
