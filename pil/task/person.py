@@ -172,6 +172,13 @@ class Person(Protocol):
         """True when ``rejections`` in a row make the person perform the gesture again."""
         ...
 
+    def performs_again(self, reason: str) -> bool:
+        """The robot wants the instruction's gesture again (``reason``: a discarded or invalid
+        reading, or the person's lost patience). True: the person makes it again at once (a
+        scripted person); False: the loop asks :meth:`next_step` anew (a live participant,
+        who decides what to do next)."""
+        ...
+
 
 class ScriptedPerson:
     """Performs a script, watches the robot and gives feedback (own seeded RNGs).
@@ -288,3 +295,7 @@ class ScriptedPerson:
     def loses_patience(self, rejections: int) -> bool:
         """True when ``rejections`` in a row make the person perform the gesture again."""
         return self.patience > 0 and rejections >= self.patience
+
+    def performs_again(self, reason: str) -> bool:
+        """Always: the scripted person repeats the instruction's gesture at once."""
+        return True

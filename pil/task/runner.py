@@ -136,7 +136,10 @@ def steps(
         # --- the instruction's gesture ---------------------------------------------------------
         spent = performed = 0  # actions and performances for this instruction
         done = changed = False
+        again = ""  # why the gesture is to be made again (the repeat request's reason)
         while not (done or changed):
+            if performed and not person.performs_again(again):
+                break  # a live participant is asked anew (next_step): nothing loops
             gestures += 1
             performed += 1
             if performed > MAX_PERFORMANCES:
@@ -162,7 +165,8 @@ def steps(
             )
             if (manual and detected is not true) or (repeat_discarded and detected is None):
                 what = "discarded" if detected is None else f"read as {detected.value}"
-                yield base._replace(reason=f"{what}; the person repeats it")
+                again = f"{what}; the person repeats it"
+                yield base._replace(reason=again)
                 continue
             hand = world.hand()
             if hand is not expected:  # physics changed the hand (a drop): the robot's hand is
@@ -170,7 +174,8 @@ def steps(
             decision = learner.decide(detected, previous, hand)
             state = decision.state
             if state is None or decision.action is None:
-                yield base._replace(reason=decision.reason)
+                again = decision.reason
+                yield base._replace(reason=again)
                 continue
             base = base._replace(
                 corrected_gesture=state.gesture if decision.corrected else None, state=state
@@ -237,6 +242,7 @@ def steps(
                     break
                 rejections += 1
                 if person.loses_patience(rejections):
+                    again = f"{rejections} actions rejected in a row"
                     break  # the person performs the gesture again
                 action = learner.choose(state)
                 exploited, reason = learner.last_exploited, learner.last_reason

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pil.errors import InvalidChoiceError
-from pil.task.params import SEED
+from pil.task.params import MAX_SEED, SEED
 
 PHASES: tuple[str, ...] = ("train", "test")
 SEED_PARTS: tuple[str, ...] = ("draw", "detector", "learner", "person")
@@ -66,3 +66,13 @@ def derive_seeds(seed: int) -> dict[str, int]:
     """Independent sub-seeds of one run or repetition, ``seed`` checked first (a Python call
     is an edge): name (:data:`SEED_NAMES`) -> seed."""
     return sub_seeds(SEED.parse(seed, "seed")).as_dict()
+
+
+def block_seed(study_seed: int, participant: str, block: int) -> int:
+    """The seed of ``participant``'s block ``block`` (0-based) in a study seeded ``study_seed``
+    (all parsed already): a numpy ``SeedSequence`` of the three, the participant id by its
+    UTF-8 bytes, so every participant and block of a study gets a sequence of its own and the
+    same three give the same seed on any machine."""
+    entropy = [int(study_seed), int(block), *participant.encode("utf-8")]
+    word = np.random.SeedSequence(entropy).generate_state(1, np.uint64)[0]
+    return int(word) % (MAX_SEED + 1)

@@ -53,7 +53,7 @@ class InstantWatcher:
         """True as soon as ``shown`` is another action than the meant one."""
         return shown is not None and shown is not self.intent.action
 
-    def result_window(self, shown: Action | None) -> float:
+    def result_window(self, shown: Action | None, *, undone: bool = False) -> float:
         """Nothing left to judge: an unwanted action was stopped at once."""
         return 0.0
 

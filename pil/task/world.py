@@ -60,9 +60,11 @@ class Watcher(Protocol):
         outright; a physical world passes None (a person's body perceives the motion)."""
         ...
 
-    def result_window(self, shown: Action | None) -> float:
+    def result_window(self, shown: Action | None, *, undone: bool = False) -> float:
         """Called once when the action has run to its end: how long (s) the world should keep
-        asking :meth:`stop_now` before the result stands (0: the person lets it stand)."""
+        asking :meth:`stop_now` before the result stands (0: the person lets it stand).
+        ``undone``: the action failed and the robot took it back by itself (a close that caught
+        nothing opened again); it is still shown and may be judged, with nothing to take back."""
         ...
 
     def settled(self) -> bool:

@@ -63,6 +63,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "block1-... with --protocol. Give a new one to run a participant again",
     )
     parser.add_argument("--speed", default="1", help="sim seconds per wall second (default 1)")
+    parser.add_argument(
+        "--seed",
+        default="0",
+        help="the study seed (default: %(default)s): each block's seed is derived from it, the "
+        "participant and the block (a protocol's 'seeds: shared' gives every block this seed)",
+    )
     parser.add_argument("--no-browser", action="store_true", help="print the URL only")
     parser.add_argument("--no-video", action="store_true", help="no MP4 of the session")
     parser.add_argument(
@@ -97,9 +103,12 @@ def parse_speed(text: str) -> float:
 
 def session_configs(args: argparse.Namespace) -> list[Any]:
     """The run's checked sessions: one, or one per protocol block of the participant."""
+    from pil.task.params import SEED
+    from pil.task.seeds import block_seed
     from robin_sim.live.session import LiveConfig
 
     session = parse_session(getattr(args, "session", None))
+    study_seed = SEED.parse(getattr(args, "seed", "0"), "--seed")
     base = LiveConfig(
         participant=args.participant,
         system=args.system,
@@ -109,6 +118,8 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         video=not args.no_video,
         webcam=bool(getattr(args, "webcam", False)),
         calibrate=not getattr(args, "no_calibration", False),
+        seed=block_seed(study_seed, str(args.participant), 0),
+        study_seed=study_seed,
     ).checked()
     if getattr(args, "no_calibration", False) and not base.webcam:
         raise RobinPilError("--no-calibration is for --webcam sessions; add --webcam or drop it")
@@ -128,6 +139,9 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
             protocol=str(args.protocol),
             instructions=block.instructions,
             session=block_folder(session, block.index, block.condition),
+            seed=study_seed
+            if protocol.seeds == "shared"
+            else block_seed(study_seed, base.participant, block.index),
         ).checked()
         for block in protocol.blocks_for(base.participant)
     ]

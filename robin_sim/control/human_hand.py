@@ -81,11 +81,17 @@ class HumanHand:
         """The palm-up hand pose whose palm centre lies at ``palm_centre``."""
         return pose(np.asarray(palm_centre, float) - self.palm_offset)
 
-    def rest(self, now: float) -> float:
+    def rest(self, now: float, speed: float = HAND_SPEED) -> float:
         """Back to the rest pose at the person's side."""
-        return self.follow([self.rest_pose], now)
+        return self.follow([self.rest_pose], now, speed)
 
-    def point_at(self, position: np.ndarray, now: float, draw_back_first: bool = False) -> float:
+    def point_at(
+        self,
+        position: np.ndarray,
+        now: float,
+        draw_back_first: bool = False,
+        speed: float = HAND_SPEED,
+    ) -> float:
         """Hold the hand above ``position`` (the pointing gesture's place); returns the time.
 
         ``draw_back_first``: start by drawing back and down (:data:`POINT_RETREAT`).
@@ -93,15 +99,17 @@ class HumanHand:
         waypoints = [pose(np.asarray(position, float) + robot_spec.POINT_OFFSET)]
         if draw_back_first:
             waypoints.insert(0, pose(self.pose().translation() + POINT_RETREAT))
-        return self.follow(waypoints, now)
+        return self.follow(waypoints, now, speed)
 
-    def hold_out_palm(self, palm_centre: np.ndarray, now: float) -> float:
+    def hold_out_palm(
+        self, palm_centre: np.ndarray, now: float, speed: float = HAND_SPEED
+    ) -> float:
         """Hold the palm out, palm up, with its centre at ``palm_centre`` ("give me")."""
         goal = self.hand_pose_for_palm(palm_centre)
         high = goal.translation() + np.array([0.0, 0.0, 0.05])
-        return self.follow([pose(high), goal], now)
+        return self.follow([pose(high), goal], now, speed)
 
-    def slide_under(self, palm_centre: np.ndarray, now: float) -> float:
+    def slide_under(self, palm_centre: np.ndarray, now: float, speed: float = HAND_SPEED) -> float:
         """Bring the palm back under something held above ``palm_centre``: in from the
         person's side 4 cm below, then up into place (never from above). A hand raised on
         the person's side (a thumb shown drawn back) comes down there first, so its fingers
@@ -113,7 +121,7 @@ class HumanHand:
         here = self.pose().translation()
         if here[0] >= entry[0] and here[2] > entry[2]:
             waypoints.insert(0, pose(np.array([here[0], here[1], entry[2]])))
-        return self.follow(waypoints, now)
+        return self.follow(waypoints, now, speed)
 
     def withdraw(
         self,

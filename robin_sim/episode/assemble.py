@@ -27,6 +27,7 @@ from robin_sim.vision.condition_params import VisionSettings, parse_conditions
 if TYPE_CHECKING:
     from pil.task.scenario import Scenario
     from robin_sim.model.scene import SceneLayout
+    from robin_sim.person.body import Tempo
     from robin_sim.robot.world import PhysicalWorld
 
 
@@ -61,21 +62,22 @@ def assemble(
     *,
     world: PhysicalWorld | None = None,
     cache: MutableMapping[Any, Any] | None = None,
+    tempo: Tempo | None = None,
 ) -> Run:
     """The run of ``spec``: a learner-only one as :func:`pil.task.assemble.assemble`; a
     physical one in ``world`` (default: a new world of the scenario's layout) with the person's
     body and, for ``detector=vision``, the eye cameras (default conditions for a bare
-    :class:`RunSpec`)."""
+    :class:`RunSpec`); ``tempo``: how fast the body signs (default: the scripted person's)."""
     conditions = spec.conditions if isinstance(spec, EpisodeSpec) else None
     run_spec = spec.run if isinstance(spec, EpisodeSpec) else spec
     if run_spec.world != PHYSICAL:
         return assemble_learner(run_spec, cache=cache)
-    from robin_sim.person.body import PhysicalBody
+    from robin_sim.person.body import SCRIPTED, PhysicalBody
     from robin_sim.robot.world import PhysicalWorld
 
     if world is None:
         world = PhysicalWorld(layout_of(run_spec.scenario))
-    body = PhysicalBody(world, seed=run_spec.seeds.body)
+    body = PhysicalBody(world, seed=run_spec.seeds.body, tempo=tempo or SCRIPTED)
     detectors = {**DETECTORS, VISION: vision_factory(conditions or parse_conditions({}))}
     return assemble_learner(run_spec, world=world, body=body, detectors=detectors, cache=cache)
 

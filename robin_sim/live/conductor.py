@@ -5,9 +5,9 @@ its instruction screen (phase ``instructions``) and starts on the tab's ``start`
 session ends by itself (``finished``, or ``ended`` by the participant), the next block's screen
 follows; after the last one the run is over. With questionnaires (the protocol's), each block that
 ends by itself is followed by them (phase ``questionnaire``), one at a time, before the next
-block; the answers go to the block's ``questionnaires.jsonl``. A closed controlling tab stops
-the running session as ``closed``, a signal as ``interrupted``, and either ends the run: the
-server then stops.
+block; the answers go to the block's ``questionnaires.jsonl``. A participant's page that does
+not come back after losing its connection (the server waits for it) stops the running session
+as ``closed``, a signal as ``interrupted``, and either ends the run: the server then stops.
 """
 
 from __future__ import annotations
@@ -54,6 +54,7 @@ class Conductor:
         self._over: asyncio.Event | None = None
         self._watcher: asyncio.Task[None] | None = None
         self._lock: asyncio.Lock | None = None
+        self._away = False  # the participant's page has lost its connection
 
     @property
     def session(self) -> LiveSession:
@@ -118,8 +119,17 @@ class Conductor:
             await self._enter(0)
 
     async def participant_left(self) -> None:
-        """The controlling tab closed: save what runs as ``closed``; the run is over."""
+        """No participant's page is there any more (the server waited for it to come back):
+        save what runs as ``closed``; the run is over."""
         await self._end("closed")
+
+    def page_away(self, away: bool, **fields: Any) -> None:
+        """The participant's page lost its connection (``away``) or came back: the running
+        session holds meanwhile, and the event is logged in its ``events.jsonl``."""
+        self._away = away
+        if self.phase == "running":
+            self.session.away(away)
+            self.session.log_event("disconnected" if away else "reconnected", fields)
 
     def interrupt(self) -> None:
         """SIGINT / SIGTERM: save what runs as ``interrupted`` (from the event loop)."""
@@ -202,6 +212,7 @@ class Conductor:
                 return
             assert self._on_frame is not None
             self._unsubscribe = session.subscribe(self._on_frame)
+            session.away(self._away)  # a page that is away holds the new block too
             self.phase = "running"
             self._watcher = self._loop.create_task(self._watch(session))
 

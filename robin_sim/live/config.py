@@ -14,12 +14,14 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError
+from pil.errors import InvalidChoiceError, RobinPilError
 from pil.experiments.systems import check_system
+from pil.step_memory import STEP_MEMORY
 from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
+from robin_sim.live.watchdog import WatchdogLimits
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
@@ -49,7 +51,8 @@ class LiveConfig:
     video: bool = True
     speed: float = 1.0  # sim seconds per wall second
     feedback_window: float = 4.0  # s of sim time to wait for a thumb after an action
-    seed: int = 0
+    seed: int = 0  # the session's own seed (from the CLI: pil.task.seeds.block_seed)
+    study_seed: int | None = None  # the study seed it was derived from (None: given as is)
     block: int | None = None
     protocol: str | None = None
     instructions: str = ""
@@ -58,6 +61,12 @@ class LiveConfig:
     reflections: bool = False  # the floor's reflection (an extra render pass)
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
+    # The within-step memory (pil.step_memory): on, an action the participant refused in a
+    # step is not tried again in it until all five were (a person should not refuse twice).
+    step_memory: str = "on"
+    # The step's watchdog (robin_sim.live.watchdog): robot attempts and sim seconds per gesture.
+    max_attempts: int = WatchdogLimits.attempts
+    max_step_seconds: float = WatchdogLimits.seconds
     # set by checked(): the learner side (its scenario loaded once) and what it was built from
     resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
 
@@ -81,6 +90,11 @@ class LiveConfig:
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
         seed = SEED.parse(self.seed, "seed")
+        if self.study_seed is not None:
+            SEED.parse(self.study_seed, "study_seed")
+        if self.step_memory not in STEP_MEMORY:
+            raise InvalidChoiceError("step_memory", self.step_memory, STEP_MEMORY)
+        limits = WatchdogLimits(self.max_attempts, self.max_step_seconds).checked()
         spec = self._spec(seed)
         scenario = spec.scenario
         types = self.handover_types
@@ -103,26 +117,31 @@ class LiveConfig:
             out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
             render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            max_attempts=limits.attempts,
+            max_step_seconds=limits.seconds,
             resolved=(self._source(seed), spec),
         )
 
     def _source(self, seed: int) -> tuple[Any, ...]:
         """What the learner side is built from (a config changed since: built again)."""
         types = self.handover_types
-        return (self.system, seed, self.scenario, None if types is None else tuple(types))
+        types = None if types is None else tuple(types)
+        return (self.system, seed, self.scenario, types, self.step_memory)
 
     def _spec(self, seed: int) -> RunSpec:
         """The learner side: the one built by :meth:`checked` if it still fits, else built
         (the scenario file loaded here, once per config)."""
         if self.resolved is not None and self.resolved[0] == self._source(seed):
             return self.resolved[1]
-        tables = {"tables": DEFAULT_TABLES} if self.scenario is None else {}
-        spec = build_run_spec(  # the parameters' defaults: nothing given, nothing parsed
+        values: dict[str, Any] = {"step_memory": self.step_memory}
+        if self.scenario is None:
+            values["tables"] = DEFAULT_TABLES
+        spec = build_run_spec(  # the parameters' defaults but these: nothing parsed
             system=self.system,
             rate=EXACT_RATE,
             seed=seed,
             scenario=self.scenario,
-            values=tables,
+            values=values,
             world=PHYSICAL,
         )
         types = self.handover_types
@@ -136,6 +155,11 @@ class LiveConfig:
         loaded once): its system and seed, the block's scenario, the exact detector at rate 1,
         the parameters' defaults, in the physical world."""
         return self._spec(self.seed)
+
+    @property
+    def watchdog(self) -> WatchdogLimits:
+        """The step watchdog's limits (of a :meth:`checked` config)."""
+        return WatchdogLimits(self.max_attempts, self.max_step_seconds)
 
     def scenario_of(self) -> Scenario:
         """The session's scenario: the block's handover types drawn in the scenario's way."""

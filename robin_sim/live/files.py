@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from robin_sim.live.run import LiveRun
 
 NOTES_NAME = "notes.jsonl"
+EVENTS_NAME = "events.jsonl"  # what the session did of itself: silences, hand-backs, ...
 MAX_RAW_CHARS = 2000  # a raw message longer than this is logged cut (the server limits them)
 
 
@@ -113,6 +114,13 @@ class SessionFiles:
             self.inputs += 1
             self.rejected += bool(error)
 
+    def log_event(self, kind: str, fields: dict[str, Any]) -> None:
+        """One line of ``events.jsonl`` (flushed): ``kind`` (e.g. ``silence``,
+        ``handed_back``, ``watchdog``, ``reconnected``, ``stream``) with its fields."""
+        entry = {"wall": time.time(), "event": kind, **fields}
+        with self._lock, (self.out_dir / EVENTS_NAME).open("a", encoding="utf-8") as events:
+            events.write(json.dumps(entry, default=str) + "\n")
+
     def log_note(self, text: str, sim_time: float | None) -> dict[str, Any]:
         """One experimenter's note, timestamped, appended to ``notes.jsonl`` (flushed); the
         entry. Written also after the session has ended (the folder stays)."""
@@ -186,6 +194,9 @@ class SessionFiles:
             "condition": config.system,
             "block": config.block,
             "protocol": config.protocol,
+            # the block's seed and what it came from (pil.task.seeds.block_seed)
+            "seed": config.seed,
+            "study_seed": config.study_seed,
             "handover_types": None if types is None else list(types),
             "inputs": self.inputs,
             "inputs_rejected": self.rejected,

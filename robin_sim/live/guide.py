@@ -13,7 +13,8 @@ from typing import Any
 
 from pil.task.scenario import HandoverType
 from pil.task.world import Target
-from pil.types import Action, Gesture
+from pil.types import Action, Gesture, Hand, State
+from pil.validity import is_valid
 from robin_sim.model.scene import LEG_COLORS, LEG_COLOUR_NAMES
 
 # The key of each gesture's button on the page.
@@ -91,3 +92,45 @@ def guide(
         "handovers": legs_total,
         "leg": {"index": leg, "number": leg + 1, "colour": leg_colour(leg), "css": leg_rgb(leg)},
     }
+
+
+# Why Robin could not act on a gesture (pil.validity's rule names), in the page's words.
+CANNOT = {
+    "grasp while occupied": "Robin already holds a leg, so it cannot grasp another one",
+    "release while free": "Robin's hand is empty, so there is nothing to release",
+    "give me while free": "Robin's hand is empty, so there is nothing to give you",
+    "grasp away from a leg": "Robin's hand is not at a leg, so it cannot grasp now",
+}
+
+
+def step_for(kind: HandoverType, done: int, previous: Action, hand: Hand) -> int:
+    """The step of ``kind`` the participant is at when Robin's last standing action is
+    ``previous`` and its hand ``hand``: the first step from ``done`` on (then from the start)
+    made in that state of the robot; else ``done``, unless its gesture is invalid there, in
+    which case the first step whose gesture is valid there. The guide never asks for a gesture
+    Robin cannot act on (after an approved wrong action, or a drop)."""
+    steps = kind.steps
+    done = min(done, len(steps) - 1)
+    order = [*range(done, len(steps)), *range(done)]
+    for k in order:
+        state = steps[k].state
+        if state.previous_action is previous and state.hand is hand:
+            return k
+    for k in order:
+        if is_valid(State(steps[k].gesture, previous, hand)):
+            return k
+    return done
+
+
+def cannot_act(gesture: Gesture, reason: str) -> str:
+    """Why the robot handed the step back, in plain words (``reason``: the learner's)."""
+    name = gesture.value.replace("give me", "give-me")
+    if reason.startswith("invalid: "):
+        rule = reason.removeprefix("invalid: ").split(";", 1)[0]
+        why = CANNOT.get(rule, "that gesture does not fit what Robin holds and did last")
+        return f"Robin could not act on your {name} gesture: {why}."
+    if "since your last gesture" in reason:
+        return f"Robin stopped trying ({reason})."
+    if reason.startswith(("discarded", "read as")):
+        return f"Robin could not read your {name} gesture clearly."
+    return f"Robin could not act on your {name} gesture ({reason})."

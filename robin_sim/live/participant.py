@@ -25,13 +25,15 @@ import threading
 from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome, Target
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
-from robin_sim.live.guide import guide, leg_colour, leg_rgb
+from robin_sim.live.guide import cannot_act, guide, leg_colour, leg_rgb, step_for
+from robin_sim.live.watchdog import StepWatchdog, WatchdogLimits
 from robin_sim.person.body import PhysicalBody
 
 # The action a gesture means in a state the block's types do not use (for the record only).
@@ -41,6 +43,10 @@ _PLAIN_MEANING = {
     Gesture.RELEASE: Action.OPEN,
 }
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
+# The last action the robot's state takes when physics left the hand otherwise than the
+# approved action would (the step loop's own rule): an empty hand is open, a full one closed.
+_AFTER_DROP = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
+EventSink = Callable[[str, dict[str, Any]], None]
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,14 +73,22 @@ class ThumbWatcher:
             self.participant._set("robot_acting", "Thumb down: the robot takes its action back.")
         return self.stopped
 
-    def result_window(self, shown: Action | None) -> float:
+    def result_window(self, shown: Action | None, *, undone: bool = False) -> float:
         """The feedback window, unless a thumb came during the move: a thumb down in it makes
-        the robot take the finished action back (physics runs while the participant decides)."""
+        the robot take the finished action back (physics runs while the participant decides).
+        An action the robot undid by itself (a close on nothing) gets the window too: it was
+        shown, and the participant judges it."""
         participant = self.participant
         if participant.thumb is not None:
             return 0.0
-        participant._set("waiting_for_thumb", "Thumb up or down? (no thumb counts as OK)")
-        return participant.feedback_window
+        window = participant.feedback_window
+        what = "Robin took that back by itself. " if undone else ""
+        participant._set(
+            "waiting_for_thumb",
+            f"{what}Thumb up or down? No thumb within {window:g} s counts as OK.",
+        )
+        participant.window_until = participant.body.world.time + window
+        return window
 
     def settled(self) -> bool:
         """The result stands: a thumb up, a next gesture instead (silence) or the session's end."""
@@ -92,6 +106,8 @@ class LiveParticipant:
         legs_per_table: int,
         feedback_window: float,
         robot_anticipates: Callable[[Action, Hand], bool] | None = None,
+        limits: WatchdogLimits | None = None,
+        on_event: EventSink | None = None,
     ) -> None:
         self.body, self.types = body, tuple(types)
         self.legs_per_table, self.feedback_window = legs_per_table, feedback_window
@@ -123,6 +139,13 @@ class LiveParticipant:
         self.step_gesture: Gesture | None = None  # None: the robot went first
         self.step_reading: int | None = None
         self.step_key: tuple[int, int] = (0, 0)
+        # What the page must say until the participant's next input (a silent approval, a
+        # step handed back), and when the feedback window now open ends (sim time).
+        self.notice = ""
+        self.window_until: float | None = None
+        self.watchdog = StepWatchdog(limits or WatchdogLimits(), lambda: body.world.time)
+        self._tripped = ""  # why the watchdog stopped the robot in this step ("" not)
+        self.on_event = on_event
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -136,10 +159,10 @@ class LiveParticipant:
             items, self._inbox = list(self._inbox), deque()
         for item in items:
             if isinstance(item, Gesturing):
-                self._gesture = item
+                self._gesture, self.notice = item, ""
             elif isinstance(item, Feedback):
                 if self.judging and self.thumb is None:
-                    self.thumb = item
+                    self.thumb, self.notice = item, ""
             else:
                 self.ended = True
 
@@ -190,6 +213,11 @@ class LiveParticipant:
         if record.delivered and self._legs.holding is not None:
             self._delivered_legs.add(self._legs.holding)
 
+    def window_left(self) -> float | None:
+        """Sim seconds left of the feedback window now open (None: none is open)."""
+        until = self.window_until
+        return None if until is None else max(0.0, until - self.body.world.time)
+
     @property
     def gesture_pending(self) -> bool:
         """A gesture has arrived that the loop has not taken yet."""
@@ -214,6 +242,8 @@ class LiveParticipant:
         table, leg = divmod(handover, self.legs_per_table)
         first = leg == 0 and self._step == 0
         kind = self.types[handover]
+        previous, hand = self._context(hand)
+        self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
         if self._robot_goes_first(hand):  # for the record: the type's next instruction
             step = kind.steps[min(self._step, len(kind.steps) - 1)]
             intent = Intent(step.gesture, step.action, None, handover, table)
@@ -226,22 +256,38 @@ class LiveParticipant:
                 return None
             self._tick()
         gesturing, self._gesture = self._gesture, None
+        self.watchdog.gesture()
+        self._tripped = ""
         self.step_gesture, self.step_reading = gesturing.gesture, gesturing.reading
         self.step_key = (handover, self._step)
-        action = self._intended(gesturing, hand)
+        action = self._intended(gesturing, previous, hand)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
         self._set("robot_acting", "The robot reads your gesture.")
         return ScriptStep(intent, kind.name, self._step, first)
 
     def _robot_goes_first(self, hand: Hand) -> bool:
-        """Whether the robot will act before the next gesture (the loop's own condition)."""
+        """Whether the robot will act before the next gesture (the loop's own condition),
+        unless the watchdog says it has done enough on the last gesture."""
         anticipates = self.robot_anticipates
         if anticipates is None or not self._approved or hand is not self._expected:
             return False
-        return bool(anticipates(self._previous, hand))
+        if not anticipates(self._previous, hand):
+            return False
+        tripped = self.watchdog.tripped()
+        if tripped:
+            self._event("watchdog", reason=tripped, withheld="anticipation")
+            self.notice = f"Robin waits for your gesture ({tripped})."
+            return False
+        return True
 
-    def _intended(self, gesturing: Gesturing, hand: Hand) -> Action:
-        correct = self.correct.get(State(gesturing.gesture, self._previous, hand))
+    def _context(self, hand: Hand) -> tuple[Action, Hand]:
+        """Robin's state as the step loop takes it: its last standing action and ``hand``
+        (after a drop, or an approved action that left the hand otherwise: open or close)."""
+        previous = self._previous if hand is self._expected else _AFTER_DROP[hand]
+        return previous, hand
+
+    def _intended(self, gesturing: Gesturing, previous: Action, hand: Hand) -> Action:
+        correct = self.correct.get(State(gesturing.gesture, previous, hand))
         if correct is not None:
             return correct
         if gesturing.gesture is Gesture.POINTING:
@@ -267,6 +313,8 @@ class LiveParticipant:
 
     def watch(self, intent: Intent) -> ThumbWatcher:
         """Watch the robot's next action: a thumb down from now on stops it."""
+        self.watchdog.attempt()
+        self.window_until = None
         self.thumb, self.judging = None, True
         self._approved, self._hand_before = False, self.body.world.hand()
         self._set("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
@@ -277,9 +325,16 @@ class LiveParticipant:
         waited after it (:meth:`ThumbWatcher.result_window`); a thumb down took the action
         back (``outcome.interrupted``); none, or a next gesture instead, is silence (OK)."""
         self.verdict_pending = True
+        self.window_until = None
         if outcome.interrupted:
             return Feedback.NOT_OK
-        return Feedback.NONE if self.thumb is None else self.thumb
+        if self.thumb is not None:
+            return self.thumb
+        # Silence: the participant had the feedback window (or gestured on instead).
+        why = "your next gesture came first" if self.gesture_pending else "no thumb in time"
+        self.notice = f"No thumb: Robin takes '{action.value}' as OK ({why})."
+        self._event("silence", action=action.value, why=why)
+        return Feedback.NONE
 
     def show_feedback(self, feedback: Feedback) -> None:
         """The simulated hand shows the thumb (nothing for silence)."""
@@ -292,8 +347,25 @@ class LiveParticipant:
         self.body.after_feedback(feedback)
 
     def loses_patience(self, rejections: int) -> bool:
-        """Never: the participant gestures again when they want to."""
+        """When the watchdog trips (:mod:`robin_sim.live.watchdog`): the robot stops trying
+        and the step goes back to the participant; else never (they gesture again when they
+        want to)."""
+        self._tripped = self.watchdog.tripped()
+        return bool(self._tripped)
+
+    def performs_again(self, reason: str) -> bool:
+        """Never at once: the robot could not act on the gesture (or the watchdog stopped
+        it), so the step goes back to the participant with a plain message, and is logged."""
+        gesture = self.step_gesture or Gesture.POINTING
+        tripped, self._tripped = self._tripped, ""
+        why = tripped or reason
+        self.notice = f"{cannot_act(gesture, why)} Make a gesture again, or another one."
+        self._event("watchdog" if tripped else "handed_back", reason=why, gesture=gesture.value)
         return False
+
+    def _event(self, kind: str, **fields: Any) -> None:
+        if self.on_event is not None:
+            self.on_event(kind, {"sim_time": round(self.body.world.time, 4), **fields})
 
     # --- what the session shows ----------------------------------------------------------------
     def _set(self, phase: str, message: str) -> None:

@@ -48,10 +48,14 @@ PROTOCOL_KEYS: tuple[str, ...] = (
     "blocks",
     "instructions",
     "questionnaires",
+    "seeds",
 )
 CONDITION_KEYS: tuple[str, ...] = ("system", "label", "blocks", "instructions")
 BLOCK_KEYS: tuple[str, ...] = ("types", "repeat", "instructions")
 ORDERS: tuple[str, ...] = ("fixed", "counterbalanced", "latin-square")
+# How each block is seeded: its own seed from the study seed, the participant and the block
+# (pil.task.seeds.block_seed), or the study seed for every block (the same sequences).
+SEEDINGS: tuple[str, ...] = ("per-block", "shared")
 PLACEHOLDERS: tuple[str, ...] = ("label", "block", "blocks", "handovers", "types")
 DEFAULT_INSTRUCTIONS = (
     "Block {block} of {blocks}: you work with {label}. Hand over {handovers} legs "
@@ -106,6 +110,7 @@ class Protocol:
     description: str = ""
     source: str = "<protocol>"
     questionnaires: tuple[Questionnaire, ...] = ()  # answered after each block, in this order
+    seeds: str = "per-block"  # one of SEEDINGS
 
     def condition_order(self, participant: str) -> tuple[str, ...]:
         """The system keys in the order ``participant`` meets them."""
@@ -200,7 +205,15 @@ def load_protocol(path: str | Path) -> Protocol:
     blocks = _blocks(raw.get("blocks"), scenario, f"{source}: blocks", required=True)
     conditions = _conditions(raw.get("conditions"), scenario, blocks, instructions, source)
     questionnaires = load_questionnaires(raw.get("questionnaires"), f"{source}: questionnaires")
-    return Protocol(name, scenario_name, conditions, order, description, source, questionnaires)
+    seeds = raw.get("seeds", "per-block")
+    if seeds not in SEEDINGS:
+        raise ProtocolError(
+            f"{source}: seeds: unknown seeding {quote(seeds)}; valid choices: "
+            + ", ".join(SEEDINGS)
+        )
+    return Protocol(
+        name, scenario_name, conditions, order, description, source, questionnaires, seeds
+    )
 
 
 def _scenario(value: Any, path: Path) -> tuple[str | None, Scenario]:

@@ -28,7 +28,7 @@ from robin_sim.live.frames import FrameHub, FrameStream
 from robin_sim.live.pacing import Pacer
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
-from robin_sim.person.body import PhysicalBody
+from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
@@ -45,12 +45,13 @@ class LiveRun(ClosesOnExit):
         out_dir: Path,
         hub: FrameHub,
         hook: Callable[[Simulator], None],
+        on_event: Callable[[str, dict[str, Any]], None] | None = None,
     ) -> None:
         self.config = config
         self.spec = config.run_spec()  # the checked config's learner side, typed
         self.world = PhysicalWorld(layout_of(self.spec.scenario))
         check_frame_size(self.world.model, config.width, config.height)
-        scripted = assemble(self.spec, world=self.world)
+        scripted = assemble(self.spec, world=self.world, tempo=LIVE)
         body = scripted.person.body
         assert isinstance(body, PhysicalBody)
         self.body = body
@@ -66,7 +67,13 @@ class LiveRun(ClosesOnExit):
             return anticipate is not None and anticipate(previous, hand) is not None
 
         self.participant = LiveParticipant(
-            self.body, types, scenario.legs_per_table, config.feedback_window, robot_anticipates
+            self.body,
+            types,
+            scenario.legs_per_table,
+            config.feedback_window,
+            robot_anticipates,
+            limits=config.watchdog,
+            on_event=on_event,
         )
         # The participant in the scripted person's place (pil.task.person.Person).
         self.parts: Run = replace(scripted, person=self.participant)  # type: ignore[arg-type]

@@ -49,6 +49,7 @@ STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
 LOG_TAIL = 40  # steps kept for the experimenter's view
 PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
 PAUSED_MESSAGE = "Paused by the experimenter: please wait."
+AWAY_MESSAGE = "Waiting for the participant's page to come back."
 
 
 class SessionStopped(BaseException):
@@ -78,7 +79,8 @@ class LiveSession:
         self._pacer: Any = None
         self._run_parts: LiveRun | None = None
         self._files: SessionFiles | None = None
-        self._paused = threading.Event()  # the experimenter paused physics
+        self._paused = threading.Event()  # physics holds: for one of the reasons below
+        self._holds: set[str] = set()  # "experimenter" (pause), "page" (the page is away)
         self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
         # --webcam: the participant's hand read from the tracker's landmarks (None: off)
         self.webcam = (
@@ -156,8 +158,12 @@ class LiveSession:
         status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected
         status["paused"] = self.paused
         status["webcam"] = None if self.webcam is None else self.webcam.status()
+        status["notice"] = "" if participant is None else participant.notice
+        left = None if participant is None else participant.window_left()
+        status["feedback_left_s"] = None if left is None else round(left, 1)
+        status["page_away"] = "page" in self._holds
         if self.paused and status["phase"] != "done":
-            status["message"] = PAUSED_MESSAGE
+            status["message"] = PAUSED_MESSAGE if "experimenter" in self._holds else AWAY_MESSAGE
         return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
@@ -180,14 +186,29 @@ class LiveSession:
 
     # --- the experimenter ----------------------------------------------------------------------
     def pause(self, paused: bool) -> None:
-        """Hold physics (and the stream) between two ticks, or let it run on (thread-safe)."""
-        if paused:
-            self._paused.set()
-        else:
-            self._paused.clear()
+        """The experimenter holds physics (and the stream) between two ticks, or lets it run
+        on (thread-safe; a page that is away still holds it)."""
+        self._hold_for("experimenter", paused)
+
+    def away(self, away: bool) -> None:
+        """The participant's page lost its connection (physics holds: no action runs and no
+        feedback window passes unseen), or came back (thread-safe)."""
+        self._hold_for("page", away)
+
+    def _hold_for(self, reason: str, hold: bool) -> None:
+        with self._lock:
+            if hold:
+                self._holds.add(reason)
+            else:
+                self._holds.discard(reason)
+            if self._holds:
+                self._paused.set()
+            else:
+                self._paused.clear()
 
     @property
     def paused(self) -> bool:
+        """Physics holds (the experimenter paused, or the participant's page is away)."""
         return self._paused.is_set()
 
     def note(self, text: str) -> dict[str, Any]:
@@ -200,6 +221,15 @@ class LiveSession:
             )
         sim_time = None if participant is None else round(participant.body.world.time, 4)
         return files.log_note(text, sim_time)
+
+    def log_event(self, kind: str, fields: dict[str, Any]) -> None:
+        """One line of the session's ``events.jsonl`` (with the sim time; nothing before the
+        session's folder exists)."""
+        files, participant = self._files, self._participant
+        if files is None:
+            return
+        sim_time = None if participant is None else round(participant.body.world.time, 4)
+        files.log_event(kind, {"sim_time": sim_time, **fields})
 
     def pacing(self) -> dict[str, Any]:
         """The stream's and the pacer's figures now (for the experimenter)."""
@@ -288,7 +318,7 @@ class LiveSession:
         assert files is not None
         status, error, run = "failed", "", None
         try:
-            run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick)
+            run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick, files.log_event)
             with run:
                 self._participant, self._picker = run.participant, run.picker
                 self._pacer, self._run_parts = run.pacer, run

@@ -32,6 +32,8 @@ told what the robot will do next. Only the mocap hand and visual-only geoms move
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from pil.task.world import Intent, Target
@@ -64,14 +66,43 @@ HIDES_PALM = 0.15
 THUMB_ASIDE = -0.15
 
 
+@dataclass(frozen=True)
+class Tempo:
+    """How fast the body makes its signs: the free hand's peak speed (m/s), how long a
+    gesture and a thumb are held (s), the pause after a hand motion (s), whether the robot
+    may start while the pointing hand draws back (``overlap``), and whether a thumb at the
+    held-out palm is first drawn back into Robin's view (``thumb_in_view``: the robot reads
+    thumbs with its eyes)."""
+
+    hand_speed: float = HAND_SPEED
+    hold: float = GESTURE_HOLD
+    feedback_hold: float = FEEDBACK_HOLD
+    settle: float = SETTLE
+    overlap: bool = False
+    thumb_in_view: bool = True
+
+
+SCRIPTED = Tempo()  # the scripted person of the study and the episodes
+# A live participant has made the gesture already (a click, a key, their own hand): the body
+# only shows it, quickly, so that the robot starts within a second of the input. At 2 m/s the
+# hand reaches a leg from its rest in 0.6 s; it draws back while the robot starts lifting,
+# which keeps the two hands apart (the robot comes down on the leg 1.5 s later or more). A
+# live thumb is a click, not read by Robin's eyes: the palm stays out under a held leg.
+LIVE = Tempo(
+    hand_speed=2.0, hold=0.1, feedback_hold=0.2, settle=0.02, overlap=True, thumb_in_view=False
+)
+
+
 class PhysicalBody:
     """The person's hand in ``world``: gestures, thumbs, the palm, the bin (see module doc).
 
-    ``seed`` seeds where the palm is held out, so the same seed gives the same trajectory.
+    ``seed`` seeds where the palm is held out, so the same seed gives the same trajectory;
+    ``tempo`` how fast the signs are made (:data:`SCRIPTED`, or :data:`LIVE`).
     """
 
-    def __init__(self, world: PhysicalWorld, seed: int = 0) -> None:
+    def __init__(self, world: PhysicalWorld, seed: int = 0, tempo: Tempo = SCRIPTED) -> None:
         self.world = world
+        self.tempo = tempo
         self.hand = world.human
         self.display = GestureDisplay(world.model)
         self._rng = np.random.default_rng(seed)
@@ -90,21 +121,24 @@ class PhysicalBody:
         self.display.show(gesture)
         if gesture is not Gesture.POINTING or target is None:
             self.world.head.attend_to("person hand")  # the robot watches the gesturing hand
+        tempo, now, speed = self.tempo, self.world.time, self.tempo.hand_speed
         if gesture is Gesture.POINTING and target is not None:
             self.point_at(target)
-            self.world.run(GESTURE_HOLD)
-            self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
+            self.world.run(tempo.hold)
+            back = self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed)
+            if not tempo.overlap:
+                self._move(back)
             return
         if gesture in (Gesture.GIVE_ME, Gesture.RELEASE) and self.leg_held_over_palm_place():
-            self._move(self.hand.slide_under(self.palm_goal, self.world.time))
+            self._move(self.hand.slide_under(self.palm_goal, now, speed))
         elif gesture is Gesture.GIVE_ME and not self.world.palm_is_out():
             jitter = self._rng.uniform(-PALM_JITTER, PALM_JITTER, size=2)
             self.palm_goal = np.array(self.world.layout.handover) + np.array([*jitter, 0.0])
             if self.leg_held_below(self.palm_goal):  # shown drawn back, clear of the leg
-                self._move(self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE))
+                self._move(self.hand.withdraw(PERSON_CLEAR_X, now, POINT_RAISE, speed))
             else:
-                self._move(self.hand.hold_out_palm(self.palm_goal, self.world.time))
-        self.world.run(GESTURE_HOLD)
+                self._move(self.hand.hold_out_palm(self.palm_goal, now, speed))
+        self.world.run(tempo.hold)
 
     def watch(self, intent: Intent, reaction: float) -> PhysicalWatcher:
         """Eyes on the robot's next action, meaning ``intent``, reacting in ``reaction`` s."""
@@ -122,14 +156,15 @@ class PhysicalBody:
         A thumb that already went down (the person stopped a motion or rejected its result,
         which the robot then took back) stays where it is."""
         stopped = self.last_watcher is not None and self.last_watcher.stopped_at is not None
-        if feedback is not Feedback.NONE and not stopped and self.thumb_hidden_at_palm():
+        drawn = self.tempo.thumb_in_view and not stopped and feedback is not Feedback.NONE
+        if drawn and self.thumb_hidden_at_palm():
             carried = self.leg_on_palm() is not None  # moved along the leg only: it never rolls
-            speed, aside = (CARRY_SPEED, 0.0) if carried else (HAND_SPEED, THUMB_ASIDE)
+            speed, aside = (CARRY_SPEED, 0.0) if carried else (self.tempo.hand_speed, THUMB_ASIDE)
             self._move(
                 self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed, aside)
             )
         self.display.show(feedback)
-        self.world.run(FEEDBACK_HOLD)
+        self.world.run(self.tempo.feedback_hold)
 
     def thumb_hidden_at_palm(self) -> bool:
         """The palm is held out and Robin's hand is near it (within :data:`HIDES_PALM`), or a
@@ -163,7 +198,8 @@ class PhysicalBody:
         world = self.world
         where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
         world.head.attend(where, "pointed")  # the robot looks where the person points
-        return self._move(self.hand.point_at(where, world.time, world.palm_is_out()))
+        speed = self.tempo.hand_speed
+        return self._move(self.hand.point_at(where, world.time, world.palm_is_out(), speed))
 
     def rest(self) -> float:
         """The hand goes back to rest; returns the time it took."""
@@ -204,9 +240,10 @@ class PhysicalBody:
         points = axis_points(centre, self.world.leg_axis(held))
         return reaches_into(points, palm_centre, np.array([1.0, 0.0]), (half[0], half[1]))
 
-    def _move(self, duration: float, settle: float = SETTLE) -> float:
+    def _move(self, duration: float, settle: float | None = None) -> float:
         """Let a started hand motion play out (physics runs); returns the time it took."""
         if duration <= 0.0:
             return 0.0
+        settle = self.tempo.settle if settle is None else settle
         self.world.run(duration + settle)
         return duration + settle

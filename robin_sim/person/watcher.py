@@ -79,8 +79,12 @@ class PhysicalWatcher:
                 self.recognized_at, self.why = now, why
         return self._thumb_down(now)
 
-    def result_window(self, shown: Action | None) -> float:
-        """0 when the result is what the person wants, else the time until the thumb down."""
+    def result_window(self, shown: Action | None, *, undone: bool = False) -> float:
+        """0 when the result is what the person wants, else the time until the thumb down;
+        0 for an action the robot undid by itself (the person judges it after, in
+        :meth:`pil.task.person.ScriptedPerson.judge`)."""
+        if undone:
+            return 0.0
         now = self.world.time
         if self.recognized_at is None:
             why = self._wrong_result()

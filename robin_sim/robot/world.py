@@ -156,9 +156,11 @@ class PhysicalWorld:
         self._attend(action, release)
         stop = never if watcher is None else (lambda: watcher.stop_now(None))
         result = robot_action.run(self.ctx, stop)
-        if watcher is not None and not result.undone and not result.interrupted:
-            window = watcher.result_window(None)
-            if window > 0.0 and self._rejected_in(window, watcher):
+        if watcher is not None and not result.interrupted:
+            # also after an action the robot undid by itself (nothing more to take back then)
+            window = watcher.result_window(None, undone=result.undone)
+            rejected = window > 0.0 and self._rejected_in(window, watcher)
+            if rejected and not result.undone:
                 result = robot_action.undo(self.ctx, result)
         if result.succeeded and not result.interrupted:
             if action is Action.OPEN:

@@ -10,38 +10,62 @@
 
   // What the page measured; the browser tests and bench/bench_live.py read it.
   const live = {
-    role: null, status: null, errors: [], connected: false, closed: null,
+    role: null, status: null, errors: [], connected: false, closed: null, over: false,
     received: 0, drawn: 0, lastSeq: 0, latencies: [], receivedAt: [], drawnAt: [],
     sent: [], accepted: 0,
     listeners: [], // other scripts of the page (the experimenter's view) get every message
   };
   window.robinLive = live;
 
-  // --- the WebSocket -----------------------------------------------------------------------
+  // --- the WebSocket: reconnects by itself -----------------------------------------------------
+  // A lost connection is not the end: the session runs on in the server, and the page comes
+  // back with the same address (and token), after 0.5, 1, 2, 4, then every 8 s, and takes its
+  // place again. Only a session that is over stays closed.
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
-  const socket = new WebSocket(`${scheme}//${location.host}/ws${location.search}`);
-  socket.binaryType = "arraybuffer";
-  socket.onopen = () => { live.connected = true; };
-  socket.onclose = (event) => {
-    live.connected = false;
-    live.closed = { code: event.code, reason: event.reason };
-    const over = !!live.status && live.status.phase === "done";
-    setRole(live.role, true, over);
-    if (!over) {
-      showError("The connection to Robin was lost. Please tell the experimenter.");
-    }
-    updateControls();
-  };
-  socket.onmessage = (event) => {
-    if (typeof event.data === "string") {
-      textMessage(JSON.parse(event.data));
-    } else {
-      frameMessage(event.data);
-    }
-  };
+  const address = `${scheme}//${location.host}/ws${location.search}`;
+  const BACKOFF_MS = [500, 1000, 2000, 4000, 8000];
+  live.reconnects = 0; // times the page came back (read by the tests)
+  live.attempts = 0; // tries since the connection was lost
+  let socket = null;
+
+  function connect() {
+    socket = new WebSocket(address);
+    socket.binaryType = "arraybuffer";
+    socket.onopen = () => {
+      if (live.closed) live.reconnects += 1;
+      live.connected = true;
+      live.closed = null;
+      live.attempts = 0;
+      clearError();
+    };
+    socket.onclose = (event) => {
+      const wasOpen = live.connected;
+      live.connected = false;
+      if (wasOpen || !live.closed) live.closed = { code: event.code, reason: event.reason };
+      // over: the last status said so, or the server said goodbye (1001) at the run's end
+      const over = (!!live.status && live.status.phase === "done") || event.code === 1001;
+      live.over = over;
+      setRole(live.role, true, over);
+      updateControls();
+      if (over) return;
+      const wait = BACKOFF_MS[Math.min(live.attempts, BACKOFF_MS.length - 1)];
+      live.attempts += 1;
+      showError(`The connection to Robin was lost: reconnecting (try ${live.attempts})… ` +
+        "If this lasts, please tell the experimenter.");
+      setTimeout(connect, wait);
+    };
+    socket.onmessage = (event) => {
+      if (typeof event.data === "string") {
+        textMessage(JSON.parse(event.data));
+      } else {
+        frameMessage(event.data);
+      }
+    };
+  }
+  live.dropConnection = () => socket && socket.close(4000, "dropped by a test"); // tests only
 
   function send(message) {
-    if (socket.readyState !== WebSocket.OPEN) return false;
+    if (!socket || socket.readyState !== WebSocket.OPEN) return false;
     socket.send(JSON.stringify(message));
     live.sent.push(message);
     return true;
@@ -50,7 +74,7 @@
   live.showError = (text) => showError(text);
   // The webcam's readings (many a second) go out without being kept in live.sent.
   live.sendReading = (message) => {
-    if (socket.readyState !== WebSocket.OPEN) return false;
+    if (!socket || socket.readyState !== WebSocket.OPEN) return false;
     socket.send(JSON.stringify(message));
     return true;
   };
@@ -244,7 +268,7 @@
     live.role = role;
     const badge = $("role");
     badge.className = `badge ${over ? "finished" : closed ? "closed" : role}`;
-    badge.textContent = over ? "session finished" : closed ? "disconnected"
+    badge.textContent = over ? "session finished" : closed ? "reconnecting…"
       : role === "control" ? "you control this session"
       : role === "experimenter" ? "experimenter" : "watching (read-only)";
     updateControls();
@@ -316,4 +340,5 @@
       y: Math.min(canvas.height - 1, Math.max(0, y)),
     });
   });
+  connect();
 })();

@@ -19,7 +19,7 @@
     thumb_down: "thumb down", pointing: "pointing" };
   const cam = {
     state: "starting", message: "", readings: 0, found: 0, sentAt: [], replies: [],
-    last: null, ready: false,
+    last: null, ready: false, readMs: [], // how long each reading held the page's thread
   };
   live.webcam = cam;
   const video = $("camera");
@@ -96,7 +96,7 @@
   }
 
   async function tick() {
-    if (live.closed) return;
+    if (live.over) return; // the session is over (a lost connection comes back: go on)
     const now = performance.now();
     let rest = 10; // ms until the next look
     if (!busy && running() && video.readyState >= 2 && now - lastSent >= MIN_INTERVAL_MS) {
@@ -117,7 +117,10 @@
       }
       // the tracker runs on the page's own thread: on a slow machine it gets at most half of
       // it, so clicks, keys and the scene stay responsive between readings
-      rest = Math.max(rest, performance.now() - now);
+      const took = performance.now() - now;
+      cam.readMs.push(took);
+      if (cam.readMs.length > KEEP) cam.readMs.shift();
+      rest = Math.max(rest, took);
     }
     setTimeout(tick, rest);
   }
@@ -223,7 +226,7 @@
   // Only the controlling tab uses the camera (watchers and the experimenter never do).
   function whenControlling() {
     if (live.role === "control") startCamera();
-    else if (live.role === null && !live.closed) setTimeout(whenControlling, 50);
+    else if (live.role === null && !live.over) setTimeout(whenControlling, 50);
     else setState("off", "Camera off: this tab watches.");
   }
   whenControlling();
