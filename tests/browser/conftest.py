@@ -43,12 +43,18 @@ class Served:
         return self.outcome[0]
 
 
+# s a lost participant's page is waited for in these tests (a tab a test closes on purpose
+# then saves the session "closed" soon); the reconnect test sets its own
+TEST_GRACE_S = 1.0
+
+
 def start_server(
     configs: Sequence[LiveConfig],
     token: str | None = None,
     questionnaires: Sequence[Any] = (),
     **server_options: Any,
 ) -> Served:
+    server_options.setdefault("reconnect_grace_s", TEST_GRACE_S)
     conductor = Conductor(configs, questionnaires)
     server = LiveServer(conductor, token=token, **server_options)
     sock = bind("127.0.0.1", 0)
@@ -75,9 +81,13 @@ def live_server(tmp_path: Path) -> Iterator[Any]:
     """``live_server(**config)`` starts a server for one session under ``tmp_path``."""
     started: list[Served] = []
 
-    def make(token: str | None = None, **options: Any) -> Served:
+    def make(
+        token: str | None = None, reconnect_grace_s: float = TEST_GRACE_S, **options: Any
+    ) -> Served:
         options.setdefault("out_root", tmp_path / "live")
-        served = start_server([LiveConfig(**options)], token=token)
+        served = start_server(
+            [LiveConfig(**options)], token=token, reconnect_grace_s=reconnect_grace_s
+        )
         started.append(served)
         return served
 

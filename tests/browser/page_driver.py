@@ -119,6 +119,8 @@ def play_steps(
             judged.add(key)
             downs += not right
             step += right
+            if step >= until:
+                break  # at once: the caller may act during what follows (a carry to the bin)
         else:
             page.wait_for_timeout(50)
     return step, downs

@@ -153,7 +153,7 @@ def test_second_tab_watches_read_only(browser, live_server) -> None:
     assert status(control)["gestures"] == before
     inputs = read_jsonl(served.conductor.session.out_dir / "inputs.jsonl")
     assert not [e for e in inputs if e["raw"].get("gesture") == "give_me"]
-    control.close()  # the controlling tab: the session is saved as closed, the server stops
+    control.close()  # the controlling tab, not back within the grace: saved closed, server stops
     told = wait_status(watcher, "s.phase === 'done'", timeout_s=60)  # and the watcher is told
     assert told["status"] == "closed"
     assert "closed" in watcher.locator("#screen-title").inner_text()
