@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from hand_data import message, synthetic_hand
+from hand_data import footage, message, synthetic_hand
 
 from robin_sim.live.hands.landmarks import HandInput, features, normalised
 from robin_sim.live.hands.reader import CALIBRATION_ORDER, DWELL_S, HandReader
@@ -179,6 +179,45 @@ def test_calibration_takes_one_held_example_of_each_gesture() -> None:
     reading = reader.read(hand(THUMB_DOWN), now + 5)
     assert reading.source == "appearance" and reading.label == "thumb_down"
     assert reading.confidence > 0.5
+
+
+def footage_hands(sequence: str) -> list[HandInput]:
+    """The tracker's readings of one sequence of the real footage, as the page sends them."""
+    data = footage()
+    hands = []
+    for i in np.where(data["sequence"] == sequence)[0]:
+        points = data["landmarks"][i]
+        if np.isnan(points).any():
+            continue
+        raw = message(points, str(data["handedness"][i]), float(data["score"][i]))
+        raw["aspect"] = float(data["aspect"][i])
+        item = parse_input(raw, 640, 480)
+        assert item.hand is not None
+        hands.append(item.hand)
+    return hands
+
+
+def test_calibration_stores_only_what_looks_like_the_gesture_asked_for() -> None:
+    """Asked for the open palm (give me), the real fist and thumb-up footage is refused,
+    reading after reading, with a note naming what it looked like; the real palm is taken."""
+    reader = HandReader(640, 480)
+    reader.start_calibration(0.0)
+    assert reader.asking == "give_me"
+    now = 0.0
+    for sequence, seen in (("fist", "grasp"), ("thumb_up", "thumb up")):
+        shown = footage_hands(sequence)
+        assert len(shown) >= 20
+        for held in shown:
+            now += 0.1
+            assert reader.read(held, now).acted == ""
+        assert reader.asking == "give_me" and "give_me" not in reader.appearance.seeded
+        note = reader.calibration_status()["note"]
+        assert note.startswith(f"That looks like a {seen}, not a give me"), note
+    for held in footage_hands("palm")[:3]:
+        now += 0.1
+        taken = reader.read(held, now)
+    assert taken.acted == "calibration give_me", reader.calibration_status()
+    assert reader.asking == "grasp" and reader.calibration_status()["note"] == ""
 
 
 def test_calibration_refuses_a_hand_that_did_not_change() -> None:
