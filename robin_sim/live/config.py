@@ -59,6 +59,8 @@ class LiveConfig:
     render_workers: int = 0  # scene render processes; 0: in the physics thread (see README)
     eye_worker: bool = False  # the eye inset rendered in a process of its own, meanwhile
     reflections: bool = False  # the floor's reflection (an extra render pass)
+    # a busy machine lowers the stream (robin_sim.live.quality) before physics falls behind
+    adaptive_stream: bool = True
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
     # The within-step memory (pil.step_memory): on, an action the participant refused in a
@@ -86,7 +88,15 @@ class LiveConfig:
             value = getattr(self, name)
             if value is not None and not isinstance(value, str):
                 raise RobinPilError(f"{name} must be text, got {type(value).__name__}")
-        for name in ("eye_inset", "video", "eye_worker", "reflections", "webcam", "calibrate"):
+        for name in (
+            "eye_inset",
+            "video",
+            "eye_worker",
+            "reflections",
+            "webcam",
+            "calibrate",
+            "adaptive_stream",
+        ):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
         seed = SEED.parse(self.seed, "seed")

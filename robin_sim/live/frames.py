@@ -234,29 +234,33 @@ class FrameStream(ClosesOnExit):
             self.close()
             raise
 
-    def capture(self, model: mujoco.MjModel, data: mujoco.MjData, copies: int = 1) -> None:
-        """Render the state now (``copies``: how many video frames it stands for)."""
+    def capture(
+        self, model: mujoco.MjModel, data: mujoco.MjData, copies: int = 1, *, inset: bool = True
+    ) -> None:
+        """Render the state now (``copies``: how many video frames it stands for; ``inset``
+        False leaves the eye inset out of this frame: a busy machine)."""
         started = time.perf_counter()
         captured = time.monotonic()
         state = FrameState.capture(model, data)
         if self.states is not None:
             self.states.add(state, copies)
         self._waiting.append(state)
-        if self.eye_pool is not None:  # renders while this process renders the scene
+        inset = inset and (self.eye_pool is not None or self.eye is not None)
+        if inset and self.eye_pool is not None:  # renders while this process renders the scene
             self.eye_pool.submit(state)
-        elif self.eye is not None:
+        elif inset and self.eye is not None:
             self._eyes.append(self.eye.render(state))
-        self.pool.submit(state, (captured, copies))
+        self.pool.submit(state, (captured, copies, inset))
         self.stats.render_s += time.perf_counter() - started
         self._finish(self.pool.ready())
 
     def _finish(self, frames: Iterable[RenderedFrame]) -> None:
         for rendered in frames:
             started = time.perf_counter()
-            captured, copies = rendered.payload
+            captured, copies, inset = rendered.payload
             pixels = rendered.pixels
             state = self._waiting.popleft()  # frames come back in submission order
-            eye = self._next_eye()
+            eye = self._next_eye() if inset else None
             if eye is not None:
                 draw_eye_inset(pixels, eye)
             if self.on_state is not None:

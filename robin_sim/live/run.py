@@ -9,6 +9,7 @@ Build, use and close it in one thread: the renderers' OpenGL contexts belong to 
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -28,6 +29,7 @@ from robin_sim.live.frames import FrameHub, FrameStream
 from robin_sim.live.pacing import Pacer
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
+from robin_sim.live.quality import StreamGovernor
 from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
@@ -80,6 +82,7 @@ class LiveRun(ClosesOnExit):
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
         self.pacer: Pacer | None = None
+        self.on_event = on_event
         self.log: StepLog | None = None
         try:
             self.picker = Picker(self.world.layout, config.width, config.height)
@@ -103,21 +106,34 @@ class LiveRun(ClosesOnExit):
             # A participant may approve an action that failed: the hand is then what physics says
             # (the loop does the same), and the log notes the mismatch.
             self.book = StepBook(self.parts, self.world, self.log, self.totals, strict=False)
-            self.pacer = Pacer(self.world.sim, config.speed, config.fps, self.stream, hook)
+            self.governor = StreamGovernor(
+                time.monotonic, self._stream_changed, adaptive=config.adaptive_stream
+            )
+            self.pacer = Pacer(
+                self.world.sim, config.speed, config.fps, self.stream, hook, governor=self.governor
+            )
         except BaseException:
             self.close()
             raise
 
+    def _stream_changed(self, level: int, why: str) -> None:
+        """The governor lowered or raised the stream: logged (``events.jsonl``)."""
+        if self.on_event is not None:
+            quality = self.governor.state(self.config.fps)
+            self.on_event("stream", {"sim_time": round(self.world.time, 4), **quality, "why": why})
+
     def close(self) -> None:
         """Stop pacing, finish the stream and the MP4, close the log (idempotent)."""
-        if self.pacer is not None:
-            self.pacer.close()
         try:
-            if self.stream is not None:
-                self.stream.close()
+            if self.pacer is not None:
+                self.pacer.close()
         finally:
-            if self.log is not None:
-                self.log.close()
+            try:
+                if self.stream is not None:
+                    self.stream.close()
+            finally:
+                if self.log is not None:
+                    self.log.close()
 
 
 def pacing_figures(run: LiveRun | None, speed: float, paused: bool) -> dict[str, Any]:
@@ -135,6 +151,7 @@ def pacing_figures(run: LiveRun | None, speed: float, paused: bool) -> dict[str,
         "lag_s": None if pacer is None else round(pacer.lag_s, 3),
         "speed": speed,
         "paused": paused,
+        "stream": None if run is None else run.governor.state(run.config.fps),
     }
     if stats is not None and stats.frames:
         figures.update(

@@ -121,7 +121,9 @@ class LiveServer:
         tab.status = self.conductor.status()
         latest = self.conductor.latest_frame()
         if latest is not None:
-            tab.frame = frame_message(latest.seq, latest.sim_time, latest.captured, latest.jpeg)
+            tab.frame = frame_message(
+                latest.seq, latest.sim_time, latest.captured, latest.jpeg, self.conductor.index + 1
+            )
         sender = asyncio.create_task(send_loop(tab))
         try:
             if tab.role == "control":
@@ -201,7 +203,8 @@ class LiveServer:
         loop = self._loop
         if loop is None or loop.is_closed():
             return
-        message = frame_message(frame.seq, frame.sim_time, frame.captured, frame.jpeg)
+        block = self.conductor.index + 1  # frames come from the running block's session
+        message = frame_message(frame.seq, frame.sim_time, frame.captured, frame.jpeg, block)
         with contextlib.suppress(RuntimeError):  # the loop closed in between
             loop.call_soon_threadsafe(self._deliver, message)
 

@@ -153,6 +153,8 @@ class LiveSession:
         participant, summary, pacer = self._participant, self._summary, self._pacer
         status = self.view.status(participant, None if summary is None else summary["status"])
         status["behind_s"] = None if pacer is None else round(pacer.behind_s, 3)  # lost pace
+        run = self._run_parts  # what the stream sends now (lowered on a busy machine)
+        status["stream"] = None if run is None else run.governor.state(self.config.fps)
         files = self._files
         # inputs taken so far: the page clears a shown error once this grows
         status["inputs_accepted"] = 0 if files is None else files.inputs - files.rejected

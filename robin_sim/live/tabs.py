@@ -34,13 +34,15 @@ EXAMPLE = '{"type": "thumb", "value": "up"}'  # a valid message, for error repli
 RECONNECT_GRACE_S = 120.0  # s a lost participant's page is waited for before "closed"
 
 
-def frame_message(seq: int, sim_time: float, captured: float, jpeg: bytes) -> bytes:
-    """One frame as the page reads it; ``captured`` is a ``time.monotonic()`` reading."""
+def frame_message(seq: int, sim_time: float, captured: float, jpeg: bytes, block: int = 1) -> bytes:
+    """One frame as the page reads it; ``captured`` is a ``time.monotonic()`` reading,
+    ``block`` the run's block (1-based) whose session it comes from (its seq counts from 1)."""
     now_ms = time.time() * 1000.0
     captured_ms = now_ms - (time.monotonic() - captured) * 1000.0
     header = json.dumps(
         {
             "seq": seq,
+            "block": block,
             "sim_time": round(sim_time, 4),
             "captured_ms": round(captured_ms, 2),
             "sent_ms": round(now_ms, 2),

@@ -9,18 +9,27 @@
   live.experimenter = view; // read by the browser tests
 
   live.listeners.push((message) => {
+    if (message.type === "status" && message.participant_page) {
+      const page = message.participant_page;
+      $("page-state").textContent = page.connected
+        ? `connected${page.returns ? ` (came back ${page.returns}×)` : ""}`
+        : page.away_s == null ? "not connected yet"
+        : `away ${text(page.away_s)} s: the session holds; saved closed after ${page.grace_s} s`;
+    }
     if (message.type === "experimenter") {
       view.last = message;
       showView(message);
     } else if (message.type === "done") {
       view.replies.push(message);
       $("reply").textContent = message.command === "note" ? "" : `${message.command}: done`;
+      $("reply").className = "reply done"; // a command carried out is no error
       if (message.command === "note" && message.note) {
         $("note-saved").textContent = `note saved at ${message.note.utc}`;
         $("note-text").value = "";
       }
     } else if (message.type === "error") {
       $("reply").textContent = message.message;
+      $("reply").className = "reply refused";
     }
   });
 

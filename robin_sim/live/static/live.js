@@ -11,6 +11,7 @@
   // What the page measured; the browser tests and bench/bench_live.py read it.
   const live = {
     role: null, status: null, errors: [], connected: false, closed: null, over: false,
+    frameBlock: null, // the block whose frames are drawn
     received: 0, drawn: 0, lastSeq: 0, latencies: [], receivedAt: [], drawnAt: [],
     sent: [], accepted: 0,
     listeners: [], // other scripts of the page (the experimenter's view) get every message
@@ -82,6 +83,10 @@
   function textMessage(message) {
     for (const listener of live.listeners) listener(message);
     if (message.type === "status") {
+      if (message.block_number != null && message.block_number !== live.frameBlock &&
+          message.phase !== "done") {
+        newBlock(message.block_number); // before the new block's first frame arrives
+      }
       live.status = message;
       showStatus(message);
     } else if (message.type === "error") {
@@ -103,6 +108,7 @@
   function frameMessage(buffer) {
     const length = new DataView(buffer).getUint32(0);
     const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 4, length)));
+    if (header.block !== live.frameBlock) newBlock(header.block); // its frames count from 1
     const blob = new Blob([new Uint8Array(buffer, 4 + length)], { type: "image/jpeg" });
     live.received += 1;
     live.receivedAt.push(performance.now());
@@ -118,6 +124,17 @@
         requestAnimationFrame(draw);
       }
     }, () => showError("a frame could not be decoded"));
+  }
+
+  // A new block's session: its frames are numbered from 1 again, and the last block's image
+  // must not stand for it.
+  function newBlock(block) {
+    live.frameBlock = block;
+    live.lastSeq = 0;
+    if (pending) pending.bitmap.close();
+    pending = null;
+    context.fillStyle = "#000";
+    context.fillRect(0, 0, canvas.width, canvas.height);
   }
 
   function draw() {
@@ -138,13 +155,18 @@
   function showStatus(status) {
     const turn = $("turn");
     const done = status.phase === "done";
-    turn.className = `turn ${done ? "" : status.turn}`;
+    const questions = status.phase === "questionnaire";
+    turn.className = `turn ${done || questions ? "" : status.turn}`;
     turn.textContent = done ? `Session over (${status.status})`
       : status.phase === "instructions" ? "Instructions"
+      : status.phase === "questionnaire" ? "Questionnaire"
       : status.turn === "robot" ? "Robin's turn" : "Your turn";
     $("doing").textContent = status.robot_doing || "—";
     $("message").textContent = status.message || "";
-    showGuide(done ? null : status.guide, status.phase);
+    showStream(status.stream, done);
+    const notice = $("notice"); // what Robin took as OK, or why it handed the step back
+    if (notice) notice.textContent = status.phase === "done" ? "" : status.notice || "";
+    showGuide(done ? null : status.guide, status.phase, status.feedback_left_s);
     showClicked(status.clicked);
     if ((status.inputs_accepted || 0) > live.accepted) clearError(); // a valid input came
     live.accepted = status.inputs_accepted || 0;
@@ -162,7 +184,7 @@
   }
 
   // The handover in plain words: the goal, the next step, all steps as a checklist, the legend.
-  function showGuide(guide, phase) {
+  function showGuide(guide, phase, left) {
     const list = $("checklist");
     if (!guide) {
       $("goal").textContent = "";
@@ -173,7 +195,8 @@
     }
     $("goal").textContent = `Leg ${guide.handover_number} of ${guide.handovers}: ${guide.goal}`;
     $("instruction").textContent = phase === "waiting_for_gesture" ? guide.instruction
-      : phase === "waiting_for_thumb" ? "Thumb up if Robin did what you meant, thumb down if not."
+      : phase === "waiting_for_thumb" ? "Thumb up if Robin did what you meant, thumb down if not." +
+        (left == null ? "" : ` ${Math.ceil(left)} s left; no thumb counts as OK.`)
       : "Watch Robin: thumb down stops a wrong move.";
     list.replaceChildren(...guide.checklist.map((step, k) => {
       const item = document.createElement("li");
@@ -192,6 +215,15 @@
     spots.className = "chip spot";
     spots.textContent = `spots 1-${guide.spots}: the rings`;
     $("legend").replaceChildren(...legs, spots);
+  }
+
+  // A busy machine lowers the image first (robin_sim.live.quality): the page says so.
+  function showStream(stream, done) {
+    const note = $("stream-note");
+    if (!note) return;
+    note.textContent = done || !stream || !stream.lowered ? ""
+      : `The computer is busy: Robin's image comes at ${stream.fps} frames a second` +
+        (stream.inset ? "." : ", without its eye view. Robin itself runs as usual.");
   }
 
   // A ring around what was clicked last, in frame pixels scaled to the shown canvas.
