@@ -21,6 +21,7 @@ from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
+from robin_sim.live.quality import LEVELS
 from robin_sim.live.watchdog import WatchdogLimits
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
@@ -59,8 +60,10 @@ class LiveConfig:
     render_workers: int = 0  # scene render processes; 0: in the physics thread (see README)
     eye_worker: bool = False  # the eye inset rendered in a process of its own, meanwhile
     reflections: bool = False  # the floor's reflection (an extra render pass)
-    # a busy machine lowers the stream (robin_sim.live.quality) before physics falls behind
+    # a busy machine lowers the stream (robin_sim.live.quality) before physics falls behind;
+    # stream_level is where it starts (0: all frames with the eye inset), or stays unadaptive
     adaptive_stream: bool = True
+    stream_level: int = 0
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
     # The within-step memory (pil.step_memory): on, an action the participant refused in a
@@ -127,6 +130,7 @@ class LiveConfig:
             out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
             render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            stream_level=_whole(self.stream_level, "stream_level", 0, len(LEVELS) - 1),
             max_attempts=limits.attempts,
             max_step_seconds=limits.seconds,
             resolved=(self._source(seed), spec),

@@ -36,7 +36,9 @@ LEVELS: tuple[Quality, ...] = (
     Quality(5, False),
 )
 WINDOW_S = 1.0  # wall s over which the headroom is measured
-LOW = 0.15  # slept less than this share of the window (or slipped): one level down
+WARMUP_S = 3.0  # wall s at the start not measured (the first frames: renderers warming up)
+LOW = 0.15  # slept less than this share of the window (or slipped twice): one level down
+SLIPS = 2  # times physics fell behind within a window that count as falling behind
 HIGH = 0.55  # slept more than this share for UP_AFTER_S: one level up
 UP_AFTER_S = 6.0
 
@@ -54,11 +56,12 @@ class StreamGovernor:
         on_change: Callable[[int, str], None] | None = None,
         *,
         adaptive: bool = True,
+        level: int = 0,
     ) -> None:
         self.clock, self.on_change, self.adaptive = clock, on_change, adaptive
-        self.level = 0
+        self.level = level  # a checked index of LEVELS (LiveConfig.stream_level)
         self.changes = 0
-        self._start = clock()
+        self._start = clock() + WARMUP_S
         self._slept0 = 0.0
         self._slips0 = 0
         self._calm_since: float | None = None  # since when every window had headroom
@@ -72,9 +75,11 @@ class StreamGovernor:
         now = self.clock()
         span = now - self._start
         if not self.adaptive or span < WINDOW_S:
+            if span < 0:  # warming up: the window starts afterwards
+                self._slept0, self._slips0 = slept_s, slips
             return
         headroom = (slept_s - self._slept0) / span
-        slipped = slips > self._slips0
+        slipped = slips - self._slips0 >= SLIPS
         self._start, self._slept0, self._slips0 = now, slept_s, slips
         if (slipped or headroom < LOW) and self.level + 1 < len(LEVELS):
             self._calm_since = None
@@ -90,8 +95,10 @@ class StreamGovernor:
             self._calm_since = None
 
     def hold(self, wall_s: float) -> None:
-        """A pause of ``wall_s`` (the pacer slept nothing meanwhile): it is not measured."""
+        """A pause of ``wall_s`` (the pacer slept nothing meanwhile): it is not measured, and
+        the calm before it does not count towards raising the stream."""
         self._start += wall_s
+        self._calm_since = None
 
     def _set(self, level: int, why: str) -> None:
         self.level = level

@@ -107,7 +107,10 @@ class LiveRun(ClosesOnExit):
             # (the loop does the same), and the log notes the mismatch.
             self.book = StepBook(self.parts, self.world, self.log, self.totals, strict=False)
             self.governor = StreamGovernor(
-                time.monotonic, self._stream_changed, adaptive=config.adaptive_stream
+                time.monotonic,
+                self._stream_changed,
+                adaptive=config.adaptive_stream,
+                level=config.stream_level,
             )
             self.pacer = Pacer(
                 self.world.sim, config.speed, config.fps, self.stream, hook, governor=self.governor

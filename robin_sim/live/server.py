@@ -108,9 +108,9 @@ class LiveServer:
         if sock is not None:  # a lagging tab backs up within a few frames, then gets the newest
             sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
         if self.pages.is_experimenter(request):
-            tab = Tab(ws, "experimenter")
+            tab = Tab(ws, "experimenter", request.transport)
         else:
-            tab = Tab(ws, "watch")
+            tab = Tab(ws, "watch", request.transport)
             returning = self.control.ever
             if self.control.claim(tab):
                 tab.role = "control"

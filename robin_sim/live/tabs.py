@@ -62,6 +62,7 @@ class Tab:
 
     ws: web.WebSocketResponse
     role: str  # "control" | "watch" | "experimenter"
+    transport: asyncio.BaseTransport | None = None  # its connection (abort: a network failure)
     frame: bytes | None = None  # the newest frame not yet sent (older ones are dropped)
     status: dict[str, Any] | None = None  # the newest status not yet sent
     view: dict[str, Any] | None = None  # the newest experimenter's view not yet sent
