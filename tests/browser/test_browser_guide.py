@@ -68,6 +68,7 @@ def test_a_type_d_handover_is_explained_in_plain_words(browser, live_server) -> 
     items = page.locator("#checklist li")
     assert items.count() == 5 and "give-me" in items.nth(3).inner_text()
     assert "red" in page.locator("#legend").inner_text()
+    assert not page.locator("#webcam").is_visible()  # no camera box without --webcam
     assert page.locator("#fps-in").count() == 0 and page.locator("#latency").count() == 0
     # a click beside everything: a plain error next to the image, which a valid click clears
     click_frame_pixel(page, 5, 5)
@@ -119,6 +120,9 @@ def test_the_experimenter_view_needs_its_token_and_controls_the_run(browser, liv
     assert "Paused" in status(page)["message"]
     boss.click("#resume")
     wait_status(boss, f"s.paused === false && s.sim_time > {paused_at}")
+    boss.wait_for_function("() => document.getElementById('reply').textContent === 'resume: done'")
+    assert boss.locator("#reply").get_attribute("class") == "reply done"  # not styled an error
+    assert boss.locator("#page-state").inner_text() == "connected"
     boss.fill("#note-text", "participant asked about the bin")
     boss.click("#note-save")
     boss.wait_for_function(

@@ -211,11 +211,16 @@ def test_protocol_blocks_behind_instruction_screens(browser, tmp_path) -> None:
         running = wait_status(page, "s.phase === 'waiting_for_gesture'")
         assert running["system"] == "proactive" and running["block"] == 0
         assert not page.locator("#screen").is_visible()
+        page.wait_for_function("() => window.robinLive.lastSeq >= 5")  # block 1's frames
         page.keyboard.press("e")  # end block 1
         wait_status(page, "s.phase === 'instructions' && s.block_number === 2")
         assert "Robot A" in page.locator("#screen-text").inner_text()
         page.keyboard.press("Enter")  # Start by key
         assert wait_status(page, "s.phase === 'waiting_for_gesture'")["system"] == "pil"
+        # block 2's own frames are drawn (numbered from 1 again: they were dropped as older)
+        page.wait_for_function(
+            "() => window.robinLive.frameBlock === 2 && window.robinLive.lastSeq >= 1"
+        )
         page.close()
         assert served.wait_over(60) == "closed"
     finally:

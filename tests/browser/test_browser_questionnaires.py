@@ -76,6 +76,12 @@ def test_answers_given_on_the_page_appear_in_the_report(browser, tmp_path, capsy
         assert approved == len(TYPE_A)
         shown = wait_status(page, "s.phase === 'questionnaire'")
         assert shown["questionnaire"]["name"] == "nasa-tlx" and shown["questionnaires"] == 2
+        token = served.server.experimenter_token  # the experimenter's view says so too
+        boss = browser.new_page(viewport=VIEWPORT)
+        boss.goto(f"http://127.0.0.1:{served.port}/experimenter?token={token}")
+        wait_status(boss, "s.phase === 'questionnaire'")
+        assert boss.locator("#turn").inner_text() == "Questionnaire"  # not "Your turn"
+        boss.close()
         assert page.locator("#questionnaire").is_visible()
         assert page.locator(".q-item").count() == 6
         assert page.locator("#controls button[data-send='give_me']").is_disabled()
