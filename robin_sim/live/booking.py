@@ -47,6 +47,7 @@ class Booking:
 
     def decided(self, record: StepRecord) -> None:
         self.view.decided(record)
+        self.participant.acting(record)
 
     def answered(self, record: StepRecord) -> None:
         self.view.answered(record)

@@ -207,6 +207,12 @@ class LiveParticipant:
         shown["spots"] = len(self.body.world.layout.spots)
         return shown
 
+    def acting(self, record: StepRecord) -> None:
+        """The robot starts ``record``'s action now: logged (``acts``), the moment a bench
+        measures from the participant's input."""
+        action = None if record.action is None else record.action.value
+        self._event("acts", t=record.t, action=action, proactive=record.proactive)
+
     def received(self, record: StepRecord) -> None:
         """The learner has ``record``: a delivered leg is off the table from now on."""
         self.verdict_pending = False
