@@ -55,6 +55,7 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
             "robin_sim/live/connections.py",
             "robin_sim/live/guard.py",
             "robin_sim/live/server.py",
+            "robin_sim/live/tabs.py",
         ),
         # a valid message's size; the socket's limit above which it closes
         "MAX_MESSAGE_BYTES": ("robin_sim/live/inputs.py", "robin_sim/live/server.py"),
@@ -80,7 +81,7 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         # the exploration rules; the validity rules
         "RULES": ("pil/exploration.py", "pil/validity.py"),
         # each web page's own static folder
-        "STATIC_DIR": ("robin_sim/live/server.py", "robin_sim/replay/serve.py"),
+        "STATIC_DIR": ("robin_sim/live/pages.py", "robin_sim/replay/serve.py"),
         # an episode's and a live session's file names (left to the run-assembly refactor)
         "SUMMARY_NAME": ("pil/experiments/sessions_load.py", "robin_sim/episode/run.py"),
         # an episode's step log (episode.jsonl); a live session's (log.jsonl)

@@ -46,7 +46,7 @@ _DELIVERY_FROM = (Action.HUMAN, Action.LOCATION)
 _NOT_OK, _OPEN, _OCCUPIED = Feedback.NOT_OK, Action.OPEN, Hand.OCCUPIED
 # The last action the state takes when physics changed the hand without an approved action: a
 # hand that lost its leg is open and empty, as at the start; one that caught a leg has closed.
-_AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
+AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
 
 
 class RunnerError(RobinPilError):
@@ -170,7 +170,7 @@ def steps(
                 continue
             hand = world.hand()
             if hand is not expected:  # physics changed the hand (a drop): the robot's hand is
-                previous, expected = _AFTER_DROP[hand], hand  # open and empty, as at the start
+                previous, expected = AFTER_DROP[hand], hand  # open and empty, as at the start
             decision = learner.decide(detected, previous, hand)
             state = decision.state
             if state is None or decision.action is None:

@@ -16,6 +16,7 @@ from typing import Any
 
 from pil.errors import RobinPilError, quote
 from robin_sim.cli.options import parse_port
+from robin_sim.live.limits import RECONNECT_GRACE_S, RECONNECT_GRACES, WatchdogLimits
 
 MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-character name
 
@@ -64,6 +65,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--speed", default="1", help="sim seconds per wall second (default 1)")
     parser.add_argument(
+        "--reconnect-grace",
+        default=str(RECONNECT_GRACE_S),
+        help="seconds a participant's page that lost its connection is waited for (default: "
+        "%(default)s); it comes back by itself and the session holds meanwhile; none back in "
+        "time: the session is saved 'closed'",
+    )
+    parser.add_argument(
+        "--max-attempts",
+        default=str(WatchdogLimits.attempts),
+        help="robot actions on one gesture of the participant's before the step goes back to "
+        "them (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--max-step-seconds",
+        default=str(WatchdogLimits.seconds),
+        help="simulated seconds on one gesture before the step goes back to the participant "
+        "(default: %(default)s)",
+    )
+    parser.add_argument(
         "--seed",
         default="0",
         help="the study seed (default: %(default)s): each block's seed is derived from it, the "
@@ -89,6 +109,24 @@ def _system_help() -> str:
     from pil.experiments.systems import SYSTEM_SPECS
 
     return f"the learner system (default: %(default)s), one of {', '.join(SYSTEM_SPECS)}"
+
+
+def parse_number(text: str, option: str, kind: type) -> Any:
+    """``option``'s text as a number of ``kind`` (its range: :class:`LiveConfig` checks it)."""
+    try:
+        return kind(text)
+    except ValueError:
+        what = "a whole number" if kind is int else "a number"
+        raise RobinPilError(f"{option} must be {what}, got {quote(text)}") from None
+
+
+def parse_grace(text: str) -> float:
+    """``--reconnect-grace`` in seconds, within :data:`RECONNECT_GRACES`."""
+    low, high = RECONNECT_GRACES
+    seconds = parse_number(text, "--reconnect-grace", float)
+    if not low <= seconds <= high:  # NaN fails too
+        raise RobinPilError(f"--reconnect-grace must lie in [{low:g}, {high:g}] s, got {text}")
+    return float(seconds)
 
 
 def parse_speed(text: str) -> float:
@@ -120,6 +158,10 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         calibrate=not getattr(args, "no_calibration", False),
         seed=block_seed(study_seed, str(args.participant), 0),
         study_seed=study_seed,
+        max_attempts=parse_number(getattr(args, "max_attempts", "10"), "--max-attempts", int),
+        max_step_seconds=parse_number(
+            getattr(args, "max_step_seconds", "120"), "--max-step-seconds", float
+        ),
     ).checked()
     if getattr(args, "no_calibration", False) and not base.webcam:
         raise RobinPilError("--no-calibration is for --webcam sessions; add --webcam or drop it")
@@ -208,6 +250,7 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.live.server import LiveServer, bind, is_loopback, new_token
 
     configs = session_configs(args)
+    grace = parse_grace(getattr(args, "reconnect_grace", str(RECONNECT_GRACE_S)))
     check_free(configs, planned_folders(configs))  # the advice names a free --session
     check_writable(configs[0].out_root / configs[0].participant)  # before the page is served
     conductor = Conductor(configs, questionnaires_of(args))  # every session validated here
@@ -228,7 +271,13 @@ def run(args: argparse.Namespace) -> int:
     )
     if not args.no_browser:
         webbrowser.open(url)
-    server = LiveServer(conductor, token=token, experimenter_token=experimenter, host=host)
+    server = LiveServer(
+        conductor,
+        token=token,
+        experimenter_token=experimenter,
+        host=host,
+        reconnect_grace_s=grace,
+    )
     outcome = asyncio.run(server.serve(sock))
     for result in conductor.results:
         print(

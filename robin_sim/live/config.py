@@ -21,8 +21,8 @@ from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
+from robin_sim.live.limits import WatchdogLimits
 from robin_sim.live.quality import LEVELS
-from robin_sim.live.watchdog import WatchdogLimits
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")

@@ -29,11 +29,13 @@ from typing import Any
 
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
+from pil.task.runner import AFTER_DROP  # the step loop's rule after physics changed the hand
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome, Target
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
 from robin_sim.live.guide import cannot_act, guide, leg_colour, leg_rgb, step_for
-from robin_sim.live.watchdog import StepWatchdog, WatchdogLimits
+from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.watchdog import StepWatchdog
 from robin_sim.person.body import PhysicalBody
 
 # The action a gesture means in a state the block's types do not use (for the record only).
@@ -43,9 +45,6 @@ _PLAIN_MEANING = {
     Gesture.RELEASE: Action.OPEN,
 }
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
-# The last action the robot's state takes when physics left the hand otherwise than the
-# approved action would (the step loop's own rule): an empty hand is open, a full one closed.
-_AFTER_DROP = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
 EventSink = Callable[[str, dict[str, Any]], None]
 
 
@@ -127,6 +126,7 @@ class LiveParticipant:
         self._previous = Action.OPEN  # the last action the participant approved
         self._legs = LegsSeen()
         self._delivered_legs: set[int] = set()  # of the table now laid out
+        self._laid: set[int] = set()  # the tables laid out
         self._handover, self._step = -1, 0  # the handover and its approved instructions
         # A proactive robot acts before the next gesture after an approved action, when its
         # learnt transitions make one next state likely (pil.anticipation): then the loop gets
@@ -246,7 +246,13 @@ class LiveParticipant:
         if handover != self._handover:
             self._handover, self._step = handover, 0
         table, leg = divmod(handover, self.legs_per_table)
-        first = leg == 0 and self._step == 0
+        if leg == 0 and self._step == 0 and table not in self._laid:
+            # a new table is laid out before the participant is asked, not after their
+            # gesture (that took a second and more between the input and Robin's motion)
+            self._laid.add(table)
+            self.start_table(table)
+            self.body.world.start_table(table)
+        first = False  # the loop has nothing left to lay out
         kind = self.types[handover]
         previous, hand = self._context(hand)
         self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
@@ -289,7 +295,7 @@ class LiveParticipant:
     def _context(self, hand: Hand) -> tuple[Action, Hand]:
         """Robin's state as the step loop takes it: its last standing action and ``hand``
         (after a drop, or an approved action that left the hand otherwise: open or close)."""
-        previous = self._previous if hand is self._expected else _AFTER_DROP[hand]
+        previous = self._previous if hand is self._expected else AFTER_DROP[hand]
         return previous, hand
 
     def _intended(self, gesturing: Gesturing, previous: Action, hand: Hand) -> Action:

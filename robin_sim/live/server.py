@@ -33,12 +33,12 @@ from robin_sim.live.connections import HTTP_LOG, Connections, GuardedSite, Limit
 from robin_sim.live.experimenter import experimenter_view
 from robin_sim.live.guard import Guard, is_loopback
 from robin_sim.live.inputs import LiveInputError
+from robin_sim.live.limits import RECONNECT_GRACE_S
 from robin_sim.live.pages import Pages
 from robin_sim.live.session import Frame
 from robin_sim.live.tabs import (
     EXAMPLE,
     RATE_LIMIT,
-    RECONNECT_GRACE_S,
     ControlSlot,
     Tab,
     close_tabs,

@@ -31,7 +31,6 @@ LOG = logging.getLogger("robin_sim.live.server")  # one logger for the server's 
 RATE_LIMIT = 20  # messages per second from one tab; more are dropped with an error reply
 QUEUED_TEXTS = 64  # text messages waiting for one tab; beyond, the oldest are dropped
 EXAMPLE = '{"type": "thumb", "value": "up"}'  # a valid message, for error replies
-RECONNECT_GRACE_S = 120.0  # s a lost participant's page is waited for before "closed"
 
 
 def frame_message(seq: int, sim_time: float, captured: float, jpeg: bytes, block: int = 1) -> bytes:

@@ -60,4 +60,5 @@ def test_a_killed_connection_comes_back_and_no_step_is_lost_or_doubled(
     assert held < 0.5, f"the session ran on {held:.2f} s of sim time while the page was away"
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "finished" and summary["legs_delivered"] == 1
+    assert summary["person_contacts"] == 0  # the quick live hand never met the robot
     page.close()
