@@ -38,6 +38,7 @@ def _config(tmp_path: Path, **changes: object) -> LiveConfig:
         speed=SPEED,
         fps=FPS,
         feedback_window=3.0,
+        adaptive_stream=False,  # every frame: these tests time the stream itself
     )
     return LiveConfig(**{**values, **changes})  # type: ignore[arg-type]
 

@@ -9,6 +9,8 @@ turn, ``calibration`` drives the webcam's calibration. Anything that fits no mom
 
 from __future__ import annotations
 
+from typing import Any
+
 from pil.types import Gesture
 from robin_sim.live.inputs import GESTURE_BY_KEY, THUMBS, LiveInput, LiveInputError
 from robin_sim.live.participant import Gesturing, LiveParticipant
@@ -63,3 +65,32 @@ def apply_input(
             participant.offer(Gesturing(Gesture.POINTING, target))
         else:
             participant.offer(Gesturing(GESTURE_BY_KEY[str(item.gesture)]))
+
+
+def apply_reading(
+    item: LiveInput,
+    webcam: Webcam | None,
+    participant: LiveParticipant | None,
+    picker: Picker | None,
+    view: LiveStatus,
+    ended: bool,
+) -> dict[str, Any]:
+    """A webcam reading: read, acted on if it decides a gesture; what it was read as (never
+    "not your turn": a reading that fits no moment does nothing). :class:`LiveInputError`
+    when it cannot be read now (no webcam, the session over or still starting, a bad one)."""
+    if webcam is None:
+        raise LiveInputError(
+            "hand: this session has no webcam; start it with robin-pil live --webcam"
+        )
+    if ended:
+        raise LiveInputError("the session has ended; nothing more is taken")
+    if participant is None or picker is None:
+        raise LiveInputError("the session is still starting; wait for the first frame")
+    assert item.hand is not None
+    try:
+        reading = webcam.read(item.hand, participant, picker.pick, view.clicked)
+    except LiveInputError:
+        raise
+    except Exception as problem:  # refused: the session goes on
+        raise LiveInputError(f"hand: could not be read ({problem!r:.200})") from None
+    return reading.as_dict()

@@ -94,6 +94,23 @@ def guide(
     }
 
 
+def legend(legs: int, delivered: set[int], spots: int) -> dict[str, Any]:
+    """The legend's part of the guide: the table's legs by number and colour (delivered ones
+    marked) and how many spots it has."""
+    return {
+        "legs": [
+            {
+                "number": k + 1,
+                "colour": leg_colour(k),
+                "css": leg_rgb(k),
+                "delivered": k in delivered,
+            }
+            for k in range(legs)
+        ],
+        "spots": spots,
+    }
+
+
 # Why Robin could not act on a gesture (pil.validity's rule names), in the page's words.
 CANNOT = {
     "grasp while occupied": "Robin already holds a leg, so it cannot grasp another one",

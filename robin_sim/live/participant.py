@@ -24,17 +24,17 @@ from __future__ import annotations
 import threading
 from collections import deque
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.runner import AFTER_DROP  # the step loop's rule after physics changed the hand
 from pil.task.scenario import HandoverType
-from pil.task.world import Intent, Outcome, Target
+from pil.task.world import Intent, Outcome
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
-from robin_sim.live.guide import cannot_act, guide, leg_colour, leg_rgb, step_for
+from robin_sim.live.guide import cannot_act, guide, legend, step_for
 from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.thumbs import Gesturing, ThumbWatcher
 from robin_sim.live.watchdog import StepWatchdog
 from robin_sim.person.body import PhysicalBody
 
@@ -46,53 +46,6 @@ _PLAIN_MEANING = {
 }
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
 EventSink = Callable[[str, dict[str, Any]], None]
-
-
-@dataclass(frozen=True, slots=True)
-class Gesturing:
-    """An instruction gesture from the participant (pointing carries what was clicked)."""
-
-    gesture: Gesture
-    target: Target | None = None
-    reading: int | None = None  # the webcam reading it was read from (None: a click or key)
-
-
-class ThumbWatcher:
-    """The participant's eyes on one action: stop once a thumb down came during it."""
-
-    def __init__(self, participant: LiveParticipant) -> None:
-        self.participant = participant
-        self.stopped = False
-
-    def stop_now(self, shown: Action | None) -> bool:
-        """True once the participant's thumb down has arrived (shown on the simulated hand)."""
-        if not self.stopped and self.participant.thumb is Feedback.NOT_OK:
-            self.stopped = True
-            self.participant.body.display.show(Feedback.NOT_OK)
-            self.participant._set("robot_acting", "Thumb down: the robot takes its action back.")
-        return self.stopped
-
-    def result_window(self, shown: Action | None, *, undone: bool = False) -> float:
-        """The feedback window, unless a thumb came during the move: a thumb down in it makes
-        the robot take the finished action back (physics runs while the participant decides).
-        An action the robot undid by itself (a close on nothing) gets the window too: it was
-        shown, and the participant judges it."""
-        participant = self.participant
-        if participant.thumb is not None:
-            return 0.0
-        window = participant.feedback_window
-        what = "Robin took that back by itself. " if undone else ""
-        participant._set(
-            "waiting_for_thumb",
-            f"{what}Thumb up or down? No thumb within {window:g} s counts as OK.",
-        )
-        participant.window_until = participant.body.world.time + window
-        return window
-
-    def settled(self) -> bool:
-        """The result stands: a thumb up, a next gesture instead (silence) or the session's end."""
-        participant = self.participant
-        return participant.thumb is Feedback.OK or participant.gesture_pending or participant.ended
 
 
 class LiveParticipant:
@@ -195,17 +148,8 @@ class LiveParticipant:
         if leg is None:
             leg = next((k for k in legs if k not in self._delivered_legs), 0)
         shown = guide(self.types[handover], done, leg, handover, self.legs_total)
-        shown["legs"] = [
-            {
-                "number": k + 1,
-                "colour": leg_colour(k),
-                "css": leg_rgb(k),
-                "delivered": k in self._delivered_legs,
-            }
-            for k in legs
-        ]
-        shown["spots"] = len(self.body.world.layout.spots)
-        return shown
+        spots = len(self.body.world.layout.spots)
+        return {**shown, **legend(self.legs_per_table, self._delivered_legs, spots)}
 
     def acting(self, record: StepRecord) -> None:
         """The robot starts ``record``'s action now: logged (``acts``), the moment a bench
@@ -259,10 +203,12 @@ class LiveParticipant:
         if self._robot_goes_first(hand):  # for the record: the type's next instruction
             step = kind.steps[min(self._step, len(kind.steps) - 1)]
             intent = Intent(step.gesture, step.action, None, handover, table)
-            self._set("robot_acting", "The robot anticipates your next instruction.")
+            self.set_phase("robot_acting", "The robot anticipates your next instruction.")
             self.step_gesture, self.step_reading = None, None
             return ScriptStep(intent, kind.name, self._step, first)
-        self._set("waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture.")
+        self.set_phase(
+            "waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture."
+        )
         while self._gesture is None:
             if self.ended:
                 return None
@@ -274,7 +220,7 @@ class LiveParticipant:
         self.step_key = (handover, self._step)
         action = self._intended(gesturing, previous, hand)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
-        self._set("robot_acting", "The robot reads your gesture.")
+        self.set_phase("robot_acting", "The robot reads your gesture.")
         return ScriptStep(intent, kind.name, self._step, first)
 
     def _robot_goes_first(self, hand: Hand) -> bool:
@@ -329,7 +275,7 @@ class LiveParticipant:
         self.window_until = None
         self.thumb, self.judging = None, True
         self._approved, self._hand_before = False, self.body.world.hand()
-        self._set("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
+        self.set_phase("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
         return ThumbWatcher(self)
 
     def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
@@ -351,7 +297,7 @@ class LiveParticipant:
     def show_feedback(self, feedback: Feedback) -> None:
         """The simulated hand shows the thumb (nothing for silence)."""
         self.judging = False
-        self._set("robot_acting", "Thank you: the robot takes in your thumb.")
+        self.set_phase("robot_acting", "Thank you: the robot takes in your thumb.")
         self.body.show_feedback(feedback)
 
     def after_feedback(self, feedback: Feedback) -> None:
@@ -380,5 +326,5 @@ class LiveParticipant:
             self.on_event(kind, {"sim_time": round(self.body.world.time, 4), **fields})
 
     # --- what the session shows ----------------------------------------------------------------
-    def _set(self, phase: str, message: str) -> None:
+    def set_phase(self, phase: str, message: str) -> None:
         self.phase, self.message = phase, message

@@ -26,7 +26,7 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.task.records import StepRecord
 from pil.task.runner import steps
-from robin_sim.live.acting import apply_input
+from robin_sim.live.acting import apply_input, apply_reading
 from robin_sim.live.booking import Booking, tail_entry
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionFiles, session_folder
@@ -247,30 +247,15 @@ class LiveSession:
 
     def _hand(self, item: LiveInput) -> None:
         """A tracker reading: read, acted on if it decides a gesture, and logged with what
-        became of it (never "not your turn": a reading that fits no moment does nothing)."""
-        webcam, participant, picker = self.webcam, self._participant, self._picker
-        error = ""
-        if webcam is None:
-            error = "hand: this session has no webcam; start it with robin-pil live --webcam"
-        elif self.done.is_set():
-            error = "the session has ended; nothing more is taken"
-        elif participant is None or picker is None:
-            error = "the session is still starting; wait for the first frame"
-        if error:
-            self._log_input(item.as_dict(), error)
-            raise LiveInputError(error)
-        assert webcam is not None and item.hand is not None
-        assert participant is not None and picker is not None
+        became of it (:func:`~robin_sim.live.acting.apply_reading`)."""
         try:
-            reading = webcam.read(item.hand, participant, picker.pick, self.view.clicked)
+            reading = apply_reading(
+                item, self.webcam, self._participant, self._picker, self.view, self.done.is_set()
+            )
         except LiveInputError as problem:
             self._log_input(item.as_dict(), str(problem))
             raise
-        except Exception as problem:  # logged and refused: the session goes on
-            refused = LiveInputError(f"hand: could not be read ({problem!r:.200})")
-            self._log_input(item.as_dict(), str(refused))
-            raise refused from None
-        self._log_input(item.as_dict(), "", reading=reading.as_dict())
+        self._log_input(item.as_dict(), "", reading=reading)
 
     def _act(self, item: LiveInput) -> None:
         if self.done.is_set():
