@@ -28,6 +28,7 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 BACKEND = ensure_gl_backend()  # before mujoco is imported
 
 import argparse  # noqa: E402
+import contextlib  # noqa: E402
 import json  # noqa: E402
 import multiprocessing  # noqa: E402
 import os  # noqa: E402
@@ -42,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from live_driver import Driver  # noqa: E402
 
 import robin_sim.live.run as live_run  # noqa: E402
+from robin_sim.live.inputs import LiveInputError  # noqa: E402
 from robin_sim.live.session import LiveConfig, LiveSession  # noqa: E402
 from robin_sim.person.body import LIVE, SCRIPTED  # noqa: E402
 
@@ -68,7 +70,8 @@ def input_to_motion(tempo: Any, out: Path) -> dict[str, float]:
                     driver.point_at_leg(0)
                 else:
                     driver.gesture(gesture)
-                driver.judge(meant)
+                with contextlib.suppress(LiveInputError):  # a thumb too late on a busy machine
+                    driver.judge(meant)
         finally:
             session.stop("ended")
     finally:
@@ -80,9 +83,11 @@ def input_to_motion(tempo: Any, out: Path) -> dict[str, float]:
     ]
     acts = [e for e in read_jsonl(session.out_dir / "events.jsonl") if e["event"] == "acts"]
     delays: dict[str, float] = {}
-    for (gesture, _), given in zip(TYPE_A, inputs, strict=True):
-        first = next(e for e in acts if e["sim_time"] >= given["sim_time"])
-        delays[gesture] = first["sim_time"] - given["sim_time"]
+    times = [e["sim_time"] for e in inputs] + [float("inf")]
+    for (gesture, _), given, after in zip(TYPE_A, times, times[1:], strict=False):
+        first = next((e["sim_time"] for e in acts if given <= e["sim_time"] < after), None)
+        if first is not None:  # else the step went back to the participant: nothing acted
+            delays[gesture] = first - given
     return delays
 
 
@@ -97,9 +102,7 @@ def lag_under_load(load: int, adaptive: bool, seconds: float, out: Path) -> dict
     for process in burners:
         process.start()
     try:
-        config = LiveConfig(
-            out_root=out, video=True, speed=1.0, fps=15.0, adaptive_stream=adaptive
-        )
+        config = LiveConfig(out_root=out, video=True, speed=1.0, fps=15.0, adaptive_stream=adaptive)
         session = LiveSession(config)
         session.start()
         driver = Driver(session)
@@ -145,8 +148,8 @@ def main() -> None:
     print("\ninput to Robin's first motion, sim s (median of", args.repeats, "runs)")
     print(f"{'gesture':<10} {'live':>6} {'baseline: scripted tempo':>25} {'ratio':>6}")
     for gesture, _ in TYPE_A:
-        live = statistics.median(d[gesture] for d in delays["live"])
-        base = statistics.median(d[gesture] for d in delays["scripted"])
+        live = statistics.median(d[gesture] for d in delays["live"] if gesture in d)
+        base = statistics.median(d[gesture] for d in delays["scripted"] if gesture in d)
         print(f"{gesture:<10} {live:>6.2f} {base:>25.2f} {live / base:>6.2f}")
     print(f"\nlag at 1x, 15 frames/s with the eye inset, {args.seconds:g} s of wall time each")
     print(

@@ -21,9 +21,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from live_monkey import Audit, Monkey, play  # noqa: E402
+from live_monkey import Audit, Monkey, play
 
-from robin_sim.live.session import LiveConfig, LiveSession  # noqa: E402
+from robin_sim.live.session import LiveConfig, LiveSession
 
 MAX_ATTEMPTS = 8
 
@@ -64,8 +64,10 @@ def main() -> int:
     args = parser.parse_args()
     out = args.out or Path(tempfile.mkdtemp(prefix="live-soak-"))
     totals = {"lockups": 0, "loops": 0, "lost_or_doubled": 0}
-    print(f"{'session':>7} {'status':>9} {'actions':>7} {'gestures':>8} {'lock':>4} "
-          f"{'loop':>4} {'lost':>4} {'wall s':>6}  problems")
+    print(
+        f"{'session':>7} {'status':>9} {'actions':>7} {'gestures':>8} {'lock':>4} "
+        f"{'loop':>4} {'lost':>4} {'wall s':>6}  problems"
+    )
     for index in range(args.sessions):
         started = time.monotonic()
         audit = one(index, out, args.moves, args.speed)

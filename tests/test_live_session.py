@@ -37,7 +37,7 @@ def _config(tmp_path: Path, **changes: object) -> LiveConfig:
         session="s1",
         speed=SPEED,
         fps=FPS,
-        feedback_window=3.0,
+        feedback_window=6.0,  # 2 s of wall time for the test thread's thumb, also when busy
         adaptive_stream=False,  # every frame: these tests time the stream itself
     )
     return LiveConfig(**{**values, **changes})  # type: ignore[arg-type]

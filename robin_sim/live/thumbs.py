@@ -9,13 +9,11 @@ undid by itself) the feedback window opens, and a thumb down then takes the resu
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture
-
-if TYPE_CHECKING:
-    from robin_sim.live.participant import LiveParticipant
+from robin_sim.person.body import PhysicalBody
 
 
 @dataclass(frozen=True, slots=True)
@@ -27,10 +25,26 @@ class Gesturing:
     reading: int | None = None  # the webcam reading it was read from (None: a click or key)
 
 
+class Judging(Protocol):
+    """What the watcher reads and sets of the participant
+    (:class:`robin_sim.live.participant.LiveParticipant`)."""
+
+    body: PhysicalBody
+    thumb: Feedback | None
+    feedback_window: float
+    window_until: float | None
+    ended: bool
+
+    @property
+    def gesture_pending(self) -> bool: ...
+
+    def set_phase(self, phase: str, message: str) -> None: ...
+
+
 class ThumbWatcher:
     """The participant's eyes on one action: stop once a thumb down came during it."""
 
-    def __init__(self, participant: LiveParticipant) -> None:
+    def __init__(self, participant: Judging) -> None:
         self.participant = participant
         self.stopped = False
 

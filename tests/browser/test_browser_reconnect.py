@@ -34,8 +34,8 @@ def test_a_killed_connection_comes_back_and_no_step_is_lost_or_doubled(
     control = next(tab for tab in server.tabs if tab.role == "control")
     assert server._loop is not None and control.transport is not None
     server._loop.call_soon_threadsafe(control.transport.abort)  # the connection dies
-    page.wait_for_function("() => window.robinLive.closed !== null", timeout=20_000)
-    assert page.evaluate("() => window.robinLive.closed.code") == 1006
+    page.wait_for_function("() => !!window.robinLive.lastClose", timeout=20_000)
+    assert page.evaluate("() => window.robinLive.lastClose.code") == 1006
     page.wait_for_function(
         "() => window.robinLive.connected && window.robinLive.reconnects >= 1", timeout=30_000
     )

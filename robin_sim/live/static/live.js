@@ -43,6 +43,7 @@
       const wasOpen = live.connected;
       live.connected = false;
       if (wasOpen || !live.closed) live.closed = { code: event.code, reason: event.reason };
+      live.lastClose = { code: event.code, reason: event.reason }; // kept after a reconnect
       // over: the last status said so, or the server said goodbye (1001) at the run's end
       const over = (!!live.status && live.status.phase === "done") || event.code === 1001;
       live.over = over;
