@@ -34,6 +34,7 @@ from typing import Any
 from pil.experiments.stats import holm, paired, welch
 
 Observation = Mapping[str, Any]
+MAX_NOTES = 4  # statsmodels' warnings kept per model (their first sentences)
 MIN_PAIRED = 2  # participants who did both conditions for a within-subjects comparison
 
 
@@ -99,17 +100,23 @@ def needs_mixed(observations: Sequence[Observation], design: str) -> bool:
     return any(n > 1 for n in seen.values())
 
 
-def mixed_model(observations: Sequence[Observation]) -> dict[str, Any]:
+def mixed_model(
+    observations: Sequence[Observation], conditions: Sequence[str] = ()
+) -> dict[str, Any]:
     """``value ~ C(condition) + position`` with a random intercept per participant (terms that
-    do not vary are left out). Returns the formula, the fixed effects (term, coef, se, ci, p),
-    the participants' variance, whether it converged, and statsmodels' warnings; or why it
-    could not be fitted (``error``)."""
+    do not vary are left out; the first of ``conditions`` present is the reference). Returns
+    the formula, the fixed effects (term, coef, se, ci, p), the participants' variance,
+    whether it converged, and statsmodels' warnings; or why it could not be fitted
+    (``error``)."""
     import pandas as pd
     import statsmodels.formula.api as smf
 
     frame = pd.DataFrame(
         {k: [o[k] for o in observations] for k in ("participant", "condition", "position")}
     )
+    present = [c for c in conditions if c in set(frame["condition"])]
+    extra = sorted(set(frame["condition"]) - set(present))
+    frame["condition"] = pd.Categorical(frame["condition"], categories=present + extra)
     frame["value"] = [float(o["value"]) for o in observations]
     participants = frame["participant"].nunique()
     terms = []
@@ -126,22 +133,22 @@ def mixed_model(observations: Sequence[Observation]) -> dict[str, Any]:
         warnings.simplefilter("always")
         try:
             fitted = smf.mixedlm(formula, frame, groups=frame["participant"]).fit(reml=True)
+            intervals = fitted.conf_int()
+            effects = [
+                {
+                    "term": str(term),
+                    "coef": float(fitted.fe_params[term]),
+                    "se": float(fitted.bse_fe[term]),
+                    "ci_low": float(intervals.loc[term, 0]),
+                    "ci_high": float(intervals.loc[term, 1]),
+                    "p": float(fitted.pvalues[term]),
+                }
+                for term in fitted.fe_params.index
+            ]
         except (ValueError, ArithmeticError, IndexError) as error:  # singular, degenerate
             return {**out, "error": f"not fitted: {type(error).__name__}: {error}"}
-    intervals = fitted.conf_int()
-    effects = [
-        {
-            "term": str(term),
-            "coef": float(fitted.fe_params[term]),
-            "se": float(fitted.bse_fe[term]),
-            "ci_low": float(intervals.loc[term, 0]),
-            "ci_high": float(intervals.loc[term, 1]),
-            "p": float(fitted.pvalues[term]),
-        }
-        for term in fitted.fe_params.index
-    ]
     variance = float(fitted.cov_re.iloc[0, 0]) if fitted.cov_re.size else math.nan
-    notes = sorted({str(w.message).splitlines()[0] for w in caught})
+    notes = sorted({str(w.message).split(". ")[0].rstrip(".") for w in caught})[:MAX_NOTES]
     return {
         **out,
         "effects": effects,
@@ -186,7 +193,7 @@ def analyse(
         head = {"instrument": instrument, "outcome": variable}
         tests += [{**head, **r} for r in compare_conditions(observations, conditions)]
         if needs_mixed(observations, design):
-            models.append({**head, **mixed_model(observations)})
+            models.append({**head, **mixed_model(observations, conditions)})
         order += [{**head, **r} for r in order_effects(observations)]
     for instrument in dict.fromkeys(t["instrument"] for t in tests):
         family = [t for t in tests if t["instrument"] == instrument]

@@ -142,43 +142,7 @@ def study_markdown(
         else "No pair of conditions to compare."
     )
     lines += ["", "## Mixed models (participant as a random intercept)", ""]
-    if not result["models"]:
-        lines.append("Not called for: a within design with one block per condition.")
-    for model in result["models"]:
-        title = f"### {model['instrument']}: {model['outcome']}"
-        lines += [
-            title,
-            "",
-            f"`{model['formula']}`, {model['observations']} blocks of "
-            f"{model['participants']} participants (statsmodels MixedLM, REML).",
-            "",
-        ]
-        if "error" in model:
-            lines += [f"Not fitted: {model['error']}.", ""]
-            continue
-        lines.append(
-            markdown_table(
-                ["term", "coef", "se", "95 % CI", "p"],
-                [
-                    [
-                        e["term"],
-                        _f(e["coef"]),
-                        _f(e["se"]),
-                        f"[{_f(e['ci_low'])}, {_f(e['ci_high'])}]",
-                        _p(e["p"]),
-                    ]
-                    for e in model["effects"]
-                ],
-            )
-        )
-        notes = "; ".join(model["notes"]) or "none"
-        lines += [
-            "",
-            f"Participants' variance {_f(model['participant_variance'])}, residual "
-            f"{_f(model['residual_variance'])}; converged: {model['converged']}; "
-            f"statsmodels' warnings: {notes}.",
-            "",
-        ]
+    lines += _model_lines(result["models"])
     lines += ["## Order effects (mean by block position)", ""]
     lines.append(
         markdown_table(
@@ -199,6 +163,59 @@ def study_markdown(
         else "No analysed block."
     )
     return "\n".join(lines) + "\n"
+
+
+def _model_lines(models: Sequence[Mapping[str, Any]]) -> list[str]:
+    """The mixed models: how each was fitted, then every fixed effect in one table."""
+    if not models:
+        return ["Not called for: a within design with one block per condition.", ""]
+    fits = []
+    for m in models:
+        if "error" in m:
+            fitted = f"not fitted: {m['error']}"
+        else:
+            notes = "; ".join(m["notes"]) or "none"
+            fitted = (
+                f"variance: participants {_f(m['participant_variance'])}, residual "
+                f"{_f(m['residual_variance'])}; converged {m['converged']}; warnings: {notes}"
+            )
+        fits.append(
+            [
+                m["instrument"],
+                m["outcome"],
+                f"`{m['formula']}`",
+                f"{m['observations']} / {m['participants']}",
+                fitted,
+            ]
+        )
+    effects = [
+        [
+            m["instrument"],
+            m["outcome"],
+            e["term"],
+            _f(e["coef"]),
+            _f(e["se"]),
+            f"[{_f(e['ci_low'])}, {_f(e['ci_high'])}]",
+            _p(e["p"]),
+        ]
+        for m in models
+        for e in m.get("effects", ())
+    ]
+    lines = [
+        "statsmodels `MixedLM` (REML); the condition terms are differences to the first "
+        "condition, `position` the change per block (the order effect).",
+        "",
+        markdown_table(["instrument", "outcome", "model", "blocks / participants", "fit"], fits),
+        "",
+    ]
+    if effects:
+        lines += [
+            markdown_table(
+                ["instrument", "outcome", "term", "coef", "se", "95 % CI", "p"], effects
+            ),
+            "",
+        ]
+    return lines
 
 
 def attention_failures(folder: Path, participants: Sequence[Mapping[str, Any]]) -> list[str]:

@@ -56,7 +56,7 @@ def run_participant(
                 continue  # it ends by its time cap
             approved, _ = play_steps(page, TYPE_A, leg)
             assert approved == len(TYPE_A)
-            questionnaire(page, config.block or 0)
+            questionnaire(page, config.block or 0, age)
         wait_status(page, "s.phase === 'debrief'")
         page.keyboard.press("Enter")  # Finish has the focus
         wait_status(page, "s.phase === 'done'")
@@ -78,10 +78,11 @@ def demographics(page: Any, age: int) -> None:
     page.locator("#q-send").click()
 
 
-def questionnaire(page: Any, block: int) -> None:
-    """The block's questionnaire, answered with the keyboard: radios and the slider."""
+def questionnaire(page: Any, block: int, seed: int) -> None:
+    """The block's questionnaire: radio buttons (answers that differ by participant and
+    block) and the slider moved with the keyboard."""
     wait_status(page, "s.phase === 'questionnaire' && s.questionnaire.name === 'ease'")
-    answers = {"clear": 2 + block % 3, "slow": 2, "check": 4}
+    answers = {"clear": 1 + (seed + block) % 5, "slow": 1 + seed % 3, "check": 4}
     for item, value in answers.items():
         page.locator(f'input[name="ease-{item}"][value="{value}"]').check()
     slider = page.locator('input[name="ease-liking"]')
