@@ -19,15 +19,6 @@ from robin_sim.cli.options import parse_port
 from robin_sim.live.limits import RECONNECT_GRACE_S, RECONNECT_GRACES, WatchdogLimits
 
 DEFAULT_PARTICIPANT = "P01"
-# options a study file decides (refused with --study): dest -> (option, its default)
-STUDY_DECIDES = {
-    "protocol": ("--protocol", None),
-    "system": ("--system", "pil"),
-    "scenario": ("--scenario", None),
-    "session": ("--session", None),
-    "out": ("--out", Path("out/live")),
-    "seed": ("--seed", "0"),
-}
 MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-character name
 
 
@@ -269,19 +260,10 @@ def run(args: argparse.Namespace) -> int:
     grace = parse_grace(getattr(args, "reconnect_grace", str(RECONNECT_GRACE_S)))
     study = None
     if getattr(args, "study", None) is not None:
-        from robin_sim.lab.run import prepare, refuse_options
+        from robin_sim.cli.live_study import study_conductor
 
-        given = [
-            o for dest, (o, default) in STUDY_DECIDES.items() if getattr(args, dest) != default
-        ]
-        refuse_options(given)
-        check_writable(args.study)
-        base = session_configs(args)[0]
-        study = prepare(args.study, args.participant, base)  # registered: the last check
+        study, conductor = study_conductor(args, session_configs(args)[0])
         configs = study.configs
-        conductor = Conductor(
-            configs, study.study.protocol.questionnaires, study.study.screens, study.journal
-        )
     else:
         configs = session_configs(args)
         check_free(configs, planned_folders(configs))  # the advice names a free --session

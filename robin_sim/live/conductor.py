@@ -8,6 +8,9 @@ ends by itself is followed by them (phase ``questionnaire``), one at a time, bef
 block; the answers go to the block's ``questionnaires.jsonl``. A participant's page that does
 not come back after losing its connection (the server waits for it) stops the running session
 as ``closed``, a signal as ``interrupted``, and either ends the run: the server then stops.
+A study's run (:mod:`robin_sim.lab`) has screens around its blocks (:mod:`robin_sim.live.screens`):
+consent first (a decline ends the run, ``declined``), its demographics form, and the debrief
+after the last block; each step is told to the study's journal.
 """
 
 from __future__ import annotations
@@ -15,7 +18,6 @@ from __future__ import annotations
 import asyncio
 import logging
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import Any
 
 from pil.experiments.study_export import DEMOGRAPHICS_NAME
@@ -24,7 +26,7 @@ from robin_sim.live.inputs import LiveInputError, parse_input
 from robin_sim.live.journal import block_fields
 from robin_sim.live.questioning import Questioning
 from robin_sim.live.questionnaires import Questionnaire
-from robin_sim.live.screens import Screens, screen_status
+from robin_sim.live.screens import Screens, between_status
 from robin_sim.live.session import Frame, LiveConfig, LiveSession
 
 LOG = logging.getLogger(__name__)
@@ -93,24 +95,9 @@ class Conductor:
         }
         if self.phase == "running":
             return {**self.session.status(), **extra}
-        base = {**screen_status(config, self.phase, self.outcome), **extra}
         last = self.results[-1] if self.results else {}
-        if self.phase == "questionnaire" and self._questioning is not None:
-            return {**base, **last, **extra, **self._questioning.status()}
-        if self.phase == "consent" and self.screens.consent is not None:
-            return {**base, "consent": self.screens.consent.as_dict()}
-        if self.phase == "debrief" and self.screens.debrief is not None:
-            return {
-                **base,
-                **last,
-                **extra,
-                "phase": "debrief",
-                "status": "running",
-                "debrief": self.screens.debrief.as_dict(),
-            }
-        if self.phase == "done" and last:
-            return {**last, **extra, "phase": "done", "status": self.outcome}
-        return base
+        asking = None if self._questioning is None else self._questioning.status()
+        return between_status(self.phase, config, self.outcome, extra, last, self.screens, asking)
 
     def latest_frame(self) -> Frame | None:
         """The running session's newest frame (for a tab that has just connected)."""
@@ -222,13 +209,8 @@ class Conductor:
         if form is None:
             await self._enter(0)
             return
-        config = self.configs[0]
-        folder = Path(config.out_root) / config.participant
-        context = {"participant": config.participant, "protocol": config.protocol}
         self.phase, self._asking = "questionnaire", "demographics"
-        self._questioning = Questioning(
-            [form], folder, config, file_name=DEMOGRAPHICS_NAME, context=context
-        )
+        self._questioning = Questioning.form(form, self.configs[0], DEMOGRAPHICS_NAME)
 
     async def _enter(self, index: int) -> None:
         self.index = index

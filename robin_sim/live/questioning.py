@@ -53,6 +53,14 @@ class Questioning:
     def current(self) -> Questionnaire:
         return self.questionnaires[self.index]
 
+    @classmethod
+    def form(cls, form: Questionnaire, config: LiveConfig, file_name: str) -> Questioning:
+        """A study's form before the blocks (demographics), saved as ``file_name`` in the
+        participant's folder."""
+        folder = Path(config.out_root) / config.participant
+        context = {"participant": config.participant, "protocol": config.protocol}
+        return cls([form], folder, config, file_name=file_name, context=context)
+
     def answered(self) -> list[str]:
         """The names of the questionnaires answered so far."""
         return [q.name for q in self.questionnaires[: self.index]]

@@ -127,8 +127,32 @@ PHASE_MESSAGES = {  # what the page says on each screen between sessions
 SHOWN_AS = {"done": "done", "consent": "consent", "debrief": "debrief"}  # else instructions
 
 
-def screen_status(config: Any, phase: str, outcome: str | None) -> dict[str, Any]:
-    """The page's status between sessions (``config``: the block the screen belongs to)."""
+def between_status(
+    phase: str,
+    config: Any,
+    outcome: str | None,
+    extra: dict[str, Any],
+    last: dict[str, Any],
+    screens: Screens,
+    asking: dict[str, Any] | None,
+) -> dict[str, Any]:
+    """The page's status between sessions: ``config`` is the block the screen belongs to,
+    ``extra`` the run's fields, ``last`` the last ended session's status, ``asking`` the
+    questionnaire shown (:meth:`Questioning.status`)."""
+    base = {**_screen_status(config, phase, outcome), **extra}
+    if phase == "questionnaire" and asking is not None:
+        return {**base, **last, **extra, **asking}
+    if phase == "consent" and screens.consent is not None:
+        return {**base, "consent": screens.consent.as_dict()}
+    if phase == "debrief" and screens.debrief is not None:
+        shown = {"phase": "debrief", "status": "running", "debrief": screens.debrief.as_dict()}
+        return {**base, **last, **extra, **shown}
+    if phase == "done" and last:
+        return {**last, **extra, "phase": "done", "status": outcome}
+    return base
+
+
+def _screen_status(config: Any, phase: str, outcome: str | None) -> dict[str, Any]:
     done = phase == "done"
     return {
         "phase": SHOWN_AS.get(phase, "instructions"),
