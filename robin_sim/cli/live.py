@@ -160,7 +160,7 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
     session = parse_session(getattr(args, "session", None))
     study_seed = SEED.parse(getattr(args, "seed", "0"), "--seed")
     base = LiveConfig(
-        participant=args.participant or DEFAULT_PARTICIPANT,
+        participant=DEFAULT_PARTICIPANT if args.participant is None else args.participant,
         system=args.system,
         scenario=args.scenario,
         out_root=args.out,
