@@ -18,7 +18,7 @@ VIEWPORT = {"width": 1100, "height": 820}
 
 def fast_base(speed: float, video: bool) -> LiveConfig:
     """What every session of a test study shares: sped up, a small stream."""
-    return LiveConfig(speed=speed, fps=5.0, eye_inset=False, video=video, feedback_window=6.0)
+    return LiveConfig(speed=speed, fps=2.0, eye_inset=False, video=video, feedback_window=6.0)
 
 
 def run_participant(

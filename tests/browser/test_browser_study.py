@@ -27,7 +27,7 @@ from robin_sim.lab.registry import RegistryError
 from robin_sim.lab.run import prepare
 
 pytestmark = pytest.mark.slow
-SPEED = 5.0
+SPEED = 6.0
 # seed 1: P01 goes to learner, P03 (after P02's refusal) and P04 to trained
 STUDY = """\
 name: pilot
