@@ -80,17 +80,21 @@ LONG_COLUMNS = (
 )
 
 
-def read_jsonl(path: Path) -> list[dict[str, Any]]:
-    """A JSON-lines file's objects ([] when it is missing); a bad line names the file."""
-    if not path.exists():
+def read_jsonl(path: Path, *, strict: bool = True) -> list[dict[str, Any]]:
+    """A JSON-lines file's objects ([] when it is missing); a bad line names the file, or is
+    skipped when not ``strict`` (a line a crash cut short)."""
+    if not path.is_file():
         return []
     rows = []
-    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+    text = path.read_text(encoding="utf-8", errors="strict" if strict else "replace")
+    for number, line in enumerate(text.splitlines(), 1):
         if not line.strip():
             continue
         try:
             row = json.loads(line)
         except ValueError:
+            if not strict:
+                continue
             raise SessionsError(f"{path}:{number}: not a JSON line") from None
         if isinstance(row, dict):
             rows.append(row)

@@ -14,6 +14,7 @@ import threading
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.study_export import read_jsonl
 from robin_sim.lab.registry import utc_now
 
 STUDY_LOG_NAME = "log.jsonl"
@@ -55,14 +56,4 @@ class StudyLog:
     def entries(self) -> list[dict[str, Any]]:
         """Every line read back ([] before the first); a line that is not JSON is skipped
         (a line cut by a crash)."""
-        if not self.path.exists():
-            return []
-        out = []
-        for line in self.path.read_text(encoding="utf-8").splitlines():
-            try:
-                entry = json.loads(line)
-            except ValueError:
-                continue
-            if isinstance(entry, dict):
-                out.append(entry)
-        return out
+        return read_jsonl(self.path, strict=False)

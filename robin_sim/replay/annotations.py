@@ -22,6 +22,7 @@ from typing import Any
 
 from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
 from pil.experiments.sessions_load import EVENTS_NAME, INPUTS_NAME, SESSION_LOG_NAME, SUMMARY_NAME
+from pil.experiments.study_export import read_jsonl
 from robin_sim.episode.run import LOG_NAME as EPISODE_LOG_NAME
 from robin_sim.live.files import NOTES_NAME
 from robin_sim.render.overlay import OverlayInfo
@@ -32,17 +33,7 @@ MAX_MARKERS = 5000  # a timeline of more markers is cut (hand readings are never
 
 
 def _lines(path: Path) -> list[dict[str, Any]]:
-    if not path.is_file():
-        return []
-    rows = []
-    for line in path.read_text(encoding="utf-8", errors="replace").splitlines():
-        try:
-            row = json.loads(line)
-        except ValueError:
-            continue
-        if isinstance(row, dict):
-            rows.append(row)
-    return rows
+    return read_jsonl(path, strict=False)
 
 
 def steps_of(folder: Path) -> list[dict[str, Any]]:
