@@ -218,15 +218,12 @@ class Audit:
         given = sum(
             1
             for e in inputs
-            if e["accepted"]
-            and isinstance(e["raw"], dict)
-            and e["raw"].get("type") in ("point", "gesture")
+            if e["accepted"] and isinstance(e["raw"], dict) and e["raw"].get("type") in
+            ("point", "gesture")
         )
-        given += sum(
-            1
-            for e in inputs
-            if e.get("reading", {}).get("acted", "").startswith(("gesture", "point"))
-        )
+        given += sum(1 for e in inputs if e.get("reading", {}).get("acted", "").startswith(
+            ("gesture", "point")
+        ))
         performed = max((s["gesture_count"] for s in steps), default=0)
         loops = 0
         if performed > given:

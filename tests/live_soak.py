@@ -64,10 +64,8 @@ def main() -> int:
     args = parser.parse_args()
     out = args.out or Path(tempfile.mkdtemp(prefix="live-soak-"))
     totals = {"lockups": 0, "loops": 0, "lost_or_doubled": 0}
-    print(
-        f"{'session':>7} {'status':>9} {'actions':>7} {'gestures':>8} {'lock':>4} "
-        f"{'loop':>4} {'lost':>4} {'wall s':>6}  problems"
-    )
+    print(f"{'session':>7} {'status':>9} {'actions':>7} {'gestures':>8} {'lock':>4} "
+          f"{'loop':>4} {'lost':>4} {'wall s':>6}  problems")
     for index in range(args.sessions):
         started = time.monotonic()
         audit = one(index, out, args.moves, args.speed)

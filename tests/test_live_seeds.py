@@ -55,9 +55,7 @@ def test_seeds_shared_gives_every_block_the_study_seed(tmp_path: Path) -> None:
 def test_an_unknown_seeding_is_refused_naming_the_choices(tmp_path: Path) -> None:
     bad = tmp_path / "bad.yaml"
     bad.write_text(PROTOCOL.read_text() + "seeds: sometimes\n")
-    with pytest.raises(
-        ProtocolError, match="seeds: unknown seeding 'sometimes'.*per-block, shared"
-    ):
+    with pytest.raises(ProtocolError, match="seeds: unknown seeding 'sometimes'.*per-block, shared"):
         load_protocol(bad)
     with pytest.raises(Exception, match="--seed"):
         configs("--seed", "-1")

@@ -110,11 +110,9 @@ def test_the_watchdog_hands_back_and_no_refused_action_is_tried_twice(tmp_path: 
         driver.wait(lambda s: s["phase"] != "waiting_for_gesture", "the pointing taken")
         while True:
             s = driver.wait(
-                lambda s: (
-                    s["action"] is not None
-                    or s["phase"] == "waiting_for_thumb"
-                    or (s["phase"] == "waiting_for_gesture" and s["actions"] == len(tried))
-                ),
+                lambda s: s["action"] is not None
+                or s["phase"] == "waiting_for_thumb"
+                or (s["phase"] == "waiting_for_gesture" and s["actions"] == len(tried)),
                 "a try or the hand-back",
             )
             if s["phase"] == "waiting_for_gesture":
