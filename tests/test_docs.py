@@ -146,3 +146,45 @@ def test_the_architecture_python_example_runs(tmp_path: Path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.split("\n")[:3] == ["c1 40 legs", "True True", "finished 1 of 1"]
     assert (tmp_path / "out" / "api" / "summary.json").is_file()
+
+
+def test_the_study_walkthrough_runs(tmp_path: Path, monkeypatch, capsys) -> None:
+    """docs/live.md's walk-through of a study, on a fresh folder: every command runs but
+    ``live`` and ``replay``, which are parsed; each ``live`` line registers its participant
+    as the command does before it serves (the page itself: tests/browser/test_browser_study.py)."""
+    import glob
+
+    from robin_sim.cli.main import main
+    from robin_sim.lab.run import prepare
+    from robin_sim.live.config import LiveConfig
+
+    section = (ROOT / "docs" / "live.md").read_text().split("### From the study file to the report")
+    block = FENCE.search(section[1])
+    assert block is not None and block.group(1) == "bash"
+    monkeypatch.chdir(tmp_path)
+    ran = []
+    for line in block.group(2).splitlines():
+        argv = shlex.split(line.split(" #", 1)[0])[1:]
+        if argv[0] in ("live", "replay"):
+            args = build_parser(argv[0]).parse_args(argv)
+            if argv[0] == "live":
+                for _ in range(1 if args.participant else 3):
+                    prepare(args.study, args.participant, LiveConfig(video=False))
+            continue
+        expanded = [m for a in argv for m in (sorted(glob.glob(a)) or [a])]
+        assert main(expanded) == 0, f"{line}: {capsys.readouterr().err}"
+        ran.append(argv[0])
+    assert ran == [
+        "study-init",
+        "study-status",
+        "study-status",
+        "study-withdraw",
+        "report",
+        "study-export",
+        "study-verify",
+    ]
+    out = capsys.readouterr().out
+    assert "| P03 | g1" not in out  # within: group all
+    registry = (tmp_path / "pilot" / "registry.json").read_text()
+    assert '"P07"' in registry and '"withdrawn"' in registry
+    assert "files match the manifest" in out

@@ -28,7 +28,7 @@ def test_valid_messages(raw: object, expected: LiveInput) -> None:
     assert parse_input(parsed.as_dict(), W, H) == parsed  # as the page sends it
 
 
-KINDS = "'point', 'gesture', 'thumb', 'end', 'start', 'hand', 'calibration'"
+KINDS = "'point', 'gesture', 'thumb', 'end', 'start', 'hand', 'calibration', 'consent', 'finish'"
 GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
 
 
@@ -56,6 +56,8 @@ GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
         ('{"type": "gesture", "gesture": null}', "unknown gesture None"),
         ('{"type": "thumb", "value": "side"}', "unknown value 'side'; valid .* 'up', 'down'"),
         ('{"type": "thumb"}', "thumb: missing field\\(s\\) 'value'"),
+        ('{"type": "consent", "value": "yes"}', "unknown value 'yes'; valid .* 'agree', 'decline'"),
+        ('{"type": "finish", "now": 1}', "unknown field\\(s\\) 'now'"),
         ("x" * 5000, "too long \\(at most 4096\\)"),
         (42, "message must be JSON text, got int"),
     ],
@@ -66,7 +68,17 @@ def test_junk_messages_get_one_clear_error(raw: object, message: str) -> None:
 
 
 def test_the_lists_the_page_uses() -> None:
-    assert INPUT_KINDS == ("point", "gesture", "thumb", "end", "start", "hand", "calibration")
+    assert INPUT_KINDS == (
+        "point",
+        "gesture",
+        "thumb",
+        "end",
+        "start",
+        "hand",
+        "calibration",
+        "consent",
+        "finish",
+    )
     assert GESTURE_KEYS == ("give_me", "grasp", "release")
     for kind in INPUT_KINDS:  # every kind is named in the error for an unknown one
         with pytest.raises(LiveInputError, match=repr(kind)):

@@ -20,6 +20,8 @@ from pil.experiments.report import ReportError, number
 
 SUMMARY_NAME = "summary.json"  # a run's summary: episodes, live sessions (their folders)
 INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.files)
+SESSION_LOG_NAME = "log.jsonl"  # a live session's step log (robin_sim.live.run)
+EVENTS_NAME = "events.jsonl"  # what a live session did of itself (robin_sim.live.files)
 COUNTED_STATUS = "finished"
 # measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
 MEASURES: dict[str, str] = {
@@ -42,6 +44,7 @@ LIVE_OPTIONAL: tuple[str, ...] = (
     "frames_streamed",
     "stream_fps",
     "started_utc",
+    "practice",  # a study's practice block (never counted)
 )
 SESSION_COLUMNS: tuple[str, ...] = (
     "participant",
@@ -117,7 +120,8 @@ def session_row(summary: Mapping[str, Any], path: Path, folder: Path) -> dict[st
     status = summary.get("status")
     if not isinstance(status, str) or not status:
         raise SessionsError(f"{path}: status: expected a text (e.g. 'finished'), got {status!r}")
-    row["status"], row["counted"] = status, status == COUNTED_STATUS
+    practice = live.get("practice") is True
+    row["status"], row["counted"] = status, status == COUNTED_STATUS and not practice
     for key in MEASURES:
         if key not in summary:
             raise SessionsError(

@@ -18,6 +18,7 @@ from pil.errors import RobinPilError, quote
 from robin_sim.cli.options import parse_port
 from robin_sim.live.limits import RECONNECT_GRACE_S, RECONNECT_GRACES, WatchdogLimits
 
+DEFAULT_PARTICIPANT = "P01"
 MAX_SESSION_PREFIX = 14  # --session: room for "-block10-proactive" in a 32-character name
 
 
@@ -44,8 +45,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--participant",
-        default="P01",
-        help="participant id, [A-Za-z0-9_-]{1,32} (default: %(default)s)",
+        default=None,
+        help="participant id, [A-Za-z0-9_-]{1,32} (default: P01; with --study: the next free "
+        "id, and one given is checked: an id in the study's registry is never reused)",
+    )
+    parser.add_argument(
+        "--study",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="run the next participant of the study in DIR (robin-pil study-init makes one): "
+        "its protocol, design, screens and limits, the participant registered and assigned "
+        "(default: none)",
     )
     parser.add_argument(
         "--protocol",
@@ -143,12 +154,13 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
     """The run's checked sessions: one, or one per protocol block of the participant."""
     from pil.task.params import SEED
     from pil.task.seeds import block_seed
+    from robin_sim.live.files import block_folder
     from robin_sim.live.session import LiveConfig
 
     session = parse_session(getattr(args, "session", None))
     study_seed = SEED.parse(getattr(args, "seed", "0"), "--seed")
     base = LiveConfig(
-        participant=args.participant,
+        participant=DEFAULT_PARTICIPANT if args.participant is None else args.participant,
         system=args.system,
         scenario=args.scenario,
         out_root=args.out,
@@ -203,14 +215,10 @@ def parse_session(text: str | None) -> str | None:
     return text
 
 
-def block_folder(session: str | None, index: int, condition: str) -> str:
-    """A protocol block's session folder: ``block<N>-<condition>``, after ``--session`` if given."""
-    name = f"block{index + 1}-{condition}"
-    return name if session is None else f"{session}-{name}"
-
-
 def planned_folders(configs: list[Any]) -> Callable[[str], list[Path]]:
     """The run's session folders if ``--session`` were ``name`` (for the restart advice)."""
+
+    from robin_sim.live.files import block_folder
 
     def folders(name: str) -> list[Path]:
         base = Path(configs[0].out_root) / configs[0].participant
@@ -249,13 +257,25 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.live.preflight import check_free, check_writable
     from robin_sim.live.server import LiveServer, bind, is_loopback, new_token
 
-    configs = session_configs(args)
     grace = parse_grace(getattr(args, "reconnect_grace", str(RECONNECT_GRACE_S)))
-    check_free(configs, planned_folders(configs))  # the advice names a free --session
-    check_writable(configs[0].out_root / configs[0].participant)  # before the page is served
-    conductor = Conductor(configs, questionnaires_of(args))  # every session validated here
+    study = None
+    if getattr(args, "study", None) is not None:
+        from robin_sim.cli.live_study import study_conductor
+
+        study, conductor = study_conductor(args, session_configs(args)[0])
+        configs = study.configs
+    else:
+        configs = session_configs(args)
+        check_free(configs, planned_folders(configs))  # the advice names a free --session
+        check_writable(configs[0].out_root / configs[0].participant)  # before it is served
+        conductor = Conductor(configs, questionnaires_of(args))  # every session validated here
     token = None if is_loopback(host) else new_token()
-    sock = bind(host, port)
+    try:
+        sock = bind(host, port)
+    except BaseException as problem:
+        if study is not None:  # the id was never shown to anyone: it is free again
+            study.release(f"the server could not start: {problem}")
+        raise
     bound_port = sock.getsockname()[1]
     shown_host = f"[{host}]" if ":" in host else host
     url = f"http://{shown_host}:{bound_port}/" + ("" if token is None else f"?token={token}")
@@ -285,6 +305,9 @@ def run(args: argparse.Namespace) -> int:
             f"{result.get('legs_delivered')}/{result.get('legs_total')} legs",
             flush=True,
         )
-    saved = f"saved under {args.out}" if conductor.results else "no session had started"
+    where = args.out if study is None else study.study.folder
+    if study is not None:
+        print(f"robin-pil live: participant {study.participant} ({study.group}): {outcome}")
+    saved = f"saved under {where}" if conductor.results else "no session had started"
     print(f"robin-pil live: run {outcome}; {saved}", file=sys.stderr, flush=True)
     return 130 if outcome == "interrupted" else 0

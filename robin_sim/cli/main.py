@@ -38,6 +38,20 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "live": ("robin_sim.cli.live", "a browser page: a live person gestures, Robin learns"),
     "replay": ("robin_sim.cli.replay", "re-render a recorded episode or live session to MP4"),
+    "study-init": ("robin_sim.cli.study_init", "a new study folder: study file and protocol"),
+    "study-status": (
+        "robin_sim.cli.study_status",
+        "a study's state: who ran, what is left, what is unfinished",
+    ),
+    "study-withdraw": (
+        "robin_sim.cli.study_withdraw",
+        "withdraw a participant: marked in the registry, left out of the analysis",
+    ),
+    "study-export": (
+        "robin_sim.cli.study_export",
+        "a study's CSVs (trials, wide, long) and its archive with a manifest",
+    ),
+    "study-verify": ("robin_sim.cli.study_verify", "check a study archive against its manifest"),
 }
 
 

@@ -58,6 +58,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="stop this many simulated seconds into the run (default: the end)",
     )
     parser.add_argument(
+        "--overlay",
+        action="store_true",
+        help="burn the episode's overlay (step, gesture, action, feedback, legs) into a live "
+        "session's MP4, from its log (an episode's video has it already)",
+    )
+    parser.add_argument(
         "--render-workers",
         default="0",
         help="processes rendering frames (default 0: in this process)",
@@ -94,8 +100,12 @@ def run(args: argparse.Namespace) -> int:
     if not args.viewer:
         ensure_gl_backend()  # before MuJoCo is imported
     if args.serve:
-        return _serve(load_states_between(path, args.start, args.end), port)
+        return _serve(load_states_between(path, args.start, args.end), port, path.parent)
     recorded = load_states_between(path, args.start, args.end)
+    if getattr(args, "overlay", False) and not recorded.meta.get("overlay"):
+        from robin_sim.replay.annotations import with_log_overlay
+
+        recorded = with_log_overlay(recorded, path.parent)
     if args.viewer:
         from robin_sim.replay.viewer import replay_in_viewer
 
@@ -127,15 +137,17 @@ def load_states_between(path: Path, start: float, end: float | None) -> Any:
     return load_states(path).between(start, end)
 
 
-def _serve(recorded: Any, port: int) -> int:
-    """Serve the scrubbing page until Ctrl-C."""
+def _serve(recorded: Any, port: int, folder: Path) -> int:
+    """Serve the scrubbing page, with the run's events on its timeline, until Ctrl-C."""
     import asyncio
     import signal
     import sys
 
     from robin_sim.live.server import bind
+    from robin_sim.replay.annotations import timeline
     from robin_sim.replay.serve import serve_replay
 
+    annotations = timeline(folder, recorded)
     sock = bind("127.0.0.1", port)
     print(
         f"robin-pil replay: serving http://127.0.0.1:{sock.getsockname()[1]}/ (Ctrl-C stops)",
@@ -147,7 +159,7 @@ def _serve(recorded: Any, port: int) -> int:
         loop = asyncio.get_running_loop()
         for signum in (signal.SIGINT, signal.SIGTERM):  # either ends the page's server
             loop.add_signal_handler(signum, stop.set)
-        await serve_replay(recorded, sock, stop)
+        await serve_replay(recorded, sock, stop, annotations)
 
     asyncio.run(main())
     print("robin-pil replay: stopped", file=sys.stderr)

@@ -2,7 +2,8 @@
 
 Works on a sweep's ``results.csv`` and on a study CSV (:mod:`pil.experiments.results_report`).
 
-Given a folder instead, the report looks at what it holds: live sessions
+Given a folder instead, the report looks at what it holds: a study folder (``study.yaml``, from
+``robin-pil study-init``) gets the study's analysis (:mod:`robin_sim.lab.exports`); live sessions
 (``<participant>/<session>/summary.json`` with a ``"live"`` block, from ``robin-pil live``) get
 the sessions report (:mod:`pil.experiments.sessions_report`); a study or sweep folder is
 reported from its ``runs.csv`` / ``results.csv``; anything else is refused naming both.
@@ -75,6 +76,24 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def run_study(args: argparse.Namespace) -> int:
+    """A study folder: its analysis by design, with the sessions and questionnaires reports of
+    the participants analysed (robin_sim.lab.exports.write_report)."""
+    from pil.errors import RobinPilError
+    from robin_sim.lab.exports import write_report
+    from robin_sim.lab.study_file import load_study
+
+    if args.metrics is not None or args.baseline is not None:
+        raise RobinPilError(
+            "--metrics and --baseline are for a results CSV; a study is reported on all its "
+            "measures and questionnaire scores, with the model its design calls for"
+        )
+    study = load_study(args.results)
+    for path in write_report(study, args.out):
+        print(path)
+    return 0
+
+
 def run_folder(args: argparse.Namespace) -> int:
     """A folder: live sessions, else a study or sweep folder's results, else an error."""
     from pil.errors import RobinPilError
@@ -86,6 +105,10 @@ def run_folder(args: argparse.Namespace) -> int:
     )
 
     folder = args.results
+    from robin_sim.lab.study_file import STUDY_NAME
+
+    if (folder / STUDY_NAME).is_file():
+        return run_study(args)
     rows = load_sessions(folder)  # a corrupt summary.json raises here, before anything is written
     if rows:
         if args.metrics is not None or args.baseline is not None:

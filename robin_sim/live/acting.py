@@ -12,7 +12,13 @@ from __future__ import annotations
 from typing import Any
 
 from pil.types import Gesture
-from robin_sim.live.inputs import GESTURE_BY_KEY, THUMBS, LiveInput, LiveInputError
+from robin_sim.live.inputs import (
+    GESTURE_BY_KEY,
+    SCREEN_KINDS,
+    THUMBS,
+    LiveInput,
+    LiveInputError,
+)
 from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.status import LiveStatus
@@ -40,6 +46,8 @@ def apply_input(
         raise LiveInputError(
             "start: this session runs already; 'start' leaves a protocol block's instructions"
         )
+    elif item.kind in SCREEN_KINDS:
+        raise LiveInputError(f"{item.kind}: a block is running; there is no {item.kind} screen")
     elif item.kind == "calibration":
         assert webcam is not None
         webcam.calibration(str(item.action))

@@ -8,6 +8,9 @@ ends by itself is followed by them (phase ``questionnaire``), one at a time, bef
 block; the answers go to the block's ``questionnaires.jsonl``. A participant's page that does
 not come back after losing its connection (the server waits for it) stops the running session
 as ``closed``, a signal as ``interrupted``, and either ends the run: the server then stops.
+A study's run (:mod:`robin_sim.lab`) has screens around its blocks (:mod:`robin_sim.live.screens`):
+consent first (a decline ends the run, ``declined``), its demographics form, and the debrief
+after the last block; each step is told to the study's journal.
 """
 
 from __future__ import annotations
@@ -17,33 +20,48 @@ import logging
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from pil.experiments.study_export import DEMOGRAPHICS_NAME
 from robin_sim.live.commands import Command
 from robin_sim.live.inputs import LiveInputError, parse_input
+from robin_sim.live.journal import block_fields
 from robin_sim.live.questioning import Questioning
 from robin_sim.live.questionnaires import Questionnaire
+from robin_sim.live.screens import Screens, between_status
 from robin_sim.live.session import Frame, LiveConfig, LiveSession
 
 LOG = logging.getLogger(__name__)
 POLL_S = 0.1  # how often the end of a running session is looked for
-ASKED_AFTER = ("finished", "ended")  # sessions followed by the questionnaires
+ASKED_AFTER = ("finished", "ended", "capped")  # sessions followed by the questionnaires
+DECLINED = "declined"  # the run's outcome when the participant does not consent
 
 FrameSink = Callable[[Frame], None]
+Journal = Callable[[str, dict[str, Any]], None]  # a study's log across participants
 
 
 class Conductor:
     """The sessions of one run, in order (each validated when the conductor is made)."""
 
     def __init__(
-        self, configs: Sequence[LiveConfig], questionnaires: Sequence[Questionnaire] = ()
+        self,
+        configs: Sequence[LiveConfig],
+        questionnaires: Sequence[Questionnaire] = (),
+        screens: Screens | None = None,
+        journal: Journal | None = None,
     ) -> None:
+        """``screens``: a study's consent, demographics and debrief around the blocks;
+        ``journal``: told of each step of the run (consent, blocks, answers, the end)."""
         if not configs:
             raise ValueError("a live run needs at least one session")
         self.configs = tuple(config.checked() for config in configs)
         self.sessions = tuple(LiveSession(config) for config in self.configs)
         self.width, self.height = self.configs[0].width, self.configs[0].height
         self.index = 0
-        # waiting | instructions | starting | running | questionnaire | done
+        # waiting | consent | instructions | starting | running | questionnaire | debrief | done
         self.phase = "waiting"
+        self.screens = screens or Screens()
+        self.journal: Journal = journal or (lambda kind, fields: None)
+        self._last_status = ""  # the last block's status, the run's outcome after the debrief
+        self._asking = "block"  # what the questionnaire phase asks: "block" or "demographics"
         self.questionnaires = tuple(questionnaires)
         self._questioning: Questioning | None = None  # the block's questionnaires, while shown
         self.results: list[dict[str, Any]] = []  # each ended session's final status
@@ -73,40 +91,13 @@ class Conductor:
             "blocks": len(self.configs),
             "block_number": self.index + 1,
             "out_dir": str(self.session.out_dir),
+            "practice": config.practice,
         }
         if self.phase == "running":
             return {**self.session.status(), **extra}
-        if self.phase == "questionnaire" and self._questioning is not None:
-            return {**self.results[-1], **extra, **self._questioning.status()}
-        if self.phase == "done" and self.results:
-            return {**self.results[-1], **extra, "phase": "done", "status": self.outcome}
-        message = {
-            "waiting": "waiting for the participant's tab",
-            "instructions": "read the instructions, then press Start",
-            "starting": "starting the session...",
-            "done": f"the run has ended ({self.outcome})",
-        }.get(self.phase, "")
-        return {
-            "phase": "done" if self.phase == "done" else "instructions",
-            "turn": "participant",
-            "robot_doing": "",
-            "message": message,
-            "instructions": config.instructions,
-            "legs_delivered": 0,
-            "legs_total": None,
-            "gestures": 0,
-            "actions": 0,
-            "rejected": 0,
-            "sim_time": 0.0,
-            "system": config.system,
-            "participant": config.participant,
-            "session": config.session,
-            "block": config.block,
-            "policy": None,
-            "status": self.outcome if self.phase == "done" else "running",
-            "starting": self.phase == "starting",
-            **extra,
-        }
+        last = self.results[-1] if self.results else {}
+        asking = None if self._questioning is None else self._questioning.status()
+        return between_status(self.phase, config, self.outcome, extra, last, self.screens, asking)
 
     def latest_frame(self) -> Frame | None:
         """The running session's newest frame (for a tab that has just connected)."""
@@ -116,7 +107,10 @@ class Conductor:
     async def participant_arrived(self) -> None:
         """The controlling tab connected: show the first screen or start the session."""
         if self.phase == "waiting":
-            await self._enter(0)
+            if self.screens.consent is not None:
+                self.phase = "consent"
+            else:
+                await self._demographics()
 
     async def participant_left(self) -> None:
         """No participant's page is there any more (the server waited for it to come back):
@@ -146,13 +140,16 @@ class Conductor:
             item = self.session.receive(raw)  # parse_input, then submit; both logged
             return self.session.reading_reply() if item.kind == "hand" else None
         if self.phase == "questionnaire" and self._questioning is not None:
-            if self._questioning.receive(raw):  # LiveInputError when not valid
+            questioning = self._questioning
+            if questioning.receive(raw):  # LiveInputError when not valid
                 await self._after_questions()
             return None
         item = parse_input(raw, self.width, self.height)
         if item.kind == "hand":
             return None  # a reading between sessions: nothing to read it for
-        if item.kind == "start" and self.phase == "instructions":
+        if self.phase in ("consent", "debrief"):
+            await self._screen(item.kind, item.consent)
+        elif item.kind == "start" and self.phase == "instructions":
             await self._start()
         elif item.kind == "start":
             raise LiveInputError("start: no instruction screen is shown")
@@ -191,6 +188,30 @@ class Conductor:
         return self.outcome
 
     # --- the sequence -----------------------------------------------------------------------
+    async def _screen(self, kind: str, value: str | None) -> None:
+        """A message on the consent or the debrief screen."""
+        if self.phase == "consent" and kind == "consent":
+            self.journal("consent", {"value": value})
+            if value == "agree":
+                await self._demographics()
+            else:  # nothing is kept but the refusal (the study's log and registry)
+                self._over_with(DECLINED)
+        elif self.phase == "debrief" and kind == "finish":
+            self.journal("debrief", {})
+            self._over_with(self._last_status)
+        else:
+            wanted = "consent (agree or decline)" if self.phase == "consent" else "finish"
+            raise LiveInputError(f"{kind}: the {self.phase} screen is shown; send {wanted}")
+
+    async def _demographics(self) -> None:
+        """The study's demographics form, else the first block."""
+        form = self.screens.demographics
+        if form is None:
+            await self._enter(0)
+            return
+        self.phase, self._asking = "questionnaire", "demographics"
+        self._questioning = Questioning.form(form, self.configs[0], DEMOGRAPHICS_NAME)
+
     async def _enter(self, index: int) -> None:
         self.index = index
         if self.configs[index].protocol is not None:
@@ -214,6 +235,7 @@ class Conductor:
             self._unsubscribe = session.subscribe(self._on_frame)
             session.away(self._away)  # a page that is away holds the new block too
             self.phase = "running"
+            self.journal("block_started", block_fields(session))
             self._watcher = self._loop.create_task(self._watch(session))
 
     async def _watch(self, session: LiveSession) -> None:
@@ -225,8 +247,9 @@ class Conductor:
             if self.phase != "running" or session is not self.session:
                 return
             self._close(session)
-            if self.questionnaires and session.status().get("status") in ASKED_AFTER:
-                self.phase = "questionnaire"
+            asked = self.questionnaires and not session.config.practice
+            if asked and session.status().get("status") in ASKED_AFTER:
+                self.phase, self._asking = "questionnaire", "block"
                 self._questioning = Questioning(
                     self.questionnaires, session.out_dir, self.configs[self.index]
                 )
@@ -237,13 +260,25 @@ class Conductor:
         assert self._lock is not None
         async with self._lock:
             if self.phase == "questionnaire":
+                asked = self._questioning
                 self._questioning = None
-                await self._next()
+                done = (
+                    [] if asked is None else [q.name for q in asked.questionnaires[: asked.index]]
+                )
+                self.journal(
+                    self._asking, {"block": self.configs[self.index].block, "answered": done}
+                )
+                if self._asking == "demographics":
+                    await self._enter(0)
+                else:
+                    await self._next()
 
     async def _next(self) -> None:
         """The next block's screen, or the end of the run after the last block."""
         if self.index + 1 < len(self.sessions):
             await self._enter(self.index + 1)
+        elif self.screens.debrief is not None:
+            self.phase, self._last_status = "debrief", self.results[-1]["status"]
         else:
             self._over_with(self.results[-1]["status"])
 
@@ -251,7 +286,9 @@ class Conductor:
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None
-        self.results.append(session.status())
+        status = session.status()
+        self.results.append(status)
+        self.journal("block_ended", block_fields(session, status))
 
     async def _end(self, status: str) -> None:
         """Stop the running session with ``status`` (saved) and end the run."""
@@ -274,6 +311,8 @@ class Conductor:
             self._over_with(status)
 
     def _over_with(self, status: str) -> None:
+        if self.phase != "done":
+            self.journal("run_over", {"outcome": status})
         self.phase, self.outcome = "done", status
         assert self._over is not None
         self._over.set()

@@ -21,7 +21,7 @@ from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
-from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.limits import BlockLimits, WatchdogLimits
 from robin_sim.live.quality import LEVELS
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
@@ -72,6 +72,12 @@ class LiveConfig:
     # The step's watchdog (robin_sim.live.watchdog): robot attempts and sim seconds per gesture.
     max_attempts: int = WatchdogLimits.attempts
     max_step_seconds: float = WatchdogLimits.seconds
+    # A study's block (robin_sim.lab): a practice block (its data marked so, never analysed)
+    # and the block's caps (robin_sim.live.limits.BlockLimits; None: none).
+    practice: bool = False
+    block_seconds: float | None = None
+    block_actions: int | None = None
+    inactivity_seconds: float | None = None
     # set by checked(): the learner side (its scenario loaded once) and what it was built from
     resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
 
@@ -99,6 +105,7 @@ class LiveConfig:
             "webcam",
             "calibrate",
             "adaptive_stream",
+            "practice",
         ):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
@@ -108,6 +115,7 @@ class LiveConfig:
         if self.step_memory not in STEP_MEMORY:
             raise InvalidChoiceError("step_memory", self.step_memory, STEP_MEMORY)
         limits = WatchdogLimits(self.max_attempts, self.max_step_seconds).checked()
+        caps = self.limits.checked("LiveConfig")
         spec = self._spec(seed)
         scenario = spec.scenario
         types = self.handover_types
@@ -133,6 +141,9 @@ class LiveConfig:
             stream_level=_whole(self.stream_level, "stream_level", 0, len(LEVELS) - 1),
             max_attempts=limits.attempts,
             max_step_seconds=limits.seconds,
+            block_seconds=caps.seconds,
+            block_actions=caps.actions,
+            inactivity_seconds=caps.inactivity,
             resolved=(self._source(seed), spec),
         )
 
@@ -174,6 +185,11 @@ class LiveConfig:
     def watchdog(self) -> WatchdogLimits:
         """The step watchdog's limits (of a :meth:`checked` config)."""
         return WatchdogLimits(self.max_attempts, self.max_step_seconds)
+
+    @property
+    def limits(self) -> BlockLimits:
+        """The block's caps on time and actions, and the inactivity timeout."""
+        return BlockLimits(self.block_seconds, self.block_actions, self.inactivity_seconds)
 
     def scenario_of(self) -> Scenario:
         """The session's scenario: the block's handover types drawn in the scenario's way."""

@@ -4,7 +4,9 @@
 server starts), on loopback too, because it controls the run. Its WebSocket (``/ws`` with that
 token) gets what every tab gets (frames and the participant's status) and, a few times a
 second, an ``{"type": "experimenter", ...}`` message (:func:`experimenter_view`): the stream's
-and the pacer's figures, the newest steps of the log and the tabs. It sends commands
+and the pacer's figures, the newest steps of the log and the tabs, a study block's limits
+(time, actions, inactivity: what is used and what was reached) and the session's newest
+events (silences, hand-backs, watchdog, limits, inactivity, reconnections). It sends commands
 (:mod:`robin_sim.live.commands`): ``pause``, ``resume``, ``end`` (the run), ``next_block``
 (this block saved as ``ended``, the next block's screen follows) and ``note`` (text saved with
 its time in the session folder's ``notes.jsonl``).
@@ -30,4 +32,7 @@ def experimenter_view(conductor: Conductor, roles: Iterable[tuple[str, int]]) ->
         "log": list(session.log_tail),
         "tabs": [{"role": role, "frames_dropped": dropped} for role, dropped in roles],
         "session_folder": str(session.out_dir),
+        # a study block's caps and what reached them; what the session did of itself
+        "limits": None if session.caps is None else session.caps.status(),
+        "events": session.recent_events(),
     }

@@ -14,12 +14,17 @@ from __future__ import annotations
 import json
 import threading
 import time
+from collections import deque
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from pil.errors import RobinPilError, quote
-from pil.experiments.sessions_load import INPUTS_NAME, SUMMARY_NAME  # what the report reads
+from pil.experiments.sessions_load import (  # what the report and the exports read
+    EVENTS_NAME,
+    INPUTS_NAME,
+    SUMMARY_NAME,
+)
 from robin_sim.episode.log import write_json_atomic
 from robin_sim.live.config import LiveConfig
 
@@ -27,12 +32,19 @@ if TYPE_CHECKING:
     from robin_sim.live.run import LiveRun
 
 NOTES_NAME = "notes.jsonl"
-EVENTS_NAME = "events.jsonl"  # what the session did of itself: silences, hand-backs, ...
+RECENT_EVENTS = 12  # events the experimenter's view shows
+QUIET_EVENTS = ("acts",)  # events too frequent to show there (every action)
 MAX_RAW_CHARS = 2000  # a raw message longer than this is logged cut (the server limits them)
 
 
 class SessionExistsError(RobinPilError):
     """A session folder that exists already (sessions are never overwritten)."""
+
+
+def block_folder(session: str | None, index: int, condition: str) -> str:
+    """A protocol block's session folder: ``block<N>-<condition>``, after ``--session`` if given."""
+    name = f"block{index + 1}-{condition}"
+    return name if session is None else f"{session}-{name}"
 
 
 def session_folder(config: LiveConfig) -> Path:
@@ -78,6 +90,7 @@ class SessionFiles:
         self._lock = threading.Lock()
         self._inputs = (self.out_dir / INPUTS_NAME).open("w", encoding="utf-8")
         self.inputs = self.rejected = self.readings = 0
+        self.recent_events: deque[dict[str, Any]] = deque(maxlen=RECENT_EVENTS)
 
     def log_input(
         self,
@@ -120,6 +133,8 @@ class SessionFiles:
         entry = {"wall": time.time(), "event": kind, **fields}
         with self._lock, (self.out_dir / EVENTS_NAME).open("a", encoding="utf-8") as events:
             events.write(json.dumps(entry, default=str) + "\n")
+            if kind not in QUIET_EVENTS:
+                self.recent_events.append(entry)
 
     def log_note(self, text: str, sim_time: float | None) -> dict[str, Any]:
         """One experimenter's note, timestamped, appended to ``notes.jsonl`` (flushed); the
@@ -140,9 +155,10 @@ class SessionFiles:
         error: str,
         run: LiveRun | None,
         vision: dict[str, Any] | None = None,
+        limits: dict[str, Any] | None = None,
     ) -> dict[str, Any]:
         """Close the inputs log and write ``summary.json``; the summary (with the webcam's
-        ``vision`` block when given)."""
+        ``vision`` block and the block's ``limits`` in the live block, when given)."""
         from robin_sim.episode.book import run_summary  # imports MuJoCo
 
         with self._lock:
@@ -167,6 +183,8 @@ class SessionFiles:
                 error=error,
             )
         summary["live"] = self._live_block(run)
+        if limits is not None:
+            summary["live"]["limits"] = limits
         if vision is not None:
             summary["vision"] = vision
         stream = None if run is None else run.stream
@@ -215,4 +233,5 @@ class SessionFiles:
             if not stats or not stats.frames
             else round((stats.render_s + stats.encode_s) / stats.frames * 1000, 1),
             "instructions": config.instructions,
+            "practice": config.practice,  # a study's practice block: never analysed
         }

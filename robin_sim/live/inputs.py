@@ -12,6 +12,8 @@ choices. Valid messages (the live page's contract)::
     {"type": "hand", "landmarks": [[x, y, z] * 21] | null, "handedness": "Left" | "Right" | null,
      "score": s, "aspect": w / h}                  a hand tracker reading (``--webcam``)
     {"type": "calibration", "action": "skip"}      skip | restart the webcam's calibration
+    {"type": "consent", "value": "agree"}          agree | decline, on a study's consent screen
+    {"type": "finish"}                             leave a study's debrief screen (the end)
 """
 
 from __future__ import annotations
@@ -35,6 +37,8 @@ FIELDS: dict[str, tuple[str, ...]] = {
     "start": (),
     "hand": ("landmarks", "handedness", "score", "aspect"),
     "calibration": ("action",),
+    "consent": ("value",),
+    "finish": (),
 }
 GESTURE_BY_KEY: dict[str, Gesture] = {  # pointing is the click
     "give_me": Gesture.GIVE_ME,
@@ -46,6 +50,8 @@ INPUT_KINDS: tuple[str, ...] = tuple(FIELDS)
 GESTURE_KEYS: tuple[str, ...] = tuple(GESTURE_BY_KEY)
 THUMB_VALUES: tuple[str, ...] = tuple(THUMBS)
 CALIBRATION_ACTIONS: tuple[str, ...] = ("skip", "restart")
+CONSENT_VALUES: tuple[str, ...] = ("agree", "decline")
+SCREEN_KINDS: tuple[str, ...] = ("consent", "finish")  # a study's screens around the blocks
 MAX_MESSAGE_BYTES = 4096  # a valid message is a few dozen bytes (a hand reading about 1 KB)
 
 
@@ -64,6 +70,7 @@ class LiveInput:
     thumb: str | None = None  # one of THUMB_VALUES
     hand: HandInput | None = None  # a tracker reading (kind "hand")
     action: str | None = None  # one of CALIBRATION_ACTIONS
+    consent: str | None = None  # one of CONSENT_VALUES
 
     def as_dict(self) -> dict[str, Any]:
         """The message as the page sends it."""
@@ -77,6 +84,8 @@ class LiveInput:
             return self.hand.as_dict()
         if self.kind == "calibration":
             return {"type": "calibration", "action": self.action}
+        if self.kind == "consent":
+            return {"type": "consent", "value": self.consent}
         return {"type": self.kind}
 
 
@@ -191,4 +200,6 @@ def _checked(raw: str | bytes | Mapping[str, Any], width: int, height: int) -> L
             raise LiveInputError(str(problem)) from None
     if kind == "calibration":
         return LiveInput(kind, action=_choice(message, kind, "action", CALIBRATION_ACTIONS))
+    if kind == "consent":
+        return LiveInput(kind, consent=_choice(message, kind, "value", CONSENT_VALUES))
     return LiveInput(kind)

@@ -24,6 +24,7 @@ STATIC_TYPES = {  # all /static/ serves
     "live.css": "text/css",
     "experimenter.js": "text/javascript",
     "questionnaire.js": "text/javascript",
+    "screens.js": "text/javascript",
     "questionnaire.css": "text/css",
     "webcam.js": "text/javascript",
 }

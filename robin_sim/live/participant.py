@@ -75,6 +75,7 @@ class LiveParticipant:
         self.judging = False  # an action is watched or awaits its thumb: a thumb is taken
         self.verdict_pending = False  # judged, not yet received by the learner (session clears)
         self.interventions = 0
+        self.actions_started = 0  # robot actions begun in the session (a block's cap)
         self._gesture: Gesturing | None = None
         self._previous = Action.OPEN  # the last action the participant approved
         self._legs = LegsSeen()
@@ -154,6 +155,7 @@ class LiveParticipant:
     def acting(self, record: StepRecord) -> None:
         """The robot starts ``record``'s action now: logged (``acts``), the moment a bench
         measures from the participant's input."""
+        self.actions_started += 1
         action = None if record.action is None else record.action.value
         self._event("acts", t=record.t, action=action, proactive=record.proactive)
 

@@ -120,10 +120,15 @@ class Protocol:
 
     def blocks_for(self, participant: str) -> tuple[Block, ...]:
         """``participant``'s blocks: each condition's blocks (repeats expanded) in their order."""
+        return self.blocks_in(self.condition_order(participant))
+
+    def blocks_in(self, order: Sequence[str]) -> tuple[Block, ...]:
+        """The blocks of the conditions ``order`` names (system keys), in that order (a
+        study's assignment chooses it: :mod:`robin_sim.lab.assignment`)."""
         by_system = {c.system: c for c in self.conditions}
         planned = [
             (by_system[system], spec)
-            for system in self.condition_order(participant)
+            for system in order
             for spec in by_system[system].blocks
             for _ in range(spec.repeat)
         ]

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -23,7 +23,7 @@ from pil.errors import quote
 from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.inputs import LiveInputError
-from robin_sim.live.questionnaires import Questionnaire, QuestionnaireError
+from robin_sim.live.items import Answer, Questionnaire, QuestionnaireError
 
 MAX_ANSWER_BYTES = 16 * 1024  # a questionnaire's answers are a few hundred bytes
 
@@ -32,15 +32,38 @@ class Questioning:
     """The block's questionnaires in order; :meth:`receive` takes the page's answers."""
 
     def __init__(
-        self, questionnaires: Sequence[Questionnaire], folder: Path, config: LiveConfig
+        self,
+        questionnaires: Sequence[Questionnaire],
+        folder: Path,
+        config: LiveConfig,
+        *,
+        file_name: str = QUESTIONNAIRES_NAME,
+        context: Mapping[str, Any] | None = None,
     ) -> None:
+        """``file_name``: where in ``folder`` the answers go; ``context``: the fields each
+        entry starts with (default: the block's participant, session, condition, block and
+        protocol)."""
         self.questionnaires, self.folder, self.config = tuple(questionnaires), folder, config
+        self.file_name = file_name
+        self.context = dict(context) if context is not None else None
         self.index = 0
         self.shown_at = time.monotonic()
 
     @property
     def current(self) -> Questionnaire:
         return self.questionnaires[self.index]
+
+    @classmethod
+    def form(cls, form: Questionnaire, config: LiveConfig, file_name: str) -> Questioning:
+        """A study's form before the blocks (demographics), saved as ``file_name`` in the
+        participant's folder."""
+        folder = Path(config.out_root) / config.participant
+        context = {"participant": config.participant, "protocol": config.protocol}
+        return cls([form], folder, config, file_name=file_name, context=context)
+
+    def answered(self) -> list[str]:
+        """The names of the questionnaires answered so far."""
+        return [q.name for q in self.questionnaires[: self.index]]
 
     def status(self) -> dict[str, Any]:
         """The page's status fields while a questionnaire is shown."""
@@ -71,14 +94,19 @@ class Questioning:
         self.shown_at = time.monotonic()
         return self.index >= len(self.questionnaires)
 
-    def _save(self, answers: dict[str, int]) -> None:
+    def _save(self, answers: dict[str, Answer]) -> None:
         config, questionnaire = self.config, self.current
+        context = self.context
+        if context is None:
+            context = {
+                "participant": config.participant,
+                "session": self.folder.name,
+                "condition": config.system,
+                "block": config.block,
+                "protocol": config.protocol,
+            }
         entry = {
-            "participant": config.participant,
-            "session": self.folder.name,
-            "condition": config.system,
-            "block": config.block,
-            "protocol": config.protocol,
+            **context,
             "questionnaire": questionnaire.name,
             "kind": questionnaire.kind,
             "answers": answers,
@@ -86,8 +114,12 @@ class Questioning:
             "seconds_to_answer": round(time.monotonic() - self.shown_at, 1),
             "utc": datetime.now(UTC).isoformat(timespec="seconds"),
         }
+        checks = questionnaire.attention(answers)
+        if checks:
+            entry["attention"] = checks
         try:
-            with (self.folder / QUESTIONNAIRES_NAME).open("a", encoding="utf-8") as file:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            with (self.folder / self.file_name).open("a", encoding="utf-8") as file:
                 file.write(json.dumps(entry) + "\n")
                 file.flush()
         except OSError as error:  # the page is told; the answers stay on it to send again

@@ -1,34 +1,55 @@
-"""Questionnaires a participant answers on the live page after each protocol block.
+"""Questionnaires a participant answers on the live page, read from a protocol or study file.
 
-A protocol's ``questionnaires`` list names presets or defines Likert questionnaires::
+A ``questionnaires`` list names presets (:mod:`robin_sim.live.questionnaire_presets`) or
+defines questionnaires of items (:mod:`robin_sim.live.items`)::
 
     questionnaires:
       - nasa-tlx                 # NASA-TLX raw: six items, 0-100 in steps of 5
+      - {preset: nasa-tlx, weighted: true}   # ... with its 15 pairwise comparisons
       - godspeed                 # Godspeed: five scales of 5-point semantic differentials
-      - name: trust              # a custom questionnaire of Likert items
+      - name: trust              # a custom questionnaire
         title: Your trust in the robot
-        points: 7                # 2 to 11 answer points, 1..points (default 7)
-        low: strongly disagree   # the anchors of every item (an item may give its own)
+        points: 7                # 2 to 11 answer points of its scale items (default 7)
+        low: strongly disagree   # the anchors of every scale item (an item may give its own)
         high: strongly agree
         items:
-          - {id: reliable, text: The robot did what I meant.}
+          - {id: reliable, text: The robot did what I meant., subscale: trust}
+          - {id: wary, text: I was wary of the robot., reverse: true, subscale: trust}
+          - {id: check, text: Please choose 2 here., attention: 2}
+          - {id: liking, text: How much did you like it?, kind: vas, low: not at all, high: very}
+          - {id: remarks, text: Anything else?, kind: text, optional: true}
 
-:func:`load_questionnaires` checks every field (:class:`QuestionnaireError` names the problem
-and the valid choices); :meth:`Questionnaire.check_answers` checks one page submission and
-:meth:`Questionnaire.scores` scores it: NASA-TLX raw = the mean of its six ratings, Godspeed
-one mean per scale, a custom questionnaire one score per item and their mean. Pure Python.
+:func:`load_questionnaires` checks every field and :func:`load_form` a form of the same items
+(a study's demographics: choice, number and text items); :class:`QuestionnaireError` names
+the problem and the valid choices. Pure Python.
 """
 
 from __future__ import annotations
 
 import re
-import statistics
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
-from pil.errors import RobinPilError, quote
+from pil.errors import quote
+from robin_sim.live.items import (
+    ITEM_KINDS,
+    MAX_ANSWER_CHARS,
+    VAS_RANGE,
+    Item,
+    Questionnaire,
+    QuestionnaireError,
+)
+from robin_sim.live.questionnaire_presets import GODSPEED_SCALES, PRESET_OPTIONS, PRESETS
 
+__all__ = [
+    "GODSPEED_SCALES",
+    "PRESETS",
+    "Item",
+    "Questionnaire",
+    "QuestionnaireError",
+    "load_form",
+    "load_questionnaires",
+]
 QUESTIONNAIRE_KEYS: tuple[str, ...] = (
     "name",
     "title",
@@ -38,208 +59,36 @@ QUESTIONNAIRE_KEYS: tuple[str, ...] = (
     "high",
     "items",
 )
-ITEM_KEYS: tuple[str, ...] = ("id", "text", "low", "high", "scale")
-MAX_ITEMS, MAX_TEXT = 60, 300
+FORM_KEYS: tuple[str, ...] = ("title", "instructions", "items")
+ITEM_KEYS: tuple[str, ...] = (
+    "id",
+    "text",
+    "kind",
+    "low",
+    "high",
+    "reverse",
+    "subscale",
+    "attention",
+    "optional",
+    "choices",
+    "labels",
+    "min",
+    "max",
+    "max_length",
+)
+KIND_KEYS: dict[str, tuple[str, ...]] = {  # the keys each item kind takes besides id and text
+    "scale": ("low", "high", "reverse", "subscale", "attention", "optional"),
+    "vas": ("low", "high", "reverse", "subscale", "attention", "optional"),
+    "number": ("min", "max", "optional"),
+    "choice": ("choices", "labels", "optional"),
+    "text": ("max_length", "optional"),
+}
+MAX_ITEMS, MAX_TEXT, MAX_CHOICES, MAX_NUMBER = 60, 300, 20, 1_000_000
 NAME = re.compile(r"[a-z][a-z0-9_-]{0,39}")
 
 
-class QuestionnaireError(RobinPilError):
-    """A questionnaire definition, or a page's answers to one, that cannot be taken."""
-
-
-@dataclass(frozen=True)
-class Item:
-    """One rated item: answers from ``minimum`` to ``maximum`` in steps of ``step``."""
-
-    id: str
-    text: str
-    low: str  # the anchor at the minimum
-    high: str  # the anchor at the maximum
-    minimum: int
-    maximum: int
-    step: int = 1
-    scale: str = ""  # the scale it counts towards (Godspeed); "" for none
-
-    def as_dict(self) -> dict[str, Any]:
-        return {
-            "id": self.id,
-            "text": self.text,
-            "low": self.low,
-            "high": self.high,
-            "min": self.minimum,
-            "max": self.maximum,
-            "step": self.step,
-        }
-
-
-@dataclass(frozen=True)
-class Questionnaire:
-    """A checked questionnaire; ``kind`` is ``nasa-tlx``, ``godspeed`` or ``likert``."""
-
-    name: str
-    kind: str
-    title: str
-    instructions: str
-    items: tuple[Item, ...]
-
-    def as_dict(self) -> dict[str, Any]:
-        """What the page needs to show it."""
-        return {
-            "name": self.name,
-            "kind": self.kind,
-            "title": self.title,
-            "instructions": self.instructions,
-            "items": [item.as_dict() for item in self.items],
-        }
-
-    def check_answers(self, answers: Any) -> dict[str, int]:
-        """``answers`` (item id -> number) checked: every item once, on its scale."""
-        if not isinstance(answers, Mapping):
-            raise QuestionnaireError(f"{self.name}: answers must be an object of item id -> number")
-        ids = [item.id for item in self.items]
-        unknown = [str(k) for k in answers if k not in ids]
-        if unknown:
-            raise QuestionnaireError(
-                f"{self.name}: unknown item {quote(unknown[0])}; items: " + ", ".join(ids)
-            )
-        missing = [item.text for item in self.items if item.id not in answers]
-        if missing:
-            more = f" and {len(missing) - 1} more" if len(missing) > 1 else ""
-            raise QuestionnaireError(
-                f"please answer every question: {missing[0]!r}{more} not answered yet"
-            )
-        checked = {}
-        for item in self.items:
-            value = answers[item.id]
-            if (
-                isinstance(value, bool)
-                or not isinstance(value, int)
-                or not item.minimum <= value <= item.maximum
-                or (value - item.minimum) % item.step
-            ):
-                raise QuestionnaireError(
-                    f"{self.name}.{item.id}: expected a whole number from {item.minimum} to "
-                    f"{item.maximum} in steps of {item.step}, got {str(value)[:20]!r}"
-                )
-            checked[item.id] = value
-        return checked
-
-    def scores(self, answers: Mapping[str, int]) -> dict[str, float]:
-        """The questionnaire's scores of checked ``answers`` (see the module doc)."""
-        if self.kind == "nasa-tlx":
-            return {"raw_tlx": statistics.fmean(answers[i.id] for i in self.items)}
-        if self.kind == "godspeed":
-            scales: dict[str, list[int]] = {}
-            for item in self.items:
-                scales.setdefault(item.scale, []).append(answers[item.id])
-            return {scale: statistics.fmean(values) for scale, values in scales.items()}
-        scores = {item.id: float(answers[item.id]) for item in self.items}
-        return {**scores, "mean": statistics.fmean(scores.values())}
-
-
-def _tlx() -> Questionnaire:
-    rows = (
-        (
-            "mental",
-            "Mental demand: how much thinking, deciding and remembering did the task take?",
-            "very low",
-            "very high",
-        ),
-        (
-            "physical",
-            "Physical demand: how much physical activity did the task take?",
-            "very low",
-            "very high",
-        ),
-        (
-            "temporal",
-            "Temporal demand: how hurried or rushed was the pace of the task?",
-            "very low",
-            "very high",
-        ),
-        (
-            "performance",
-            "Performance: how well did you do what you were asked to do?",
-            "perfect",
-            "failure",
-        ),
-        (
-            "effort",
-            "Effort: how hard did you have to work to reach your level of performance?",
-            "very low",
-            "very high",
-        ),
-        (
-            "frustration",
-            "Frustration: how insecure, discouraged, irritated or stressed did you feel?",
-            "very low",
-            "very high",
-        ),
-    )
-    items = tuple(Item(i, text, lo, hi, 0, 100, 5) for i, text, lo, hi in rows)
-    return Questionnaire(
-        "nasa-tlx",
-        "nasa-tlx",
-        "Workload (NASA-TLX)",
-        "Rate the block you have just finished on each scale.",
-        items,
-    )
-
-
-GODSPEED_SCALES: dict[str, tuple[tuple[str, str], ...]] = {
-    "anthropomorphism": (
-        ("fake", "natural"),
-        ("machinelike", "humanlike"),
-        ("unconscious", "conscious"),
-        ("artificial", "lifelike"),
-        ("moving rigidly", "moving elegantly"),
-    ),
-    "animacy": (
-        ("dead", "alive"),
-        ("stagnant", "lively"),
-        ("mechanical", "organic"),
-        ("artificial", "lifelike"),
-        ("inert", "interactive"),
-        ("apathetic", "responsive"),
-    ),
-    "likeability": (
-        ("dislike", "like"),
-        ("unfriendly", "friendly"),
-        ("unkind", "kind"),
-        ("unpleasant", "pleasant"),
-        ("awful", "nice"),
-    ),
-    "perceived_intelligence": (
-        ("incompetent", "competent"),
-        ("ignorant", "knowledgeable"),
-        ("irresponsible", "responsible"),
-        ("unintelligent", "intelligent"),
-        ("foolish", "sensible"),
-    ),
-    "perceived_safety": (("anxious", "relaxed"), ("agitated", "calm"), ("quiescent", "surprised")),
-}
-
-
-def _godspeed() -> Questionnaire:
-    items = tuple(
-        Item(f"{scale}_{k + 1}", f"{low} - {high}", low, high, 1, 5, 1, scale)
-        for scale, pairs in GODSPEED_SCALES.items()
-        for k, (low, high) in enumerate(pairs)
-    )
-    return Questionnaire(
-        "godspeed",
-        "godspeed",
-        "Your impression of the robot (Godspeed)",
-        "For each pair, choose where your impression of the robot lies.",
-        items,
-    )
-
-
-PRESETS = {"nasa-tlx": _tlx, "godspeed": _godspeed}
-
-
 def load_questionnaires(raw: Any, where: str) -> tuple[Questionnaire, ...]:
-    """The protocol's ``questionnaires`` list checked (None: none)."""
+    """The ``questionnaires`` list checked (None: none)."""
     if raw is None:
         return ()
     if not isinstance(raw, list) or not raw:
@@ -259,15 +108,22 @@ def load_questionnaires(raw: Any, where: str) -> tuple[Questionnaire, ...]:
     return tuple(out)
 
 
+def load_form(raw: Any, where: str, name: str) -> Questionnaire:
+    """A form (kind ``form``: answers kept, nothing scored) of items of any kind."""
+    if not isinstance(raw, Mapping):
+        raise QuestionnaireError(f"{where}: expected a mapping with keys " + ", ".join(FORM_KEYS))
+    _reject_unknown(raw, FORM_KEYS, where)
+    items = _items(raw.get("items"), where, 7, "", "")
+    title = _text(raw.get("title", name.capitalize()), f"{where}.title")
+    instructions = _text(
+        raw.get("instructions", "Please answer these questions."), f"{where}.instructions"
+    )
+    return Questionnaire(name, "form", title, instructions, items)
+
+
 def _one(raw: Any, where: str) -> Questionnaire:
-    if isinstance(raw, str):
-        if raw not in PRESETS:
-            raise QuestionnaireError(
-                f"{where}: unknown preset {quote(raw)}; valid choices: "
-                + ", ".join(PRESETS)
-                + " (or a mapping with items)"
-            )
-        return PRESETS[raw]()
+    if isinstance(raw, str) or (isinstance(raw, Mapping) and "preset" in raw):
+        return _preset(raw, where)
     if not isinstance(raw, Mapping):
         raise QuestionnaireError(
             f"{where}: expected a preset name or a mapping with keys "
@@ -288,45 +144,159 @@ def _one(raw: Any, where: str) -> Questionnaire:
         )
     low = _text(raw.get("low", "strongly disagree"), f"{where}.low")
     high = _text(raw.get("high", "strongly agree"), f"{where}.high")
-    items_raw = raw.get("items")
-    if not isinstance(items_raw, list) or not 1 <= len(items_raw) <= MAX_ITEMS:
+    items = _items(raw.get("items"), where, points, low, high)
+    if not any(i.scored for i in items):
         raise QuestionnaireError(
-            f"{where}.items: expected a list of 1 to {MAX_ITEMS} items, "
-            "each a mapping with keys " + ", ".join(ITEM_KEYS[:4])
+            f"{where}.items: no scored item (a scale or vas item that is no attention check); "
+            "a questionnaire of choices, numbers or texts only is a form"
         )
-    items = []
-    for k, item in enumerate(items_raw):
-        here = f"{where}.items[{k}]"
-        if not isinstance(item, Mapping):
-            raise QuestionnaireError(
-                f"{here}: expected a mapping with keys " + ", ".join(ITEM_KEYS[:4])
-            )
-        _reject_unknown(item, ITEM_KEYS[:4], here)
-        item_id = item.get("id")
-        if not isinstance(item_id, str) or not NAME.fullmatch(item_id):
-            raise QuestionnaireError(
-                f"{here}.id: expected an id of lower-case letters, digits, "
-                f"_ or -, got {quote(item_id)}"
-            )
-        items.append(
-            Item(
-                item_id,
-                _text(item.get("text"), f"{here}.text"),
-                _text(item.get("low", low), f"{here}.low"),
-                _text(item.get("high", high), f"{here}.high"),
-                1,
-                points,
-            )
-        )
-    ids = [i.id for i in items]
-    repeated = next((i for i in ids if ids.count(i) > 1), None)
-    if repeated is not None:
-        raise QuestionnaireError(f"{where}.items: id {repeated!r} is given twice")
     title = _text(raw.get("title", name), f"{where}.title")
     instructions = _text(
         raw.get("instructions", "Choose one answer for each statement."), f"{where}.instructions"
     )
-    return Questionnaire(name, "likert", title, instructions, tuple(items))
+    return Questionnaire(name, "likert", title, instructions, items)
+
+
+def _preset(raw: Any, where: str) -> Questionnaire:
+    entry = {"preset": raw} if isinstance(raw, str) else dict(raw)
+    name = entry.pop("preset")
+    if not isinstance(name, str) or name not in PRESETS:
+        raise QuestionnaireError(
+            f"{where}: unknown preset {quote(name)}; valid choices: "
+            + ", ".join(PRESETS)
+            + " (or a mapping with items)"
+        )
+    options = PRESET_OPTIONS[name]
+    _reject_unknown(entry, options, where, f"preset {name} takes")
+    for key, value in entry.items():
+        if not isinstance(value, bool):
+            raise QuestionnaireError(f"{where}.{key}: expected true or false, got {quote(value)}")
+    return PRESETS[name](**entry)
+
+
+def _items(raw: Any, where: str, points: int, low: str, high: str) -> tuple[Item, ...]:
+    if not isinstance(raw, list) or not 1 <= len(raw) <= MAX_ITEMS:
+        raise QuestionnaireError(
+            f"{where}.items: expected a list of 1 to {MAX_ITEMS} items, "
+            "each a mapping with keys " + ", ".join(ITEM_KEYS[:4])
+        )
+    items = [_item(item, f"{where}.items[{k}]", points, low, high) for k, item in enumerate(raw)]
+    ids = [i.id for i in items]
+    repeated = next((i for i in ids if ids.count(i) > 1), None)
+    if repeated is not None:
+        raise QuestionnaireError(f"{where}.items: id {repeated!r} is given twice")
+    kinds: dict[str, set[str]] = {}
+    for item in items:
+        if item.scale:
+            kinds.setdefault(item.scale, set()).add(item.kind)
+    mixed = next((name for name, found in kinds.items() if len(found) > 1), None)
+    if mixed is not None:
+        raise QuestionnaireError(
+            f"{where}.items: subscale {mixed!r} mixes scale and vas items; a subscale's items "
+            "share one range"
+        )
+    clash = next((i.scale for i in items if i.scale in (*ids, "mean")), None)
+    if clash is not None:
+        raise QuestionnaireError(
+            f"{where}.items: subscale {clash!r} has the name of an item or of the score 'mean'; "
+            "give it a name of its own"
+        )
+    return tuple(items)
+
+
+def _item(raw: Any, here: str, points: int, low: str, high: str) -> Item:
+    if not isinstance(raw, Mapping):
+        keys = ", ".join(ITEM_KEYS[:4])
+        raise QuestionnaireError(f"{here}: expected a mapping with keys {keys}")
+    _reject_unknown(raw, ITEM_KEYS, here)
+    item_id = raw.get("id")
+    if not isinstance(item_id, str) or not NAME.fullmatch(item_id):
+        raise QuestionnaireError(
+            f"{here}.id: expected an id of lower-case letters, digits, _ or -, got {quote(item_id)}"
+        )
+    kind = raw.get("kind", "scale")
+    if kind not in ITEM_KINDS:
+        raise QuestionnaireError(
+            f"{here}.kind: unknown kind {quote(kind)}; valid choices: " + ", ".join(ITEM_KINDS)
+        )
+    wrong = [k for k in raw if k not in ("id", "text", "kind", *KIND_KEYS[kind])]
+    if wrong:
+        raise QuestionnaireError(
+            f"{here}.{wrong[0]}: not for a {kind} item; a {kind} item takes "
+            + ", ".join(KIND_KEYS[kind])
+        )
+    text = _text(raw.get("text"), f"{here}.text")
+    optional = _flag(raw, "optional", here)
+    if kind == "choice":
+        choices = _choices(raw.get("choices"), f"{here}.choices")
+        labels = raw.get("labels", choices)
+        if labels is not choices:
+            labels = _choices(labels, f"{here}.labels")
+            if len(labels) != len(choices):
+                raise QuestionnaireError(f"{here}.labels: give one label for each of the choices")
+        return Item(item_id, text, kind=kind, choices=choices, labels=labels, optional=optional)
+    if kind == "text":
+        length = _whole(raw.get("max_length", 200), f"{here}.max_length", 1, MAX_ANSWER_CHARS)
+        return Item(item_id, text, kind=kind, max_length=length, optional=optional)
+    if kind == "number":
+        least = _whole(raw.get("min", 0), f"{here}.min", -MAX_NUMBER, MAX_NUMBER)
+        most = _whole(raw.get("max", 120), f"{here}.max", least + 1, MAX_NUMBER)
+        return Item(item_id, text, minimum=least, maximum=most, kind=kind, optional=optional)
+    least, most = VAS_RANGE if kind == "vas" else (1, points)
+    attention = raw.get("attention")
+    if attention is not None:
+        attention = _whole(attention, f"{here}.attention", least, most)
+    reverse = _flag(raw, "reverse", here)
+    if reverse and attention is not None:
+        raise QuestionnaireError(f"{here}: an attention check is not scored, so not reversed")
+    subscale = raw.get("subscale", "")
+    if subscale and (not isinstance(subscale, str) or not NAME.fullmatch(subscale)):
+        raise QuestionnaireError(
+            f"{here}.subscale: expected a name of lower-case letters, digits, _ or -, got "
+            f"{quote(subscale)}"
+        )
+    return Item(
+        item_id,
+        text,
+        _text(raw.get("low", low or "low"), f"{here}.low"),
+        _text(raw.get("high", high or "high"), f"{here}.high"),
+        least,
+        most,
+        scale=subscale,
+        kind=kind,
+        reverse=reverse,
+        attention=attention,
+        optional=optional,
+    )
+
+
+def _choices(value: Any, where: str) -> tuple[str, ...]:
+    if (
+        not isinstance(value, list)
+        or not 2 <= len(value) <= MAX_CHOICES
+        or not all(isinstance(v, str) and v.strip() and len(v) <= 60 for v in value)
+        or len(set(value)) != len(value)
+    ):
+        raise QuestionnaireError(
+            f"{where}: expected a list of 2 to {MAX_CHOICES} different texts of 1 to 60 "
+            f"characters, got {quote(value)}"
+        )
+    return tuple(value)
+
+
+def _flag(raw: Mapping[str, Any], key: str, where: str) -> bool:
+    value = raw.get(key, False)
+    if not isinstance(value, bool):
+        raise QuestionnaireError(f"{where}.{key}: expected true or false, got {quote(value)}")
+    return value
+
+
+def _whole(value: Any, where: str, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise QuestionnaireError(
+            f"{where}: expected a whole number from {low} to {high}, got {quote(value)}"
+        )
+    return value
 
 
 def _text(value: Any, where: str) -> str:
@@ -337,9 +307,10 @@ def _text(value: Any, where: str) -> str:
     return value.strip()
 
 
-def _reject_unknown(raw: Mapping[str, Any], valid: tuple[str, ...], where: str) -> None:
+def _reject_unknown(
+    raw: Mapping[str, Any], valid: tuple[str, ...], where: str, takes: str = "valid keys:"
+) -> None:
     unknown = [str(k) for k in raw if k not in valid]
     if unknown:
-        raise QuestionnaireError(
-            f"{where}: unknown key {quote(unknown[0])}; valid keys: " + ", ".join(valid)
-        )
+        shown = ", ".join(valid) if valid else "no options"
+        raise QuestionnaireError(f"{where}: unknown key {quote(unknown[0])}; {takes} {shown}")

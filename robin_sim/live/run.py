@@ -15,6 +15,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+# the session's step log (an episode's is episode.jsonl), as the study's exports read it
+from pil.experiments.sessions_load import SESSION_LOG_NAME as LOG_NAME
 from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
@@ -34,8 +36,6 @@ from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
-
-LOG_NAME = "log.jsonl"  # the session's step log (an episode's is episode.jsonl)
 
 
 class LiveRun(ClosesOnExit):

@@ -28,14 +28,13 @@ from pil.task.records import StepRecord
 from pil.task.runner import steps
 from robin_sim.live.acting import apply_input, apply_reading
 from robin_sim.live.booking import Booking, tail_entry
+from robin_sim.live.capping import BlockWatch
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import SessionFiles, session_folder
 from robin_sim.live.frames import Frame, FrameHub
-from robin_sim.live.inputs import (
-    LiveInput,
-    LiveInputError,
-    parse_input,
-)
+from robin_sim.live.holds import Holds
+from robin_sim.live.inputs import LiveInput, LiveInputError, parse_input
+from robin_sim.live.limits import BlockLimits
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun, pacing_figures
@@ -44,12 +43,11 @@ from robin_sim.live.webcam import Webcam
 from robin_sim.person.body import PhysicalBody
 
 __all__ = ["Frame", "LiveConfig", "LiveSession"]
-STATUSES = ("finished", "ended", "closed", "interrupted", "failed")
+# capped: a study block that reached its time or action cap (robin_sim.live.capping)
+STATUSES = ("finished", "ended", "capped", "closed", "interrupted", "failed")
 STOP_WAIT_S = 60.0  # s stop() waits for the physics thread to save
 LOG_TAIL = 40  # steps kept for the experimenter's view
 PAUSE_POLL_S = 0.05  # s between looks at the pause while paused
-PAUSED_MESSAGE = "Paused by the experimenter: please wait."
-AWAY_MESSAGE = "Waiting for the participant's page to come back."
 
 
 class SessionStopped(BaseException):
@@ -79,8 +77,14 @@ class LiveSession:
         self._pacer: Any = None
         self._run_parts: LiveRun | None = None
         self._files: SessionFiles | None = None
-        self._paused = threading.Event()  # physics holds: for one of the reasons below
-        self._holds: set[str] = set()  # "experimenter" (pause), "page" (the page is away)
+        self.holds = Holds()  # physics holds: paused, the page away, the participant inactive
+        self._paused = self.holds.held
+        caps = self.config.limits
+        self.caps = (
+            BlockWatch(caps, lambda on: self.holds.hold("inactive", on), self.log_event)
+            if caps != BlockLimits()
+            else None
+        )
         self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
         # --webcam: the participant's hand read from the tracker's landmarks (None: off)
         self.webcam = (
@@ -116,6 +120,8 @@ class LiveSession:
         if item.kind == "hand":
             self._hand(item)
             return
+        if self.caps is not None:
+            self.caps.input()
         try:
             self._act(item)
         except LiveInputError as error:
@@ -161,11 +167,14 @@ class LiveSession:
         status["paused"] = self.paused
         status["webcam"] = None if self.webcam is None else self.webcam.status()
         status["notice"] = "" if participant is None else participant.notice
+        if self.caps is not None and self.caps.notice():
+            status["notice"] = self.caps.notice()
+        status["practice"] = self.config.practice
         left = None if participant is None else participant.window_left()
         status["feedback_left_s"] = None if left is None else round(left, 1)
-        status["page_away"] = "page" in self._holds
+        status["page_away"] = "page" in self.holds
         if self.paused and status["phase"] != "done":
-            status["message"] = PAUSED_MESSAGE if "experimenter" in self._holds else AWAY_MESSAGE
+            status["message"] = self.holds.message()
         return status
 
     def stop(self, status: str = "ended") -> dict[str, Any]:
@@ -190,23 +199,12 @@ class LiveSession:
     def pause(self, paused: bool) -> None:
         """The experimenter holds physics (and the stream) between two ticks, or lets it run
         on (thread-safe; a page that is away still holds it)."""
-        self._hold_for("experimenter", paused)
+        self.holds.hold("experimenter", paused)
 
     def away(self, away: bool) -> None:
         """The participant's page lost its connection (physics holds: no action runs and no
         feedback window passes unseen), or came back (thread-safe)."""
-        self._hold_for("page", away)
-
-    def _hold_for(self, reason: str, hold: bool) -> None:
-        with self._lock:
-            if hold:
-                self._holds.add(reason)
-            else:
-                self._holds.discard(reason)
-            if self._holds:
-                self._paused.set()
-            else:
-                self._paused.clear()
+        self.holds.hold("page", away)
 
     @property
     def paused(self) -> bool:
@@ -232,6 +230,12 @@ class LiveSession:
             return
         sim_time = None if participant is None else round(participant.body.world.time, 4)
         files.log_event(kind, {"sim_time": sim_time, **fields})
+
+    def recent_events(self) -> list[dict[str, Any]]:
+        """The newest lines of ``events.jsonl`` but the frequent ``acts`` (for the
+        experimenter's view)."""
+        files = self._files
+        return [] if files is None else list(files.recent_events)
 
     def pacing(self) -> dict[str, Any]:
         """The stream's and the pacer's figures now (for the experimenter)."""
@@ -280,6 +284,12 @@ class LiveSession:
             self._hold()
         if participant is not None:
             participant.poll()
+            caps = self.caps
+            if caps is not None:
+                world = participant.body.world
+                capped = caps.tick(world.time, participant.actions_started, participant.phase)
+                if capped and not holding:
+                    raise SessionStopped("capped")
             if participant.ended and not holding and participant.phase != "waiting_for_gesture":
                 # "end" while the robot acts or waits for a thumb: no verdict is made up
                 raise SessionStopped("ended")
@@ -337,7 +347,8 @@ class LiveSession:
             if run is not None:
                 run.close()  # the MP4 is complete from here on
             vision = None if self.webcam is None else self.webcam.summary()
-            self._summary = files.save(status, error, run, vision=vision)
+            limits = None if self.caps is None else self.caps.status()
+            self._summary = files.save(status, error, run, vision=vision, limits=limits)
             self.done.set()
 
     def book(self, run: LiveRun, record: StepRecord) -> None:

@@ -1,7 +1,9 @@
 """A recorded run on a web page with a timeline to scrub: ``robin-pil replay DIR --serve``.
 
 The server (aiohttp, 127.0.0.1 only) serves the page (``GET /``, ``/static/replay.js``), the run's
-frame times (``GET /meta``) and any frame as JPEG (``GET /frame/N``), rendered on demand by a
+frame times (``GET /meta``), what happened when (``GET /events``: the steps, gestures, thumbs,
+notes, events and questionnaires of :func:`robin_sim.replay.annotations.timeline`) and any frame
+as JPEG (``GET /frame/N``), rendered on demand by a
 :class:`~robin_sim.replay.render.ReplayRenderer` in one thread of its own (its OpenGL contexts
 stay there). Requests whose ``Host`` is not this loopback address are refused (403: no DNS
 rebinding), and the page may not be framed by another site.
@@ -78,8 +80,14 @@ class FrameSource:
         self._executor.shutdown()
 
 
-def replay_app(recorded: RecordedStates, source: FrameSource, port: int) -> web.Application:
-    """The page's application; only ``Host`` 127.0.0.1:``port`` / localhost:``port`` pass."""
+def replay_app(
+    recorded: RecordedStates,
+    source: FrameSource,
+    port: int,
+    annotations: dict[str, Any] | None = None,
+) -> web.Application:
+    """The page's application; only ``Host`` 127.0.0.1:``port`` / localhost:``port`` pass.
+    ``annotations``: the timeline's markers and steps (none without)."""
     hosts = {f"127.0.0.1:{port}", f"localhost:{port}"}
     t0 = recorded.states[0].time
     meta = {
@@ -114,6 +122,11 @@ def replay_app(recorded: RecordedStates, source: FrameSource, port: int) -> web.
     async def meta_json(_: web.Request) -> web.Response:
         return web.Response(text=json.dumps(meta), content_type="application/json")
 
+    marks = json.dumps(annotations or {"markers": [], "steps": []})
+
+    async def events_json(_: web.Request) -> web.Response:
+        return web.Response(text=marks, content_type="application/json")
+
     async def frame(request: web.Request) -> web.Response:
         text = request.match_info["index"]
         if not text.isdigit() or len(text) > 9 or int(text) >= len(recorded.states):
@@ -124,18 +137,22 @@ def replay_app(recorded: RecordedStates, source: FrameSource, port: int) -> web.
     app.router.add_get("/", index)
     app.router.add_get("/static/replay.js", script)
     app.router.add_get("/meta", meta_json)
+    app.router.add_get("/events", events_json)
     app.router.add_get("/frame/{index}", frame)
     return app
 
 
 async def serve_replay(
-    recorded: RecordedStates, sock: socket.socket, stop: asyncio.Event | None = None
+    recorded: RecordedStates,
+    sock: socket.socket,
+    stop: asyncio.Event | None = None,
+    annotations: dict[str, Any] | None = None,
 ) -> None:
     """Serve on the listening ``sock`` until ``stop`` is set (or the task is cancelled)."""
     port = sock.getsockname()[1]
     source = FrameSource(recorded)
     runner = web.AppRunner(
-        replay_app(recorded, source, port),
+        replay_app(recorded, source, port, annotations),
         access_log=None,
         handle_signals=False,
         shutdown_timeout=1.0,

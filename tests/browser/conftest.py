@@ -52,10 +52,13 @@ def start_server(
     configs: Sequence[LiveConfig],
     token: str | None = None,
     questionnaires: Sequence[Any] = (),
+    screens: Any = None,
+    journal: Any = None,
     **server_options: Any,
 ) -> Served:
+    """``screens`` and ``journal``: a study's (robin_sim.lab.run.StudyRun)."""
     server_options.setdefault("reconnect_grace_s", TEST_GRACE_S)
-    conductor = Conductor(configs, questionnaires)
+    conductor = Conductor(configs, questionnaires, screens, journal)
     server = LiveServer(conductor, token=token, **server_options)
     sock = bind("127.0.0.1", 0)
     port = sock.getsockname()[1]

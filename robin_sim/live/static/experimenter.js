@@ -37,6 +37,22 @@
     return value == null ? "—" : Number(value).toFixed(digits);
   }
 
+  // A study block's caps: what is used of each, and what was reached.
+  function limitsText(limits) {
+    if (!limits) return "none";
+    const parts = [];
+    if (limits.block_seconds != null) {
+      parts.push(`time ${text(limits.sim_time)} / ${limits.block_seconds} s`);
+    }
+    if (limits.block_actions != null) parts.push(`actions ${limits.actions} / ${limits.block_actions}`);
+    if (limits.inactivity_seconds != null) {
+      parts.push(limits.inactive ? "participant INACTIVE: the session holds"
+        : `inactivity after ${limits.inactivity_seconds} s`);
+    }
+    if (limits.reached) parts.push(`REACHED: ${limits.reached} (the block ends)`);
+    return parts.join("; ") || "none";
+  }
+
   function showView(message) {
     const pacing = message.pacing;
     $("run-phase").textContent = `run: ${message.run_phase}`;
@@ -49,6 +65,17 @@
       $("behind").textContent = `${text(pacing.behind_s, 2)}, ${pacing.slips ?? "—"}`;
       $("speed").textContent = `${pacing.speed}x, ${pacing.paused ? "paused" : "running"}`;
     }
+    $("limits").textContent = limitsText(message.limits);
+    $("limits").className = message.limits && (message.limits.reached || message.limits.inactive)
+      ? "reached" : "";
+    $("events").replaceChildren(...(message.events || []).map((event) => {
+      const item = document.createElement("li");
+      const { wall, event: kind, sim_time: at, ...rest } = event;
+      const detail = Object.entries(rest).map(([k, v]) => `${k} ${JSON.stringify(v)}`).join(", ");
+      item.textContent = `${text(at)} s ${kind}${detail ? `: ${detail}` : ""}`;
+      item.dataset.event = kind;
+      return item;
+    }));
     $("tabs").textContent = message.tabs.map((t) => `${t.role} (${t.frames_dropped})`)
       .join(", ");
     const rows = message.log.map((step) => {

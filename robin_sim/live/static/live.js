@@ -153,15 +153,20 @@
   }
 
   // --- the status ----------------------------------------------------------------------------
+  // The screens between sessions, by phase (no robot input is taken on them).
+  const SCREENS = {
+    instructions: "Instructions", questionnaire: "Questionnaire", consent: "Consent",
+    debrief: "Debrief",
+  };
+
   function showStatus(status) {
     const turn = $("turn");
     const done = status.phase === "done";
-    const questions = status.phase === "questionnaire";
-    turn.className = `turn ${done || questions ? "" : status.turn}`;
+    const screen = SCREENS[status.phase];
+    turn.className = `turn ${done || screen ? "" : status.turn}`;
     turn.textContent = done ? `Session over (${status.status})`
-      : status.phase === "instructions" ? "Instructions"
-      : status.phase === "questionnaire" ? "Questionnaire"
-      : status.turn === "robot" ? "Robin's turn" : "Your turn";
+      : status.phase === "instructions" && status.practice ? "Practice"
+      : screen || (status.turn === "robot" ? "Robin's turn" : "Your turn");
     $("doing").textContent = status.robot_doing || "—";
     $("message").textContent = status.message || "";
     showStream(status.stream, done);
@@ -181,6 +186,7 @@
     showPolicy(status.policy);
     showScreen(status);
     if (window.robinQuestionnaire) window.robinQuestionnaire.show(status);
+    if (window.robinScreens) window.robinScreens.show(status);
     updateControls();
   }
 
@@ -277,13 +283,19 @@
     screen.className = "screen";
     if (status.phase === "instructions") {
       screen.hidden = false;
-      $("screen-title").textContent = status.blocks > 1
-        ? `Block ${status.block_number} of ${status.blocks}` : "Instructions";
+      $("screen-title").textContent = status.practice ? "Practice"
+        : status.blocks > 1 ? `Block ${status.block_number} of ${status.blocks}` : "Instructions";
       $("screen-text").textContent = status.starting ? "Starting…"
         : status.instructions || status.message || "";
       $("start").hidden = live.role !== "control" || !!status.starting;
+    } else if (status.phase === "done" && status.status === "declined") {
+      screen.hidden = false;
+      $("screen-title").textContent = "Thank you";
+      $("screen-text").textContent = "You did not agree to take part: nothing is kept but " +
+        "that answer. You can close this tab.";
+      $("start").hidden = true;
     } else if (status.phase === "done") {
-      const normal = ["finished", "ended"].includes(status.status);
+      const normal = ["finished", "ended", "capped"].includes(status.status);
       screen.hidden = false;
       screen.className = normal ? "screen finished" : "screen";
       $("screen-title").textContent = normal ? "Session finished"
@@ -308,8 +320,7 @@
   }
 
   function updateControls() {
-    const running = live.status &&
-      !["instructions", "questionnaire", "done"].includes(live.status.phase);
+    const running = live.status && !SCREENS[live.status.phase] && live.status.phase !== "done";
     const usable = live.connected && live.role === "control";
     for (const button of document.querySelectorAll("#controls button")) {
       button.disabled = !(usable && running);
@@ -347,6 +358,9 @@
     const name = KEYS[event.key.length === 1 ? event.key.toLowerCase() : event.key];
     if (!name || live.role !== "control") return;
     const phase = live.status ? live.status.phase : null;
+    // a form or a screen's buttons take their own keys (typing an "e" is no End)
+    if (phase !== "instructions" && SCREENS[phase]) return;
+    if (event.target.closest && event.target.closest("input, textarea, select")) return;
     if ((name === "start") !== (phase === "instructions")) return;
     event.preventDefault();
     ACTIONS[name]();
