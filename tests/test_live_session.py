@@ -134,7 +134,12 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     for measure in ("gestures", "actions", "rejected", "legs_delivered"):
         assert row[measure] == saved[measure], measure
     written = write_sessions_report([row], tmp_path, tmp_path / "report")
-    assert {p.name for p in written} == {"sessions.csv", "report.md", "sessions.png"}
+    assert {p.name for p in written} == {
+        "sessions.csv",
+        "session_tests.csv",
+        "report.md",
+        "sessions.png",
+    }
 
 
 def _started(tmp_path: Path) -> tuple[LiveSession, Driver]:

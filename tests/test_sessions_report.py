@@ -165,6 +165,27 @@ def test_paired_t_tests_match_scipy(within_folder: Path) -> None:
     assert math.isnan(tests["legs_delivered"]["p"]) and math.isnan(tests["legs_delivered"]["t"])
 
 
+def test_paired_tests_carry_interval_effect_size_and_holm(within_folder: Path) -> None:
+    """The difference's CI and d_z match scipy; Holm runs over the declared family (every
+    measure of the one pair), untestable comparisons left out of it, as statsmodels does."""
+    from statsmodels.stats.multitest import multipletests
+
+    tests = {t["measure"]: t for t in session_tests(load_sessions(within_folder))}
+    pil_g, pro_g = [(20 + 16) / 2, 19, 22, 18], [14, 15, 13, 17]
+    diffs = np.subtract(pil_g, pro_g)
+    ci = stats.ttest_rel(pil_g, pro_g).confidence_interval(0.95)
+    gestures = tests["gestures"]
+    assert gestures["mean_diff"] == pytest.approx(diffs.mean(), rel=1e-12)
+    assert (gestures["ci_low"], gestures["ci_high"]) == pytest.approx((ci.low, ci.high))
+    assert gestures["effect_size"] == pytest.approx(diffs.mean() / diffs.std(ddof=1))
+    testable = [m for m in MEASURES if not math.isnan(tests[m]["p"])]
+    assert 1 < len(testable) < len(MEASURES)  # legs delivered has no spread: out of the family
+    expected = multipletests([tests[m]["p"] for m in testable], method="holm")[1]
+    assert [tests[m]["p_holm"] for m in testable] == pytest.approx(list(expected), rel=1e-12)
+    legs = tests["legs_delivered"]
+    assert all(math.isnan(legs[k]) for k in ("p_holm", "ci_low", "ci_high", "effect_size"))
+
+
 def test_between_subject_gets_welch(tmp_path: Path) -> None:
     root = tmp_path / "between"
     data = {
@@ -182,6 +203,10 @@ def test_between_subject_gets_welch(tmp_path: Path) -> None:
     assert (test["test"], test["n"]) == ("welch", "3/3")
     assert test["p"] == pytest.approx(expected.pvalue, rel=1e-12)
     assert test["t"] == pytest.approx(expected.statistic, rel=1e-12)
+    ci = expected.confidence_interval(0.95)
+    assert (test["ci_low"], test["ci_high"]) == pytest.approx((ci.low, ci.high))
+    pooled = math.sqrt((np.var([20, 23, 22], ddof=1) + np.var([14, 17, 12], ddof=1)) / 2)
+    assert test["effect_size"] == pytest.approx((np.mean([20, 23, 22]) - 43 / 3) / pooled)
 
 
 def test_sessions_sort_participants_by_number(tmp_path: Path) -> None:
@@ -201,7 +226,8 @@ def test_cli_writes_csv_report_and_figure(within_folder: Path, capsys: Any) -> N
     out = within_folder.parent / "rep"
     assert main(["report", str(within_folder), "--out", str(out)]) == 0
     listed = capsys.readouterr().out.split()
-    assert listed == [str(out / n) for n in ("sessions.csv", "report.md", "sessions.png")]
+    names = ("sessions.csv", "session_tests.csv", "report.md", "sessions.png")
+    assert listed == [str(out / n) for n in names]
     with (out / "sessions.csv").open(newline="") as handle:
         reader = csv.DictReader(handle)
         assert tuple(reader.fieldnames or ()) == SESSION_COLUMNS
@@ -231,7 +257,12 @@ def test_cli_writes_csv_report_and_figure(within_folder: Path, capsys: Any) -> N
     assert "| P02 | block3-proactive | proactive | table_one | ended | 3 / 3 |" in report
     p = stats.ttest_rel([18, 19, 22, 18], [14, 15, 13, 17]).pvalue
     assert "| instruction gestures | pil | proactive | 4 | 19.25 | 14.75 |" in report
-    assert f"{p:.3g}" in report
+    assert f"{p:.3g}" in report and "| p (Holm) |" in report and "a - b [95 % CI]" in report
+    with (out / "session_tests.csv").open(newline="") as handle:
+        tested = {r["measure"]: r for r in csv.DictReader(handle)}
+    assert set(tested) == set(MEASURES)
+    assert float(tested["gestures"]["p"]) == pytest.approx(p, rel=1e-9)
+    assert float(tested["gestures"]["p_holm"]) >= float(tested["gestures"]["p"])
     import matplotlib.image
 
     image = matplotlib.image.imread(out / "sessions.png")

@@ -9,17 +9,15 @@ Sessions of different studies are never pooled: the rows are split by scenario a
 participants, not sessions: a participant's value in a condition is the mean of
 their counted sessions (repeated blocks) in it. Within-subject designs (some participant did more
 than one condition) get paired t-tests over the participants who did both conditions of a pair;
-between-subject designs get Welch's t-test. A condition with one value shows that value and
+between-subject designs get Welch's t-test; each with its interval, effect size and Holm's
+correction (:mod:`pil.experiments.sessions_tests`). A condition with one value shows that value and
 n = 1, no sd. Pure Python, numpy and scipy: no MuJoCo.
 """
 
 from __future__ import annotations
 
 import math
-import statistics
-import warnings
 from collections.abc import Mapping, Sequence
-from itertools import combinations
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +30,13 @@ from pil.experiments.sessions_load import (
     SessionsError,
     load_sessions,
     unreported_sessions,
+)
+from pil.experiments.sessions_tests import (
+    SESSION_TEST_COLUMNS,
+    conditions_of,
+    group_tests,
+    is_within,
+    participant_means,
 )
 
 __all__ = [  # the reading is re-exported: the report's callers import from here only
@@ -53,15 +58,6 @@ __all__ = [  # the reading is re-exported: the report's callers import from here
 ]
 
 
-def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
-    """The conditions in registry order (pil, c1, ..., proactive), unknown ones after, by name."""
-    from pil.experiments.systems import SYSTEM_SPECS
-
-    known = list(SYSTEM_SPECS)
-    names = {str(r["condition"]) for r in rows}
-    return sorted(names, key=lambda n: (known.index(n) if n in known else len(known), n))
-
-
 def study_groups(rows: Sequence[Mapping[str, Any]]) -> list[tuple[str, str]]:
     """The (scenario, protocol) pairs the rows hold, sorted (protocol "" for none)."""
     return sorted({(str(r["scenario"]), str(r["protocol"] or "")) for r in rows})
@@ -74,27 +70,6 @@ def _in_group(rows: Sequence[Mapping[str, Any]], group: tuple[str, str]) -> list
 def _group_text(group: tuple[str, str]) -> str:
     scenario, protocol = group
     return f"scenario `{scenario}`, " + (f"protocol `{protocol}`" if protocol else "no protocol")
-
-
-def participant_means(
-    rows: Sequence[Mapping[str, Any]], measure: str
-) -> dict[str, dict[str, float]]:
-    """condition -> participant -> the mean of their counted sessions' ``measure`` values."""
-    values: dict[str, dict[str, list[float]]] = {}
-    for row in rows:
-        if row["counted"] and row[measure] is not None and not math.isnan(row[measure]):
-            by = values.setdefault(row["condition"], {})
-            by.setdefault(row["participant"], []).append(float(row[measure]))
-    return {c: {p: statistics.fmean(v) for p, v in by.items()} for c, by in values.items()}
-
-
-def is_within(rows: Sequence[Mapping[str, Any]]) -> bool:
-    """True when some participant has counted sessions in more than one condition."""
-    seen: dict[str, set[str]] = {}
-    for row in rows:
-        if row["counted"]:
-            seen.setdefault(row["participant"], set()).add(row["condition"])
-    return any(len(c) > 1 for c in seen.values())
 
 
 def summarize_sessions(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
@@ -126,58 +101,18 @@ def summarize_sessions(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]
 
 def session_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """Per scenario and protocol, pair of conditions and measure: a paired t-test
-    (within-subject) or Welch's.
+    (within-subject) or Welch's, Holm-corrected within the scenario and protocol.
 
-    Each result: ``scenario``, ``protocol``, ``test`` ("paired" | "welch"), ``measure``,
-    ``a``, ``b``, ``n`` (pairs, or "n_a/n_b"), both means over participants, ``t`` and ``p``
-    (NaN when too few participants or no variation: paired differences all equal, or both
-    groups constant).
+    Each result (:data:`SESSION_TEST_COLUMNS`): ``scenario``, ``protocol``, ``test`` ("paired" |
+    "welch"), ``measure``, ``a``, ``b``, ``n`` (pairs, or "n_a/n_b"), both means over
+    participants, the difference a - b with its 95 % CI, the effect size, ``t``, ``p`` and
+    ``p_holm`` (NaN when too few participants or no variation: paired differences all equal,
+    or both groups constant).
     """
     results = []
     for group in study_groups([r for r in rows if r["counted"]]):
-        for result in _group_tests(_in_group(rows, group)):
+        for result in group_tests(_in_group(rows, group)):
             results.append({"scenario": group[0], "protocol": group[1] or None, **result})
-    return results
-
-
-def _group_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """:func:`session_tests` within one scenario and protocol."""
-    from scipy.stats import ttest_ind, ttest_rel  # imported here: scipy is slow to import
-
-    within = is_within(rows)
-    results = []
-    for a, b in combinations(conditions_of([r for r in rows if r["counted"]]), 2):
-        for measure in MEASURES:
-            means = participant_means(rows, measure)
-            in_a, in_b = means.get(a, {}), means.get(b, {})
-            if within:
-                both = sorted(set(in_a) & set(in_b))
-                xs, ys = [in_a[p] for p in both], [in_b[p] for p in both]
-                varied = len({x - y for x, y in zip(xs, ys, strict=True)}) > 1
-                n: Any = len(both)
-            else:
-                xs, ys = list(in_a.values()), list(in_b.values())
-                varied = len(set(xs)) > 1 or len(set(ys)) > 1
-                n = f"{len(xs)}/{len(ys)}"
-            t = p = math.nan
-            if len(xs) > 1 and len(ys) > 1 and varied:
-                with warnings.catch_warnings():  # nearly constant groups: p is still valid
-                    warnings.filterwarnings("ignore", "Precision loss", RuntimeWarning)
-                    test = ttest_rel(xs, ys) if within else ttest_ind(xs, ys, equal_var=False)
-                t, p = float(test.statistic), float(test.pvalue)
-            results.append(
-                {
-                    "test": "paired" if within else "welch",
-                    "measure": measure,
-                    "a": a,
-                    "b": b,
-                    "n": n,
-                    "mean_a": statistics.fmean(xs) if xs else math.nan,
-                    "mean_b": statistics.fmean(ys) if ys else math.nan,
-                    "t": t,
-                    "p": p,
-                }
-            )
     return results
 
 
@@ -262,7 +197,7 @@ def _group_lines(rows: Sequence[Mapping[str, Any]], level: str) -> list[str]:
         for s in summarize_sessions(rows)
     ]
     lines += [markdown_table(header, body), ""]
-    tests = _group_tests(rows)
+    tests = group_tests(rows)
     if not tests:
         lines += ["No t-tests: the counted sessions hold fewer than two conditions.", ""]
     elif within:
@@ -272,7 +207,8 @@ def _group_lines(rows: Sequence[Mapping[str, Any]], level: str) -> list[str]:
             "Some participants did more than one condition, so each pair of conditions is "
             "compared over the participants who did both (`scipy.stats.ttest_rel`; a "
             "participant's value is the mean of their counted sessions in that condition; "
-            "n = participants; p < 0.05 marked *).",
+            "n = participants; d = Cohen's d_z; Holm over every pair and measure of this "
+            "table; Holm p < 0.05 marked *).",
             "",
             _tests_table(tests),
             "",
@@ -283,7 +219,8 @@ def _group_lines(rows: Sequence[Mapping[str, Any]], level: str) -> list[str]:
             "",
             "Every participant did one condition, so the conditions are compared as independent "
             "groups of participants (`scipy.stats.ttest_ind(equal_var=False)` on each "
-            "participant's mean; n = participants per condition; p < 0.05 marked *).",
+            "participant's mean; n = participants per condition; d = Cohen's d, pooled sd; "
+            "Holm over every pair and measure of this table; Holm p < 0.05 marked *).",
             "",
             _tests_table(tests),
             "",
@@ -306,6 +243,8 @@ def write_sessions_report(
         raise SessionsError(f"--out {out}: cannot make the folder: {error.strerror}") from None
     text = report_markdown(rows, folder, unreported_sessions(folder))
     written = [write_text_atomic(out / "sessions.csv", rows_to_csv(rows, SESSION_COLUMNS))]
+    tests_csv = rows_to_csv(session_tests(rows), SESSION_TEST_COLUMNS)
+    written.append(write_text_atomic(out / "session_tests.csv", tests_csv))
     written.append(write_text_atomic(out / "report.md", text))
     if not any(r["counted"] for r in rows):
         return written  # listed in report.md; no figure without a counted session
@@ -340,11 +279,10 @@ def _sd_or_zero(sd: float) -> float:
 
 
 def _tests_table(tests: Sequence[Mapping[str, Any]]) -> str:
-    header = ["measure", "a", "b", "n", "mean (a)", "mean (b)", "t", "p"]
+    header = ["measure", "a", "b", "n", "mean (a)", "mean (b)", "a - b [95 % CI]", "d", "t"]
+    header += ["p", "p (Holm)"]
     body = []
     for r in tests:
-        p_text = "n/a" if math.isnan(r["p"]) else f"{r['p']:.3g}{' *' if r['p'] < 0.05 else ''}"
-        t_text = "n/a" if math.isnan(r["t"]) else f"{r['t']:.2f}"
         body.append(
             [
                 MEASURES[r["measure"]],
@@ -353,11 +291,26 @@ def _tests_table(tests: Sequence[Mapping[str, Any]]) -> str:
                 r["n"],
                 f"{r['mean_a']:.2f}",
                 f"{r['mean_b']:.2f}",
-                t_text,
-                p_text,
+                _diff_text(r),
+                _number(r["effect_size"], ".2f"),
+                _number(r["t"], ".2f"),
+                _number(r["p"], ".3g"),
+                _number(r["p_holm"], ".3g") + (" *" if r["p_holm"] < 0.05 else ""),
             ]
         )
     return markdown_table(header, body)
+
+
+def _number(value: float, spec: str) -> str:
+    return "n/a" if math.isnan(value) else format(value, spec)
+
+
+def _diff_text(r: Mapping[str, Any]) -> str:
+    if math.isnan(r["mean_diff"]):
+        return "n/a"
+    if math.isnan(r["ci_low"]):
+        return f"{r['mean_diff']:.2f} (no interval)"
+    return f"{r['mean_diff']:.2f} [{r['ci_low']:.2f}, {r['ci_high']:.2f}]"
 
 
 def _mean_sd_text(entry: Mapping[str, Any], measure: str) -> str:
