@@ -84,3 +84,5 @@ class SpawnPool(ProcessPoolExecutor):
                 process.kill()
         for process in processes:
             process.join(timeout=JOIN_S)
+        if not any(process.is_alive() for process in processes):
+            self.shutdown(wait=True)  # the manager thread ends, the queues are released

@@ -82,8 +82,10 @@ def run_jobs(
             for future in finished:
                 progress(future.result())
                 done += 1
-    except BaseException:  # an interrupt or a failed chunk: the chunks in flight are not waited for
+    except BaseException:  # an interrupt, a failed chunk: the chunks in flight are not waited for
         pool.stop()
+        for partial in folder.glob("*.partial.npz"):  # a chunk killed while being written
+            partial.unlink(missing_ok=True)
         raise
     pool.shutdown(wait=True)
     return done
