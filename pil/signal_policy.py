@@ -10,7 +10,8 @@ or ``nohup ... &`` starts with SIGINT ignored; a service manager sends SIGTERM):
 * **running**: the first SIGINT or SIGTERM raises ``KeyboardInterrupt`` in the main thread,
   as Ctrl-C does in plain Python, so every command's ``finally`` blocks keep its finished work;
   further signals are noted, never raised again inside that clean-up. A command that holds
-  signals (:attr:`holding`) keeps them noted: its own guard acts on them between two steps;
+  signals (:attr:`holding`) keeps them noted: its own guard acts on them between two steps
+  (an episode's guard takes them over in either case, also inside another command);
 * **teardown** (the command returned; its summary is written): both signals are ignored until
   the process exits, so a late SIGTERM can no longer turn a finished run into a -15.
 
@@ -34,8 +35,9 @@ INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT), for
 class CommandSignals:
     """SIGINT and SIGTERM of one command, from start-up to exit (see the module's docstring).
 
-    ``requested`` is the first signal received (None: none); ``holding`` tells a nested guard
-    (:class:`robin_sim.episode.interrupts.InterruptGuard`) that it may take the signals over.
+    ``requested`` is the first signal received (None: none); while ``holding`` signals are
+    only noted (start-up, between the command and teardown, a command that acts on them
+    itself through a nested :class:`robin_sim.episode.interrupts.InterruptGuard`).
     """
 
     def __init__(self) -> None:
@@ -80,13 +82,11 @@ class CommandSignals:
             signal.signal(signum, signal.SIG_IGN if exiting else handler)
 
 
-def noting_handler(handler: Any) -> CommandSignals | None:
-    """The :class:`CommandSignals` whose handler ``handler`` is, while it only notes signals
-    (start-up, or a command that holds them), else None."""
+def policy_of(handler: Any) -> CommandSignals | None:
+    """The :class:`CommandSignals` whose handler ``handler`` is, else None (a nested guard
+    may take the signals over from it, and whatever it noted)."""
     owner = getattr(handler, "__self__", None)
-    if isinstance(owner, CommandSignals) and owner.holding:
-        return owner
-    return None
+    return owner if isinstance(owner, CommandSignals) else None
 
 
 def _deliver_pending() -> None:

@@ -10,7 +10,7 @@ the video is being finished is honoured after the file is complete. Render worke
 signals (:mod:`robin_sim.render.worker_start`) and are ended by the episode.
 
 The guard installs its handlers only in the main thread of a process whose SIGINT handler is
-Python's default, another guard's or the command's signal policy while it notes signals
+Python's default, another guard's or the command's signal policy
 (:class:`pil.signal_policy.CommandSignals`): in a pool's worker (signals ignored) or a Dask
 worker thread it does nothing, and the pool's own interrupt handling applies. ``robin-pil``
 notes signals from its first line (:func:`robin_sim.cli.main.main`), so that a signal while
@@ -26,7 +26,7 @@ import threading
 from types import FrameType, TracebackType
 from typing import Any
 
-from pil.signal_policy import SIGNALS, noting_handler
+from pil.signal_policy import SIGNALS, policy_of
 
 
 class InterruptGuard:
@@ -57,7 +57,7 @@ class InterruptGuard:
         handler = signal.getsignal(signal.SIGINT)
         outer = getattr(handler, "__self__", None)
         if not isinstance(outer, InterruptGuard):
-            outer = noting_handler(handler)  # the command's policy, or None
+            outer = policy_of(handler)  # the command's policy, or None
         if outer is not None:  # nested: take over what the outer one noted
             self.requested = outer.requested
         if in_main and (handler is signal.default_int_handler or outer is not None):
