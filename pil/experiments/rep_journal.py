@@ -84,6 +84,7 @@ class RepJournal:
         record = {"format": FORMAT, "key": self.key, "rep": rep, "seed": seed, "rows": plain}
         line = json.dumps(record, separators=(",", ":")) + "\n"
         data = memoryview((("\n" if self._torn else "") + line).encode())
+        self.path.parent.mkdir(parents=True, exist_ok=True)  # a seed folder: made by its first
         fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
         try:
             while data:

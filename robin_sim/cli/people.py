@@ -96,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
     # before the computation; the folder stays locked until the files are written
     with claimed_out_dir(args.out):
         if args.seeds > 1:
+            from pil.experiments.over_seeds import seed_folder
             from robin_sim.cli.options import run_seed_studies
 
             settings = {
@@ -111,7 +112,16 @@ def run(args: argparse.Namespace) -> int:
                 "people",
                 settings,
                 lambda seed, step: run_people_study(
-                    people, systems, rates, args.reps, seed, progress=step
+                    people,
+                    systems,
+                    rates,
+                    args.reps,
+                    seed,
+                    progress=step,
+                    journal=RepJournal(
+                        seed_folder(args.out, seed),
+                        journal_settings(people, systems, rates, seed),
+                    ),
                 ),
                 lambda _seed, rows, folder: write_people(rows, folder),
                 within=("rate", "system"),
