@@ -119,13 +119,21 @@ def _episode_problems(out: Path) -> list[str]:
     return [] if frames == decoded else [f"MP4 frames {decoded} vs summary {frames}"]
 
 
-def cell(name: str, how: signal.Signals, at: float, ignored: bool, folder: Path) -> list[str]:
-    """One cell of the matrix; what broke the promise (empty: nothing)."""
+def cell(
+    name: str, how: signal.Signals, at: float, ignored: bool, folder: Path
+) -> tuple[str, list[str]]:
+    """One cell of the matrix: how the run ended (``exit 130 after 1.2 s``, or ``finished``
+    before the signal) and what broke the promise (empty: nothing)."""
     command = COMMANDS[name]
     out = folder / "out"
     run = start([*command.argv, "--out", str(out)], sigint_ignored=ignored)
     outcome = signal_when(run, how, after_s=at)
     problems = outcome.problems(finished_ok=True)
+    ended = (
+        f"exit {outcome.code} after {outcome.seconds:3.1f} s"
+        if outcome.signalled
+        else f"finished (exit {outcome.code}) first"
+    )
     kept = command.kept(out)
     if name == "episode":
         problems += _episode_problems(out)
@@ -142,7 +150,7 @@ def cell(name: str, how: signal.Signals, at: float, ignored: bool, folder: Path)
         said = _resumed(rerun.stderr)
         if kept and name != "episode" and said != kept:
             problems.append(f"rerun kept {said}, {kept} were finished")
-    return problems
+    return ended, problems
 
 
 def main() -> int:
@@ -157,13 +165,14 @@ def main() -> int:
                     for at in TIMES:
                         began = time.monotonic()
                         folder = Path(root) / f"{name}-{how.name}-{at}-{ignored}"
-                        problems = cell(name, how, at, ignored, folder)
+                        ended, problems = cell(name, how, at, ignored, folder)
                         total += 1
                         failures += bool(problems)
                         print(
                             f"{name:18} {how.name:7} {at:3.1f} s  SIGINT "
-                            f"{'ignored ' if ignored else 'inherited'}  "
-                            f"{time.monotonic() - began:5.1f} s  {'; '.join(problems) or 'ok'}",
+                            f"{'ignored ' if ignored else 'inherited'}  {ended:21}  "
+                            f"cell {time.monotonic() - began:5.1f} s  "
+                            f"{'; '.join(problems) or 'ok'}",
                             flush=True,
                         )
     print(f"{failures} of {total} cells broke the promise")

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 EXIT_WITHIN_S = 5.0  # the promise: exit 130 within 5 s of the signal
+GIVE_UP_S = 30.0  # a run still there this long after the signal is killed (and reported)
 ORPHAN_GRACE_S = 3.0  # how long the group's other processes may take to end after the exit
 
 
@@ -93,7 +94,7 @@ def group_alive(group: int) -> list[int]:
 class Outcome:
     """What a signalled run came to."""
 
-    code: int | None  # None: still running EXIT_WITHIN_S after the signal (then killed)
+    code: int | None  # None: still running GIVE_UP_S after the signal (then killed)
     seconds: float  # from the signal to the exit
     stdout: str
     stderr: str
@@ -108,9 +109,11 @@ class Outcome:
             if not (finished_ok and self.code == 0):
                 found.append(f"ended with {self.code} before the signal")
         elif self.code is None:
-            found.append(f"still running {EXIT_WITHIN_S:g} s after the signal")
+            found.append(f"still running {GIVE_UP_S:g} s after the signal")
         elif self.code != 130:
             found.append(f"exit code {self.code}")
+        if self.signalled and self.code is not None and self.seconds > EXIT_WITHIN_S:
+            found.append(f"exit after {self.seconds:.1f} s (> {EXIT_WITHIN_S:g} s)")
         if "Traceback" in self.stderr:
             found.append("a traceback")
         if self.orphans:
@@ -128,8 +131,8 @@ def signal_when(
     to_group: bool = True,
 ) -> Outcome:
     """Wait ``after_s`` from now, then until ``ready()`` (at most ``latest_s``), send ``how``
-    to the group (or the process alone), wait for the exit (at most :data:`EXIT_WITHIN_S`)
-    and for the group to empty; a run still there is killed with its group."""
+    to the group (or the process alone), wait for the exit (at most :data:`GIVE_UP_S`) and
+    for the group to empty; a run still there is killed with its group."""
     process = run.process
     group = process.pid
     began = time.monotonic()
@@ -145,7 +148,7 @@ def signal_when(
         sent = time.monotonic()
         code: int | None
         try:
-            code = process.wait(timeout=EXIT_WITHIN_S if signalled else 120)
+            code = process.wait(timeout=GIVE_UP_S if signalled else 120)
         except subprocess.TimeoutExpired:
             code = None
             os.killpg(group, signal.SIGKILL)

@@ -27,4 +27,5 @@ CELLS = [
 def test_a_cell_of_the_signal_matrix_keeps_the_promise(
     tmp_path: Path, name: str, how: signal.Signals, at: float, ignored: bool
 ) -> None:
-    assert cell(name, how, at, ignored, tmp_path) == []
+    ended, problems = cell(name, how, at, ignored, tmp_path)
+    assert problems == [], ended
