@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from pil.experiments.adaptation import remap
+from pil.experiments.rep_journal import RepJournal
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.task.assemble import assemble_phase
@@ -108,6 +109,20 @@ def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     }
 
 
+def journal_settings(
+    people: People, systems: Sequence[str], rates: Sequence[float], seed: int
+) -> dict[str, Any]:
+    """What makes two people studies' repetitions the same (:class:`RepJournal`'s key)."""
+    return {
+        "study": "people",
+        "scenario": repr(people.scenario),
+        "overrides": repr(people.overrides),
+        "systems": list(systems),
+        "rates": list(rates),
+        "seed": seed,
+    }
+
+
 def run_people_study(
     people: People,
     systems: Sequence[str] = PEOPLE_SYSTEMS,
@@ -115,20 +130,31 @@ def run_people_study(
     reps: int = 20,
     seed: int = 0,
     progress: Any = None,
+    journal: RepJournal | None = None,
 ) -> list[dict[str, Any]]:
     """Both modes for every system, rate and repetition (same handover order per seed).
     ``systems`` (PIL learners from scratch) and ``rates`` are taken as checked by the edge
-    (``robin-pil people``'s ``run_options``); the scenario is parsed here, once."""
+    (``robin-pil people``'s ``run_options``); the scenario is parsed here, once. With a
+    ``journal`` (of :func:`journal_settings`) each finished repetition is kept as it ends and
+    one kept already is read back, not run again."""
     base = parse_run_spec(scenario=people.scenario)
-    rows = []
+    rows: list[dict[str, Any]] = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
+        kept = None if journal is None else journal.finished(rep, run_seed)
+        if kept is not None:
+            rows += kept
+            if progress is not None:
+                progress(len(rates) * len(systems))
+            continue
+        these = []
         for rate in rates:
             for system in systems:
                 for mode in MODES:
                     row = run_people(base.for_run(system, rate, run_seed), mode, people)
-                    rows.append({"rep": rep, **row})
+                    these.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
+        rows += these if journal is None else journal.add(rep, run_seed, these)
     from pil.experiments.outputs import sort_runs  # with the other outputs: loaded late
 
     return sort_runs(rows, systems, "mode", MODES)

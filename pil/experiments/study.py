@@ -33,6 +33,7 @@ from pil.experiments.paper_comparison import (
     training_markdown,
 )
 from pil.experiments.proactive_report import proactive_figures, proactive_markdown
+from pil.experiments.rep_journal import RepJournal
 from pil.experiments.report import Row, summary_markdown
 from pil.experiments.stats import PAIRED_T, csv_columns, describe_tests, tests_markdown
 from pil.experiments.study_tests import (
@@ -127,21 +128,46 @@ def rep_seeds(seed: int, reps: int) -> list[int]:
     return [int(child.generate_state(1, np.uint64)[0] >> 1) for child in children]
 
 
+def journal_settings(config: StudyConfig) -> dict[str, Any]:
+    """What makes two studies' repetitions the same (:class:`RepJournal`'s key): all but the
+    number of repetitions (repetition ``r``'s seed does not depend on it)."""
+    return {
+        "study": "study",
+        "rates": list(config.rates),
+        "systems": list(config.systems),
+        "seed": config.seed,
+        "scenario": repr(config.base.scenario),
+        "params": config.base.values(),
+    }
+
+
 def run_study(
-    config: StudyConfig, progress: Callable[[int], None] | None = None
+    config: StudyConfig,
+    progress: Callable[[int], None] | None = None,
+    journal: RepJournal | None = None,
 ) -> list[dict[str, Any]]:
-    """All runs of the study, ordered by rate, system and repetition."""
+    """All runs of the study, ordered by rate, system and repetition. With a ``journal``
+    (of :func:`journal_settings`), each finished repetition is kept there as it ends and one
+    kept already is read back, not run again."""
     base = config.base  # checked once, by the config
     seeds = rep_seeds(config.seed, config.reps)
     rows: list[dict[str, Any]] = []
     for rep, seed in enumerate(seeds):
+        kept = None if journal is None else journal.finished(rep, seed)
+        if kept is not None:
+            rows += kept
+            if progress is not None:
+                progress(len(kept))
+            continue
         cache: dict[Any, Any] = {}  # training runs and scripts shared within this rep
+        these = []
         for rate in config.rates:
             for system in config.systems:
                 row = spec_row(base.for_run(system, rate, seed), cache)
-                rows.append({"rep": rep, **row})
+                these.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
+        rows += these if journal is None else journal.add(rep, seed, these)
     order = {s: i for i, s in enumerate(config.systems)}
     rows.sort(key=lambda r: (r["rate"], order[r["system"]], r["rep"]))
     return rows

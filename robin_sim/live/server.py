@@ -242,6 +242,7 @@ class LiveServer:
         loop.set_exception_handler(self.connections.loop_exception)
         self.conductor.attach(loop, self.frame_from_physics)
         signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
+        previous = {signum: signal.getsignal(signum) for signum in signals}  # the command's
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
         runner = web.AppRunner(
@@ -267,8 +268,11 @@ class LiveServer:
             await close_tabs(self.tabs, self.limits.close_timeout_s)
             self.connections.abort_all()  # a client that never reads holds nothing up
             await runner.cleanup()
-            for signum in signals:
+            mask = signal.pthread_sigmask(signal.SIG_BLOCK, signals)  # none lost meanwhile
+            for signum in signals:  # the command's handlers back (asyncio would set defaults)
                 loop.remove_signal_handler(signum)
+                signal.signal(signum, previous[signum])
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
             loop.set_exception_handler(handle_exception)
         return outcome
 
