@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import quote
-from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
+from pil.experiments.answers_file import QUESTIONNAIRES_NAME, RANGES_KEY
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.items import Answer, Questionnaire, QuestionnaireError
@@ -111,6 +111,7 @@ class Questioning:
             "kind": questionnaire.kind,
             "answers": answers,
             "scores": questionnaire.scores(answers),
+            RANGES_KEY: questionnaire.score_ranges(),
             "seconds_to_answer": round(time.monotonic() - self.shown_at, 1),
             "utc": datetime.now(UTC).isoformat(timespec="seconds"),
         }
