@@ -26,6 +26,7 @@ from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.items import Answer, Questionnaire, QuestionnaireError
 
 MAX_ANSWER_BYTES = 16 * 1024  # a questionnaire's answers are a few hundred bytes
+ANSWER_FIELDS = ("type", "questionnaire", "answers")  # the fields of an answer message
 
 
 class Questioning:
@@ -145,5 +146,11 @@ def _decode(raw: str | bytes) -> dict[str, Any]:
         kind = message.get("type") if isinstance(message, dict) else None
         raise LiveInputError(
             f"{kind or 'message'}: a questionnaire is shown; answer it first (send type 'answers')"
+        )
+    unknown = [str(key) for key in message if key not in ANSWER_FIELDS]
+    if unknown:
+        raise LiveInputError(
+            f"answers: unknown field(s) {', '.join(map(quote, unknown))}; an answer takes "
+            + ", ".join(repr(k) for k in ANSWER_FIELDS)
         )
     return message

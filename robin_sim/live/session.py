@@ -266,6 +266,12 @@ class LiveSession:
             raise LiveInputError("the session has ended; nothing more is taken")
         apply_input(item, self._participant, self._picker, self.webcam, self.view)
 
+    def record_input(self, raw: object, error: str) -> None:
+        """Log a message in ``inputs.jsonl`` that reached the page's session but not
+        :meth:`receive` (over the rate limit, a questionnaire's answer); none before the
+        session's folder exists."""
+        self._log_input(raw, error)
+
     def _log_input(self, raw: object, error: str, reading: dict[str, Any] | None = None) -> None:
         files, participant = self._files, self._participant
         sim_time = None if participant is None else round(participant.body.world.time, 4)
