@@ -27,6 +27,7 @@ from pil.errors import RobinPilError
 LIMITS: dict[str, int] = {
     "summary": 20_000_000,  # a run's summary.json: a few KB
     "registry": 50_000_000,  # a study's participants.json: a few KB per participant
+    "settings": 20_000_000,  # a sweep's manifest.json, a study's settings: a few KB
     "questionnaires": 50_000_000,  # questionnaires.jsonl: a few hundred bytes an answer
     "log": 2_000_000_000,  # log.jsonl, events.jsonl, inputs.jsonl, a sweep's journal
     "results": 2_000_000_000,  # a results CSV read whole: millions of runs

@@ -236,3 +236,34 @@ def test_the_same_session_in_two_folders_is_refused(
     session = _live_with_answers(tmp_path / "live")
     shutil.copytree(session, session.parent / "s1-copy")
     refused(["report", str(tmp_path / "live")], capsys, "s1-copy", "P02/s1")
+
+
+@pytest.mark.parametrize("kind", ["dev-zero", "fifo"])
+def test_the_study_registry_and_the_sweep_store_read_no_device(tmp_path: Path, kind: str) -> None:
+    from pil.experiments.sweep_store import (
+        JOURNAL,
+        MANIFEST,
+        RunStore,
+        SweepStoreError,
+        read_journal,
+    )
+    from robin_sim.lab.registry import Registry, RegistryError
+
+    def hostile(path: Path) -> Path:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        os.mkfifo(path) if kind == "fifo" else path.symlink_to("/dev/zero")
+        return path
+
+    started = time.monotonic()
+    hostile(tmp_path / "study" / "registry.json")
+    with pytest.raises(RegistryError, match="not a regular file"):
+        Registry(tmp_path / "study", "s").entries()
+    with pytest.raises(SweepStoreError, match="not a regular file"):
+        read_journal(hostile(tmp_path / "sweep" / JOURNAL))
+    hostile(tmp_path / "sweep2" / MANIFEST)
+    with (
+        pytest.raises(SweepStoreError, match="not a regular file"),
+        RunStore(tmp_path / "sweep2", {"kind": "x"}),
+    ):
+        pass
+    assert time.monotonic() - started < 5
