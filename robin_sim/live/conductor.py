@@ -78,12 +78,6 @@ class Conductor:
     def session(self) -> LiveSession:
         return self.sessions[self.index]
 
-    def record_input(self, raw: object, why: str) -> None:
-        """Log a message of the participant's that the session did not take itself in the
-        current block's ``inputs.jsonl`` (``why`` empty: accepted), e.g. one dropped over the
-        rate limit or an answer to a questionnaire (none before the first block starts)."""
-        self.session.record_input(raw, why)
-
     def attach(self, loop: asyncio.AbstractEventLoop, on_frame: FrameSink) -> None:
         """Bind to the server's event loop; ``on_frame`` gets every frame (physics thread)."""
         self._loop, self._on_frame = loop, on_frame
@@ -147,13 +141,7 @@ class Conductor:
             return self.session.reading_reply() if item.kind == "hand" else None
         if self.phase == "questionnaire" and self._questioning is not None:
             questioning = self._questioning
-            try:
-                answered = questioning.receive(raw)
-            except LiveInputError as error:  # in the block's inputs.jsonl, refused and why
-                self.record_input(raw, str(error))
-                raise
-            self.record_input(raw, "")  # accepted: the answers are in questionnaires.jsonl
-            if answered:
+            if questioning.receive(raw):  # LiveInputError when not valid
                 await self._after_questions()
             return None
         item = parse_input(raw, self.width, self.height)
@@ -263,7 +251,7 @@ class Conductor:
             if asked and session.status().get("status") in ASKED_AFTER:
                 self.phase, self._asking = "questionnaire", "block"
                 self._questioning = Questioning(
-                    self.questionnaires, session.out_dir, self.configs[self.index]
+                    self.questionnaires, session.out_dir, self.configs[self.index], inputs=session
                 )
                 return
             await self._next()

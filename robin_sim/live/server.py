@@ -157,7 +157,7 @@ class LiveServer:
     async def _received(self, tab: Tab, data: str | bytes) -> None:
         """Validate one message and act on it; anything wrong gets an error reply."""
         if tab.over_rate(time.monotonic()):
-            self.drops.drop(tab, data, self.conductor.record_input)  # logged, capped
+            self.drops.drop(tab, data, self.conductor.session.record_input)  # logged, capped
             return
         if tab.role == "experimenter":
             await self._command(tab, data)
