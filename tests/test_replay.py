@@ -137,6 +137,27 @@ def test_a_damaged_states_file_is_refused_before_rendering(
         load_states(path)
 
 
+def test_an_array_whose_header_claims_more_than_its_data_is_refused_before_allocation(
+    tmp_path: Path,
+) -> None:
+    import io
+    import zipfile
+
+    path = recorded_run(tmp_path)
+    header = io.BytesIO()  # 900 000 frames x 9 000 geoms: 259 GB if it were allocated
+    np.lib.format.write_array_header_2_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (900_000, 9_000, 4)}
+    )
+    with zipfile.ZipFile(path) as archive:
+        members = {i.filename: archive.read(i) for i in archive.infolist()}
+    members["geom_rgba.npy"] = header.getvalue()  # the header alone, no data
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, data in members.items():
+            archive.writestr(name, data)
+    with pytest.raises(StatesError, match="geom_rgba's size in the zip does not match its header"):
+        load_states(path)
+
+
 def test_replay_of_a_damaged_states_file_is_one_line(tmp_path: Path, capsys) -> None:
     _damaged(tmp_path, qpos=lambda q: _with(q, (0, 0), np.nan))
     assert main(["replay", str(tmp_path)]) == 2

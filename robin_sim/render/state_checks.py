@@ -30,6 +30,7 @@ MAX_WIDTH = 10_000  # values per frame in a row (the scene has about 70 joints, 
 MAX_COPIES = 100_000  # video frames one state stands for (nearly an hour at 30 fps)
 MAX_VIDEO_FRAMES = 10_000_000  # video frames in all (over 90 hours at 30 fps)
 MAX_TEXT_BYTES = 200_000_000  # meta and the overlays' table, as text
+MAX_ARRAY_BYTES = 2_000_000_000  # all arrays together, as loaded
 MAX_VALUE = 1e6  # no time, position, quaternion, colour or size comes near (m, s, rad)
 # name -> (dimensions, kind of numbers: f float, i whole, U text)
 ARRAYS: dict[str, tuple[int, str]] = {
@@ -103,12 +104,22 @@ def read_state_arrays(path: Path) -> tuple[dict[str, np.ndarray], dict[str, Any]
                 missing = [n for n in ARRAYS if n not in names]
                 if missing:
                     raise ValueError(f"no {missing[0]!r} array")
+                total = 0
                 for name in ARRAYS:
                     with archive.open(names[name]) as member:
                         shape, dtype = _header(member)
-                    problem = _check_header(name, shape, dtype)
+                        problem = _check_header(name, shape, dtype)
+                        data_bytes = math.prod(shape) * dtype.itemsize
+                        if not problem and names[name].file_size != member.tell() + data_bytes:
+                            problem = f"{name}'s size in the zip does not match its header"
                     if problem:
                         raise StatesError(f"{path}: {problem}")
+                    total += data_bytes
+                if total > MAX_ARRAY_BYTES:  # checked before a byte of data is read
+                    raise StatesError(
+                        f"{path}: its arrays would take {total:,} bytes, more than "
+                        f"{MAX_ARRAY_BYTES:,} (a run of 9 hours takes far less)"
+                    )
             handle.seek(0)
             with np.load(handle, allow_pickle=False) as data:
                 arrays = {name: data[name] for name in ARRAYS}
