@@ -23,6 +23,7 @@ INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.file
 SESSION_LOG_NAME = "log.jsonl"  # a live session's step log (robin_sim.live.run)
 EVENTS_NAME = "events.jsonl"  # what a live session did of itself (robin_sim.live.files)
 COUNTED_STATUS = "finished"
+SESSION_ID = ("participant", "session", "block", "scenario")  # one session's identity
 # measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
 MEASURES: dict[str, str] = {
     "gestures": "instruction gestures",
@@ -79,17 +80,19 @@ def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
     """
     folder = Path(folder)
     rows: list[dict[str, Any]] = []
+    seen: dict[tuple[Any, ...], str] = {}  # a session's identity -> its summary
     for path in sorted(folder.rglob(SUMMARY_NAME)):
         summary = _read_summary(path)
         if "live" in summary:
             row = session_row(summary, path, folder)
-            twin = next((r for r in rows if _same_session(r, row)), None)
-            if twin is not None:  # a copied folder would count one session twice
+            ident = tuple(row[k] for k in SESSION_ID)
+            if ident in seen:  # a copied folder would count one session twice
                 raise SessionsError(
                     f"{path}: the session {row['participant']}/{row['session']} "
-                    f"(block {row['block']}) is also in {twin['summary']}; each session is "
+                    f"(block {row['block']}) is also in {seen[ident]}; each session is "
                     "reported once: remove the copy"
                 )
+            seen[ident] = row["summary"]
             rows.append(row)
     rows.sort(
         key=lambda r: (
@@ -100,10 +103,6 @@ def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
         )
     )
     return rows
-
-
-def _same_session(a: Mapping[str, Any], b: Mapping[str, Any]) -> bool:
-    return all(a[k] == b[k] for k in ("participant", "session", "block", "scenario"))
 
 
 def _natural(text: str) -> list[tuple[int, int | str]]:
