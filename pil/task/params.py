@@ -187,8 +187,17 @@ SCENARIO = ParamSpec(
     empty="scenarios/assembly.yaml",
 )
 RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
+MIN_RATE = 0.001  # the smallest detection rate: one gesture in a thousand read
 RATE = ParamSpec(
-    "rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True, why_low=NEVER_DETECTED
+    "rate",
+    "float",
+    1.0,
+    "gesture detection rate",
+    0.0,
+    1.0,
+    low_open=True,
+    why_low=NEVER_DETECTED,
+    smallest=MIN_RATE,
 )
 # a step-level environment (pil.env) may miss every gesture: rate 0 is valid there
 STEP_RATE = replace(RATE, low_open=False, why_low="", doc="gesture detection rate (0: all missed)")

@@ -19,6 +19,13 @@ def _seconds(value: float | None) -> str:
     return f"{int(minutes)} min {seconds:04.1f} s" if minutes else f"{seconds:.1f} s"
 
 
+def _detection(summary: dict[str, Any]) -> str:
+    """How gestures were read: the simulated detector's rate, or the eye cameras (no rate)."""
+    if "vision" in summary:
+        return "gestures read by Robin's eye cameras (vision)"
+    return f"detection rate {summary['rate']:g}"
+
+
 def summary_text(summary: dict[str, Any], out: Path) -> str:
     """The end-of-episode lines for a person reading the terminal."""
     status = summary["status"]
@@ -29,7 +36,7 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
     lines = [
         f"episode {ended}",
         f"  run             {summary['system_name']}, scenario {summary['scenario']}",
-        f"                  detection rate {summary['rate']:g}, seed {summary['seed']}",
+        f"                  {_detection(summary)}, seed {summary['seed']}",
         f"  legs delivered  {legs} ({where})",
         f"  gestures        {summary['gestures']} instruction gestures, "
         f"{summary['repeats']} repeats, {summary['corrections']} corrections",

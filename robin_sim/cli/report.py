@@ -117,11 +117,12 @@ def run_folder(args: argparse.Namespace) -> int:
                 "on all its measures, every pair of conditions compared"
             )
         out = args.out if args.out is not None else folder / "report"
+        from pil.experiments.questionnaire_report import load_answers, write_answers_report
+
+        answers = load_answers(folder)  # a damaged answer raises before anything is written
         for path in write_sessions_report(rows, folder, out):
             print(path)
-        from pil.experiments.questionnaire_report import write_answers_report
-
-        for path in write_answers_report(folder, out):  # answers after the blocks, if any
+        for path in write_answers_report(folder, out, answers):  # after the blocks, if any
             print(path)
         for where, why in unreported_sessions(folder):  # listed in report.md too
             print(f"robin-pil report: not reported: {where}: {why}", file=sys.stderr)

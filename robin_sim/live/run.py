@@ -100,7 +100,7 @@ class LiveRun(ClosesOnExit):
                 spots=self.picker.spot_pixels(),
                 on_state=self.picker.show,
                 legs=self.picker.leg_pixels,
-                states=out_dir / STATES_NAME,
+                states=out_dir / STATES_NAME if config.video else None,  # --no-video: none
             )
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says

@@ -40,6 +40,7 @@ from robin_sim.live.tabs import (
     EXAMPLE,
     RATE_LIMIT,
     ControlSlot,
+    DropLog,
     Tab,
     close_tabs,
     error_reply,
@@ -99,6 +100,7 @@ class LiveServer:
         self.app.router.add_get("/ws", self._websocket)
         self._loop: asyncio.AbstractEventLoop | None = None
         self.control = ControlSlot(reconnect_grace_s, self._abandoned)
+        self.drops = DropLog()
 
     # --- WebSocket --------------------------------------------------------------------------
     async def _websocket(self, request: web.Request) -> web.WebSocketResponse:
@@ -155,12 +157,7 @@ class LiveServer:
     async def _received(self, tab: Tab, data: str | bytes) -> None:
         """Validate one message and act on it; anything wrong gets an error reply."""
         if tab.over_rate(time.monotonic()):
-            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role, RATE_LIMIT)
-            tab.send(
-                error_reply(
-                    f"too many messages: at most {RATE_LIMIT} per second; this one was dropped"
-                )
-            )
+            self.drops.drop(tab, data, self.conductor.session.record_input)  # logged, capped
             return
         if tab.role == "experimenter":
             await self._command(tab, data)
@@ -263,6 +260,7 @@ class LiveServer:
             await asyncio.sleep(0.3)
         finally:
             self.control.cancel()
+            self.drops.summary()
             if status_task is not None:
                 status_task.cancel()
             await close_tabs(self.tabs, self.limits.close_timeout_s)
