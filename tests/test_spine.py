@@ -134,10 +134,11 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
 def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system: str) -> None:
     """Every value given is checked once (the learner's exploration rule and the agent's
     settings included): by the registry, not again by the constructors."""
-    from pil.experiments.systems import run_one
+    from pil.experiments.systems import spec_row
 
     given = {"discard": "0.3", "patience": "2", "exploration": "avoid-last", "epsilon": "0.2"}
-    row = run_one(system, "0.6", "4", tables="1", **given)
+    spec = parse_run_spec(system=system, rate="0.6", seed="4", params={"tables": "1", **given})
+    row = spec_row(spec)
     assert row["tables"] == 1 and row["discard"] == 0.3 and row["patience"] == 2
     names = {"rate", "seed", "system", *given}
     # the scenario file's own assembly keys: checked once, when the file is read
@@ -148,16 +149,20 @@ def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system:
 
 
 def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
-    """The grid parses every value once; its per-cell check and the worker (called here in
-    this process) take the typed row as given: nothing is parsed again, and the row is the
-    one :func:`run_one` makes of the same values given as text."""
-    from pil.experiments.sweep_exec import execute_run
-    from pil.experiments.sweep_grid import build_grid, load_target
-    from pil.experiments.systems import run_one
+    """The grid parses every value once and each row once into its typed spec (the scenario
+    file read once for the sweep); the worker (called here in this process) runs the typed
+    spec as given: nothing is parsed again, no ``**params`` spread, and the row is the one a
+    learner run of the same values given as text makes."""
+    from learner_rows import learner_row
 
-    target = load_target("learner")
+    from pil.experiments.sweep_exec import execute_run
+    from pil.experiments.sweep_grid import build_grid
+    from pil.experiments.sweep_kinds import load_kind
+    from pil.task.spec import RunSpec
+
+    kind = load_kind("learner")
     grid = build_grid(
-        target,
+        kind,
         systems=["pil", "c1"],
         rates=["0.6", "1.0"],
         reps=2,
@@ -165,17 +170,53 @@ def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
         tables=1,
     )
     runs = grid.runs()
-    outcomes = [execute_run(target.worker_function, *run.call_args()) for run in runs]
+    assert all(isinstance(run.spec, RunSpec) for run in runs)
+    outcomes = [execute_run(kind.run, run.spec) for run in runs]
     assert len(outcomes) == 2 * 2 * 2 * 2, len(outcomes)
     assert all(outcome["status"] == "ok" for outcome in outcomes), outcomes[0]
     # once each value as given (two rates, two discards), once the table count and the seed
-    assert parse_calls["rate"] == 2 and parse_calls["discard"] == 2, parse_calls
-    assert parse_calls["patience"] == 1 and parse_calls["seed"] == 1, parse_calls
-    assert parse_calls["system"] == 0, parse_calls  # the grid checks them against its systems
-    args, kwargs = runs[-1].call_args()
-    text = {name: str(value) for name, value in kwargs.items()}
-    again = run_one(args[0], str(args[1]), str(args[2]), **text)
+    assert parse_calls.pop("rate") == 2 and parse_calls.pop("discard") == 2, parse_calls
+    assert parse_calls.pop("patience") == 1 and parse_calls.pop("seed") == 1, parse_calls
+    assert parse_calls.pop("reps") == 1, parse_calls
+    assert parse_calls.pop("system", 0) == 0, parse_calls  # checked against the kind's systems
+    # tables: once as given, once as the scenario file's own value when the file is read once
+    assert parse_calls.pop("tables") == 2, parse_calls
+    assert parse_calls == Counter(dict.fromkeys(set(ASSEMBLY) - {"tables"}, 1)), parse_calls
+    last = runs[-1]
+    text = {name: str(value) for name, value in last.params}
+    again = learner_row(last.system, str(last.rate), str(last.seed), **text)
     assert {k: v for k, v in outcomes[-1]["metrics"].items() if k in again} == again
+
+
+@pytest.mark.slow
+def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_path: Path) -> None:
+    """A physical sweep's grid to the episode's end: each value checked once (by the grid),
+    each row parsed once into an EpisodeSpec, which the worker (called here in this process,
+    so that its checks are counted) runs as given."""
+    from pil.experiments.sweep_exec import execute_run
+    from pil.experiments.sweep_grid import build_grid
+    from pil.experiments.sweep_kinds import load_kind
+    from robin_sim.episode.config import EpisodeSpec
+
+    kind = load_kind("physical")
+    grid = build_grid(
+        kind,
+        systems=["pil"],
+        rates=["1.0"],
+        reps=1,
+        params=["legs_per_table=1", "verify=false"],
+        tables=None,
+    )
+    runs = grid.runs()
+    assert all(isinstance(run.spec, EpisodeSpec) for run in runs)
+    outcomes = [execute_run(kind.run, run.spec) for run in runs]
+    assert [o["status"] for o in outcomes] == ["ok"], outcomes
+    assert all(o["metrics"]["legs_delivered"] == 1 for o in outcomes), outcomes
+    for name in ("rate", "seed", "reps", "verify"):
+        assert parse_calls.pop(name) == 1, (name, parse_calls)
+    # legs_per_table: once as given, once as the scenario file's own value (read once)
+    assert parse_calls.pop("legs_per_table") == 2, parse_calls
+    assert parse_calls == Counter(dict.fromkeys(set(ASSEMBLY) - {"legs_per_table"}, 1))
 
 
 @pytest.mark.slow

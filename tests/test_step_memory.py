@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import pytest
+from learner_rows import learner_row
 
 from pil import Action, State
 from pil.agents import AGENTS, BanditAgent, TamerAgent
 from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.errors import InvalidChoiceError
-from pil.experiments.systems import run_one
 from pil.learner import Learner
 from pil.step_memory import STEP_MEMORY, step_memory_on
 from pil.task.params import PARAMS, ParamError
@@ -71,7 +71,7 @@ def test_the_default_is_each_learners_own_setting() -> None:
 
 def test_in_runs_the_memory_changes_next_best_but_not_untried_first() -> None:
     def actions(**params: object) -> int:
-        return run_one("pil", 0.6, seed=2, tables=3, **params)["total_actions"]
+        return learner_row("pil", 0.6, seed=2, tables=3, **params)["total_actions"]
 
     assert actions(exploration="untried-first", step_memory="on") == actions(
         exploration="untried-first", step_memory="off"
@@ -81,8 +81,8 @@ def test_in_runs_the_memory_changes_next_best_but_not_untried_first() -> None:
     assert actions(exploration="with-replacement", step_memory="on") == actions(
         exploration="avoid-last", step_memory="on"
     )  # both draw among the actions not refused in this step
-    tamer = run_one("tamer", 0.6, seed=2, tables=3)
-    assert tamer == run_one("tamer", 0.6, seed=2, tables=3, step_memory="on") | {
+    tamer = learner_row("tamer", 0.6, seed=2, tables=3)
+    assert tamer == learner_row("tamer", 0.6, seed=2, tables=3, step_memory="on") | {
         "step_memory": "per-learner"
     }
 
@@ -94,7 +94,7 @@ def test_step_size_has_one_range_the_registry_and_tamer_agree() -> None:
     with pytest.raises(ParamError, match=r"parameter 'step_size' must be a number in \[0, 1\]"):
         spec.parse(1.5)
     with pytest.raises(ParamError, match=r"'step_size' must be a number in \[0, 1\]"):
-        run_one("tamer", 0.6, seed=0, step_size=1.5)  # refused before the run
+        learner_row("tamer", 0.6, seed=0, step_size=1.5)  # refused before the run
     assert TamerAgent(step_size=1.0).step_size == 1.0  # the top of the range is allowed
     for name, agent in (("epsilon", BanditAgent()), ("epsilon_decay", BanditAgent())):
         assert PARAMS[name].default == getattr(agent, name)

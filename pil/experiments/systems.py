@@ -1,4 +1,4 @@
-"""The study's systems (the paper's five, section IV-B, and baselines) and :func:`run_one`.
+"""The study's systems (the paper's five, section IV-B, and baselines) and :func:`spec_row`.
 
 * ``pil``: Proactive Incremental Learning from scratch, with correction, on the test tables.
 * ``c1``: pre-trained at the test rate d, with correction.
@@ -21,16 +21,14 @@ share one training run, and c2 and c4 another.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, MutableMapping
-from pathlib import Path
+from collections.abc import MutableMapping
 from typing import Any
 
 from pil.experiments.run_row import ROW_COLUMNS, run_row
 from pil.task.assemble import Training, assemble
 from pil.task.parts import DEFAULT_VALUES, derive_seeds, resolve_scenario
 from pil.task.runner import RunStats
-from pil.task.scenario import Scenario
-from pil.task.spec import RunSpec, build_run_spec, parse_run_spec
+from pil.task.spec import RunSpec
 from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, SystemSpec, check_system
 
 __all__ = [
@@ -41,12 +39,9 @@ __all__ = [
     "SYSTEM_SPECS",
     "SystemSpec",
     "Training",
-    "check_run",
     "check_system",
     "derive_seeds",
     "resolve_scenario",
-    "run_checked",
-    "run_one",
     "spec_row",
 ]
 
@@ -68,46 +63,3 @@ def spec_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> di
         "scenario": spec.scenario.name,
     }
     return run_row(cells, stats, train, spec.effective().values())
-
-
-def check_run(system: str, rate: float, seed: int, **params: Any) -> Scenario:
-    """What a sweep grid cannot check value by value, for a row it parsed (its values typed,
-    not checked again): the scenario file and the assembly it makes; returns the resolved
-    scenario. A sweep calls it once per distinct cell before its first run."""
-    return _row_spec(system, rate, seed, params).scenario
-
-
-def _row_spec(system: str, rate: float, seed: int, params: Mapping[str, Any]) -> RunSpec:
-    """The spec of a sweep grid's row (values parsed by the grid's specs; nothing parsed)."""
-    values = dict(params)
-    scenario = values.pop("scenario", None)
-    return build_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, values=values)
-
-
-def run_checked(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
-    """:func:`run_one` of a sweep grid's row, whose values the grid parsed (typed, trusted):
-    what a sweep's worker runs, so no value is checked again there."""
-    return spec_row(_row_spec(system, rate, seed, params))
-
-
-def run_one(
-    system: str,
-    rate: float,
-    seed: int,
-    *,
-    tables: int | None = None,
-    scenario: Scenario | str | Path | None = None,
-    **params: Any,
-) -> dict[str, Any]:
-    """One learner-only run of ``system`` at detection rate ``rate``: a flat CSV row.
-
-    ``tables`` and the other assembly fields default to the scenario file's (10 tables in
-    ``scenarios/assembly.yaml``). ``params`` are any of :data:`DEFAULT_VALUES` (e.g.
-    ``discard=0.3``, ``silent_ok=0.1``, ``detector="independent"``); an unknown name raises
-    an error listing the valid ones. The row's columns are :data:`ROW_COLUMNS`; the same
-    arguments always give the same row. The arguments are parsed once
-    (:func:`pil.task.spec.parse_run_spec`).
-    """
-    given = params if tables is None else {**params, "tables": tables}
-    spec = parse_run_spec(system=system, rate=rate, seed=seed, scenario=scenario, params=given)
-    return spec_row(spec)

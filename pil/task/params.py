@@ -186,7 +186,7 @@ SCENARIO = ParamSpec(
     optional=True,
     empty="scenarios/assembly.yaml",
 )
-RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
+RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # a run's option besides PARAMS
 RATE = ParamSpec(
     "rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True, why_low=NEVER_DETECTED
 )
