@@ -82,10 +82,6 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         "RULES": ("pil/exploration.py", "pil/validity.py"),
         # each web page's own static folder
         "STATIC_DIR": ("robin_sim/live/pages.py", "robin_sim/replay/serve.py"),
-        # an episode's and a live session's file names (left to the run-assembly refactor)
-        "SUMMARY_NAME": ("pil/experiments/sessions_load.py", "robin_sim/episode/run.py"),
-        # an episode's step log (episode.jsonl); a live session's (log.jsonl)
-        "LOG_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
         # the step loop's Hand.OCCUPIED; the validity rules' set of hand states
         "_OCCUPIED": ("pil/task/runner.py", "pil/validity.py"),
         # each task file kind's keys
@@ -227,6 +223,39 @@ def literal_count(pattern: str, packages: tuple[str, ...] = PACKAGES) -> dict[st
 )
 def test_a_fact_is_written_once(pattern: str, home: str) -> None:
     assert literal_count(pattern) == {home: 1}
+
+
+@pytest.mark.parametrize(
+    ("pattern", "homes"),
+    [
+        # the default repetitions: the paper's 20 (also the registry's REPS default)
+        (
+            r"(?i)reps\b[^\n=(]*=\s*20\b|\"reps\",\s*\"int\",\s*20\b",
+            ("pil/experiments/paper.py",),
+        ),
+        # robin-pil transfer's rates; adapt's and people's (two studies, two facts)
+        (r"[(\"]0\.6,\s*0\.8,\s*1\.0[)\"]", ("pil/experiments/transfer.py",)),
+        (r"[(\"]0\.8,\s*1\.0[)\"]", ("pil/experiments/adaptation.py", "pil/experiments/people.py")),
+        # the exact dice's name
+        (r"[\"']exact[\"']", ("pil/task/detector.py",)),
+        # the files the commands write and read
+        *(
+            (rf"[\"']{re.escape(name)}[\"']", ("pil/file_names.py",))
+            for name in (
+                "summary.json",
+                "episode.jsonl",
+                "episode.mp4",
+                "runs.csv",
+                "results.csv",
+                "measured.json",
+            )
+        ),
+    ],
+)
+def test_a_value_is_written_once(pattern: str, homes: tuple[str, ...]) -> None:
+    """The value itself (not only its name) is written in its home alone: everywhere else
+    imports the name."""
+    assert literal_count(pattern) == dict.fromkeys(homes, 1)
 
 
 def test_agent_settings_are_the_agents_defaults_and_ranges() -> None:

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from pil.experiments.adaptation import remap
+from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.task.assemble import assemble_phase
@@ -34,6 +35,7 @@ from pil.types import Action, Gesture
 DEFAULT_PEOPLE = SCENARIOS_DIR / "two_people.yaml"
 MODES: tuple[str, ...] = ("shared", "per-person")
 PEOPLE_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+PEOPLE_RATES: tuple[float, ...] = (0.8, 1.0)  # robin-pil people's default detection rates
 _KEYS = ("name", "description", "scenario", "people")
 
 
@@ -111,8 +113,8 @@ def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
 def run_people_study(
     people: People,
     systems: Sequence[str] = PEOPLE_SYSTEMS,
-    rates: Sequence[float] = (0.8, 1.0),
-    reps: int = 20,
+    rates: Sequence[float] = PEOPLE_RATES,
+    reps: int = PAPER_REPS,
     seed: int = 0,
     progress: Any = None,
 ) -> list[dict[str, Any]]:

@@ -50,6 +50,7 @@ from pil.experiments.systems import (
     check_system,
     spec_row,
 )
+from pil.file_names import RUNS_NAME
 from pil.task.detector import MEASURED_PREFIX, load_measured
 from pil.task.params import RATE, REPS, SEED
 from pil.task.scenario import Scenario
@@ -302,7 +303,7 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
     other = claim_config(config)
     claim = run_study(other) if other is not None else None
     tests = all_tests(rows, claim)
-    written = [write_text_atomic(out / "runs.csv", csv_text(rows))]
+    written = [write_text_atomic(out / RUNS_NAME, csv_text(rows))]
     if claim:
         written.append(write_text_atomic(out / "claim_runs.csv", csv_text(claim)))
     if tests:

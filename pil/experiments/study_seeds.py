@@ -33,6 +33,7 @@ from pil.experiments.report import Row, load_rows, markdown_table
 from pil.experiments.stats import mean_ci
 from pil.experiments.study import StudyConfig, csv_text, run_study, write_outputs
 from pil.experiments.study_tests import claim_rows, claim_verdicts, discard_reading
+from pil.file_names import RUNS_NAME
 
 SEEDS_COLUMNS: tuple[str, ...] = ("seed", "rate", "measure", "ours", "paper", "diff_percent")
 FIGURES: tuple[str, ...] = ("gestures", "actions")
@@ -224,7 +225,7 @@ def run_study_seeds(
         out,
         seeds,
         settings(config),
-        "runs.csv",
+        RUNS_NAME,
         lambda seed: run_study(one(seed), progress),
         lambda seed, rows, folder: write_outputs(rows, one(seed), folder),
         skipped=(lambda _seed: progress(config.runs())) if progress else None,

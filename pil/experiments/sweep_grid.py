@@ -21,7 +21,7 @@ from typing import Any
 
 from pil.errors import InvalidChoiceError
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
-from pil.experiments.sweep_kinds import RESERVED, SweepGridError, SweepKind, cell_key
+from pil.experiments.sweep_kinds import RESERVED, SweepGridError, SweepKind
 from pil.task.params import ASSEMBLY_DEFAULTS, RATE, REPS, SEED
 from pil.task.systems import PAPER_SYSTEMS
 
@@ -55,6 +55,11 @@ class GridRow:
     seed: int
     params: tuple[tuple[str, Any], ...]  # (name, value) in the grid's parameter order
     spec: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def cell(self) -> str:
+        """The text of this row's parameter values (its cell, whatever system, rate, rep)."""
+        return "|".join(_pair(name, value) for name, value in self.params)
 
     def columns(self) -> dict[str, Any]:
         """The identifying columns of this run's row in the results file."""
@@ -199,7 +204,7 @@ def parse_rows(kind: SweepKind, rows: Sequence[GridRow]) -> list[GridRow]:
     if kind.check is not None:
         seen: set[str] = set()
         for row in parsed:
-            key = cell_key(row)
+            key = row.cell
             if key not in seen:
                 seen.add(key)
                 kind.check(row.spec)

@@ -107,13 +107,6 @@ def load_kind(kind: str, function: str | None = None) -> SweepKind:
     return entry
 
 
-def cell_key(row: GridRow) -> str:
-    """The text of a row's parameter values (its cell, whatever the system, rate and rep)."""
-    from pil.experiments.sweep_grid import format_value
-
-    return "|".join(f"{name}={format_value(value)}" for name, value in row.params)
-
-
 def scenario_of(name: str | None, cache: MutableMapping[Any, Any]) -> Any:
     """The scenario file ``name`` (None: the assembly), read once per grid (``cache``)."""
     from pil.task.assemble import cached
@@ -136,7 +129,7 @@ def parse_learner(row: GridRow, cache: MutableMapping[Any, Any]) -> Any:
         scenario = scenario_of(values.pop("scenario", None), cache)
         return build_run_spec(system="pil", rate=1.0, seed=0, scenario=scenario, values=values)
 
-    return cached(cache, ("learner", cell_key(row)), cell).for_run(row.system, row.rate, row.seed)
+    return cached(cache, ("learner", row.cell), cell).for_run(row.system, row.rate, row.seed)
 
 
 def run_learner(spec: Any) -> dict[str, Any]:

@@ -16,6 +16,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
@@ -26,6 +27,7 @@ from pil.task.spec import RunSpec, parse_run_spec
 TIDY = SCENARIOS_DIR / "tidy.yaml"
 STARTS: tuple[str, ...] = ("scratch", "table")
 TRANSFER_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+TRANSFER_RATES: tuple[float, ...] = (0.6, 0.8, 1.0)  # robin-pil transfer's default rates
 
 
 def assembly_table(spec: RunSpec) -> AssociationTable:
@@ -59,8 +61,8 @@ def run_transfer(spec: RunSpec, start: str, table: AssociationTable | None) -> d
 
 def run_transfer_study(
     systems: Sequence[str] = TRANSFER_SYSTEMS,
-    rates: Sequence[float] = (0.6, 0.8, 1.0),
-    reps: int = 20,
+    rates: Sequence[float] = TRANSFER_RATES,
+    reps: int = PAPER_REPS,
     seed: int = 0,
     *,
     table_file: str | Path | None = None,

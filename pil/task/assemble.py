@@ -23,7 +23,7 @@ from pil.learner import Learner
 from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 from pil.task.counting import RunStats
-from pil.task.detector import MEASURED_PREFIX, GestureReader, make_detector
+from pil.task.detector import EXACT, INDEPENDENT, MEASURED_PREFIX, GestureReader, make_detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.records import StepRecord
 from pil.task.runner import StepObserver, steps
@@ -83,7 +83,7 @@ def _dice(context: DetectorContext) -> GestureReader:
     )
 
 
-DETECTORS: dict[str, DetectorFactory] = {"exact": _dice, "independent": _dice, MEASURED: _dice}
+DETECTORS: dict[str, DetectorFactory] = {EXACT: _dice, INDEPENDENT: _dice, MEASURED: _dice}
 
 
 def detector_key(model: str) -> str:
@@ -204,7 +204,7 @@ def pretraining(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) ->
         return None
     rate = spec.rate if trained_at == "d" else 1.0
     model = spec.detector.model
-    learner_only = model if detector_key(model) in DETECTORS else "exact"
+    learner_only = model if detector_key(model) in DETECTORS else EXACT
     trained = replace(spec, rate=rate, detector=replace(spec.detector, model=learner_only))
 
     def train() -> Training:

@@ -21,10 +21,11 @@ from pil.agents.bandit import EPSILON, EPSILON_DECAY, EPSILON_DECAY_RANGE, EPSIL
 from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.errors import NEVER_DETECTED, InvalidChoiceError
+from pil.experiments.paper import PAPER_REPS
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
-from pil.task.detector import DEFAULT_DISCARD, MODELS
+from pil.task.detector import DEFAULT_DISCARD, EXACT, MODELS
 from pil.task.param_spec import MAX_TEXT, ParamError, ParamSpec, spec_for
 from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD
 
@@ -82,7 +83,7 @@ ASSEMBLY_DEFAULTS: dict[str, Any] = {
 PARAMS: dict[str, ParamSpec] = {
     **ASSEMBLY,
     **_specs(
-        ParamSpec("detector", "detector", "exact", "detection model", choices=MODELS),
+        ParamSpec("detector", "detector", EXACT, "detection model", choices=MODELS),
         ParamSpec("discard", "float", DEFAULT_DISCARD, "share of misses discarded", 0.0, 1.0),
         ParamSpec(
             "confusion",
@@ -193,7 +194,7 @@ RATE = ParamSpec(
 # a step-level environment (pil.env) may miss every gesture: rate 0 is valid there
 STEP_RATE = replace(RATE, low_open=False, why_low="", doc="gesture detection rate (0: all missed)")
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
-REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
+REPS = ParamSpec("reps", "int", PAPER_REPS, "repetitions", 1, 100_000)
 
 
 def parse_all(

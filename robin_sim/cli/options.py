@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.experiments.paper import PAPER_REPS
 
 RATES_LABEL = "--rates: each detection rate (comma separated)"  # names a bad one
 
@@ -52,9 +53,6 @@ def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
     return f"comma-separated systems (default: {default}); any of {names}"
 
 
-DEFAULT_REPS = 20  # repetitions of a study's runs
-
-
 def add_run_options(
     parser: argparse.ArgumentParser,
     *,
@@ -72,7 +70,7 @@ def add_run_options(
     parser.add_argument(
         "--reps",
         type=int,
-        default=None if reps_help else DEFAULT_REPS,
+        default=None if reps_help else PAPER_REPS,
         help=reps_help or "repetitions (default: %(default)s)",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")

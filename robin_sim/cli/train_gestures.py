@@ -15,6 +15,7 @@ import shutil
 import sys
 from pathlib import Path
 
+from pil.file_names import MEASURED_NAME
 from robin_sim.cli.options import add_progress_switch
 
 
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         result = train_and_report(config)
     if args.install:
         folder = shipped_path().parent
-        for name in (shipped_path().name, "report.md", "confusion.png", "measured.json"):
+        for name in (shipped_path().name, "report.md", "confusion.png", MEASURED_NAME):
             shutil.copyfile(config.out / name, folder / name)
         result["installed"] = str(folder)
     print(json.dumps(result, indent=2))

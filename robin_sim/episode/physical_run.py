@@ -18,10 +18,10 @@ from typing import Any
 
 from pil.errors import RobinPilError
 from pil.experiments.sweep_grid import GridRow
-from pil.experiments.sweep_kinds import BOUND_AS, SweepKind, cell_key, scenario_of
+from pil.experiments.sweep_kinds import BOUND_AS, SweepKind, scenario_of
 from pil.experiments.systems import spec_row
 from pil.task.assemble import cached
-from pil.task.detector import CAMERAS
+from pil.task.detector import CAMERAS, EXACT
 from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, SYMBOLIC, build_run_spec
 from pil.task.systems import SYSTEM_SPECS
@@ -43,7 +43,7 @@ def parse_physical(row: GridRow, cache: MutableMapping[Any, Any]) -> EpisodeSpec
     """The episode of a sweep's grid row, whose values the grid parsed by
     :data:`PHYSICAL_PARAMS` and the run parameters (typed: nothing is parsed again; the
     scenario file read once per cell)."""
-    made = cached(cache, ("physical", cell_key(row)), lambda: _cell_spec(dict(row.params), cache))
+    made = cached(cache, ("physical", row.cell), lambda: _cell_spec(dict(row.params), cache))
     return replace(made, run=made.run.for_run(row.system, row.rate, row.seed))
 
 
@@ -94,7 +94,7 @@ def physical_cost(spec: EpisodeSpec) -> float:
     """
     run = spec.run
     if run.detector.model == CAMERAS:
-        run = replace(run, detector=replace(run.detector, model="exact"))
+        run = replace(run, detector=replace(run.detector, model=EXACT))
     row = spec_row(replace(run, world=SYMBOLIC))
     rejected = row["rejected"]
     return APPROVED_S * (row["actions"] - rejected) + REJECTED_S * rejected

@@ -17,6 +17,7 @@ from typing import Any
 
 # the session's step log (an episode's is episode.jsonl), as the study's exports read it
 from pil.experiments.sessions_load import SESSION_LOG_NAME as LOG_NAME
+from pil.file_names import VIDEO_NAME  # the same file name as an episode's
 from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
@@ -24,7 +25,6 @@ from robin_sim.control.simulator import Simulator
 from robin_sim.episode.assemble import assemble, layout_of
 from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
-from robin_sim.episode.run import VIDEO_NAME  # the same file name as an episode's
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pil.file_names import MEASURED_NAME
 from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import SPLITS
 from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES, Evaluation
@@ -152,6 +153,6 @@ def write_report(
     report.write_text("\n".join(lines))
     figure = out / "confusion.png"
     _figure(heldout, figure)
-    measured_path = out / "measured.json"
+    measured_path = out / MEASURED_NAME
     measured_path.write_text(json.dumps(measured(heldout, condition), indent=2) + "\n")
     return [report, figure, measured_path]
