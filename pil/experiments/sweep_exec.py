@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pil.experiments.sweep_backends import Backend, SchedulerError
-from pil.experiments.sweep_grid import GridRow
+from pil.experiments.sweep_kinds import GridRow
 
 _ERROR_LIMIT = 2000  # characters of an error kept in the results
 

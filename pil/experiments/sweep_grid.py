@@ -21,7 +21,14 @@ from typing import Any
 
 from pil.errors import InvalidChoiceError
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
-from pil.experiments.sweep_kinds import RESERVED, SweepGridError, SweepKind
+from pil.experiments.sweep_kinds import (
+    RESERVED,
+    GridRow,
+    SweepGridError,
+    SweepKind,
+    format_value,
+    pair_text,
+)
 from pil.task.params import ASSEMBLY_DEFAULTS, RATE, REPS, SEED
 from pil.task.systems import PAPER_SYSTEMS
 
@@ -41,36 +48,6 @@ __all__ = [
 
 DEFAULT_SYSTEMS: tuple[str, ...] = tuple(PAPER_SYSTEMS)  # the paper's five
 DEFAULT_RATES: tuple[float, ...] = PAPER_RATES
-
-
-@dataclass(frozen=True, slots=True)
-class GridRow:
-    """One run of the grid: who (system), at which rate, with which parameters and seed, and
-    its kind's typed spec (:attr:`spec`, what a worker runs; None until the grid parses it)."""
-
-    run_id: str
-    system: str
-    rate: float
-    rep: int
-    seed: int
-    params: tuple[tuple[str, Any], ...]  # (name, value) in the grid's parameter order
-    spec: Any = field(default=None, repr=False, compare=False)
-
-    @property
-    def cell(self) -> str:
-        """The text of this row's parameter values (its cell, whatever system, rate, rep)."""
-        return "|".join(_pair(name, value) for name, value in self.params)
-
-    def columns(self) -> dict[str, Any]:
-        """The identifying columns of this run's row in the results file."""
-        return {
-            "run_id": self.run_id,
-            "system": self.system,
-            "rate": self.rate,
-            **dict(self.params),
-            "rep": self.rep,
-            "seed": self.seed,
-        }
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,22 +80,15 @@ class Grid:
         specs = []
         for rate in self.rates:
             for combo in combos:
-                cell = "|".join([f"rate={format_value(rate)}"] + [_pair(n, v) for n, v in combo])
+                cell = "|".join(
+                    [f"rate={format_value(rate)}"] + [pair_text(n, v) for n, v in combo]
+                )
                 for rep in range(self.reps):
                     key = f"{cell}|rep={rep:04d}"
                     seed = derive_seed(self.base_seed, key)
                     for system in self.systems:
                         specs.append(GridRow(f"{system}|{key}", system, rate, rep, seed, combo))
         return sorted(specs, key=lambda spec: spec.run_id)
-
-
-def format_value(value: Any) -> str:
-    """Canonical text of a parameter value (floats by ``repr``: 0.3 -> '0.3')."""
-    return repr(value) if isinstance(value, float) else str(value)
-
-
-def _pair(name: str, value: Any) -> str:
-    return f"{name}={format_value(value)}"
 
 
 def derive_seed(base_seed: int, key: str) -> int:

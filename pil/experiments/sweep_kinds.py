@@ -18,15 +18,12 @@ from __future__ import annotations
 import importlib
 import inspect
 from collections.abc import Callable, Mapping, MutableMapping
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass, field
+from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.task.params import PARAMS, RUN_OPTIONS, ParamSpec, spec_for
 from pil.task.systems import SYSTEM_SPECS
-
-if TYPE_CHECKING:
-    from pil.experiments.sweep_grid import GridRow
 
 # where each kind's registry entry lives (physical runs need robin_sim: named by import path)
 KINDS: dict[str, str] = {
@@ -47,11 +44,51 @@ RESERVED: dict[str, str] = {
 }
 _SYSTEMS_MODULE = "pil.experiments.systems"
 
-Parse = Callable[["GridRow", MutableMapping[Any, Any]], Any]
+Parse = Callable[["GridRow", MutableMapping[Any, Any]], Any]  # a kind's row -> its spec
 
 
 class SweepGridError(RobinPilError):
     """A sweep grid that cannot run: empty, an unknown name, a value of the wrong type."""
+
+
+@dataclass(frozen=True, slots=True)
+class GridRow:
+    """One run of the grid: who (system), at which rate, with which parameters and seed, and
+    its kind's typed spec (:attr:`spec`, what a worker runs; None until the grid parses it)."""
+
+    run_id: str
+    system: str
+    rate: float
+    rep: int
+    seed: int
+    params: tuple[tuple[str, Any], ...]  # (name, value) in the grid's parameter order
+    spec: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def cell(self) -> str:
+        """The text of this row's parameter values (its cell, whatever system, rate, rep)."""
+        return "|".join(pair_text(name, value) for name, value in self.params)
+
+    def columns(self) -> dict[str, Any]:
+        """The identifying columns of this run's row in the results file."""
+        return {
+            "run_id": self.run_id,
+            "system": self.system,
+            "rate": self.rate,
+            **dict(self.params),
+            "rep": self.rep,
+            "seed": self.seed,
+        }
+
+
+def format_value(value: Any) -> str:
+    """Canonical text of a parameter value (floats by ``repr``: 0.3 -> '0.3')."""
+    return repr(value) if isinstance(value, float) else str(value)
+
+
+def pair_text(name: str, value: Any) -> str:
+    """``name=value`` with the value's canonical text."""
+    return f"{name}={format_value(value)}"
 
 
 @dataclass(frozen=True, slots=True)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.types import Feedback, Gesture
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.control.gaze import look_at
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
@@ -44,7 +44,7 @@ from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES
 # the camera conditions' defaults, by name (a run's --param values replace them)
 VISION_DEFAULTS: dict[str, float] = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
-FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
+FEEDBACK_OF = {SIGN_OF[thumb]: thumb for thumb in (Feedback.OK, Feedback.NOT_OK)}
 NO_HAND = "no hand"  # a discarded reading in which neither eye found a hand
 READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 

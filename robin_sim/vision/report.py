@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pil.file_names import MEASURED_NAME
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import SPLITS
 from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES, Evaluation
@@ -19,12 +20,9 @@ if TYPE_CHECKING:
 
 # the pil names of the classes (measured files speak the learner's language)
 PIL_NAMES = {
-    "pointing": "pointing",
-    "give_me": "give me",
-    "grasp": "grasp",
-    "release": "release",
-    "thumb_up": "OK",
-    "thumb_down": "not OK",
+    **{SIGN_OF[gesture]: gesture.value for gesture in Gesture},
+    SIGN_OF[Feedback.OK]: "OK",
+    SIGN_OF[Feedback.NOT_OK]: "not OK",
 }
 
 

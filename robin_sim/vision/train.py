@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pil.types import SIGN_OF, Feedback
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE, GestureModel
 from robin_sim.vision.reader import Reading
 
@@ -26,7 +27,7 @@ HIDDEN = 128  # hidden units
 PENALTY = 1e-2  # scikit-learn's alpha (L2)
 MAX_ITER = 400
 GESTURE_CLASSES = CLASSES[:4]
-FEEDBACK_CLASSES = ("thumb_up", "thumb_down")
+FEEDBACK_CLASSES = (SIGN_OF[Feedback.OK], SIGN_OF[Feedback.NOT_OK])
 DISCARDED = "discarded"
 
 

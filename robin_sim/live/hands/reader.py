@@ -29,14 +29,14 @@ import numpy as np
 
 from robin_sim.live.hands.appearance import Appearance
 from robin_sim.live.hands.landmarks import INDEX_TIP, HandInput, features, normalised
-from robin_sim.live.hands.shape import GESTURE_NAMES, memberships, read_shape
+from robin_sim.live.hands.shape import GESTURE_NAMES, POINTING_SIGN, memberships, read_shape
 
 THRESHOLD = 0.5  # confidence below which a reading is discarded
 HOLD = 2  # readings in a row that decide a gesture
 DWELL_S = 1.2  # s the pointing cursor is held still to select
 DWELL_RADIUS = 40.0  # frame pixels the cursor may wander while held still
 CURSOR_MARGIN = 0.15  # of the camera image on each side left out of the cursor's range
-CALIBRATION_ORDER = ("give_me", "grasp", "release", "thumb_up", "thumb_down", "pointing")
+CALIBRATION_ORDER = GESTURE_NAMES  # pointing last: its example moves the cursor
 CALIBRATION_GAP_S = 1.0  # s after an example is taken before the next is looked for
 # An example this close to one already taken for another gesture is refused: the hand did not
 # change (features in palm sizes; on the footage the same gesture lies 0.2-1.7 apart, two
@@ -214,7 +214,7 @@ class HandReader:
         if self._latched is not None and self._latched != label:
             self._latched = None
         self._run.append(reading)
-        if label == "pointing":
+        if label == POINTING_SIGN:
             self._point(reading, hand, now)
         elif len(self._run) >= self.hold and self._latched != label:
             reading.decided = label
@@ -234,8 +234,8 @@ class HandReader:
             return
         held = now - anchor[2]
         reading.dwell = min(1.0, held / self.dwell_s)
-        if held >= self.dwell_s - 1e-6 and self._latched != "pointing":
-            reading.decided = "pointing"
+        if held >= self.dwell_s - 1e-6 and self._latched != POINTING_SIGN:
+            reading.decided = POINTING_SIGN
             reading.cursor = (anchor[0], anchor[1])
 
     def acted(self, reading: Reading, what: str, key: tuple[int, int] | None) -> None:
