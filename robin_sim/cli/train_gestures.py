@@ -51,10 +51,10 @@ def run(args: argparse.Namespace) -> int:
 
     from pil.outdir import claimed_out_dir
     from robin_sim.vision.build import render_all, train_and_report
-    from robin_sim.vision.build_config import BuildConfig, default_workers
+    from robin_sim.vision.build_config import BuildConfig, default_build_workers
     from robin_sim.vision.classifier import shipped_path
 
-    workers = default_workers() if args.workers is None else args.workers
+    workers = default_build_workers() if args.workers is None else args.workers
     config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=workers)
     total = config.samples + config.heldout
     with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.live.hands.landmarks import HandInput
-from robin_sim.live.hands.reader import HandReader, Reading
+from robin_sim.live.hands.reader import HandReader, HandReading
 from robin_sim.live.hands.shape import POINTING_SIGN
 from robin_sim.live.inputs import GESTURE_BY_KEY, LiveInputError
 from robin_sim.live.participant import Gesturing
@@ -48,7 +48,7 @@ class Webcam:
         self.calibrate = calibrate
         self._lock = threading.Lock()
         self._recent: deque[float] = deque()
-        self.last: Reading | None = None
+        self.last: HandReading | None = None
         self.problem = ""  # why the last decision could not be acted on ("" none)
 
     def start(self) -> None:
@@ -70,7 +70,7 @@ class Webcam:
         participant: LiveParticipant,
         pick: Callable[[float, float], Target],
         on_pick: Callable[[Target, float, float], None],
-    ) -> Reading:
+    ) -> HandReading:
         """Read one message and act on its decision; :class:`LiveInputError` over the rate."""
         started = time.perf_counter()
         now = time.monotonic()
@@ -91,7 +91,7 @@ class Webcam:
 
     def _act(
         self,
-        reading: Reading,
+        reading: HandReading,
         participant: LiveParticipant,
         pick: Callable[[float, float], Target],
         on_pick: Callable[[Target, float, float], None],
@@ -134,7 +134,7 @@ class Webcam:
                 approved=feedback is not Feedback.NOT_OK,
             )
 
-    def reply(self, reading: Reading) -> dict[str, Any]:
+    def reply(self, reading: HandReading) -> dict[str, Any]:
         """What the page is told of a reading (its cursor, dwell ring and calibration)."""
         with self._lock:
             return {"type": "reading", **reading.as_dict(), "problem": self.problem, **self._cal()}

@@ -2,7 +2,7 @@
 the person's looks (``skin``, ``pose_jitter``) and whether Robin adapts its gesture model to
 the person (``adapt``, :mod:`robin_sim.vision.adapting`).
 
-One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.Condition`
+One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.EyeCondition`
 checks its values against them, the episode's edge parses them apart from the run's
 parameters (:func:`robin_sim.episode.config.parse_episode`) and a physical sweep checks them
 before its first run.
