@@ -1,7 +1,7 @@
 """A learner-only run's row from values given as text or typed, for the tests (not collected).
 
 :func:`learner_row` parses its arguments once (:func:`pil.task.spec.parse_run_spec`) and
-runs the spec (:func:`pil.experiments.systems.spec_row`), as a study or a sweep's learner kind
+runs the spec (:func:`pil.experiments.run_row.spec_row`), as a study or a sweep's learner kind
 does with values it parsed.
 """
 
@@ -10,7 +10,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.systems import spec_row
+from pil.experiments.run_row import spec_row
 from pil.task.scenario import Scenario
 from pil.task.spec import parse_run_spec
 

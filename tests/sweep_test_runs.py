@@ -14,7 +14,8 @@ from typing import Any
 
 from learner_rows import learner_row
 
-from pil.experiments.systems import DEFAULT_VALUES, SYSTEMS
+from pil.task.parts import DEFAULT_VALUES
+from pil.task.systems import SYSTEMS
 
 PARAMS: dict[str, Any] = {**DEFAULT_VALUES, "delay": 0.0, "die": "", "marks": ""}
 __all__ = ["PARAMS", "SYSTEMS", "flaky_run", "learner_run", "paced_run", "self_failing_run"]

@@ -10,7 +10,7 @@ from learner_rows import learner_row
 from pil import Action, Learner, State, load_table
 from pil.agents import AGENTS, Agent, BanditAgent, TamerAgent
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS
+from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS
 from pil.types import ACTIONS
 
 S = State("pointing", "open", "free")

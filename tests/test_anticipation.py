@@ -8,7 +8,6 @@ from learner_rows import learner_row
 from pil.anticipation import anticipate, can_anticipate
 from pil.errors import RobinPilError
 from pil.experiments.study import StudyConfig, csv_text, run_study, summary_text
-from pil.experiments.systems import PAPER_SYSTEMS, SYSTEM_SPECS
 from pil.learner import Learner
 from pil.table import AssociationTable, state_id
 from pil.task.counting import RunStats
@@ -16,6 +15,7 @@ from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.runner import steps
 from pil.task.scenario import load_scenario
+from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES, is_valid

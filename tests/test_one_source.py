@@ -342,9 +342,8 @@ def test_frame_checks_are_the_episode_s_for_the_live_page_and_the_writer() -> No
 
 def test_row_columns_and_lookups_are_imported_not_copied() -> None:
     from pil import learner, table
-    from pil.experiments import run_row, study, systems
+    from pil.experiments import run_row, study
 
-    assert systems.ROW_COLUMNS is run_row.ROW_COLUMNS
     assert study.STUDY_COLUMNS[1:] == run_row.ROW_COLUMNS
     assert learner.ACTION_INDEX is table.ACTION_INDEX
     assert learner.STATE_ID_BY_OBJECT is table.STATE_ID_BY_OBJECT

@@ -41,7 +41,6 @@ VALIDATORS: dict[str, tuple[str, str]] = {
 CHECKING_MODULES = (
     "pil.task.spec",
     "pil.experiments.study",
-    "pil.experiments.systems",
     "robin_sim.episode.physical_run",
     "robin_sim.episode.config",
     "robin_sim.live.config",
@@ -134,7 +133,7 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
 def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system: str) -> None:
     """Every value given is checked once (the learner's exploration rule and the agent's
     settings included): by the registry, not again by the constructors."""
-    from pil.experiments.systems import spec_row
+    from pil.experiments.run_row import spec_row
 
     given = {"discard": "0.3", "patience": "2", "exploration": "avoid-last", "epsilon": "0.2"}
     spec = parse_run_spec(system=system, rate="0.6", seed="4", params={"tables": "1", **given})
@@ -287,7 +286,7 @@ def test_sub_seeds_are_derived_in_one_place() -> None:
     derivers = {"SeedSequence", "derive_seeds", "sub_seeds"}
     run_path = [
         *(ROOT / "pil" / "task").glob("*.py"),
-        ROOT / "pil" / "experiments" / "systems.py",
+        ROOT / "pil" / "experiments" / "run_row.py",
         *(ROOT / "robin_sim").rglob("*.py"),
     ]
     deriving = {str(p.relative_to(ROOT)) for p in run_path if "SeedSequence" in _calls(p, derivers)}

@@ -13,8 +13,9 @@ from pil.experiments.sweep_grid import (
     split_list,
 )
 from pil.experiments.sweep_kinds import LEARNER_RUNS, load_kind
-from pil.experiments.systems import DEFAULT_VALUES, SYSTEMS
 from pil.task.params import ParamError
+from pil.task.parts import DEFAULT_VALUES
+from pil.task.systems import SYSTEMS
 
 
 @pytest.fixture(scope="module")
@@ -135,9 +136,9 @@ def test_unknown_kind_and_missing_function_are_clear() -> None:
     ):
         load_kind("fast")
     with pytest.raises(SweepGridError, match="has no 'nope'"):
-        load_kind("custom", "pil.experiments.systems:nope")
+        load_kind("custom", "pil.task.systems:nope")
     with pytest.raises(SweepGridError, match=r"must be written 'package\.module:function'"):
-        load_kind("custom", "pil.experiments.systems.spec_row")
+        load_kind("custom", "pil.task.systems.check_system")
 
 
 def test_custom_function_declares_its_own_params() -> None:

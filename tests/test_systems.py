@@ -8,16 +8,12 @@ import pytest
 from learner_rows import learner_row
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import (
-    DEFAULT_VALUES,
-    ROW_COLUMNS,
-    SYSTEM_SPECS,
-    SYSTEMS,
-    derive_seeds,
-)
+from pil.experiments.run_row import ROW_COLUMNS
 from pil.task.assemble import assemble, assemble_phase
+from pil.task.parts import DEFAULT_VALUES, derive_seeds
 from pil.task.scenario import DEFAULT_SCENARIO
 from pil.task.spec import parse_run_spec
+from pil.task.systems import SYSTEM_SPECS, SYSTEMS
 
 
 @pytest.mark.parametrize("system", list(SYSTEMS))

@@ -37,8 +37,8 @@ from pil.experiments.baseline_grid import (
 )
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
 from pil.experiments.report import markdown_table, summary_markdown
+from pil.experiments.run_row import ROW_COLUMNS, spec_row
 from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
-from pil.experiments.systems import ROW_COLUMNS, spec_row
 from pil.task.params import RATE, REPS, SEED
 from pil.task.runner import RunnerError
 from pil.task.spec import RunSpec, parse_run_spec

@@ -55,7 +55,7 @@ __all__ = [  # the reading is re-exported: the report's callers import from here
 
 def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
     """The conditions in registry order (pil, c1, ..., proactive), unknown ones after, by name."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     known = list(SYSTEM_SPECS)
     names = {str(r["condition"]) for r in rows}

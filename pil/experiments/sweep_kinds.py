@@ -7,7 +7,7 @@ distinct cell (``check``), orders the runs by ``cost`` and ships each worker the
 ``run`` and the typed spec, nothing else: no worker parses a value or spreads ``**params``.
 
 * ``learner`` (this module's :data:`LEARNER_RUNS`): a learner-only run, a
-  :class:`pil.task.spec.RunSpec` and its row (:func:`pil.experiments.systems.spec_row`);
+  :class:`pil.task.spec.RunSpec` and its row (:func:`pil.experiments.run_row.spec_row`);
 * ``physical`` (``robin_sim.episode.physical_run:PHYSICAL_RUNS``): an episode without video;
 * a custom function (``--run-function MODULE:FUNCTION``, :func:`custom_kind`): called as
   ``function(system, rate, seed, **params)`` with the grid's typed values (its own interface).
@@ -42,7 +42,7 @@ RESERVED: dict[str, str] = {
     "seed": "--seed",
     "rep": "--reps",
 }
-_SYSTEMS_MODULE = "pil.experiments.systems"
+_SYSTEMS_MODULE = "pil.task.systems"
 
 Parse = Callable[["GridRow", MutableMapping[Any, Any]], Any]  # a kind's row -> its spec
 
@@ -170,8 +170,8 @@ def parse_learner(row: GridRow, cache: MutableMapping[Any, Any]) -> Any:
 
 
 def run_learner(spec: Any) -> dict[str, Any]:
-    """A learner-only run's row (:func:`pil.experiments.systems.spec_row`)."""
-    from pil.experiments.systems import spec_row
+    """A learner-only run's row (:func:`pil.experiments.run_row.spec_row`)."""
+    from pil.experiments.run_row import spec_row
 
     return spec_row(spec)
 
@@ -232,7 +232,7 @@ def custom_kind(function: str, name: str = "custom") -> SweepKind:
 
     Its parameters are its keyword-only arguments plus ``PARAMS`` or ``DEFAULT_VALUES`` of its
     module, if any (specs or defaults); its systems are ``SYSTEMS`` of its module or of
-    ``pil.experiments.systems``; its whole-run check is ``check_run`` of its module, if any.
+    ``pil.task.systems``; its whole-run check is ``check_run`` of its module, if any.
     """
     run_function = import_object(function)
     if not callable(run_function):

@@ -117,7 +117,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _system_help() -> str:
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     return f"the learner system (default: %(default)s), one of {', '.join(SYSTEM_SPECS)}"
 

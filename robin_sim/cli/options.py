@@ -33,7 +33,7 @@ def parse_rates(text: str) -> tuple[float, ...]:
 def parse_systems(text: str) -> tuple[str, ...]:
     """``"pil,bandit"`` as system names; an unknown or repeated one raises listing them."""
     from pil.errors import InvalidChoiceError
-    from pil.experiments.systems import SYSTEMS
+    from pil.task.systems import SYSTEMS
 
     names = tuple(part.strip() for part in text.split(","))
     for name in names:
@@ -47,7 +47,7 @@ def parse_systems(text: str) -> tuple[str, ...]:
 def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
     """The help of a ``--systems`` option: ``default`` and every system it accepts (``accepts``;
     by default every system of the registry)."""
-    from pil.experiments.systems import SYSTEMS
+    from pil.task.systems import SYSTEMS
 
     names = ", ".join(SYSTEMS if accepts is None else accepts)
     return f"comma-separated systems (default: {default}); any of {names}"

@@ -112,8 +112,8 @@ def run(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from pil.experiments.study import DETECTOR_RATES, StudyConfig, run_study, write_outputs
-    from pil.experiments.systems import PAPER_SYSTEMS
     from pil.outdir import claimed_out_dir
+    from pil.task.systems import PAPER_SYSTEMS
 
     params = {
         "tables": args.tables,

@@ -17,8 +17,8 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
+from pil.experiments.run_row import spec_row
 from pil.experiments.sweep_kinds import BOUND_AS, GridRow, SweepKind, scenario_of
-from pil.experiments.systems import spec_row
 from pil.task.assemble import cached
 from pil.task.detector import CAMERAS, EXACT
 from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec

@@ -15,11 +15,11 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import check_system
 from pil.step_memory import STEP_MEMORY
 from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
+from pil.task.systems import check_system
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
 from robin_sim.live.limits import BlockLimits, WatchdogLimits
 from robin_sim.live.quality import LEVELS
@@ -40,7 +40,7 @@ class LiveConfig:
     """Everything that defines one live session (the live page's contract)."""
 
     participant: str = "P01"
-    system: str = "pil"  # a key of pil.experiments.systems
+    system: str = "pil"  # a key of pil.task.systems
     scenario: str | Path | None = None  # a shipped scenario name or a YAML path
     handover_types: tuple[str, ...] | None = None  # the block's types (None: the scenario's)
     out_root: Path = Path("out/live")

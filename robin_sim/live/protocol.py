@@ -5,7 +5,7 @@ A protocol is YAML (see ``scenarios/protocols/reactive_vs_proactive.yaml`` and d
 
     name: reactive_vs_proactive
     scenario: table_one                # optional: a shipped scenario or a path (from this file)
-    conditions:                        # system keys of pil.experiments.systems, neutral labels
+    conditions:                        # system keys of pil.task.systems, neutral labels
       - {system: pil, label: Robot A}
       - {system: proactive, label: Robot B}
     order: counterbalanced             # fixed | counterbalanced | latin-square
@@ -251,7 +251,7 @@ def _conditions(
     raw: Any, scenario: Scenario, blocks: tuple[BlockSpec, ...], instructions: str, source: str
 ) -> tuple[ProtocolCondition, ...]:
     """The ``conditions`` list: system keys (or mappings with system, label, blocks, ...)."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     where = f"{source}: conditions"
     if not isinstance(raw, list) or not raw:
