@@ -218,6 +218,52 @@ def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_
     assert parse_calls == Counter(dict.fromkeys(set(ASSEMBLY) - {"legs_per_table"}, 1))
 
 
+def test_a_live_session_checks_each_value_once(
+    parse_calls: Counter[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``robin-pil live`` from its command line to the sessions the conductor holds: each
+    value checked once, by the session's config (the command line passes --speed and the
+    watchdog's limits as text; the conductor and the session take the checked config as it
+    is). Its own checks are counted by the value they check, beside the registry's."""
+    from robin_sim.cli.live import session_configs
+    from robin_sim.cli.main import build_parser
+    from robin_sim.live import config as live_config
+    from robin_sim.live import limits
+    from robin_sim.live.conductor import Conductor
+
+    for name in ("_name", "_whole", "_number"):
+        real = getattr(live_config, name)
+
+        def counted(value: Any, what: str, *args: Any, _real: Any = real) -> Any:
+            parse_calls[what] += 1
+            return _real(value, what, *args)
+
+        monkeypatch.setattr(live_config, name, counted)
+    real_watchdog = limits.WatchdogLimits.checked
+
+    def watchdog(self: Any) -> Any:
+        parse_calls["max_attempts"] += 1
+        parse_calls["max_step_seconds"] += 1
+        return real_watchdog(self)
+
+    monkeypatch.setattr(limits.WatchdogLimits, "checked", watchdog)
+    argv = ["live", "--participant", "P07", "--system", "c1", "--speed", "2", "--seed", "3"]
+    argv += ["--max-attempts", "5", "--no-video", "--session", "s1", "--out", str(tmp_path)]
+    configs = session_configs(build_parser("live").parse_args(argv))
+    conductor = Conductor(configs)
+    (config,) = conductor.configs
+    assert conductor.sessions[0].config is config and config.speed == 2.0
+    assert (config.participant, config.system, config.max_attempts) == ("P07", "c1", 5)
+    # the study seed: once as --seed at the command line, once as the config's study_seed;
+    # the session's own seed (derived from it) once
+    assert parse_calls.pop("seed") == 3, parse_calls
+    assert parse_calls.pop("size") == 2, parse_calls  # the frame's width and height, once each
+    file_keys = dict.fromkeys(ASSEMBLY, 1)  # the scenario file's keys, read once
+    own = ["participant", "session", "system", "frame size", "fps", "speed", "feedback_window"]
+    own += ["render_workers", "stream_level", "max_attempts", "max_step_seconds"]
+    assert parse_calls == Counter({**file_keys, **dict.fromkeys(own, 1)}), parse_calls
+
+
 @pytest.mark.slow
 def test_the_episode_walk_goes_down_without_returning() -> None:
     """The episode's config from the command line to the assembled run (stopped before the
