@@ -10,6 +10,7 @@ from learner_rows import learner_row
 from pil import Action, Learner, State, load_table
 from pil.agents import AGENTS, Agent, BanditAgent, TamerAgent
 from pil.errors import InvalidChoiceError, RobinPilError
+from pil.task.spec import parse_run_spec
 from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS
 from pil.types import ACTIONS
 
@@ -18,7 +19,7 @@ S = State("pointing", "open", "free")
 
 @pytest.mark.parametrize("name", sorted(AGENTS))
 def test_every_agent_implements_the_protocol(name: str) -> None:
-    agent = AGENTS[name](3, None, {})
+    agent = AGENTS[name](3, None, parse_run_spec().learner)  # the registry's defaults
     assert isinstance(agent, Agent)
     decision = agent.decide("pointing", "open", "free")
     assert decision.state == S and decision.action in ACTIONS

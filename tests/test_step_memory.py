@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 from learner_rows import learner_row
 
@@ -12,6 +14,7 @@ from pil.errors import InvalidChoiceError
 from pil.learner import Learner
 from pil.step_memory import STEP_MEMORY, step_memory_on
 from pil.task.params import PARAMS, ParamError
+from pil.task.spec import parse_run_spec
 from pil.types import ACTIONS
 from robin_sim.cli.main import main
 
@@ -23,7 +26,8 @@ SETTINGS = {"pil": {}, "bandit": {"epsilon": 0.0}, "tamer": {"step_size": 0.25}}
 
 def _refusals_in_one_step(learner: str, memory: str, seed: int) -> list[Action]:
     """Learn OBJECT in S (ten approvals), then refuse the first six choices of a new step."""
-    agent = AGENTS[learner](seed, None, {**SETTINGS[learner], "step_memory": memory})
+    settings = parse_run_spec(params={**SETTINGS[learner], "step_memory": memory}).learner
+    agent = AGENTS[learner](seed, None, settings)
     for _ in range(10):
         agent.feedback(S, Action.OBJECT, True)
     chosen = []
@@ -61,10 +65,12 @@ def test_without_it_every_learner_repeats_a_refused_action_within_the_step(learn
 def test_the_default_is_each_learners_own_setting() -> None:
     assert PARAMS["step_memory"].default == "per-learner"
     assert PARAMS["step_memory"].choices == tuple(STEP_MEMORY)
-    assert not AGENTS["pil"](0, None, {}).step_memory and not Learner().step_memory
-    assert AGENTS["bandit"](0, None, {}).step_memory and AGENTS["tamer"](0, None, {}).step_memory
-    assert AGENTS["pil"](0, None, {"step_memory": "on"}).step_memory
-    assert not AGENTS["tamer"](0, None, {"step_memory": "off"}).step_memory
+    default = parse_run_spec().learner
+    assert not AGENTS["pil"](0, None, default).step_memory and not Learner().step_memory
+    assert AGENTS["bandit"](0, None, default).step_memory
+    assert AGENTS["tamer"](0, None, default).step_memory
+    assert AGENTS["pil"](0, None, replace(default, step_memory="on")).step_memory
+    assert not AGENTS["tamer"](0, None, replace(default, step_memory="off")).step_memory
     with pytest.raises(InvalidChoiceError, match="'per-learner', 'on', 'off'"):
         step_memory_on("sometimes", True)
 

@@ -189,8 +189,7 @@ def assemble(
     run = replace(run, training=training)
     if system.agent == "pil":
         return run
-    params = asdict(tested.learner)
-    agent = AGENTS[system.agent](spec.seeds.phase("test").learner, table, params)
+    agent = AGENTS[system.agent](spec.seeds.phase("test").learner, table, tested.learner)
     return replace(run, learner=agent)  # type: ignore[arg-type]
 
 
