@@ -191,7 +191,7 @@ def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
 def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_path: Path) -> None:
     """A physical sweep's grid to the episode's end: each value checked once (by the grid),
     each row parsed once into an EpisodeSpec, which the worker (called here in this process,
-    so that its checks are counted) runs as given."""
+    so that its checks are counted) runs as given, to a flat row with the legs delivered."""
     from pil.experiments.sweep_exec import execute_run
     from pil.experiments.sweep_grid import build_grid
     from pil.experiments.sweep_kinds import load_kind
@@ -210,7 +210,10 @@ def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_
     assert all(isinstance(run.spec, EpisodeSpec) for run in runs)
     outcomes = [execute_run(kind.run, run.spec) for run in runs]
     assert [o["status"] for o in outcomes] == ["ok"], outcomes
-    assert all(o["metrics"]["legs_delivered"] == 1 for o in outcomes), outcomes
+    row = outcomes[0]["metrics"]  # a flat row: the summary's fields and the share delivered
+    assert row["status"] == "finished" and row["error"] == "" and row["physical_failures"] == 0
+    assert (row["legs_total"], row["legs_delivered"], row["legs_delivered_fraction"]) == (1, 1, 1.0)
+    assert row["sim_time_s"] > 0 and not any(isinstance(v, dict) for v in row.values())
     for name in ("rate", "seed", "reps", "verify"):
         assert parse_calls.pop(name) == 1, (name, parse_calls)
     # legs_per_table: once as given, once as the scenario file's own value (read once)
