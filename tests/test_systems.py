@@ -9,7 +9,7 @@ from learner_rows import learner_row
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.experiments.run_row import ROW_COLUMNS
-from pil.task.assemble import assemble, assemble_phase
+from pil.task.assemble import assemble
 from pil.task.parts import DEFAULT_VALUES, derive_seeds
 from pil.task.scenario import DEFAULT_SCENARIO
 from pil.task.spec import parse_run_spec
@@ -85,7 +85,7 @@ EXPECTED_FULL_RATE_ACTIONS = {
 @pytest.mark.parametrize("rule", sorted(EXPECTED_FULL_RATE_ACTIONS))
 def test_full_rate_training_matches_the_expected_exploration_cost(rule: str) -> None:
     base = parse_run_spec(params={"exploration": rule})
-    runs = [assemble_phase(base.for_run("pil", 1.0, seed), "train").run() for seed in range(200)]
+    runs = [assemble(base.for_run("pil", 1.0, seed), phase="train").run() for seed in range(200)]
     gestures = statistics.fmean(r.gestures for r in runs)
     actions = statistics.fmean(r.actions for r in runs)
     assert gestures == 110

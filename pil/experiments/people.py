@@ -19,16 +19,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from pil.experiments.adaptation import remap
 from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
-from pil.task.assemble import assemble_phase
+from pil.task.assemble import assemble
 from pil.task.person import plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
-from pil.task.seeds import sub_seeds
+from pil.task.seeds import person_seed, sub_seeds
 from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Gesture
 
@@ -72,8 +70,7 @@ def person_types(people: People, name: str, types: Sequence[HandoverType]) -> li
 def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     """One run of the whole assembly by the people taking turns, in ``mode``; each learner's
     run is assembled from ``spec`` (its system's parameters applied) with the people's
-    script (:func:`pil.task.assemble.assemble_phase`)."""
-    tested = spec.effective()
+    script (:func:`pil.task.assemble.assemble`)."""
     scenario, names = people.scenario, list(people.overrides)
     legs = scenario.legs_per_table
     seeds = spec.seeds.phase("test")
@@ -84,16 +81,16 @@ def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     ]
     if mode == "shared":
         script = plan_script([t for table in by_table for t in table], legs, scenario.spots)
-        parts = [assemble_phase(tested, "test", seeds=seeds, script=script).run()]
+        parts = [assemble(spec, seeds=seeds, script=script).run()]
     else:
         parts = []
         for i in range(len(names)):
             own = [t for k, table in enumerate(by_table) if k % len(names) == i for t in table]
             if not own:  # fewer tables than people: this person builds none and costs nothing
                 continue
-            word = int(np.random.SeedSequence([spec.seed, i]).generate_state(1)[0] >> 1)
             script = plan_script(own, legs, scenario.spots)
-            run = assemble_phase(tested, "test", seeds=sub_seeds(word).phase("test"), script=script)
+            own_seeds = sub_seeds(person_seed(spec.seed, i)).phase("test")
+            run = assemble(spec, seeds=own_seeds, script=script)
             parts.append(run.run())
     return {
         "system": spec.system,

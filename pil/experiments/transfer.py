@@ -20,7 +20,7 @@ from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
-from pil.task.assemble import assemble_phase
+from pil.task.assemble import assemble
 from pil.task.scenario import SCENARIOS_DIR, load_scenario
 from pil.task.spec import RunSpec, parse_run_spec
 
@@ -33,7 +33,7 @@ TRANSFER_RATES: tuple[float, ...] = (0.6, 0.8, 1.0)  # robin-pil transfer's defa
 def assembly_table(spec: RunSpec) -> AssociationTable:
     """The table a PIL run of ``spec`` (its system's parameters applied) leaves after
     assembling its scenario's test tables."""
-    run = assemble_phase(spec.effective(), "test")
+    run = assemble(spec)
     run.run()
     return run.learner.table
 
@@ -42,7 +42,7 @@ def run_transfer(spec: RunSpec, start: str, table: AssociationTable | None) -> d
     """One run of ``spec``'s task (its scenario: the second task) from ``start`` ("scratch"
     or "table")."""
     used = None if start == "scratch" else table.copy()  # type: ignore[union-attr]
-    stats = assemble_phase(spec.effective(), "test", table=used).run()
+    stats = assemble(spec, table=used).run()
     return {
         "system": spec.system,
         "start": start,
