@@ -17,7 +17,7 @@ get the person's verdict as the reward.
 The world is anything with the :class:`pil.task.world.World` protocol: the
 :class:`~pil.task.world.SymbolicWorld` by default, or a factory that builds another (a
 physical one) for each episode. The person, detector and seeds are the study's
-(:func:`pil.task.assemble.assemble_phase` of the environment's
+(:func:`pil.task.assemble.assemble` of the environment's
 :class:`~pil.task.spec.RunSpec`), so the same ``seed`` gives the same episode.
 """
 
@@ -33,7 +33,7 @@ import numpy as np
 from dm_env import specs
 
 from pil.errors import RobinPilError, quote
-from pil.task.assemble import assemble_phase
+from pil.task.assemble import assemble
 from pil.task.params import MAX_SEED, STEP_RATE
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.runner import MAX_PERFORMANCES
@@ -142,7 +142,7 @@ class AssemblyEnv(dm_env.Environment):
         self.world = world
         body = None if self._make_body is None else self._make_body(self.world)
         spec = self._spec.for_run("pil", self.rate, self.run_seed(self.episode))
-        parts = assemble_phase(spec, "test", body=body)
+        parts = assemble(spec, body=body)
         self._started = True
         self._person, self._detector = parts.person, parts.detector
         self._repeat_discarded = bool(parts.options["repeat_discarded"])

@@ -16,9 +16,9 @@ from typing import Any
 
 from pil.errors import quote
 from pil.experiments.report import ReportError, number
+from pil.file_names import SUMMARY_NAME
 from pil.regular_files import UnreadableFileError, parse_json, read_kind_text
 
-SUMMARY_NAME = "summary.json"  # a run's summary: episodes, live sessions (their folders)
 INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.files)
 SESSION_LOG_NAME = "log.jsonl"  # a live session's step log (robin_sim.live.run)
 EVENTS_NAME = "events.jsonl"  # what a live session did of itself (robin_sim.live.files)

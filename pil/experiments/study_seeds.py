@@ -41,6 +41,7 @@ from pil.experiments.study import (
     write_outputs,
 )
 from pil.experiments.study_tests import claim_rows, claim_verdicts, discard_reading
+from pil.file_names import RUNS_NAME
 
 SEEDS_COLUMNS: tuple[str, ...] = ("seed", "rate", "measure", "ours", "paper", "diff_percent")
 FIGURES: tuple[str, ...] = ("gestures", "actions")
@@ -232,7 +233,7 @@ def run_study_seeds(
         out,
         seeds,
         settings(config),
-        "runs.csv",
+        RUNS_NAME,
         lambda seed: run_study(
             one(seed), progress, RepJournal(seed_folder(out, seed), journal_settings(one(seed)))
         ),

@@ -32,12 +32,12 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
+from pil.file_names import RESULTS_NAME as RESULTS
 from pil.folder_lock import FolderInUseError, FolderLock
 from pil.regular_files import UnreadableFileError, read_json_file, read_kind_bytes
 
 MANIFEST = "sweep.json"
 JOURNAL = "runs.jsonl"
-RESULTS = "results.csv"
 TIMINGS = "timings.csv"
 # metrics that measure the machine, not the run: kept in the journal and timings.csv only,
 # so that results.csv is the same bytes however and wherever the grid was executed

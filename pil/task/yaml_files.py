@@ -121,12 +121,18 @@ def read_yaml_mapping(
 
 
 def reject_unknown(
-    raw: Mapping[str, Any], valid: Sequence[str], where: str, error: type[RobinPilError]
+    raw: Mapping[str, Any],
+    valid: Sequence[str],
+    where: str,
+    error: type[RobinPilError],
+    takes: str = "valid choices:",
 ) -> None:
-    """Raise ``error`` on the first key of ``raw`` that is not in ``valid``, naming them all."""
+    """Raise ``error`` on the first key of ``raw`` that is not in ``valid``, naming them all
+    after ``takes`` (every file's one check of its keys)."""
     for key in raw:
         if key not in valid:
-            raise error(f"{where}: unknown key {quote(key)}; valid choices: " + ", ".join(valid))
+            shown = ", ".join(valid) if valid else "no options"
+            raise error(f"{where}: unknown key {quote(key)}; {takes} {shown}")
 
 
 def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:

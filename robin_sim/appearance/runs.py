@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
+from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME
 from pil.worker_pool import SpawnPool
 from robin_sim.appearance.people import AppearancePeople, Looks
 
@@ -117,8 +118,8 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         raise
     except Exception as problem:  # the run failed: recorded, the study goes on
         error = str(problem)
-        summary = json.loads((folder / "summary.json").read_text())
-    log_path = folder / "episode.jsonl"
+        summary = json.loads((folder / SUMMARY_NAME).read_text())
+    log_path = folder / EPISODE_LOG_NAME
     log = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
     vision = summary.get("vision") or {}
     row = {

@@ -87,7 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _system_help() -> str:
     """The --system help: every system of the study's registry (no MuJoCo imported)."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     names = ", ".join(SYSTEM_SPECS)
     return (

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from robin_sim.episode.run import LOG_NAME, SUMMARY_NAME, VIDEO_NAME
+from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME, VIDEO_NAME
 
 
 def _seconds(value: float | None) -> str:
@@ -49,7 +49,7 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
         + (f" ({rate:g}x real time)" if rate is not None else ""),
         "  files written",
     ]
-    for name in (VIDEO_NAME, LOG_NAME, SUMMARY_NAME):
+    for name in (VIDEO_NAME, EPISODE_LOG_NAME, SUMMARY_NAME):
         path = out / name
         if path.exists():
             lines.append(f"    {path}  {_what(name, summary)}")

@@ -16,7 +16,8 @@ import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError
-from robin_sim.cli.options import DEFAULT_REPS, add_run_options, progress_bar, run_options
+from pil.experiments.paper import PAPER_REPS
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
 
 DEFAULT_OUT = Path("out/people")
 APPEARANCE_REPS = 5  # repetitions of the appearance study (physical episodes: minutes each)
@@ -25,7 +26,8 @@ MAX_WORKERS = 16
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The personal-mappings study's options."""
-    from pil.experiments.people import PEOPLE_SYSTEMS
+    from pil.experiments.paper import rates_text
+    from pil.experiments.people import PEOPLE_RATES, PEOPLE_SYSTEMS
 
     parser.add_argument(
         "--people",
@@ -60,11 +62,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     add_run_options(
         parser,
-        rates="0.8,1.0",
+        rates=rates_text(PEOPLE_RATES),
         out=DEFAULT_OUT,
         systems=PEOPLE_SYSTEMS,
         accepts=PEOPLE_SYSTEMS,
-        reps_help=f"repetitions (default: {DEFAULT_REPS}; with --appearance "
+        reps_help=f"repetitions (default: {PAPER_REPS}; with --appearance "
         f"{APPEARANCE_REPS}, each its own seed, shared by the fixed and adapted runs)",
     )
 
@@ -76,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     if args.person is not None:
         raise RobinPilError("--person chooses people of the appearance study: add --appearance")
     if args.reps is None:
-        args.reps = DEFAULT_REPS
+        args.reps = PAPER_REPS
     from pil.experiments.people import (
         DEFAULT_PEOPLE,
         PEOPLE_SYSTEMS,

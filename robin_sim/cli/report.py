@@ -16,8 +16,9 @@ import sys
 from pathlib import Path
 
 from pil.experiments.results_report import BASELINE, METRICS
+from pil.file_names import RESULTS_NAME, RUNS_NAME
 
-RESULTS_FILES: tuple[str, ...] = ("results.csv", "runs.csv")  # a sweep's, a study's
+RESULTS_FILES: tuple[str, ...] = (RESULTS_NAME, RUNS_NAME)  # a sweep's, a study's
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -20,6 +20,7 @@ from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
+from pil.task.detector import EXACT
 from robin_sim.cli.options import RATES_LABEL, add_progress_switch, systems_help
 
 DEFAULT_OUT = Path("out/study")
@@ -71,7 +72,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--detector",
-        default="exact",
+        default=EXACT,
         help="detection model: exact, independent, or measured:FILE (a measured confusion "
         "matrix and discard rate, e.g. the measured.json of robin-pil train-gestures) "
         "(default: %(default)s)",
@@ -120,8 +121,8 @@ def run(args: argparse.Namespace) -> int:
         run_study,
         write_outputs,
     )
-    from pil.experiments.systems import PAPER_SYSTEMS
     from pil.outdir import claimed_out_dir
+    from pil.task.systems import PAPER_SYSTEMS
 
     params = {
         "tables": args.tables,

@@ -1,9 +1,9 @@
 """The parts of one live session, built in its physics thread like an episode's.
 
-:class:`LiveRun` builds the world of the session's scenario and, through the one assembly
-(:func:`robin_sim.episode.assemble.assemble`, as the episode), the simulated hand, the system's
-learner and the exact detector; then the participant in the scripted person's place, the
-picker, the frame stream (MP4 included), the pacer and the step log.
+:class:`LiveRun` builds, through the one assembly (:func:`robin_sim.episode.assemble.assemble`,
+as the episode), the world of the session's scenario, the simulated hand, the system's learner
+and the exact detector; then the participant in the scripted person's place, the picker, the
+frame stream (MP4 included), the pacer and the step log.
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -17,14 +17,14 @@ from typing import Any
 
 # the session's step log (an episode's is episode.jsonl), as the study's exports read it
 from pil.experiments.sessions_load import SESSION_LOG_NAME as LOG_NAME
+from pil.file_names import VIDEO_NAME  # the same file name as an episode's
 from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
-from robin_sim.episode.assemble import assemble, layout_of
+from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
-from robin_sim.episode.run import VIDEO_NAME  # the same file name as an episode's
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
@@ -51,9 +51,10 @@ class LiveRun(ClosesOnExit):
     ) -> None:
         self.config = config
         self.spec = config.run_spec()  # the checked config's learner side, typed
-        self.world = PhysicalWorld(layout_of(self.spec.scenario))
+        scripted = assemble(self.spec, tempo=LIVE)  # the world of the scenario's layout too
+        assert isinstance(scripted.world, PhysicalWorld)
+        self.world = scripted.world
         check_frame_size(self.world.model, config.width, config.height)
-        scripted = assemble(self.spec, world=self.world, tempo=LIVE)
         body = scripted.person.body
         assert isinstance(body, PhysicalBody)
         self.body = body

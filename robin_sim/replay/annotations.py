@@ -22,8 +22,8 @@ from typing import Any
 from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
 from pil.experiments.sessions_load import EVENTS_NAME, INPUTS_NAME, SESSION_LOG_NAME, SUMMARY_NAME
 from pil.experiments.study_export import read_jsonl
+from pil.file_names import EPISODE_LOG_NAME
 from pil.regular_files import UnreadableFileError, read_json_file
-from robin_sim.episode.run import LOG_NAME as EPISODE_LOG_NAME
 from robin_sim.live.files import NOTES_NAME
 from robin_sim.render.overlay import OverlayInfo
 from robin_sim.render.state_log import RecordedStates
