@@ -13,3 +13,4 @@ VIDEO_NAME = "episode.mp4"  # an episode's video
 RUNS_NAME = "runs.csv"  # a study's rows, one per run
 RESULTS_NAME = "results.csv"  # a sweep's rows, one per run, sorted by run id
 MEASURED_NAME = "measured.json"  # the eye cameras' measured errors (robin-pil train-gestures)
+QUESTIONNAIRES_NAME = "questionnaires.jsonl"  # a live session's questionnaire answers

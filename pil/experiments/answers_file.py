@@ -21,7 +21,6 @@ from pil.errors import quote
 from pil.experiments.sessions_load import SessionsError
 from pil.regular_files import UnreadableFileError, parse_json, read_kind_text
 
-QUESTIONNAIRES_NAME = "questionnaires.jsonl"
 REQUIRED = ("participant", "condition", "questionnaire", "scores")
 RANGES_KEY = "ranges"  # score -> [lowest, highest] (written since the ranges were recorded)
 

@@ -19,9 +19,10 @@ from itertools import combinations
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.answers_file import QUESTIONNAIRES_NAME, read_answers
+from pil.experiments.answers_file import read_answers
 from pil.experiments.report import markdown_table
 from pil.experiments.sessions_load import SessionsError  # noqa: F401 (raised by the reading)
+from pil.file_names import QUESTIONNAIRES_NAME
 
 __all__ = ["QUESTIONNAIRES_NAME", "load_answers", "paired_tests", "summarize_answers"]
 SUMMARY_COLUMNS = ("questionnaire", "score", "condition", "participants", "mean", "sd")

@@ -28,7 +28,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.answers_file import QUESTIONNAIRES_NAME, read_answers
+from pil.experiments.answers_file import read_answers
 from pil.experiments.sessions_load import (
     EVENTS_NAME,
     MEASURES,
@@ -36,6 +36,7 @@ from pil.experiments.sessions_load import (
     SUMMARY_NAME,
     SessionsError,
 )
+from pil.file_names import QUESTIONNAIRES_NAME
 from pil.regular_files import UnreadableFileError, read_json_file, read_jsonl_file
 
 SESSIONS_DIR = "sessions"  # a study folder's sessions: <participant>/<session> (robin_sim.lab)

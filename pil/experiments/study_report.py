@@ -17,11 +17,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.answers_file import QUESTIONNAIRES_NAME, read_answers
+from pil.experiments.answers_file import read_answers
 from pil.experiments.report import markdown_table
 from pil.experiments.sessions_load import COUNTED_STATUS, MEASURES
 from pil.experiments.study_analysis import analyse
 from pil.experiments.study_export import EXCLUDED, study_blocks
+from pil.file_names import QUESTIONNAIRES_NAME
 
 STUDY_TEST_COLUMNS = (
     "instrument",

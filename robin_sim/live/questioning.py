@@ -20,7 +20,8 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from pil.errors import quote
-from pil.experiments.answers_file import QUESTIONNAIRES_NAME, RANGES_KEY
+from pil.experiments.answers_file import RANGES_KEY
+from pil.file_names import QUESTIONNAIRES_NAME
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.items import Answer, Questionnaire, QuestionnaireError
