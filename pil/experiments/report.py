@@ -51,24 +51,27 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
     return rows
 
 
-RUN_ID_COLUMNS: tuple[str, ...] = ("system", "rate", "rep", "seed", "scenario", "detector")
+RUN_ID_COLUMNS: tuple[str, ...] = ("system", "rate", "rep", "seed")  # named in the message
 
 
 def check_unique_runs(rows: Sequence[Row], source: object) -> None:
     """Raise when a run appears twice: the same ``run_id`` (a sweep's), or where the rows have
-    no ``run_id`` the same system, rate, repetition and seed (a study's). Rows without either
-    (hand-made tables) are not checked: they name no run."""
+    no ``run_id`` but a ``rep`` or ``seed`` (a study's, whose other columns may tell runs
+    apart too: a person, a training rate) the same row twice. Rows without either (hand-made
+    tables) are not checked: they name no run."""
     if not rows:
         return
     columns = list(rows[0])
-    key = ("run_id",) if "run_id" in columns else tuple(c for c in RUN_ID_COLUMNS if c in columns)
-    if key != ("run_id",) and not {"rep", "seed"} & set(key):
+    by_id = "run_id" in columns
+    if not by_id and not {"rep", "seed"} & set(columns):
         return
+    key = ("run_id",) if by_id else tuple(columns)
+    named = ("run_id",) if by_id else tuple(c for c in RUN_ID_COLUMNS if c in columns)
     seen: dict[tuple[str, ...], int] = {}
     for number_, row in enumerate(rows, 1):
         ident = tuple(str(row.get(c)) for c in key)
         if ident in seen:
-            shown = ", ".join(f"{c}={v}" for c, v in zip(key, ident, strict=True))
+            shown = ", ".join(f"{c}={row.get(c)}" for c in named)
             raise ReportError(
                 f"{source}: the run {shown} appears twice (rows {seen[ident]} and {number_}); "
                 "each run is one row: remove the copy (a file appended to twice?)"

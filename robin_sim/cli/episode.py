@@ -27,8 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--rate",
         default=None,
-        help="gesture detection rate in (0, 1] (default 1; not with --detector vision, whose "
-        "eye cameras read what they see)",
+        help="gesture detection rate in (0, 1]; not with --detector vision, whose eye cameras "
+        "read what they see (default: 1.0)",
     )
     parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
     parser.add_argument("--system", default="pil", help=_system_help())
