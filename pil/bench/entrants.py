@@ -141,7 +141,7 @@ def load_factory(spec: str) -> Factory:
     factory = getattr(module, attribute, None)
     if not callable(factory):
         raise EntrantError(f"--agent {quote(spec)}: {module_name} has no callable {attribute!r}")
-    return factory  # type: ignore[no-any-return]
+    return factory
 
 
 def check_factory(factory: Factory, where: str) -> None:

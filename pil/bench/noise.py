@@ -143,7 +143,11 @@ class FeedbackChannel:
             ok, not_ok, _gone = self._rows[given]
             draw = rng.random()
             given = (
-                Feedback.OK if draw < ok else Feedback.NOT_OK if draw < ok + not_ok else Feedback.NONE
+                Feedback.OK
+                if draw < ok
+                else Feedback.NOT_OK
+                if draw < ok + not_ok
+                else Feedback.NONE
             )
         return given
 
@@ -164,5 +168,5 @@ def make_reader(condition: Any, seed: int, deck_size: int) -> GestureReader:
 
         raise SuiteError(f"condition {condition.name!r} reads with the eye cameras: physical only")
     if not condition.feedback:
-        return inner  # type: ignore[no-any-return]
+        return inner
     return FeedbackChannel(inner, condition.feedback, seed ^ 0x5EED)

@@ -116,7 +116,9 @@ class Suite:
     def track(self, name: str) -> Track:
         """The track ``name`` (an unknown one names the valid choices)."""
         if name not in self.tracks:
-            raise SuiteError(f"unknown track {quote(name)}; valid choices: " + ", ".join(self.tracks))
+            raise SuiteError(
+                f"unknown track {quote(name)}; valid choices: " + ", ".join(self.tracks)
+            )
         return self.tracks[name]
 
     def quick_tracks(self) -> tuple[str, ...]:

@@ -15,11 +15,13 @@ person's, so every agent faces the same script and readings on a seed (common ra
 * ``two-people``: the people take turns a table each (one agent for both).
 
 A run stops as failed when a gesture never gets an approved action or the actions pass
-``cap`` x the scripted gestures (or the gestures do: a robot that keeps asking for a repeat). :func:`run_one` returns a flat row (the journal's).
+``cap`` x the scripted gestures (or the gestures do: a robot that keeps asking for a
+repeat). :func:`run_one` returns a flat row (the journal's).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -36,7 +38,7 @@ from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, State, hand_after
 
 
-class _Capped(Exception):
+class _CappedError(Exception):
     """The run passed its cap of actions."""
 
 
@@ -54,11 +56,12 @@ class TableWorld(SymbolicWorld):
         self, action: Action, target: Target | None, watcher: Watcher | None = None
     ) -> Outcome:
         """As the symbolic world, but the stop passes through the reader's thumb noise."""
-        if watcher is not None and (
-            watcher.stop_now(action) or watcher.result_window(action) > 0.0
+        if (
+            watcher is not None
+            and (watcher.stop_now(action) or watcher.result_window(action) > 0.0)
+            and (self._read_stop is None or self._read_stop() is Feedback.NOT_OK)
         ):
-            if self._read_stop is None or self._read_stop() is Feedback.NOT_OK:
-                return Outcome(False, "stopped by the person", undone=True, interrupted=True)
+            return Outcome(False, "stopped by the person", undone=True, interrupted=True)
         self._hand = hand_after(action, self._hand)
         return Outcome(succeeded=True)
 
@@ -119,7 +122,7 @@ def play(
         for record in steps(agent, person, reader, TableWorld(on_table, reader)):
             out.gestures = record.gesture_count
             if record.gesture_count > limit:
-                raise _Capped
+                raise _CappedError
             if record.action is None:
                 continue
             out.actions = record.t
@@ -140,8 +143,8 @@ def play(
                 )
             )
             if record.t > limit:
-                raise _Capped
-    except _Capped:
+                raise _CappedError
+    except _CappedError:
         out.failed = f"passed the cap of {limit:g} actions or gestures"
     except RunnerError as error:
         out.failed = str(error)
@@ -157,7 +160,7 @@ def curve_area(curve: Sequence[float]) -> float:
     height, in actions per table, whatever the number of tables)."""
     if len(curve) < 2:
         return float(curve[0]) if curve else math.nan
-    return sum((a + b) / 2 for a, b in zip(curve, curve[1:], strict=False)) / (len(curve) - 1)
+    return sum((a + b) / 2 for a, b in itertools.pairwise(curve)) / (len(curve) - 1)
 
 
 def recovery(played: Played, from_table: int, gesture: str, criterion: int) -> float:
@@ -245,22 +248,23 @@ def run_one(
         "curve": curve,
         "curve_area": curve_area(curve),
         "failed": played.failed,
+        "scripted": len(script),
     }
     if track.kind == "meaning-change":
         change = parts["change"]
         criterion = int(track.options.get("criterion", 3))
-        row["recovery"] = recovery(
-            played, change.from_table - 1, change.gesture.value, criterion
-        )
+        row["recovery"] = recovery(played, change.from_table - 1, change.gesture.value, criterion)
     if track.kind == "transfer":
         second = parts["second"]
         if hasattr(agent, "restart"):
             agent.restart()  # back at the start pose; what it learnt stays
-        after = play(agent, second, make_reader(spec, seeds.detector, len(second)), seeds.person,
-                     suite.cap)
+        after = play(
+            agent, second, make_reader(spec, seeds.detector, len(second)), seeds.person, suite.cap
+        )
         fresh = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
-        scratch = play(fresh, second, make_reader(spec, seeds.detector, len(second)),
-                       seeds.person, suite.cap)
+        scratch = play(
+            fresh, second, make_reader(spec, seeds.detector, len(second)), seeds.person, suite.cap
+        )
         failed = played.failed or after.failed or scratch.failed
         row.update(
             first_actions=played.actions,
@@ -268,6 +272,7 @@ def run_one(
             gestures=after.gestures,
             rejected=after.rejected,
             scratch_actions=scratch.actions,
+            scripted=len(second),
             savings=scratch.actions - after.actions,
             failed=failed,
         )
