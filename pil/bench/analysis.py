@@ -63,7 +63,7 @@ def _pairs(rows, a: str, b: str, condition: str, metric: str):
 
 
 def comparisons(
-    suite: Suite, rows: Sequence[Mapping[str, Any]], track: str, entrant: str
+    suite: Suite, rows: Sequence[Mapping[str, Any]], track: str, entrant: str, quick: bool = False
 ) -> list[dict[str, Any]]:
     """The entrant's declared family on ``track``: paired t and Wilcoxon against every anchor
     in every condition, Holm within each test (module docstring)."""
@@ -73,7 +73,7 @@ def comparisons(
     for anchor in suite.anchors:
         if anchor == entrant:
             continue
-        for condition in suite.track(track).conditions:
+        for condition in suite.track_conditions(track, quick):
             a, b, dropped = _pairs(rows, entrant, anchor, condition, metric)
             for result in paired(a, b) if len(a) else []:
                 if result["test"] != suite_tests()[0]:  # the interval is the t-test's
@@ -125,7 +125,7 @@ def suite_tests() -> tuple[str, str]:
 
 
 def equivalence(
-    suite: Suite, rows: Sequence[Mapping[str, Any]], track: str, entrant: str
+    suite: Suite, rows: Sequence[Mapping[str, Any]], track: str, entrant: str, quick: bool = False
 ) -> list[dict[str, Any]]:
     """TOST of the entrant against the equivalence anchor per condition, and the mixed model
     over all conditions (condition ``all``)."""
@@ -135,7 +135,7 @@ def equivalence(
     rows = [r for r in rows if r["track"] == track]
     out = []
     complete = []
-    for condition in suite.track(track).conditions:
+    for condition in suite.track_conditions(track, quick):
         a, b, dropped = _pairs(rows, entrant, anchor, condition, metric)
         found = tost_paired(a, b, suite.margin)
         out.append(
@@ -210,14 +210,16 @@ def mean_ci(values: Sequence[float]) -> tuple[float, float, float]:
 _ci = mean_ci
 
 
-def summaries(suite: Suite, rows: Sequence[Mapping[str, Any]], track: str) -> list[dict]:
+def summaries(
+    suite: Suite, rows: Sequence[Mapping[str, Any]], track: str, quick: bool = False
+) -> list[dict]:
     """Per agent and condition of ``track``: the leaderboard's numbers (module docstring)."""
     metric = suite.primary
     here = [r for r in rows if r["track"] == track]
     agents = list(dict.fromkeys(str(r["agent"]) for r in here))
     out = []
     for agent in agents:
-        for condition in suite.track(track).conditions:
+        for condition in suite.track_conditions(track, quick):
             mine = [r for r in here if r["agent"] == agent and r["condition"] == condition]
             if not mine:
                 continue

@@ -1,7 +1,8 @@
 """Where a benchmark run keeps its results: a journal of runs, stamped, resumable.
 
 ``OUT/stamp.json`` says what the folder holds (suite version and file hash, seed block, quick
-or not, the git commit of the code); ``OUT/runs.jsonl`` has one JSON line per finished run,
+or not, the git commit of the code that started it, and of any that resumed it:
+``resumed_at``); ``OUT/runs.jsonl`` has one JSON line per finished run,
 appended and flushed as each ends, so an interrupted run loses only the runs under way and the
 same command resumes it (finished keys are skipped). A folder of another suite, block or mode
 is refused before anything runs.
@@ -58,6 +59,11 @@ class Journal:
         self.stamp = {**suite.stamp(), "block": block, "quick": quick, "commit": git_commit()}
         found = self.read_stamp(self.out)
         if found is not None:
+            commit = str(found.get("commit", "unknown"))
+            later = [c for c in found.get("resumed_at", []) if c != commit]
+            if self.stamp["commit"] not in (commit, *later):
+                later.append(self.stamp["commit"])
+            self.stamp.update(commit=commit, resumed_at=later)  # who made the first runs
             for name in _SAME:
                 if found.get(name) != self.stamp[name]:
                     raise SuiteError(

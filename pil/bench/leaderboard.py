@@ -77,22 +77,26 @@ def _cell(value: Any) -> Any:
     return value
 
 
-def analyse(suite: Suite, rows: Sequence[Mapping[str, Any]]) -> dict[str, list[dict]]:
-    """Summaries, tests and equivalence of every agent on every track in ``rows``."""
+def analyse(
+    suite: Suite, rows: Sequence[Mapping[str, Any]], quick: bool = False
+) -> dict[str, list[dict]]:
+    """Summaries, tests and equivalence of every agent on every track in ``rows`` (``quick``:
+    the quick conditions)."""
     rows = sorted_runs(rows)
     out: dict[str, list[dict]] = {"summary": [], "tests": [], "equivalence": []}
     for track in dict.fromkeys(str(r["track"]) for r in rows):
-        out["summary"] += summaries(suite, rows, track)
+        out["summary"] += summaries(suite, rows, track, quick)
         for agent in dict.fromkeys(str(r["agent"]) for r in rows if r["track"] == track):
-            out["tests"] += comparisons(suite, rows, track, agent)
-            out["equivalence"] += equivalence(suite, rows, track, agent)
+            out["tests"] += comparisons(suite, rows, track, agent, quick)
+            out["equivalence"] += equivalence(suite, rows, track, agent, quick)
     return out
 
 
 def write_results(suite: Suite, out: str | Path) -> list[Path]:
     """``summary.csv``, ``tests.csv`` and ``equivalence.csv`` from the folder's journal."""
     out = Path(out)
-    found = analyse(suite, read_runs(out))
+    stamp = Journal.read_stamp(out) or {}
+    found = analyse(suite, read_runs(out), bool(stamp.get("quick")))
     return [
         write_text_atomic(out / "summary.csv", _csv(found["summary"], SUMMARY_COLUMNS)),
         write_text_atomic(out / "tests.csv", _csv(found["tests"], TEST_COLUMNS)),
@@ -145,10 +149,9 @@ def render(suite: Suite, out: str | Path, title: str = "Reference leaderboard") 
     """The Markdown page of the results folder ``out`` (module docstring)."""
     out = Path(out)
     stamp = Journal.read_stamp(out) or {}
-    rows = read_runs(out)
-    found = analyse(suite, rows)
+    found = {name: read_table(out / f"{name}.csv") for name in ("summary", "tests", "equivalence")}
     tuned = _tuned(out)
-    seeds = sorted({int(r["seed"]) for r in rows})
+    seeds = sorted({int(r["seed"]) for r in read_runs(out)})
     parts = [
         f"# {title}",
         "",
@@ -174,9 +177,34 @@ def render(suite: Suite, out: str | Path, title: str = "Reference leaderboard") 
             )
             + ".",
         ]
-    for track in dict.fromkeys(str(r["track"]) for r in rows):
+    for track in dict.fromkeys(str(r["track"]) for r in found["summary"]):
         parts += _track_section(suite, found, track)
     return "\n".join(parts) + "\n"
+
+
+def read_table(path: Path) -> list[dict[str, Any]]:
+    """A results CSV of :func:`write_results`: numbers as floats (NaN for empty cells)."""
+    import csv
+
+    text = path.read_text(encoding="utf-8")
+    rows = []
+    for raw in csv.DictReader(text.splitlines()):
+        row: dict[str, Any] = {}
+        for key, value in raw.items():
+            if key in _TEXT:
+                row[key] = value
+            elif value == "":
+                row[key] = math.nan
+            else:
+                try:
+                    row[key] = float(value)
+                except ValueError:
+                    row[key] = value
+        rows.append(row)
+    return rows
+
+
+_TEXT = ("track", "agent", "condition", "entrant", "anchor", "measure", "test", "mixed_note")
 
 
 def _tuned(out: Path) -> dict[str, Any]:
@@ -187,7 +215,9 @@ def _tuned(out: Path) -> dict[str, Any]:
 
 
 def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) -> list[str]:
-    conditions = suite.track(track).conditions
+    conditions = tuple(
+        dict.fromkeys(s["condition"] for s in found["summary"] if s["track"] == track)
+    )
     mine = [s for s in found["summary"] if s["track"] == track]
     agents = list(dict.fromkeys(s["agent"] for s in mine))
     by = {(s["agent"], s["condition"]): s for s in mine}
@@ -196,15 +226,17 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
         s = by.get((agent, condition))
         if s is None:
             return ""
-        fails = f" ({s['failed']}✗)" if s["failed"] else ""
+        fails = f" ({int(s['failed'])}✗)" if s["failed"] else ""
         return f"{_f(s['mean'])} [{_f(s['ci_low'])}, {_f(s['ci_high'])}]{fails}"
 
     body = [[a, *(cell(a, c) for c in conditions)] for a in agents]
-    extra = [k for k in ("recovery", "savings") if any(k in s for s in mine)]
+    extra = [
+        k for k in ("recovery", "savings") if any(not math.isnan(s.get(k, math.nan)) for s in mine)
+    ]
     second = []
     for a in agents:
         rows = [s for s in mine if s["agent"] == a]
-        runs, failed = sum(s["runs"] for s in rows), sum(s["failed"] for s in rows)
+        runs, failed = int(sum(s["runs"] for s in rows)), int(sum(s["failed"] for s in rows))
         line = [
             a,
             _f(_mean(s["regret"] for s in rows)),

@@ -75,7 +75,7 @@ def plan(
     return [
         (track, condition, entrant, seed, quick)
         for track in tracks
-        for condition in suite.track(track).conditions
+        for condition in suite.track_conditions(track, quick)
         if conditions is None or condition in conditions
         for entrant in entrants
         for seed in seeds

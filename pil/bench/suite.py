@@ -24,7 +24,7 @@ KINDS: tuple[str, ...] = ("assembly", "meaning-change", "transfer", "two-people"
 GESTURE_MODELS: tuple[str, ...] = ("independent", "measured", "markov", "vision")
 FEEDBACK_KEYS: tuple[str, ...] = ("silence", "misread", "missed", "late", "measured")
 _TOP = ("version", "name", "seeds", "cap", "tracks", "conditions", "agents", "tuning")
-_TOP_ALL = (*_TOP, "metrics", "analysis")
+_TOP_ALL = (*_TOP, "metrics", "analysis", "quick_conditions")
 _TRACK_KEYS = (
     "description",
     "kind",
@@ -84,6 +84,7 @@ class Suite:
     masters: Mapping[str, int]
     counts: Mapping[str, int]
     quick_count: int
+    quick_conditions: tuple[str, ...]
     cap: float
     tracks: Mapping[str, Track]
     conditions: Mapping[str, Condition]
@@ -120,6 +121,11 @@ class Suite:
                 f"unknown track {quote(name)}; valid choices: " + ", ".join(self.tracks)
             )
         return self.tracks[name]
+
+    def track_conditions(self, name: str, quick: bool = False) -> tuple[str, ...]:
+        """The conditions track ``name`` runs under (``quick``: those of ``quick_conditions``)."""
+        found = self.track(name).conditions
+        return tuple(c for c in found if c in self.quick_conditions) if quick else found
 
     def quick_tracks(self) -> tuple[str, ...]:
         """The tracks that run without MuJoCo (all but the slow ones)."""
@@ -254,6 +260,7 @@ def load_suite(path: str | Path = SUITE_FILE) -> Suite:
         masters=masters,
         counts=counts,
         quick_count=_count(seeds.get("quick", 3), "seeds.quick", 2),
+        quick_conditions=tuple(str(c) for c in raw.get("quick_conditions") or conditions),
         cap=_number(raw["cap"], "cap", 1.0, 1000.0),
         tracks=tracks,
         conditions=conditions,
@@ -270,6 +277,9 @@ def load_suite(path: str | Path = SUITE_FILE) -> Suite:
         path=path,
         sha256=hashlib.sha256(read_small_text(path).encode("utf-8")).hexdigest(),
     )
+    for c in suite.quick_conditions:
+        if c not in conditions:
+            raise SuiteError(f"quick_conditions: {quote(c)} is not a condition")
     if suite.tuning_track not in tracks:
         raise SuiteError(f"tuning.track: {quote(suite.tuning_track)} is not a track")
     for c in suite.tuning_conditions:
