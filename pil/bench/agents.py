@@ -31,7 +31,7 @@ from pil.table import N_STATES, AssociationTable, state_id
 from pil.types import ACTIONS, Action, State
 from pil.validity import ALL_STATES
 
-_N = len(ACTIONS)
+_ACTION_COUNT = len(ACTIONS)
 
 
 class RandomAgent(FeedbackAgent):
@@ -68,7 +68,7 @@ class OracleAgent(FeedbackAgent):
             if (ALL_STATES[s].previous_action, ALL_STATES[s].hand)
             == (here.previous_action, here.hand)
         ]
-        order += list(range(_N))
+        order += list(range(_ACTION_COUNT))
         index = next(i for i in order if i in allowed)
         return index, sid in self._wanted and index == self._wanted[sid], "the mapping"
 
@@ -83,7 +83,7 @@ class EpsilonGreedyAgent(BanditAgent):
 
     def __init__(self, seed: int = 0, *, epsilon: float = 0.1, prior: float = 0.5) -> None:
         super().__init__(seed, epsilon=epsilon)
-        self.values = [[float(prior)] * _N for _ in range(N_STATES)]
+        self.values = [[float(prior)] * _ACTION_COUNT for _ in range(N_STATES)]
 
 
 class ThompsonAgent(FeedbackAgent):
@@ -94,8 +94,8 @@ class ThompsonAgent(FeedbackAgent):
     def __init__(self, seed: int = 0, *, prior: float = 1.0) -> None:
         super().__init__(seed)
         self.prior = float(prior)
-        self.wins = [[0] * _N for _ in range(N_STATES)]
-        self.losses = [[0] * _N for _ in range(N_STATES)]
+        self.wins = [[0] * _ACTION_COUNT for _ in range(N_STATES)]
+        self.losses = [[0] * _ACTION_COUNT for _ in range(N_STATES)]
 
     def _pick(self, sid: int, allowed: list[int]) -> tuple[int, bool, str]:
         a0 = self.prior
@@ -118,7 +118,7 @@ class CoachAgent(FeedbackAgent):
     def __init__(self, seed: int = 0, *, learning_rate: float = 1.0) -> None:
         super().__init__(seed)
         self.learning_rate = float(learning_rate)
-        self.theta = [[0.0] * _N for _ in range(N_STATES)]
+        self.theta = [[0.0] * _ACTION_COUNT for _ in range(N_STATES)]
 
     def policy(self, sid: int, allowed: list[int]) -> dict[int, float]:
         """pi(a | s) over the allowed actions."""
@@ -138,8 +138,8 @@ class CoachAgent(FeedbackAgent):
         return allowed[-1], False, "softmax draw"
 
     def _learn(self, sid: int, index: int, reward: float) -> None:
-        pi = self.policy(sid, list(range(_N)))
-        for i in range(_N):  # grad log pi(a|s) = 1[i = a] - pi(i|s)
+        pi = self.policy(sid, list(range(_ACTION_COUNT)))
+        for i in range(_ACTION_COUNT):  # grad log pi(a|s) = 1[i = a] - pi(i|s)
             self.theta[sid][i] += self.learning_rate * reward * ((i == index) - pi[i])
 
 
@@ -151,7 +151,7 @@ class PolicyShapingAgent(FeedbackAgent):
     def __init__(self, seed: int = 0, *, consistency: float = 0.8) -> None:
         super().__init__(seed)
         self.consistency = float(consistency)
-        self.delta = [[0] * _N for _ in range(N_STATES)]
+        self.delta = [[0] * _ACTION_COUNT for _ in range(N_STATES)]
 
     def optimal(self, sid: int, index: int) -> float:
         """P(action ``index`` is the wanted one in ``sid`` | the feedback so far)."""

@@ -27,7 +27,7 @@ from pil.bench.suite import Suite
 from pil.experiments.stats import CONFIDENCE, paired
 
 ORACLE = "oracle"
-TEST_COLUMNS = (
+BENCH_TEST_COLUMNS = (
     "track",
     "entrant",
     "anchor",
@@ -114,7 +114,7 @@ def comparisons(
         for r, adjusted in zip(members, holm([r["p"] for r in members]), strict=True):
             r["p_holm"] = adjusted
             r["family_size"] = len(members)
-    return [{c: r[c] for c in TEST_COLUMNS} for r in out]
+    return [{c: r[c] for c in BENCH_TEST_COLUMNS} for r in out]
 
 
 def suite_tests() -> tuple[str, str]:

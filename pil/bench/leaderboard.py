@@ -18,12 +18,12 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.bench.analysis import TEST_COLUMNS, comparisons, equivalence, summaries
+from pil.bench.analysis import BENCH_TEST_COLUMNS, comparisons, equivalence, summaries
 from pil.bench.journal import Journal, read_runs, sorted_runs
 from pil.bench.suite import Suite
 from pil.experiments.report import markdown_table
 
-SUMMARY_COLUMNS = (
+BENCH_SUMMARY_COLUMNS = (
     "track",
     "agent",
     "condition",
@@ -57,7 +57,7 @@ EQUIVALENCE_COLUMNS = (
 )
 
 
-def _csv(rows: Sequence[Mapping[str, Any]], columns: Sequence[str]) -> str:
+def csv_text(rows: Sequence[Mapping[str, Any]], columns: Sequence[str]) -> str:
     import csv
     import io
 
@@ -98,9 +98,11 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
     stamp = Journal.read_stamp(out) or {}
     found = analyse(suite, read_runs(out), bool(stamp.get("quick")))
     return [
-        write_text_atomic(out / "summary.csv", _csv(found["summary"], SUMMARY_COLUMNS)),
-        write_text_atomic(out / "tests.csv", _csv(found["tests"], TEST_COLUMNS)),
-        write_text_atomic(out / "equivalence.csv", _csv(found["equivalence"], EQUIVALENCE_COLUMNS)),
+        write_text_atomic(out / "summary.csv", csv_text(found["summary"], BENCH_SUMMARY_COLUMNS)),
+        write_text_atomic(out / "tests.csv", csv_text(found["tests"], BENCH_TEST_COLUMNS)),
+        write_text_atomic(
+            out / "equivalence.csv", csv_text(found["equivalence"], EQUIVALENCE_COLUMNS)
+        ),
     ]
 
 

@@ -20,7 +20,7 @@ from pil.task.yaml_files import read_small_text, read_yaml_mapping, reject_unkno
 
 SUITE_FILE = Path(__file__).with_name("suite.yaml")
 BLOCKS: tuple[str, ...] = ("dev", "eval")
-KINDS: tuple[str, ...] = ("assembly", "meaning-change", "transfer", "two-people", "physical")
+TRACK_KINDS: tuple[str, ...] = ("assembly", "meaning-change", "transfer", "two-people", "physical")
 GESTURE_MODELS: tuple[str, ...] = ("independent", "measured", "markov", "vision")
 FEEDBACK_KEYS: tuple[str, ...] = ("silence", "misread", "missed", "late", "measured")
 _TOP = ("version", "name", "seeds", "cap", "tracks", "conditions", "agents", "tuning")
@@ -185,8 +185,8 @@ def _track(name: str, raw: Any, conditions: Mapping[str, Condition]) -> Track:
         raise SuiteError(f"{where}: expected a mapping")
     reject_unknown(raw, _TRACK_KEYS, where, SuiteError)
     kind = raw.get("kind")
-    if kind not in KINDS:
-        raise SuiteError(f"{where}.kind: {quote(kind)}; valid choices: " + ", ".join(KINDS))
+    if kind not in TRACK_KINDS:
+        raise SuiteError(f"{where}.kind: {quote(kind)}; valid choices: " + ", ".join(TRACK_KINDS))
     quick = {k: _count(v, f"{where}.quick.{k}") for k, v in (raw.get("quick") or {}).items()}
     learner_only = tuple(c for c, v in conditions.items() if v.gestures["model"] != "vision")
     chosen = tuple(raw.get("conditions") or learner_only)

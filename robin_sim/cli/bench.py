@@ -21,7 +21,7 @@ from typing import Any
 
 from robin_sim.cli.options import progress_bar
 
-DEFAULT_OUT = Path("out/bench")
+BENCH_OUT = Path("out/bench")
 LEADERBOARD_OUT = Path("bench/results/leaderboard")
 LEADERBOARD_PAGE = Path("docs/leaderboard.md")
 
@@ -58,7 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--workers", default=1, help="processes (default: %(default)s)")
     parser.add_argument(
-        "--out", type=Path, default=None, help=f"results folder (default: {DEFAULT_OUT})"
+        "--out", type=Path, default=None, help=f"results folder (default: {BENCH_OUT})"
     )
     parser.add_argument(
         "--page",
@@ -145,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
         from pil.bench.tuning import check_block
 
         check_block(args.seeds)
-        out = args.out or DEFAULT_OUT / "tuning"
+        out = args.out or BENCH_OUT / "tuning"
         _tune(suite, out, args, workers)
         print(f"wrote {out / 'tuned.json'}")
         return 0
@@ -180,7 +180,7 @@ def _run_entrants(
     from pil.bench.leaderboard import analyse, row_line, write_results
     from pil.bench.run import Entrant, plan, run_bench
 
-    out = args.out or DEFAULT_OUT
+    out = args.out or BENCH_OUT
     journal = Journal(out, suite, args.seeds, args.quick)
     names = {e.name for e in entrants}
     references = [Entrant(n, n) for n in (*suite.anchors, ORACLE) if n not in names]
@@ -217,10 +217,10 @@ def _tune(suite: Any, out: Path, args: Any, workers: int) -> dict[str, Any]:
             )
     tuned = {a: {k: v for k, v in t.items() if k != "scores"} for a, t in found.items()}
     write_text_atomic(out / "tuned.json", json.dumps(tuned, indent=1, sort_keys=True) + "\n")
-    from pil.bench.leaderboard import _csv
+    from pil.bench.leaderboard import csv_text
 
     scores = [s for t in found.values() for s in t["scores"]]
-    write_text_atomic(out / "tuning.csv", _csv(scores, ("agent", "params", "score", "chosen")))
+    write_text_atomic(out / "tuning.csv", csv_text(scores, ("agent", "params", "score", "chosen")))
     return tuned
 
 
