@@ -19,10 +19,11 @@ import json
 from pathlib import Path
 from typing import Any
 
+from pil.bench.leaderboard import REFERENCE_FOLDER
 from robin_sim.cli.options import progress_bar
 
 BENCH_OUT = Path("out/bench")
-LEADERBOARD_OUT = Path("bench/results/leaderboard")
+LEADERBOARD_OUT = Path(REFERENCE_FOLDER)
 LEADERBOARD_PAGE = Path("docs/leaderboard.md")
 
 
@@ -247,6 +248,6 @@ def _leaderboard(suite: Any, args: Any, workers: int) -> int:
     ) as bar:
         run_bench(suite, entrants, tracks, journal, seeds, workers=workers, progress=bar.update)
     written = write_results(suite, out)
-    page = write_text_atomic(args.page, render(suite, out))
+    page = write_text_atomic(args.page, render(suite, out, source=out.as_posix()))
     print("wrote " + ", ".join(str(p) for p in [*written, page]))
     return 0
