@@ -54,9 +54,13 @@ def key_of(row: Mapping[str, Any]) -> tuple[str, str, str, int]:
 class Journal:
     """The results folder of one benchmark run (module docstring)."""
 
-    def __init__(self, out: str | Path, suite: Suite, block: str, quick: bool) -> None:
+    def __init__(
+        self, out: str | Path, suite: Suite, block: str, quick: bool, commit: str | None = None
+    ) -> None:
+        """``commit``: the code's commit when the command started (default: now)."""
         self.out = Path(out)
-        self.stamp = {**suite.stamp(), "block": block, "quick": quick, "commit": git_commit()}
+        made_by = git_commit() if commit is None else commit
+        self.stamp = {**suite.stamp(), "block": block, "quick": quick, "commit": made_by}
         found = self.read_stamp(self.out)
         if found is not None:
             commit = str(found.get("commit", "unknown"))

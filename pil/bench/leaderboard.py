@@ -290,6 +290,9 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
                 if e is None or math.isnan(e["tost_p"])
                 else (" ≡" if e["tost_p"] < suite.alpha else "")
             )
+            if t["ci_low"] == t["ci_high"]:  # every pair differs by the same: no interval
+                cells.append(f"{_f(t['mean_diff'], '+.1f')} on all {int(t['n'])} pairs{tost}")
+                continue
             cells.append(
                 f"{_f(t['mean_diff'], '+.1f')} [{_f(t['ci_low'], '+.1f')}, "
                 f"{_f(t['ci_high'], '+.1f')}] {_p(t['p_holm'])}{tost}"

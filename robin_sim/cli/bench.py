@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -134,10 +135,12 @@ def _read_tuned(path: Path | None) -> dict[str, Any]:
 
 def run(args: argparse.Namespace) -> int:
     """The chosen mode; bad input raises a RobinPilError (exit code 2) before any run."""
+    from pil.bench.journal import git_commit
     from pil.bench.suite import BLOCKS, SUITE_FILE, SuiteError, load_suite
 
     suite = load_suite(args.suite or SUITE_FILE)
     workers = _workers(args.workers)
+    args.commit = git_commit()  # once, as the code was loaded: what every stamp names
     if args.seeds not in BLOCKS:
         raise SuiteError(f"--seeds {args.seeds!r}; valid choices: " + ", ".join(BLOCKS))
     if args.list:
@@ -151,6 +154,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {out / 'tuned.json'}")
         return 0
     if args.leaderboard:
+        if not re.fullmatch(r"[0-9a-f]{40}", args.commit):
+            raise SuiteError(
+                f"--leaderboard names the commit that made it, and the code is at "
+                f"{args.commit}: commit your changes first"
+            )
         return _leaderboard(suite, args, workers)
     if not args.agent:
         raise SuiteError("give --agent SPEC (or --list, --tune, --leaderboard)")
@@ -182,7 +190,7 @@ def _run_entrants(
     from pil.bench.run import Entrant, plan, run_bench
 
     out = args.out or BENCH_OUT
-    journal = Journal(out, suite, args.seeds, args.quick)
+    journal = Journal(out, suite, args.seeds, args.quick, args.commit)
     names = {e.name for e in entrants}
     references = [Entrant(n, n) for n in (*suite.anchors, ORACLE) if n not in names]
     everyone = [*entrants, *references]
@@ -209,7 +217,7 @@ def _tune(suite: Any, out: Path, args: Any, workers: int) -> dict[str, Any]:
     from pil.bench.journal import Journal
     from pil.bench.tuning import TUNING_BLOCK, tune
 
-    journal = Journal(out, suite, TUNING_BLOCK, args.quick)
+    journal = Journal(out, suite, TUNING_BLOCK, args.quick, args.commit)
     found = {}
     with progress_bar(None, "tuning", args) as bar:  # type: ignore[arg-type]
         for agent in suite.grids:
@@ -241,7 +249,7 @@ def _leaderboard(suite: Any, args: Any, workers: int) -> int:
     from pil.bench.journal import Journal
     from pil.bench.run import plan, run_bench
 
-    journal = Journal(out, suite, "eval", args.quick)
+    journal = Journal(out, suite, "eval", args.quick, args.commit)
     seeds = suite.seeds("eval", args.quick)
     with progress_bar(
         len(plan(suite, entrants, tracks, seeds, args.quick)), "leaderboard", args
