@@ -182,3 +182,13 @@ def test_an_interrupted_run_resumes_to_the_same_rows(tmp_path):
     assert sorted_runs(resumed) == sorted_runs(whole)  # same seeds -> the same rows
     with pytest.raises(Exception, match="give a new --out"):
         Journal(tmp_path / "a", suite, "eval", True)
+
+
+def test_an_entrant_file_that_makes_no_agent_is_refused_before_any_run(tmp_path, capsys):
+    entrant = tmp_path / "not_an_agent.py"
+    entrant.write_text("def make(seed):\n    return object()\n")
+    out = tmp_path / "out"
+    argv = ["bench", "--agent", f"{entrant}:make", "--quick", "--out", str(out), "--no-progress"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert "neither an agent" in err and "select_action" in err and not out.exists()
