@@ -186,7 +186,8 @@ def _run_entrants(
 ) -> int:
     from pil.bench.analysis import ORACLE
     from pil.bench.journal import Journal
-    from pil.bench.leaderboard import analyse, row_line, write_results
+    from pil.bench.leaderboard import row_line
+    from pil.bench.results import analyse, write_results
     from pil.bench.run import Entrant, plan, run_bench
 
     out = args.out or BENCH_OUT
@@ -226,7 +227,7 @@ def _tune(suite: Any, out: Path, args: Any, workers: int) -> dict[str, Any]:
             )
     tuned = {a: {k: v for k, v in t.items() if k != "scores"} for a, t in found.items()}
     write_text_atomic(out / "tuned.json", json.dumps(tuned, indent=1, sort_keys=True) + "\n")
-    from pil.bench.leaderboard import csv_text
+    from pil.bench.results import csv_text
 
     scores = [s for t in found.values() for s in t["scores"]]
     write_text_atomic(out / "tuning.csv", csv_text(scores, ("agent", "params", "score", "chosen")))
@@ -237,7 +238,8 @@ def _leaderboard(suite: Any, args: Any, workers: int) -> int:
     import shutil
 
     from pil.atomic import write_text_atomic
-    from pil.bench.leaderboard import render, write_results
+    from pil.bench.leaderboard import render
+    from pil.bench.results import write_results
     from pil.bench.run import Entrant
 
     out = args.out or LEADERBOARD_OUT
