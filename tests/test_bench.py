@@ -142,7 +142,7 @@ def _same(a: list[dict], b: list[dict]) -> bool:
         (["--agent", "random", "--track", "nowhere"], "assembly"),
         (["--agent", "random", "--seeds", "test"], "dev, eval"),
         (["--agent", "no_such_module_here:make"], "cannot import"),
-        (["--agent", "random", "--track", "physical"], "robin-pil episode"),
+        (["--leaderboard", "--track", "physical"], "not part of the reference"),
         (["--agent", "random", "--workers", "0"], "--workers"),
     ],
 )

@@ -17,7 +17,7 @@ from typing import Any
 
 from pil.bench.entrants import REFERENCE, Factory, load_factory, reference
 from pil.bench.journal import Journal
-from pil.bench.suite import Suite
+from pil.bench.suite import Suite, Track
 from pil.bench.tracks import run_one
 
 
@@ -49,9 +49,12 @@ def _factory(spec: str, params: str) -> Factory:
 Task = tuple[str, str, Entrant, int, bool]
 
 
-def _run(suite: Suite, task: Task) -> dict[str, Any]:
+Runner = Callable[[Suite, Track, str, int, Factory, bool], dict[str, Any]]
+
+
+def _run(suite: Suite, task: Task, runner: Runner = run_one) -> dict[str, Any]:
     track, condition, entrant, seed, quick = task
-    row = run_one(suite, suite.track(track), condition, seed, entrant.factory(), quick)
+    row = runner(suite, suite.track(track), condition, seed, entrant.factory(), quick)
     params = json.dumps(dict(entrant.params), sort_keys=True)
     return {
         "track": track,
@@ -92,8 +95,11 @@ def run_bench(
     workers: int = 1,
     progress: Callable[[int], None] | None = None,
     conditions: Sequence[str] | None = None,
+    runner: Runner = run_one,
 ) -> list[dict[str, Any]]:
-    """Run what ``journal`` lacks; return all its rows for these entrants and tracks."""
+    """Run what ``journal`` lacks; return all its rows for these entrants and tracks.
+    ``runner``: how one run is made (default :func:`pil.bench.tracks.run_one`, learner only;
+    the physical track's comes from ``robin_sim``)."""
     quick = bool(journal.stamp["quick"])
     every = plan(suite, entrants, tracks, seeds, quick, conditions)
     todo = [t for t in every if (t[0], t[1], t[2].name, t[3]) not in journal.done]
@@ -105,13 +111,14 @@ def run_bench(
 
         context = multiprocessing.get_context("fork")
         with context.Pool(workers) as pool:
-            for row in pool.imap(functools.partial(_run, suite), todo, chunksize=4):
+            work = functools.partial(_run, suite, runner=runner)
+            for row in pool.imap(work, todo, chunksize=4):
                 journal.add([row])
                 if progress is not None:
                     progress(1)
     else:
         for task in todo:
-            journal.add([_run(suite, task)])
+            journal.add([_run(suite, task, runner)])
             if progress is not None:
                 progress(1)
     names = {e.name for e in entrants}

@@ -36,6 +36,7 @@ _TRACK_KEYS = (
     "quick",
     "slow",
     "conditions",
+    "cap",
 )
 
 
@@ -54,6 +55,7 @@ class Track:
     quick: Mapping[str, int]
     conditions: tuple[str, ...]
     slow: bool = False
+    cap: float | None = None  # this track's cap (None: the suite's)
 
 
 @dataclass(frozen=True)
@@ -123,9 +125,16 @@ class Suite:
         return self.tracks[name]
 
     def track_conditions(self, name: str, quick: bool = False) -> tuple[str, ...]:
-        """The conditions track ``name`` runs under (``quick``: those of ``quick_conditions``)."""
+        """The conditions track ``name`` runs under (``quick``: those of ``quick_conditions``,
+        or all of its own when it has none of them, as the physical track)."""
         found = self.track(name).conditions
-        return tuple(c for c in found if c in self.quick_conditions) if quick else found
+        chosen = tuple(c for c in found if c in self.quick_conditions)
+        return (chosen or found) if quick else found
+
+    def cap_of(self, name: str) -> float:
+        """Track ``name``'s cap: its own, else the suite's (x the scripted instructions)."""
+        own = self.track(name).cap
+        return self.cap if own is None else own
 
     def quick_tracks(self) -> tuple[str, ...]:
         """The tracks that run without MuJoCo (all but the slow ones)."""
@@ -180,6 +189,7 @@ def _condition(name: str, raw: Any, base: Path) -> Condition:
 
 
 def _track(name: str, raw: Any, conditions: Mapping[str, Condition]) -> Track:
+    """One track entry, checked (its own ``cap`` or None for the suite's)."""
     where = f"tracks.{name}"
     if not isinstance(raw, Mapping):
         raise SuiteError(f"{where}: expected a mapping")
@@ -195,8 +205,16 @@ def _track(name: str, raw: Any, conditions: Mapping[str, Condition]) -> Track:
             raise SuiteError(f"{where}.conditions: {quote(c)}; valid: " + ", ".join(conditions))
     options = {k: v for k, v in raw.items() if k not in ("description", "kind", "quick", "slow")}
     options.pop("conditions", None)
+    cap = options.pop("cap", None)
     return Track(
-        name, kind, str(raw.get("description", "")), options, quick, chosen, bool(raw.get("slow"))
+        name,
+        kind,
+        str(raw.get("description", "")),
+        options,
+        quick,
+        chosen,
+        bool(raw.get("slow")),
+        None if cap is None else _number(cap, f"{where}.cap", 1.0, 1000.0),
     )
 
 

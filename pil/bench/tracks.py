@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -31,6 +31,7 @@ from pil.bench.entrants import Factory, as_agent
 from pil.bench.noise import make_reader
 from pil.bench.suite import Suite, Track
 from pil.task.person import ScriptedPerson, ScriptStep, plan_script
+from pil.task.records import StepRecord
 from pil.task.runner import RunnerError, steps
 from pil.task.scenario import load_scenario, states_along
 from pil.task.seeds import sub_seeds
@@ -115,11 +116,16 @@ def play(
             reader.set_person(table % people)
 
     person = ScriptedPerson(script, person_seed)
-    limit = cap * len(script)
+    records = steps(agent, person, reader, TableWorld(on_table, reader))
+    return count(records, cap * len(script))
+
+
+def count(records: Iterable[StepRecord], limit: float) -> Played:
+    """What a run's records cost; stop (failed) when actions or gestures pass ``limit``."""
     out = Played()
     seen: set[tuple[int, int, bool]] = set()
     try:
-        for record in steps(agent, person, reader, TableWorld(on_table, reader)):
+        for record in records:
             out.gestures = record.gesture_count
             if record.gesture_count > limit:
                 raise _CappedError
@@ -151,7 +157,8 @@ def play(
     return out
 
 
-def _curve(played: Played, tables: int) -> list[int]:
+def curve_of(played: Played, tables: int) -> list[int]:
+    """Actions per table (0 for a table the run never reached)."""
     return [played.per_table.get(k, 0) for k in range(tables)]
 
 
@@ -238,9 +245,10 @@ def run_one(
     spec = suite.conditions[condition]
     agent = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
     reader = make_reader(spec, seeds.detector, len(script))
-    played = play(agent, script, reader, seeds.person, suite.cap, parts.get("people", 1))
+    cap = suite.cap_of(track.name)
+    played = play(agent, script, reader, seeds.person, cap, parts.get("people", 1))
     tables = 1 + max((i.intent.table for i in script), default=0)
-    curve = _curve(played, tables)
+    curve = curve_of(played, tables)
     row: dict[str, Any] = {
         "actions": played.actions,
         "gestures": played.gestures,
@@ -259,11 +267,11 @@ def run_one(
         if hasattr(agent, "restart"):
             agent.restart()  # back at the start pose; what it learnt stays
         after = play(
-            agent, second, make_reader(spec, seeds.detector, len(second)), seeds.person, suite.cap
+            agent, second, make_reader(spec, seeds.detector, len(second)), seeds.person, cap
         )
         fresh = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
         scratch = play(
-            fresh, second, make_reader(spec, seeds.detector, len(second)), seeds.person, suite.cap
+            fresh, second, make_reader(spec, seeds.detector, len(second)), seeds.person, cap
         )
         failed = played.failed or after.failed or scratch.failed
         row.update(

@@ -76,7 +76,7 @@ def tune(
     axes = suite.grids[agent]
     values = {a.name: list(a.values) for a in axes}
     seeds = suite.seeds(TUNING_BLOCK, quick)
-    cap = suite.cap
+    cap = suite.cap_of(suite.tuning_track)
     scores: dict[tuple[float, ...], float] = {}
     for _round in range(suite.extend + 1):
         settings = list(itertools.product(*(values[a.name] for a in axes)))

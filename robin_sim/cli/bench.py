@@ -3,13 +3,15 @@
 * ``--list``: the tracks, conditions and reference agents of the suite.
 * ``--agent SPEC`` (repeatable): run an entrant (a reference name, ``pkg.module:factory`` or
   ``file.py:factory``) with the anchors and the oracle on ``--track`` (default: every track but
-  the slow one) and ``--seeds dev|eval``; print its leaderboard rows.
+  the slow one; ``physical``: the episode in MuJoCo, anchors only) and ``--seeds dev|eval``;
+  print its leaderboard rows.
 * ``--tune``: tune the reference agents' grids on the dev seeds (``--seeds eval`` is refused).
 * ``--leaderboard``: tune on dev, run every reference agent on the eval seeds, write the
   results folder and the Markdown page (``--page``).
 
 Runs are journaled in ``--out`` (``runs.jsonl``): Ctrl-C keeps every finished run and the
-same command resumes. Learner only: never imports MuJoCo.
+same command resumes. MuJoCo is imported only for ``--track physical`` (the slow track,
+:mod:`robin_sim.cli.bench_physical`).
 """
 
 from __future__ import annotations
@@ -86,20 +88,20 @@ def _workers(text: Any) -> int:
     return value
 
 
-def _tracks(suite: Any, text: str | None) -> list[str]:
+def _tracks(suite: Any, text: str | None, slow_allowed: bool = True) -> list[str]:
     if text is None:
         return list(suite.quick_tracks())
     names = [t.strip() for t in text.split(",") if t.strip()]
     for name in names:
         suite.track(name)  # an unknown one names the valid choices
     slow = [n for n in names if suite.track(n).slow]
-    if slow:
+    if slow and not slow_allowed:
         from pil.bench.suite import SuiteError
 
         raise SuiteError(
-            f"--track {','.join(slow)}: the slow physical track runs in MuJoCo with the eye "
-            "cameras and is not driven by robin-pil bench yet; run robin-pil episode "
-            "--detector vision for it. Valid here: " + ", ".join(suite.quick_tracks())
+            f"--track {','.join(slow)}: the slow physical track is not part of the reference "
+            "leaderboard; run it with --agent NAME --track physical. Valid here: "
+            + ", ".join(suite.quick_tracks())
         )
     return names
 
@@ -154,6 +156,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {out / 'tuned.json'}")
         return 0
     if args.leaderboard:
+        args.tracks = _tracks(suite, args.track, slow_allowed=False)
         if not re.fullmatch(r"[0-9a-f]{40}", args.commit):
             raise SuiteError(
                 f"--leaderboard names the commit that made it, and the code is at "
@@ -196,11 +199,21 @@ def _run_entrants(
     references = [Entrant(n, n) for n in (*suite.anchors, ORACLE) if n not in names]
     everyone = [*entrants, *references]
     seeds = suite.seeds(args.seeds, args.quick)
-    total = len(plan(suite, everyone, tracks, seeds, args.quick))
+    learner_only = [t for t in tracks if not suite.track(t).slow]
+    slow = [t for t in tracks if suite.track(t).slow]
+    anchored = [e for e in everyone if e.name != ORACLE]  # the oracle needs the symbolic world
+    total = len(plan(suite, everyone, learner_only, seeds, args.quick))
+    total += len(plan(suite, anchored, slow, seeds, args.quick))
     with progress_bar(total, "bench", args) as bar:
         rows = run_bench(
-            suite, everyone, tracks, journal, seeds, workers=workers, progress=bar.update
+            suite, everyone, learner_only, journal, seeds, workers=workers, progress=bar.update
         )
+        if slow:
+            from robin_sim.cli.bench_physical import run_physical  # MuJoCo: the slow track
+
+            rows += run_bench(
+                suite, anchored, slow, journal, seeds, progress=bar.update, runner=run_physical
+            )
     write_results(suite, out)
     found = analyse(suite, rows, args.quick)
     for track in tracks:
@@ -243,7 +256,7 @@ def _leaderboard(suite: Any, args: Any, workers: int) -> int:
     from pil.bench.run import Entrant
 
     out = args.out or LEADERBOARD_OUT
-    tracks = _tracks(suite, args.track)
+    tracks = args.tracks
     tuned = _tune(suite, out / "tuning", args, workers)
     out.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(out / "tuning" / "tuned.json", out / "tuned.json")

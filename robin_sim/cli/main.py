@@ -24,7 +24,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     ),
     "bench": (
         "robin_sim.cli.bench",
-        "the gesture-action benchmark: tracks, noise suite, agents, leaderboard (learner only)",
+        "the gesture-action benchmark: tracks, noise suite, agents, leaderboard",
     ),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests, figures: a results CSV or live sessions"),
