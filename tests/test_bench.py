@@ -197,3 +197,14 @@ def test_an_entrant_file_that_makes_no_agent_is_refused_before_any_run(tmp_path,
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert "neither an agent" in err and "select_action" in err and not out.exists()
+
+
+def test_a_folder_another_command_writes_is_refused(tmp_path):
+    from pil.folder_lock import FolderInUseError, FolderLock
+
+    suite = load_suite()
+    journal = Journal(tmp_path, suite, "dev", True)
+    entrant = [Entrant("random", "random")]
+    with FolderLock(tmp_path), pytest.raises(FolderInUseError):
+        run_bench(suite, entrant, ["assembly"], journal, suite.seeds("dev", True)[:1])
+    assert read_runs(tmp_path) == []

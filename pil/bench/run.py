@@ -19,6 +19,7 @@ from pil.bench.entrants import REFERENCE, Factory, load_factory, reference
 from pil.bench.journal import Journal
 from pil.bench.suite import Suite, Track
 from pil.bench.tracks import run_one
+from pil.folder_lock import FolderLock
 
 
 @dataclass(frozen=True)
@@ -104,8 +105,25 @@ def run_bench(
     every = plan(suite, entrants, tracks, seeds, quick, conditions)
     todo = [t for t in every if (t[0], t[1], t[2].name, t[3]) not in journal.done]
     journal.open()
-    if progress is not None and len(todo) < len(every):
-        progress(len(every) - len(todo))
+    with FolderLock(journal.out):  # one command at a time appends to the journal
+        _execute(suite, todo, journal, workers, progress, runner, len(every) - len(todo))
+    names = {e.name for e in entrants}
+    wanted = set(tracks)
+    return [r for r in journal.rows if r["agent"] in names and r["track"] in wanted]
+
+
+def _execute(
+    suite: Suite,
+    todo: Sequence[Task],
+    journal: Journal,
+    workers: int,
+    progress: Callable[[int], None] | None,
+    runner: Runner,
+    done: int,
+) -> None:
+    """Run ``todo`` here or in a pool, appending each finished run to ``journal``."""
+    if progress is not None and done:
+        progress(done)
     if workers > 1 and len(todo) > 1:
         import multiprocessing
 
@@ -121,6 +139,3 @@ def run_bench(
             journal.add([_run(suite, task, runner)])
             if progress is not None:
                 progress(1)
-    names = {e.name for e in entrants}
-    wanted = set(tracks)
-    return [r for r in journal.rows if r["agent"] in names and r["track"] in wanted]
