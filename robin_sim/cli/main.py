@@ -24,6 +24,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
         "robin_sim.cli.baselines",
         "bandit and TAMER tuned on held-out seeds, paired tests against PIL (learner only)",
     ),
+    "bench": (
+        "robin_sim.cli.bench",
+        "the gesture-action benchmark: tracks, noise suite, agents, leaderboard",
+    ),
     "sweep": ("robin_sim.cli.sweep", "a resumable grid of runs, local pool or Dask cluster"),
     "report": ("robin_sim.cli.report", "summary, t-tests, figures: a results CSV or live sessions"),
     "model-path": ("robin_sim.cli.model_path", "print where the MJCF model files are installed"),

@@ -1,0 +1,141 @@
+"""Running entrants over tracks, conditions and a seed block into a :class:`Journal`.
+
+:class:`Entrant` names an agent (a reference name of :data:`pil.bench.entrants.REFERENCE` with
+its parameters, or ``pkg.module:factory``); :func:`run_bench` runs every (track, condition,
+entrant, seed) the journal does not have yet, in a pool of ``workers`` processes or here,
+appending each finished run. The rows are the same whatever the workers (each run depends on
+its seed alone).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from pil.bench.entrants import REFERENCE, Factory, load_factory, reference
+from pil.bench.journal import Journal
+from pil.bench.suite import Suite, Track
+from pil.bench.tracks import run_one
+from pil.folder_lock import FolderLock
+
+
+@dataclass(frozen=True)
+class Entrant:
+    """An agent in the benchmark: its name in the results, and how to build it."""
+
+    name: str
+    spec: str
+    params: Mapping[str, Any] = field(default_factory=dict)
+
+    def factory(self) -> Factory:
+        """The factory ``factory(seed) -> agent``."""
+        return _factory(self.spec, json.dumps(dict(self.params), sort_keys=True))
+
+    @property
+    def external(self) -> bool:
+        """Not one of the reference agents."""
+        return self.spec not in REFERENCE
+
+
+@functools.lru_cache(maxsize=64)
+def _factory(spec: str, params: str) -> Factory:
+    if spec in REFERENCE:
+        return reference(spec, json.loads(params))
+    return load_factory(spec)
+
+
+Task = tuple[str, str, Entrant, int, bool]
+
+
+Runner = Callable[[Suite, Track, str, int, Factory, bool], dict[str, Any]]
+
+
+def _run(suite: Suite, task: Task, runner: Runner = run_one) -> dict[str, Any]:
+    track, condition, entrant, seed, quick = task
+    row = runner(suite, suite.track(track), condition, seed, entrant.factory(), quick)
+    params = json.dumps(dict(entrant.params), sort_keys=True)
+    return {
+        "track": track,
+        "condition": condition,
+        "agent": entrant.name,
+        "seed": seed,
+        "params": params,
+        **row,
+    }
+
+
+def plan(
+    suite: Suite,
+    entrants: Sequence[Entrant],
+    tracks: Sequence[str],
+    seeds: Sequence[int],
+    quick: bool,
+    conditions: Sequence[str] | None = None,
+) -> list[Task]:
+    """Every run, in a fixed order (``conditions``: only these of each track's)."""
+    return [
+        (track, condition, entrant, seed, quick)
+        for track in tracks
+        for condition in suite.track_conditions(track, quick)
+        if conditions is None or condition in conditions
+        for entrant in entrants
+        for seed in seeds
+    ]
+
+
+def run_bench(
+    suite: Suite,
+    entrants: Sequence[Entrant],
+    tracks: Sequence[str],
+    journal: Journal,
+    seeds: Sequence[int],
+    *,
+    workers: int = 1,
+    progress: Callable[[int], None] | None = None,
+    conditions: Sequence[str] | None = None,
+    runner: Runner = run_one,
+) -> list[dict[str, Any]]:
+    """Run what ``journal`` lacks; return all its rows for these entrants and tracks.
+    ``runner``: how one run is made (default :func:`pil.bench.tracks.run_one`, learner only;
+    the physical track's comes from ``robin_sim``)."""
+    quick = bool(journal.stamp["quick"])
+    every = plan(suite, entrants, tracks, seeds, quick, conditions)
+    todo = [t for t in every if (t[0], t[1], t[2].name, t[3]) not in journal.done]
+    journal.open()
+    with FolderLock(journal.out):  # one command at a time appends to the journal
+        _execute(suite, todo, journal, workers, progress, runner, len(every) - len(todo))
+    names = {e.name for e in entrants}
+    wanted = set(tracks)
+    return [r for r in journal.rows if r["agent"] in names and r["track"] in wanted]
+
+
+def _execute(
+    suite: Suite,
+    todo: Sequence[Task],
+    journal: Journal,
+    workers: int,
+    progress: Callable[[int], None] | None,
+    runner: Runner,
+    done: int,
+) -> None:
+    """Run ``todo`` here or in a pool, appending each finished run to ``journal``."""
+    if progress is not None and done:
+        progress(done)
+    if workers > 1 and len(todo) > 1:
+        import multiprocessing
+
+        context = multiprocessing.get_context("fork")
+        with context.Pool(workers) as pool:
+            work = functools.partial(_run, suite, runner=runner)
+            for row in pool.imap(work, todo, chunksize=4):
+                journal.add([row])
+                if progress is not None:
+                    progress(1)
+    else:
+        for task in todo:
+            journal.add([_run(suite, task, runner)])
+            if progress is not None:
+                progress(1)
