@@ -8,6 +8,7 @@ fact) fails here even when every value still agrees.
 from __future__ import annotations
 
 import ast
+import functools
 import re
 from collections import defaultdict
 from pathlib import Path
@@ -287,6 +288,50 @@ def test_the_live_page_takes_the_signs_from_python() -> None:
     assert len(SIGN_NAMES) == 6
     page = (ROOT / "robin_sim" / "live" / "static" / "index.html").read_text(encoding="utf-8")
     assert 'data-constants="{{CONSTANTS}}"' in page
+
+
+@functools.cache
+def _top_level(kind: type) -> dict[str, set[str]]:
+    """Name -> the modules defining a top-level ``kind`` (class or function) of that name."""
+    where: dict[str, set[str]] = defaultdict(set)
+    for path in source_files():
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            if isinstance(node, kind):
+                where[node.name].add(rel(path))  # type: ignore[attr-defined]
+    return where
+
+
+def test_no_two_classes_share_a_name() -> None:
+    """Issue 26: one ``RunSpec`` (the grid's rows are ``GridRow``), ``EyeCondition`` and
+    ``ProtocolCondition``, ``EyeReading`` and ``HandReading``."""
+    classes = _top_level(ast.ClassDef)
+    assert {n: m for n, m in classes.items() if len(m) > 1} == {}
+    assert classes["RunSpec"] == {"pil/task/spec.py"} and classes["GridRow"]
+
+
+@pytest.mark.parametrize(
+    ("name", "home"),
+    [
+        ("draw_spots", "robin_sim/render/spots.py"),  # numbered from a given first spot
+        ("cpu_count", "pil/cpus.py"),  # every default number of workers reads it
+        ("reject_unknown", "pil/task/yaml_files.py"),  # every file's check of its keys
+        ("spec_row", "pil/experiments/run_row.py"),
+        ("person_seed", "pil/task/seeds.py"),
+    ],
+)
+def test_a_function_has_one_home(name: str, home: str) -> None:
+    assert _top_level(ast.FunctionDef)[name] == {home}
+
+
+def test_what_issue_26_retired_is_gone() -> None:
+    """The sweep's untyped entry points, the second systems module, the second assembly."""
+    functions = _top_level(ast.FunctionDef)
+    gone = ["run_checked", "check_run", "_row_spec", "run_physical", "expected_cost"]
+    gone += ["run_physical_checked", "assemble_phase", "default_workers", "_reject_unknown"]
+    assert [name for name in gone if name in functions] == []
+    # the appearance study's run_one runs one appearance run: not the sweep's, gone
+    assert functions["run_one"] == {"robin_sim/appearance/runs.py"}
+    assert [p.name for p in source_files()].count("systems.py") == 1
 
 
 def test_agent_settings_are_the_agents_defaults_and_ranges() -> None:
