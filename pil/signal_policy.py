@@ -46,6 +46,13 @@ class CommandSignals:
         self._raised = False
         self._previous: dict[signal.Signals, Any] = {}
 
+    @property
+    def raised(self) -> bool:
+        """Whether a signal was raised as ``KeyboardInterrupt``: any exception after it comes
+        from the interrupt unwinding (e.g. the ``ImportError`` of a C extension whose
+        initialisation it broke into) and is reported as the interrupt."""
+        return self._raised
+
     def install(self) -> CommandSignals:
         """Take both signals now, whatever they were (ignored included); main thread only."""
         if threading.current_thread() is threading.main_thread():
