@@ -8,7 +8,9 @@ or ``nohup ... &`` starts with SIGINT ignored; a service manager sends SIGTERM):
   import; the command then ends with 130 before it starts (or, if it holds signals itself,
   such as the episode, it takes the noted signal over and leaves its files consistent);
 * **running**: the first SIGINT or SIGTERM raises ``KeyboardInterrupt`` in the main thread,
-  as Ctrl-C does in plain Python, so every command's ``finally`` blocks keep its finished work;
+  as Ctrl-C does in plain Python, so every command's ``finally`` blocks keep its finished work
+  (never inside an import: the commands import their heavy modules as they run, and a signal
+  there is raised once the import is done);
   further signals are noted, never raised again inside that clean-up. A command that holds
   signals (:attr:`holding`) keeps them noted: its own guard acts on them between two steps
   (an episode's guard takes them over in either case, also inside another command);
@@ -22,6 +24,7 @@ Processes a command starts itself (worker pools) begin with both signals ignored
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Iterator
@@ -30,6 +33,7 @@ from typing import Any
 
 SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM)
 INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT), for both signals
+RETRY_S = 0.02  # a signal that came inside an import is sent again this much later
 
 
 class CommandSignals:
@@ -63,9 +67,15 @@ class CommandSignals:
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.requested is None:
             self.requested = signal.Signals(signum)
-        if not self.holding and not self._raised:
-            self._raised = True
-            raise KeyboardInterrupt(f"{signal.Signals(signum).name} received")
+        if self.holding or self._raised:
+            return
+        if _importing(frame):  # never inside an import: the signal again, once it is done
+            retry = threading.Timer(RETRY_S, os.kill, (os.getpid(), signum))
+            retry.daemon = True
+            retry.start()
+            return
+        self._raised = True
+        raise KeyboardInterrupt(f"{signal.Signals(signum).name} received")
 
     @contextlib.contextmanager
     def running(self, *, holding: bool = False) -> Iterator[CommandSignals]:
@@ -87,6 +97,17 @@ class CommandSignals:
         previous, self._previous = self._previous, {}
         for signum, handler in previous.items():
             signal.signal(signum, signal.SIG_IGN if exiting else handler)
+
+
+def _importing(frame: FrameType | None) -> bool:
+    """Whether ``frame`` runs inside an import (a module's code, or a C extension's
+    initialisation: a ``KeyboardInterrupt`` there leaves a half-made module, or comes out as
+    ``ImportError: initialization failed`` and makes Python exit by SIGINT, -2, at the end)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib._bootstrap"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def policy_of(handler: Any) -> CommandSignals | None:

@@ -62,3 +62,32 @@ def test_sigterm_with_sigint_ignored_is_ctrl_c_and_the_handlers_come_back(
         assert signal.getsignal(signal.SIGTERM) is before
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+def test_a_signal_inside_an_import_is_raised_once_the_import_is_done(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path
+) -> None:
+    """The commands import their heavy modules as they run: a signal there must not break
+    into the module's code (a half-made module; in a C extension an ``ImportError`` and, at
+    exit, Python's death by SIGINT, -2)."""
+    name = "signal_probe_slow_import"
+    (tmp_path / f"{name}.py").write_text(
+        "import os, signal, time\n"
+        "os.kill(os.getpid(), signal.SIGTERM)\n"
+        "time.sleep(0.3)  # the signal came in here\n"
+        "WHOLE = True\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, name, raising=False)
+    reached = []
+
+    def run(args: argparse.Namespace) -> int:
+        module = __import__(name)
+        reached.append(module.WHOLE)
+        time.sleep(2)  # the signal again, now outside the import
+        raise AssertionError("the signal was lost")
+
+    _command(monkeypatch, run)
+    assert cli.main(["probe"]) == 130
+    assert reached == [True] and sys.modules[name].WHOLE
+    assert "interrupted; finished work is kept" in capsys.readouterr().err
