@@ -48,6 +48,7 @@ class CommandSignals:
         self.requested: signal.Signals | None = None
         self.holding = True  # start-up: noted only
         self._raised = False
+        self._deferred = 0  # inside signals_deferred(): how deep
         self._previous: dict[signal.Signals, Any] = {}
 
     @property
@@ -67,7 +68,7 @@ class CommandSignals:
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.requested is None:
             self.requested = signal.Signals(signum)
-        if self.holding or self._raised:
+        if self.holding or self._raised or self._deferred:
             return
         if _importing(frame):  # never inside an import: the signal again, once it is done
             retry = threading.Timer(RETRY_S, os.kill, (os.getpid(), signum))
@@ -89,6 +90,21 @@ class CommandSignals:
             yield self
         finally:
             self.holding = True
+
+    @contextlib.contextmanager
+    def deferring(self) -> Iterator[None]:
+        """Inside, a signal is noted only; one noted meanwhile is raised as the block ends."""
+        noted = self.requested
+        self._deferred += 1
+        try:
+            yield
+        finally:
+            self._deferred -= 1
+        came = self.requested
+        quiet = self._deferred or self.holding or self._raised
+        if came is not None and noted is None and not quiet:
+            self._raised = True
+            raise KeyboardInterrupt(f"{came.name} received")
 
     def finish(self, exiting: bool = True) -> None:
         """Teardown: both signals ignored until the process exits (the command's exit code
@@ -115,6 +131,20 @@ def policy_of(handler: Any) -> CommandSignals | None:
     may take the signals over from it, and whatever it noted)."""
     owner = getattr(handler, "__self__", None)
     return owner if isinstance(owner, CommandSignals) else None
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[None]:
+    """Inside, the command's policy raises no signal: one that comes is raised as the block
+    ends, so what is written inside (a journal line and its record in memory) is written whole.
+    (Python runs every handler in the main thread, whichever thread the kernel gave the signal
+    to, so a blocked mask in this thread would not hold it back.) Without a policy: nothing."""
+    policy = policy_of(signal.getsignal(signal.SIGTERM))
+    if policy is None:
+        yield
+        return
+    with policy.deferring():
+        yield
 
 
 def _deliver_pending() -> None:
