@@ -8,7 +8,9 @@ or ``nohup ... &`` starts with SIGINT ignored; a service manager sends SIGTERM):
   import; the command then ends with 130 before it starts (or, if it holds signals itself,
   such as the episode, it takes the noted signal over and leaves its files consistent);
 * **running**: the first SIGINT or SIGTERM raises ``KeyboardInterrupt`` in the main thread,
-  as Ctrl-C does in plain Python, so every command's ``finally`` blocks keep its finished work;
+  as Ctrl-C does in plain Python, so every command's ``finally`` blocks keep its finished work
+  (never inside an import: the commands import their heavy modules as they run, and a signal
+  there is raised once the import is done);
   further signals are noted, never raised again inside that clean-up. A command that holds
   signals (:attr:`holding`) keeps them noted: its own guard acts on them between two steps
   (an episode's guard takes them over in either case, also inside another command);
@@ -22,6 +24,7 @@ Processes a command starts itself (worker pools) begin with both signals ignored
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
 import threading
 from collections.abc import Iterator
@@ -30,6 +33,7 @@ from typing import Any
 
 SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM)
 INTERRUPTED = 130  # the exit code of an interrupted command (128 + SIGINT), for both signals
+RETRY_S = 0.02  # a signal that came inside an import is sent again this much later
 
 
 class CommandSignals:
@@ -44,7 +48,15 @@ class CommandSignals:
         self.requested: signal.Signals | None = None
         self.holding = True  # start-up: noted only
         self._raised = False
+        self._deferred = 0  # inside signals_deferred(): how deep
         self._previous: dict[signal.Signals, Any] = {}
+
+    @property
+    def raised(self) -> bool:
+        """Whether a signal was raised as ``KeyboardInterrupt``: any exception after it comes
+        from the interrupt unwinding (e.g. the ``ImportError`` of a C extension whose
+        initialisation it broke into) and is reported as the interrupt."""
+        return self._raised
 
     def install(self) -> CommandSignals:
         """Take both signals now, whatever they were (ignored included); main thread only."""
@@ -56,9 +68,15 @@ class CommandSignals:
     def _handle(self, signum: int, frame: FrameType | None) -> None:
         if self.requested is None:
             self.requested = signal.Signals(signum)
-        if not self.holding and not self._raised:
-            self._raised = True
-            raise KeyboardInterrupt(f"{signal.Signals(signum).name} received")
+        if self.holding or self._raised or self._deferred:
+            return
+        if _importing(frame):  # never inside an import: the signal again, once it is done
+            retry = threading.Timer(RETRY_S, os.kill, (os.getpid(), signum))
+            retry.daemon = True
+            retry.start()
+            return
+        self._raised = True
+        raise KeyboardInterrupt(f"{signal.Signals(signum).name} received")
 
     @contextlib.contextmanager
     def running(self, *, holding: bool = False) -> Iterator[CommandSignals]:
@@ -73,6 +91,21 @@ class CommandSignals:
         finally:
             self.holding = True
 
+    @contextlib.contextmanager
+    def deferring(self) -> Iterator[None]:
+        """Inside, a signal is noted only; one noted meanwhile is raised as the block ends."""
+        noted = self.requested
+        self._deferred += 1
+        try:
+            yield
+        finally:
+            self._deferred -= 1
+        came = self.requested
+        quiet = self._deferred or self.holding or self._raised
+        if came is not None and noted is None and not quiet:
+            self._raised = True
+            raise KeyboardInterrupt(f"{came.name} received")
+
     def finish(self, exiting: bool = True) -> None:
         """Teardown: both signals ignored until the process exits (the command's exit code
         stands); not ``exiting`` (a command run from Python, e.g. by a test): the handlers
@@ -82,11 +115,36 @@ class CommandSignals:
             signal.signal(signum, signal.SIG_IGN if exiting else handler)
 
 
+def _importing(frame: FrameType | None) -> bool:
+    """Whether ``frame`` runs inside an import (a module's code, or a C extension's
+    initialisation: a ``KeyboardInterrupt`` there leaves a half-made module, or comes out as
+    ``ImportError: initialization failed`` and makes Python exit by SIGINT, -2, at the end)."""
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib._bootstrap"):
+            return True
+        frame = frame.f_back
+    return False
+
+
 def policy_of(handler: Any) -> CommandSignals | None:
     """The :class:`CommandSignals` whose handler ``handler`` is, else None (a nested guard
     may take the signals over from it, and whatever it noted)."""
     owner = getattr(handler, "__self__", None)
     return owner if isinstance(owner, CommandSignals) else None
+
+
+@contextlib.contextmanager
+def signals_deferred() -> Iterator[None]:
+    """Inside, the command's policy raises no signal: one that comes is raised as the block
+    ends, so what is written inside (a journal line and its record in memory) is written whole.
+    (Python runs every handler in the main thread, whichever thread the kernel gave the signal
+    to, so a blocked mask in this thread would not hold it back.) Without a policy: nothing."""
+    policy = policy_of(signal.getsignal(signal.SIGTERM))
+    if policy is None:
+        yield
+        return
+    with policy.deferring():
+        yield
 
 
 def _deliver_pending() -> None:

@@ -3,9 +3,12 @@
 Every pool the project starts (a sweep's local back end, the appearance study's episodes, the
 gesture data set's chunks) is a :class:`SpawnPool`:
 
-* its workers start with SIGINT and SIGTERM ignored
-  (:func:`pil.signal_policy.ignored_for_children`) and keep them so: a Ctrl-C to the process
-  group or a SIGTERM is the command's to act on, never raised inside a worker's imports;
+* its workers ignore SIGINT and SIGTERM from their first call on: a Ctrl-C to the process
+  group or a SIGTERM is the command's to act on. (They are not started with the signals
+  ignored, as render workers are (:func:`pil.signal_policy.ignored_for_children`): that makes
+  them ignored in the whole command meanwhile, and the pool's own threads, started by then,
+  could take a signal and lose it. A Ctrl-C in a worker's first second, while its interpreter
+  starts, can still end that worker; the command stops the pool anyway.)
 * a worker dies with its parent: a watcher thread ends it (within :data:`WATCH_S`) once its
   parent's pid changes, i.e. the command is gone, even by ``kill -9``;
 * :meth:`SpawnPool.stop` ends the workers at once (``SIGKILL``: runs in flight are lost, not
@@ -20,16 +23,13 @@ import signal
 import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import Future, ProcessPoolExecutor
-from typing import Any, ParamSpec, TypeVar
+from concurrent.futures import ProcessPoolExecutor
+from typing import Any
 
-from pil.signal_policy import SIGNALS, ignored_for_children
+from pil.signal_policy import SIGNALS
 
 WATCH_S = 0.2  # how often a worker looks whether its parent is still there
 JOIN_S = 3.0  # how long stop() waits for a killed worker to be reaped
-
-P = ParamSpec("P")
-T = TypeVar("T")
 
 
 def start_worker(initializer: Callable[..., object] | None, initargs: tuple[Any, ...]) -> None:
@@ -54,8 +54,8 @@ def die_with_parent() -> None:
 
 
 class SpawnPool(ProcessPoolExecutor):
-    """A ``ProcessPoolExecutor`` of ``spawn`` workers that start deaf to signals, die with
-    this process, and are ended at once by :meth:`stop`."""
+    """A ``ProcessPoolExecutor`` of ``spawn`` workers deaf to signals that die with this
+    process and are ended at once by :meth:`stop`."""
 
     def __init__(
         self,
@@ -69,11 +69,6 @@ class SpawnPool(ProcessPoolExecutor):
             initializer=start_worker,
             initargs=(initializer, initargs),
         )
-
-    def submit(self, fn: Callable[P, T], /, *args: P.args, **kwargs: P.kwargs) -> Future[T]:
-        """As ``ProcessPoolExecutor.submit``; a worker it starts begins with signals ignored."""
-        with ignored_for_children():
-            return super().submit(fn, *args, **kwargs)
 
     def stop(self) -> None:
         """Cancel the pending work and kill the workers now (idempotent)."""

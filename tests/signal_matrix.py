@@ -6,7 +6,7 @@ group, sends the signal to the whole group at the set time, and checks: exit 130
 (or 0 when the command had finished before the signal came), no traceback, its finished work
 kept, no process of its group left (read from ``/proc``), and a rerun that resumes (finishes
 the rest, or, for the commands that serve or run for minutes, starts again and is stopped in
-turn). The suite runs a few cells (``tests/test_signal_matrix.py``); the whole matrix, 72
+turn). The suite runs one cell (``tests/test_signal_matrix.py``); the whole matrix, 72
 cells, by hand::
 
     MUJOCO_GL=egl PYTHONPATH=tests python tests/signal_matrix.py [--only study,sweep]

@@ -233,7 +233,11 @@ def test_interrupted_training_keeps_finished_chunks_and_resumes(tmp_path: Path) 
     ]
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 240
-    while not list((out / "chunks").glob("train-*.npz")) and time.monotonic() < deadline:
+
+    def finished() -> list[Path]:  # whole chunk files (a chunk being written is *.partial.npz)
+        return [p for p in (out / "chunks").glob("train-*.npz") if "partial" not in p.name]
+
+    while not finished() and time.monotonic() < deadline:
         time.sleep(0.2)
     process.send_signal(signal.SIGINT)
     _, err = process.communicate(timeout=120)

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 JOURNAL_NAME = "reps.jsonl"
-FORMAT = 1  # of a journal line: a line of another format is not read back
+JOURNAL_FORMAT = 1  # of a journal line: a line of another format is not read back
 
 
 def settings_key(settings: Mapping[str, Any]) -> str:
@@ -59,7 +59,7 @@ class RepJournal:
                 record = json.loads(line)
             except ValueError:  # a torn last line
                 continue
-            if not isinstance(record, dict) or record.get("format") != FORMAT:
+            if not isinstance(record, dict) or record.get("format") != JOURNAL_FORMAT:
                 continue
             if record.get("key") != self.key:
                 return {}  # another study's journal
@@ -81,7 +81,13 @@ class RepJournal:
         """Keep repetition ``rep``'s rows: one whole line, on disk before this returns; the
         rows as kept (plain Python values, as a rerun reads them back)."""
         plain = [{key: _plain(value) for key, value in row.items()} for row in rows]
-        record = {"format": FORMAT, "key": self.key, "rep": rep, "seed": seed, "rows": plain}
+        record = {
+            "format": JOURNAL_FORMAT,
+            "key": self.key,
+            "rep": rep,
+            "seed": seed,
+            "rows": plain,
+        }
         line = json.dumps(record, separators=(",", ":")) + "\n"
         data = memoryview((("\n" if self._torn else "") + line).encode())
         self.path.parent.mkdir(parents=True, exist_ok=True)  # a seed folder: made by its first

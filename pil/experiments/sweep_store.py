@@ -35,6 +35,7 @@ from pil.errors import RobinPilError
 from pil.file_names import RESULTS_NAME as RESULTS
 from pil.folder_lock import FolderInUseError, FolderLock
 from pil.regular_files import UnreadableFileError, read_json_file, read_kind_bytes
+from pil.signal_policy import signals_deferred
 
 MANIFEST = "sweep.json"
 JOURNAL = "runs.jsonl"
@@ -197,10 +198,11 @@ class RunStore:
         if self._journal is None:
             raise SweepStoreError("the sweep directory is not open")
         line = json.dumps(dict(record), default=_plain).encode() + b"\n"
-        self._journal.write(line)
-        self._journal.flush()
-        os.fsync(self._journal.fileno())
-        self._remember(json.loads(line))
+        with signals_deferred():  # on disk and in memory (results.csv), or neither
+            self._journal.write(line)
+            self._journal.flush()
+            os.fsync(self._journal.fileno())
+            self._remember(json.loads(line))
 
     def _remember(self, record: dict[str, Any]) -> None:
         self._records.append(record)

@@ -131,15 +131,19 @@ def _run(args: argparse.Namespace, policy: CommandSignals, holding: bool) -> int
     try:
         with policy.running(holding=holding):
             return int(args._module.run(args) or 0)
-    except RobinPilError as error:
-        print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
-        return 2
-    except OSError as error:  # a full disk, a too-long name, a folder made read-only mid-run
-        print(f"robin-pil {args.command}: error: {os_error_line(error)}", file=sys.stderr)
-        return 2
     except KeyboardInterrupt:
-        print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)
-        return INTERRUPTED
+        pass
+    except Exception as error:
+        if not policy.raised:  # else: the interrupt as it unwound (an import it broke into)
+            if isinstance(error, RobinPilError):
+                print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
+                return 2
+            if isinstance(error, OSError):  # a full disk, a too-long name, a read-only folder
+                print(f"robin-pil {args.command}: error: {os_error_line(error)}", file=sys.stderr)
+                return 2
+            raise
+    print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)
+    return INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -1,0 +1,93 @@
+"""The command's signal policy in this process (:mod:`pil.signal_policy`): a real signal to
+this very process, through the real ``robin-pil`` dispatcher, with a stand-in command."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+import time
+import types
+
+import pytest
+
+from robin_sim.cli import main as cli
+
+
+def _command(monkeypatch: pytest.MonkeyPatch, run: object) -> None:
+    """``robin-pil probe``: a command whose ``run`` is ``run``."""
+    module = types.ModuleType("signal_probe_command")
+    module.add_arguments = lambda parser: None  # type: ignore[attr-defined]
+    module.run = run  # type: ignore[attr-defined]
+    monkeypatch.setitem(sys.modules, module.__name__, module)
+    monkeypatch.setattr(cli, "COMMANDS", {"probe": (module.__name__, "a probe")})
+
+
+def _signal_self(how: signal.Signals) -> None:
+    os.kill(os.getpid(), how)
+    time.sleep(2)  # the handler runs at once, in this (main) thread
+    raise AssertionError("the signal was not raised")
+
+
+def test_an_error_the_interrupt_caused_is_reported_as_the_interrupt(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A signal that lands in a C extension's initialisation comes out of the import as
+    ``ImportError: initialization failed`` (seen with MuJoCo's): still exit 130, no trace."""
+
+    def run(args: argparse.Namespace) -> int:
+        try:
+            _signal_self(signal.SIGTERM)
+        except KeyboardInterrupt as interrupt:
+            raise ImportError("initialization failed") from interrupt
+        return 0
+
+    _command(monkeypatch, run)
+    assert cli.main(["probe"]) == 130
+    assert capsys.readouterr().err == "robin-pil probe: interrupted; finished work is kept\n"
+
+
+def test_sigterm_with_sigint_ignored_is_ctrl_c_and_the_handlers_come_back(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    before = signal.getsignal(signal.SIGTERM)
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # as a background job starts
+    try:
+        for how in (signal.SIGINT, signal.SIGTERM):
+            _command(monkeypatch, lambda args, how=how: _signal_self(how))
+            assert cli.main(["probe"]) == 130
+            assert "interrupted; finished work is kept" in capsys.readouterr().err
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN  # put back: run from Python
+        assert signal.getsignal(signal.SIGTERM) is before
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_a_signal_inside_an_import_is_raised_once_the_import_is_done(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], tmp_path
+) -> None:
+    """The commands import their heavy modules as they run: a signal there must not break
+    into the module's code (a half-made module; in a C extension an ``ImportError`` and, at
+    exit, Python's death by SIGINT, -2)."""
+    name = "signal_probe_slow_import"
+    (tmp_path / f"{name}.py").write_text(
+        "import os, signal, time\n"
+        "os.kill(os.getpid(), signal.SIGTERM)\n"
+        "time.sleep(0.3)  # the signal came in here\n"
+        "WHOLE = True\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, name, raising=False)
+    reached = []
+
+    def run(args: argparse.Namespace) -> int:
+        module = __import__(name)
+        reached.append(module.WHOLE)
+        time.sleep(2)  # the signal again, now outside the import
+        raise AssertionError("the signal was lost")
+
+    _command(monkeypatch, run)
+    assert cli.main(["probe"]) == 130
+    assert reached == [True] and sys.modules[name].WHOLE
+    assert "interrupted; finished work is kept" in capsys.readouterr().err
