@@ -5,7 +5,8 @@ The mappings study writes ``people.csv``, ``people.md`` (mean ± sd, paired test
 against per-person), ``tests.csv`` and ``people.png``; with ``--seeds K`` K such studies in
 ``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``). The appearance study
 (:mod:`robin_sim.appearance`) writes ``appearance_runs.csv``, ``appearance_tables.csv``,
-``tests.csv``, ``appearance.md`` and ``appearance.png``.
+``tests.csv``, ``appearance.md`` and ``appearance.png``. ``--from-sessions DIR``: simulated
+people fitted to recorded live sessions (:mod:`robin_sim.cli.people_fit`).
 """
 
 from __future__ import annotations
@@ -37,6 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the appearance study: Robin's eye cameras read people who look different, with "
         "the shipped gesture model (fixed) and one adapting to each person (adapted)",
     )
+    from robin_sim.cli import people_fit
+
+    people_fit.add_arguments(parser)  # --from-sessions, --sessions-per-person
     parser.add_argument(
         "--person",
         action="append",
@@ -47,7 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--workers",
         type=int,
         default=2,
-        help="with --appearance: episodes run at once (0: in this process) (default: 2)",
+        help="with --appearance or --from-sessions: episodes or sessions run at once (0: in "
+        "this process) (default: 2)",
     )
     parser.add_argument(
         "--tables",
@@ -68,7 +73,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run both modes and write the outputs; bad input raises before anything runs."""
+    """Run the chosen mode and write the outputs; bad input raises before anything runs."""
+    if args.from_sessions is not None:
+        from robin_sim.cli import people_fit
+
+        return people_fit.run(args)
     if args.appearance:
         return run_appearance(args, APPEARANCE_REPS if args.reps is None else args.reps)
     if args.person is not None:

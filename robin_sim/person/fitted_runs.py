@@ -1,0 +1,146 @@
+"""Many simulated sessions of each fitted person: planned, run (resumable), measured.
+
+Each person gets ``sessions_per_person`` simulated sessions, their recorded sessions'
+settings taken in turn; session ``k`` of participant ``P`` has the seed
+:func:`pil.task.seeds.block_seed` (``seed``, ``P``, ``k``), so the same seed gives the same
+sessions and the same results. A session's folder is ``OUT/simulated/<P>/sim<k>``; one whose
+``summary.json`` is there with its seed is finished and only measured again (an interrupted
+run goes on where it stopped); a folder without it is made anew. Runs go to a ``spawn``
+process pool (each worker builds its own scene), or run in this process with ``workers`` 0.
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+import shutil
+import signal
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pil.experiments.people_fit import FittedPerson
+from pil.experiments.people_observed import observe, session_measures
+from pil.experiments.people_sources import read_json, read_session
+from pil.experiments.sessions_load import SUMMARY_NAME
+from pil.task.seeds import block_seed
+from robin_sim.person.fitted_session import Setting, simulate
+from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
+
+SIMULATED_DIR = "simulated"
+
+
+@dataclass(frozen=True)
+class SimRun:
+    """One simulated session to run."""
+
+    person: FittedPerson
+    k: int
+    setting: Setting
+    seed: int
+
+    def folder(self, out: Path) -> Path:
+        return out / SIMULATED_DIR / self.person.participant / f"sim{self.k:03d}"
+
+
+def plan_runs(people: Sequence[FittedPerson], sessions_per_person: int, seed: int) -> list[SimRun]:
+    """Every simulated session of every person (see the module doc)."""
+    runs = []
+    for person in people:
+        settings = [Setting(**s) for s in _distinct(person.settings)]
+        for k in range(sessions_per_person):
+            setting = settings[k % len(settings)]
+            runs.append(SimRun(person, k, setting, block_seed(seed, person.participant, k)))
+    return runs
+
+
+def _distinct(settings: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    seen: list[dict[str, Any]] = []
+    for s in settings:
+        value = {
+            **s,
+            "handover_types": None if s["handover_types"] is None else tuple(s["handover_types"]),
+        }
+        if value not in seen:
+            seen.append(value)
+    return seen
+
+
+def measured(run: SimRun, out: Path) -> dict[str, Any] | None:
+    """The finished session's row (None when it is not finished with this seed)."""
+    folder = run.folder(out)
+    path = folder / SUMMARY_NAME
+    if not path.is_file():
+        return None
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if not isinstance(summary, dict) or (summary.get("live") or {}).get("seed") != run.seed:
+        return None
+    session = read_session(folder, out, run.person.participant, read_json(path))
+    row = session_measures(summary, observe(session.inputs, session.events, session.log))
+    return {
+        "participant": run.person.participant,
+        "session": session.name,
+        "seed": run.seed,
+        "setting": run.setting.as_json(),
+        **row,
+    }
+
+
+def run_one(run: SimRun, out: Path) -> dict[str, Any]:
+    """Simulate ``run`` (its folder made anew) and measure it."""
+    folder = run.folder(out)
+    if folder.exists():
+        shutil.rmtree(folder)  # an interrupted session: made anew
+    simulate(run.person, run.setting, run.seed, folder)
+    row = measured(run, out)
+    assert row is not None  # just written
+    return row
+
+
+def run_all(
+    runs: Sequence[SimRun],
+    out: Path,
+    workers: int,
+    progress: Callable[[int], object] = lambda n: None,
+) -> list[dict[str, Any]]:
+    """Every run's row, in ``runs`` order (finished ones read back; see the module doc)."""
+    rows: dict[int, dict[str, Any]] = {}
+    todo = []
+    for i, run in enumerate(runs):
+        done = measured(run, out)
+        if done is None:
+            todo.append(i)
+        else:
+            rows[i] = done
+    progress(len(rows))
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    if todo and workers == 0:
+        for i in todo:
+            rows[i] = run_one(runs[i], out)
+            progress(1)
+    elif todo:
+        previous = signal.signal(signal.SIGTERM, raise_interrupt)
+        context = multiprocessing.get_context("spawn")
+        pool = ProcessPoolExecutor(
+            min(workers, len(todo)), mp_context=context, initializer=worker_leaves_ctrl_c
+        )
+        try:
+            futures: dict[Future[dict[str, Any]], int] = {
+                pool.submit(run_one, runs[i], out): i for i in todo
+            }
+            pending = set(futures)
+            while pending:
+                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    rows[futures[future]] = future.result()
+                    progress(1)
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+            signal.signal(signal.SIGTERM, previous)
+    return [rows[i] for i in range(len(runs))]
