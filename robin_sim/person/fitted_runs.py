@@ -50,23 +50,14 @@ def plan_runs(people: Sequence[FittedPerson], sessions_per_person: int, seed: in
     """Every simulated session of every person (see the module doc)."""
     runs = []
     for person in people:
-        settings = [Setting(**s) for s in _distinct(person.settings)]
+        settings = []
+        for s in person.settings:
+            if Setting.from_json(s) not in settings:
+                settings.append(Setting.from_json(s))
         for k in range(sessions_per_person):
             setting = settings[k % len(settings)]
             runs.append(SimRun(person, k, setting, block_seed(seed, person.participant, k)))
     return runs
-
-
-def _distinct(settings: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    seen: list[dict[str, Any]] = []
-    for s in settings:
-        value = {
-            **s,
-            "handover_types": None if s["handover_types"] is None else tuple(s["handover_types"]),
-        }
-        if value not in seen:
-            seen.append(value)
-    return seen
 
 
 def measured(run: SimRun, out: Path) -> dict[str, Any] | None:

@@ -62,6 +62,12 @@ class Setting:
             block_actions=limits.get("block_actions"),
         )
 
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> Setting:
+        """The setting :meth:`as_json` wrote."""
+        types = data.get("handover_types")
+        return cls(**{**data, "handover_types": None if types is None else tuple(types)})
+
     def as_json(self) -> dict[str, Any]:
         return {
             "system": self.system,
