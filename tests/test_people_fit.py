@@ -184,3 +184,41 @@ def test_bad_input_is_one_message_and_exit_2(tmp_path: Path, capsys) -> None:
         capsys, "--from-sessions", str(folder), "--out", out
     )
     assert not Path(out).exists()
+
+
+def test_the_webcams_hand_examples_go_into_the_fitted_file() -> None:
+    """Real landmarks (the tracker's readings of tests/data/hands' footage), read by the live
+    session's hand reader as a webcam session logs them: the confident ones are kept per
+    label, as sent, and the fitted person carries them."""
+    from hand_data import footage, message
+
+    from robin_sim.live.hands.landmarks import check_hand
+    from robin_sim.live.hands.reader import HandReader
+
+    data, reader, rows = footage(), HandReader(640, 480), []
+    for i in range(len(data["label"])):
+        points = data["landmarks"][i]
+        raw = message(None if np.isnan(points).any() else points, str(data["handedness"][i]))
+        raw["aspect"] = float(data["aspect"][i])
+        reading = reader.read(check_hand(raw), 0.1 * i).as_dict()
+        rows.append({"raw": raw, "reading": reading, "accepted": True, "truth": data["label"][i]})
+    seen = observe(rows, [], [])
+    assert seen.hand_examples, "no confident reading in the footage"
+    truth = {
+        json.dumps(r["raw"]["landmarks"]): str(r["truth"]) for r in rows if r["raw"]["landmarks"]
+    }
+    agree = total = 0
+    for label, examples in seen.hand_examples.items():
+        assert 0 < len(examples) <= 12
+        for marks in examples:
+            assert np.array(marks).shape == (21, 3)
+            sent = next(k for k in truth if np.allclose(json.loads(k), marks, atol=1e-4))
+            agree += truth[sent] == label
+            total += 1
+    assert agree / total > 0.7  # the reader's labels are mostly the footage's
+    person = fit_person("W", [seen, *observe_sessions("P01")], [], [])
+    assert person.hand_examples == seen.hand_examples
+
+
+def observe_sessions(who: str) -> list:
+    return [observe(s.inputs, s.events, s.log) for s in find_sources(STAND_INS).sessions[who]]

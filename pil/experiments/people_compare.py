@@ -94,6 +94,8 @@ def write_csv(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], path: P
 def _cell(value: Any) -> str:
     if value is None:
         return "–"
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e6:
+        return str(int(value))
     if isinstance(value, float):
         return f"{value:.3g}" if abs(value) < 10 else f"{value:.1f}"
     return str(value)
@@ -191,3 +193,47 @@ def figure(
         ax.tick_params(labelsize=7)
     title = "Simulated (blue, bar: 95 % range) vs recorded (red x) sessions"
     return finish_figure(plt, fig, title, path)
+
+
+def summary_table(rows: Sequence[Mapping[str, Any]]) -> str:
+    """Per person and measure, one line: the recorded sessions' values, the simulated mean
+    [95 % CI], the 95 % range and how many recorded values lie in it (the docs' table)."""
+    lines = [
+        "| person | measure | recorded | simulated mean [95 % CI] | simulated 95 % range | "
+        "inside |",
+        "|---|---|---|---|---|---|",
+    ]
+    people = sorted({r["participant"] for r in rows})
+    for person in people:
+        for measure, label in MEASURES.items():
+            mine = [r for r in rows if r["participant"] == person and r["measure"] == measure]
+            if not mine:
+                continue
+            first = mine[0]
+            recorded = " / ".join(_cell(r["recorded"]) for r in mine)
+            inside = [r["inside"] for r in mine if r.get("inside") is not None]
+            lines.append(
+                f"| {person} | {label} | {recorded} | {_cell(first.get('simulated_mean'))} "
+                f"[{_cell(first.get('mean_low'))}, {_cell(first.get('mean_high'))}] | "
+                f"{_cell(first.get('range_low'))} – {_cell(first.get('range_high'))} | "
+                f"{sum(inside)} of {len(inside)} |"
+            )
+    return "\n".join(lines)
+
+
+def read_comparison(path: Path) -> list[dict[str, Any]]:
+    """``comparison.csv`` read back with its numbers as numbers."""
+    rows = []
+    with path.open(encoding="utf-8", newline="") as handle:
+        for raw in csv.DictReader(handle):
+            row: dict[str, Any] = dict(raw)
+            for key in COMPARISON_COLUMNS[3:]:
+                value = row.get(key)
+                if value in (None, ""):
+                    row[key] = None
+                elif key == "inside":
+                    row[key] = value == "True"
+                else:
+                    row[key] = float(value)
+            rows.append(row)
+    return rows
