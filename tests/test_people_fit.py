@@ -222,3 +222,17 @@ def test_the_webcams_hand_examples_go_into_the_fitted_file() -> None:
 
 def observe_sessions(who: str) -> list:
     return [observe(s.inputs, s.events, s.log) for s in find_sources(STAND_INS).sessions[who]]
+
+
+def test_the_docs_tables_are_the_results_files() -> None:
+    """docs/people.md's tables are what docs/people_tables.py makes of the committed results."""
+    import importlib.util
+
+    root = Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location("people_tables", root / "docs/people_tables.py")
+    assert spec is not None and spec.loader is not None
+    tables = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tables)
+    page = (root / "docs" / "people.md").read_text()
+    for name, table in tables.tables(root / "bench" / "results" / "people_fitted").items():
+        assert tables.section(page, name) == table, name
