@@ -236,3 +236,14 @@ def test_the_docs_tables_are_the_results_files() -> None:
     page = (root / "docs" / "people.md").read_text()
     for name, table in tables.tables(root / "bench" / "results" / "people_fitted").items():
         assert tables.section(page, name) == table, name
+
+
+def test_a_session_not_in_the_registry_is_refused_and_a_sessions_folder_is_enough(
+    tmp_path: Path, capsys
+) -> None:
+    folder = copy(tmp_path)
+    sources = find_sources(folder / "sessions")  # DIR inside the study: its records still count
+    assert sorted(sources.sessions) == ["P01", "P02"]
+    shutil.copytree(folder / "sessions/P01/block1-pil", folder / "sessions/P01/stray")
+    err = refused(capsys, "--from-sessions", str(folder), "--out", str(tmp_path / "out"))
+    assert "sessions/P01/stray (not among P01's sessions in the study's registry)" in err

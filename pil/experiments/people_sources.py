@@ -1,11 +1,12 @@
 """The recorded sessions a simulated person is fitted to: found, consent checked, read once.
 
 ``robin-pil people --from-sessions DIR`` takes a study folder (``robin-pil study-init``, run
-with ``robin-pil live --study``) or a folder of them. A session counts when its participant's
-consent is on record: the study's ``log.jsonl`` has their ``consent`` line with ``agree`` and
-``registry.json`` lists them. A withdrawn or declined participant is left out (named); a
-session whose consent is not on record at all (a plain ``robin-pil live`` folder, a study
-whose log lacks the line) is refused, and so is a folder with no session: one message each
+with ``robin-pil live --study``), a folder inside one, or a folder of them. A session counts
+when its participant's consent is on record: the study's ``log.jsonl`` has their ``consent``
+line with ``agree`` and ``registry.json`` lists the session among theirs. A withdrawn or
+declined participant is left out (named); a session whose consent is not on record (a plain
+``robin-pil live`` folder, a study whose log lacks the line, a session the registry does not
+list) is refused, and so is a folder with no session: one message each
 (:class:`PeopleSourceError`, exit 2). Practice blocks are never fitted. Every file is read
 through :func:`pil.regular_files.read_regular_text` (no FIFO, device or huge file hangs the
 command) and its SHA-256 kept, so a fitted person names the exact bytes it came from. Pure
@@ -118,20 +119,20 @@ def find_sources(folder: Path) -> Sources:
             f"--from-sessions {quote(str(folder))}: no live session (no summary.json with a "
             "'live' block) under it; record sessions with robin-pil live --study"
         )
-    studies: dict[Path, tuple[dict[str, str], set[str]]] = {}
+    studies: dict[Path, tuple[dict[str, str], set[str], dict[str, list[str]]]] = {}
     sessions: dict[str, list[RecordedSession]] = {}
     left_out: dict[str, str] = {}
     refused: list[str] = []
     for path in summaries:
         session_dir = path.parent
-        study = _study_of(session_dir, folder)
+        study = _study_of(session_dir)
         name = session_dir.relative_to(folder).as_posix()
         if study is None:
             refused.append(f"{name} (in no study folder)")
             continue
         if study not in studies:
             studies[study] = _consent(study)
-        statuses, agreed = studies[study]
+        statuses, agreed, registered = studies[study]
         summary = read_json(path)
         live = summary.get("live") if isinstance(summary, dict) else None
         if not isinstance(live, dict) or not isinstance(live.get("participant"), str):
@@ -145,6 +146,9 @@ def find_sources(folder: Path) -> Sources:
             continue
         if status is None or who not in agreed:
             refused.append(f"{name} ({who}: no consent line with 'agree' in the study's log)")
+            continue
+        if session_dir.resolve().relative_to(study).as_posix() not in registered.get(who, []):
+            refused.append(f"{name} (not among {who}'s sessions in the study's registry)")
             continue
         sessions.setdefault(who, []).append(read_session(session_dir, folder, who, summary))
     if refused:
@@ -193,29 +197,32 @@ def _is_live(path: Path) -> bool:
     return (path.parent / INPUTS_NAME).exists() or '"live"' in read_text(path)
 
 
-def _study_of(session_dir: Path, root: Path) -> Path | None:
-    """The nearest folder above ``session_dir`` (up to ``root``) holding a study file."""
-    for parent in [session_dir, *session_dir.parents]:
+def _study_of(session_dir: Path) -> Path | None:
+    """The nearest folder above ``session_dir`` holding a study file (DIR may be in it)."""
+    for parent in session_dir.resolve().parents:
         if (parent / STUDY_FILE).is_file():
             return parent
-        if parent == root or root not in parent.parents:
-            return None
     return None
 
 
-def _consent(study: Path) -> tuple[dict[str, str], set[str]]:
-    """The registry's status per participant, and who agreed in the study's log."""
+def _consent(study: Path) -> tuple[dict[str, str], set[str], dict[str, list[str]]]:
+    """The registry's status and sessions per participant, and who agreed in the log."""
     registry = study / REGISTRY_FILE
     if not registry.exists():
-        return {}, set()
+        return {}, set(), {}
     data = read_json(registry)
     people = data.get("participants") if isinstance(data, dict) else None
     if not isinstance(people, list):
         raise PeopleSourceError(f"{registry}: expected {{'participants': [...]}}")
     statuses = {str(p.get("id")): str(p.get("status")) for p in people if isinstance(p, dict)}
+    sessions = {
+        str(p.get("id")): [str(s) for s in p.get("sessions") or []]
+        for p in people
+        if isinstance(p, dict)
+    }
     agreed = {
         str(line.get("participant"))
         for line in read_lines(study / STUDY_LOG_FILE, required=False)
         if line.get("event") == "consent" and line.get("value") == "agree"
     }
-    return statuses, agreed
+    return statuses, agreed, sessions

@@ -40,7 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="DIR",
         help="fit a simulated person to each consented participant of the recorded live "
         "sessions in DIR (a study folder, or a folder of them), run their simulated sessions "
-        "and compare them with the recorded ones",
+        "and compare them with the recorded ones (default: off, the mappings study)",
     )
     parser.add_argument(
         "--sessions-per-person",
