@@ -174,6 +174,10 @@ def test_bad_input_is_one_message_and_exit_2(tmp_path: Path, capsys) -> None:
     err = refused(capsys, "--from-sessions", str(folder), "--appearance", "--out", out)
     assert "--appearance with --from-sessions" in err
     summary = folder / "sessions" / "P02" / "block2-pil" / "summary.json"
+    changed = {**json.loads(summary.read_text()), "scenario": "nowhere"}
+    summary.write_text(json.dumps(changed))
+    err = refused(capsys, "--from-sessions", str(folder), "--out", out)
+    assert "block2-pil: its setting cannot be simulated: nowhere: cannot read the scenario" in err
     summary.write_text('{"live": {"participant": "P02"')
     assert "summary.json: not a JSON file" in refused(capsys, "--from-sessions", str(folder))
     summary.write_text(json.dumps({"live": {"participant": "P02"}}))

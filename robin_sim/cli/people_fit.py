@@ -73,6 +73,14 @@ def check(args: argparse.Namespace) -> None:
         raise RobinPilError(f"--workers must be 0 to {MAX_WORKERS}, got {args.workers}")
 
 
+def _checked(setting: Any, who: str, name: str) -> None:
+    """The recorded session's setting can be run here (else one message, exit 2)."""
+    try:
+        setting.config(who, 0)
+    except RobinPilError as error:
+        raise RobinPilError(f"{name}: its setting cannot be simulated: {error}") from None
+
+
 def run(args: argparse.Namespace) -> int:
     """Fit, simulate, compare (see the module doc); bad input raises before anything runs."""
     from pil.experiments import people_compare as compare
@@ -90,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
     people = []
     for who, sessions in sorted(sources.sessions.items()):
         observed = [observe(s.inputs, s.events, s.log) for s in sessions]
+        for s in sessions:
+            _checked(Setting.of(s.summary), who, s.name)
         settings = [Setting.of(s.summary).as_json() for s in sessions]
         names = [{"session": s.name, "sha256": s.sha256} for s in sessions]
         people.append(fit_person(who, observed, names, settings))

@@ -68,6 +68,21 @@ class Setting:
         types = data.get("handover_types")
         return cls(**{**data, "handover_types": None if types is None else tuple(types)})
 
+    def config(self, participant: str, seed: int) -> LiveConfig:
+        """The live session's config of this setting, checked (:class:`RobinPilError` when
+        the recorded session names something this installation lacks, e.g. a scenario)."""
+        return LiveConfig(
+            participant=participant,
+            system=self.system,
+            scenario=self.scenario,
+            handover_types=self.handover_types,
+            video=False,
+            feedback_window=self.feedback_window,
+            seed=seed,
+            block_seconds=self.block_seconds,
+            block_actions=self.block_actions,
+        ).checked()
+
     def as_json(self) -> dict[str, Any]:
         return {
             "system": self.system,
@@ -113,17 +128,7 @@ class _Observer(Booking):
 def simulate(person: FittedPerson, setting: Setting, seed: int, out_dir: Path) -> dict[str, Any]:
     """One simulated session of ``person`` in ``setting`` with ``seed`` into ``out_dir`` (made
     here; it must not exist); its summary."""
-    config = LiveConfig(
-        participant=person.participant,
-        system=setting.system,
-        scenario=setting.scenario,
-        handover_types=setting.handover_types,
-        video=False,
-        feedback_window=setting.feedback_window,
-        seed=seed,
-        block_seconds=setting.block_seconds,
-        block_actions=setting.block_actions,
-    ).checked()
+    config = setting.config(person.participant, seed)
     out_dir.mkdir(parents=True)
     started = time.perf_counter()
     inputs, events = _Lines(out_dir / INPUTS_NAME), _Lines(out_dir / EVENTS_NAME)
