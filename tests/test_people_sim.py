@@ -21,10 +21,10 @@ from pil.task.records import StepRecord
 from pil.types import Action, Feedback, Gesture
 from robin_sim.cli.main import main
 from robin_sim.episode.assemble import layout_of
+from robin_sim.fitted.player import FittedPlayer
+from robin_sim.fitted.session import Setting, simulate
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.run import live_parts
-from robin_sim.person.fitted_player import FittedPlayer
-from robin_sim.person.fitted_session import Setting, simulate
 from robin_sim.robot.world import PhysicalWorld
 
 pytestmark = pytest.mark.slow

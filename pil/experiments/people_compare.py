@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from pil.experiments.people_observed import MEASURES
+from pil.experiments.people_observed import COMPARED_MEASURES
 
 COMPARISON_COLUMNS = (
     "participant",
@@ -52,7 +52,7 @@ def compare(
             for s in simulated
             if s["participant"] == rec["participant"] and s["setting"] == rec["setting"]
         ]
-        for measure in MEASURES:
+        for measure in COMPARED_MEASURES:
             values, value = _values(sims, measure), rec.get(measure)
             row: dict[str, Any] = {
                 "participant": rec["participant"],
@@ -153,7 +153,7 @@ def markdown(
             span = f"{_cell(r.get('range_low'))} – {_cell(r.get('range_high'))}"
             yes = {True: "yes", False: "**no**", None: "–"}[r.get("inside")]
             lines.append(
-                f"| {MEASURES[r['measure']]} | {r['session']} | {_cell(r['recorded'])} | "
+                f"| {COMPARED_MEASURES[r['measure']]} | {r['session']} | {_cell(r['recorded'])} | "
                 f"{mean} | {span} | {yes} |"
             )
         lines.append("")
@@ -174,7 +174,7 @@ def figure(
     from pil.experiments.plotting import finish_figure, pyplot
 
     plt = pyplot()
-    measures = list(MEASURES)
+    measures = list(COMPARED_MEASURES)
     people = sorted({r["participant"] for r in recorded})
     fig, axes = plt.subplots(1, len(measures), figsize=(2.3 * len(measures), 3.4))
     for ax, measure in zip(axes, measures, strict=True):
@@ -189,7 +189,7 @@ def figure(
             ax.scatter(np.full(recs.size, i), recs, marker="x", s=50, color="tab:red", zorder=3)
         ax.set_xticks(range(len(people)), people)
         ax.set_xlim(-0.6, len(people) - 0.4)
-        ax.set_title(MEASURES[measure], fontsize=8)
+        ax.set_title(COMPARED_MEASURES[measure], fontsize=8)
         ax.tick_params(labelsize=7)
     title = "Simulated (blue, bar: 95 % range) vs recorded (red x) sessions"
     return finish_figure(plt, fig, title, path)
@@ -205,7 +205,7 @@ def summary_table(rows: Sequence[Mapping[str, Any]]) -> str:
     ]
     people = sorted({r["participant"] for r in rows})
     for person in people:
-        for measure, label in MEASURES.items():
+        for measure, label in COMPARED_MEASURES.items():
             mine = [r for r in rows if r["participant"] == person and r["measure"] == measure]
             if not mine:
                 continue

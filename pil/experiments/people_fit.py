@@ -16,7 +16,7 @@ read by :mod:`pil.experiments.people_observed`):
 * **hand examples**: the webcam's landmarks per gesture label, as recorded (none without a
   webcam), for a hand model to retarget.
 
-The file (JSON, ``format`` :data:`FORMAT`) names every source session with its files'
+The file (JSON, ``format`` :data:`PERSON_FORMAT`) names every source session with its files'
 SHA-256, and the settings each was run with, so the simulated sessions repeat them. The
 simulation uses the fitted values (the MLE); the intervals say how well the sessions pin them.
 """
@@ -36,7 +36,7 @@ from scipy import stats
 from pil.errors import RobinPilError
 from pil.experiments.people_observed import Observed
 
-FORMAT = 1
+PERSON_FORMAT = 1
 KIND = "robin-pil fitted person"
 
 
@@ -129,7 +129,7 @@ class FittedPerson:
         return Rate.of(moves.k + fingers.k, moves.n + fingers.n)
 
     def as_json(self) -> dict[str, Any]:
-        return {"kind": KIND, "format": FORMAT, **asdict(self)}
+        return {"kind": KIND, "format": PERSON_FORMAT, **asdict(self)}
 
 
 def fit_person(
@@ -183,9 +183,9 @@ def write_person(person: FittedPerson, path: Path) -> None:
 
 def read_person(data: Mapping[str, Any], where: str) -> FittedPerson:
     """A fitted person from its JSON; :class:`FittedPersonError` naming ``where``."""
-    if data.get("kind") != KIND or data.get("format") != FORMAT:
+    if data.get("kind") != KIND or data.get("format") != PERSON_FORMAT:
         raise FittedPersonError(
-            f"{where}: not a fitted person of format {FORMAT} (kind {data.get('kind')!r}, "
+            f"{where}: not a fitted person of format {PERSON_FORMAT} (kind {data.get('kind')!r}, "
             f"format {data.get('format')!r})"
         )
     try:

@@ -13,7 +13,7 @@
   gesture label, when the session had a webcam.
 
 :func:`session_measures` gives the figures compared between recorded and simulated sessions,
-from the same files: a simulated session (:mod:`robin_sim.person.fitted_session`) writes them
+from the same files: a simulated session (:mod:`robin_sim.fitted.session`) writes them
 as a live session does.
 """
 
@@ -27,10 +27,10 @@ from typing import Any
 
 GESTURE_INPUTS = ("point", "gesture")
 HAND_BACKS = ("handed_back", "watchdog")
-FINGER_ACTIONS = ("close", "open")
+FINGER_MOTIONS = ("close", "open")
 LATE = "no robot action to judge"  # the page's refusal of a thumb after the window
 EXAMPLE_CONFIDENCE = 0.6  # a webcam reading at least this sure is kept as an example
-MAX_EXAMPLES = 12  # hand examples kept per gesture label
+MAX_HAND_EXAMPLES = 12  # hand examples kept per gesture label
 
 
 @dataclass(frozen=True)
@@ -116,7 +116,7 @@ def judgements(
             Judgement(
                 action=action,
                 wrong=action != step.get("intended_action"),
-                fingers=action in FINGER_ACTIONS,
+                fingers=action in FINGER_MOTIONS,
                 thumb=None if thumb is None else thumb[0],
                 latency=None if thumb is None else round(thumb[1], 4),
                 late=thumb is not None and thumb[2],
@@ -127,7 +127,7 @@ def judgements(
 
 def hand_examples(inputs: Sequence[Mapping[str, Any]]) -> dict[str, list[list[list[float]]]]:
     """The webcam's confident readings' landmarks per gesture label (at most
-    :data:`MAX_EXAMPLES` each)."""
+    :data:`MAX_HAND_EXAMPLES` each)."""
     examples: dict[str, list[list[list[float]]]] = {}
     for row in inputs:
         raw, reading = _raw(row), row.get("reading")
@@ -138,7 +138,7 @@ def hand_examples(inputs: Sequence[Mapping[str, Any]]) -> dict[str, list[list[li
         if not label or not sure or reading.get("discarded") or not isinstance(marks, list):
             continue
         kept = examples.setdefault(str(label), [])
-        if len(kept) < MAX_EXAMPLES:
+        if len(kept) < MAX_HAND_EXAMPLES:
             kept.append([[round(float(v), 4) for v in point] for point in marks])
     return examples
 
@@ -181,7 +181,7 @@ def session_measures(summary: Mapping[str, Any], observed: Observed) -> dict[str
     }
 
 
-MEASURES: dict[str, str] = {
+COMPARED_MEASURES: dict[str, str] = {
     "actions": "robot actions",
     "gestures": "instruction gestures",
     "rejected": "rejected actions",

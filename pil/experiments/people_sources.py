@@ -28,6 +28,7 @@ from pil.experiments.sessions_load import (
     SESSION_LOG_NAME,
     SUMMARY_NAME,
 )
+from pil.experiments.study_export import EXCLUDED  # the registry's statuses never analysed
 from pil.regular_files import FileTooLargeError, read_regular_text
 
 STUDY_FILE = "study.yaml"
@@ -35,7 +36,6 @@ REGISTRY_FILE = "registry.json"
 STUDY_LOG_FILE = "log.jsonl"
 MAX_BYTES = 64 * 1024 * 1024  # one session file (a long block's inputs stay far below)
 SESSION_FILES = (SUMMARY_NAME, INPUTS_NAME, EVENTS_NAME, SESSION_LOG_NAME)
-LEFT_OUT = ("declined", "withdrawn")  # the registry's statuses that are never analysed
 
 
 class PeopleSourceError(RobinPilError):
@@ -141,7 +141,7 @@ def find_sources(folder: Path) -> Sources:
         if live.get("practice"):
             continue  # a practice block is never analysed
         status = statuses.get(who)
-        if status in LEFT_OUT:
+        if status in EXCLUDED:
             left_out[who] = f"{status} (registry)"
             continue
         if status is None or who not in agreed:

@@ -15,11 +15,12 @@ import argparse
 from pathlib import Path
 
 from pil.errors import RobinPilError
+from robin_sim.cli import people_fit
 from robin_sim.cli.options import DEFAULT_REPS, add_run_options, progress_bar, run_options
+from robin_sim.cli.people_fit import MAX_WORKERS
 
 DEFAULT_OUT = Path("out/people")
 APPEARANCE_REPS = 5  # repetitions of the appearance study (physical episodes: minutes each)
-MAX_WORKERS = 16
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,8 +39,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the appearance study: Robin's eye cameras read people who look different, with "
         "the shipped gesture model (fixed) and one adapting to each person (adapted)",
     )
-    from robin_sim.cli import people_fit
-
     people_fit.add_arguments(parser)  # --from-sessions, --sessions-per-person
     parser.add_argument(
         "--person",
@@ -75,8 +74,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the chosen mode and write the outputs; bad input raises before anything runs."""
     if args.from_sessions is not None:
-        from robin_sim.cli import people_fit
-
         return people_fit.run(args)
     if args.appearance:
         return run_appearance(args, APPEARANCE_REPS if args.reps is None else args.reps)

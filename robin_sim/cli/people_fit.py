@@ -2,7 +2,7 @@
 
 Every consented participant's sessions under DIR (:mod:`pil.experiments.people_sources`) are
 fitted (:mod:`pil.experiments.people_fit`); each fitted person runs
-``--sessions-per-person`` simulated sessions (:mod:`robin_sim.person.fitted_runs`), and the
+``--sessions-per-person`` simulated sessions (:mod:`robin_sim.fitted.runs`), and the
 simulated sessions are compared with the recorded ones
 (:mod:`pil.experiments.people_compare`). Written to ``--out``: ``people/<P>.json`` (the fitted
 people), ``simulated/<P>/sim<k>/`` (the simulated sessions' files), ``recorded.csv`` and
@@ -19,10 +19,10 @@ from typing import Any
 
 from pil.errors import RobinPilError
 
+MAX_WORKERS = 16  # --workers of robin-pil people (both of its physical modes)
 DEFAULT_SESSIONS = 20
 MAX_SESSIONS = 1000
-MAX_WORKERS = 16
-ROW_COLUMNS = ("participant", "session", "seed", "status", "legs_delivered")
+SIM_ROW_COLUMNS = ("participant", "session", "seed", "status", "legs_delivered")
 REFUSED_WITH = {  # options of the other two studies: refused with --from-sessions
     "appearance": "--appearance",
     "person": "--person",
@@ -85,12 +85,12 @@ def run(args: argparse.Namespace) -> int:
     """Fit, simulate, compare (see the module doc); bad input raises before anything runs."""
     from pil.experiments import people_compare as compare
     from pil.experiments.people_fit import fit_person, write_person
-    from pil.experiments.people_observed import MEASURES, observe, session_measures
+    from pil.experiments.people_observed import COMPARED_MEASURES, observe, session_measures
     from pil.experiments.people_sources import find_sources
     from pil.outdir import claimed_out_dir
     from robin_sim.cli.options import progress_bar
-    from robin_sim.person.fitted_runs import plan_runs, run_all
-    from robin_sim.person.fitted_session import Setting
+    from robin_sim.fitted.runs import plan_runs, run_all
+    from robin_sim.fitted.session import Setting
 
     check(args)
     sources = find_sources(args.from_sessions)  # consent, readable files: else exit 2
@@ -115,9 +115,9 @@ def run(args: argparse.Namespace) -> int:
         runs = plan_runs(people, args.sessions_per_person, args.seed)
         with progress_bar(len(runs), "fitted people", args) as bar:
             simulated = run_all(runs, out, args.workers, progress=bar.update)
-        columns = (*ROW_COLUMNS[:2], *ROW_COLUMNS[3:], *MEASURES)
+        columns = (*SIM_ROW_COLUMNS[:2], *SIM_ROW_COLUMNS[3:], *COMPARED_MEASURES)
         compare.write_csv(recorded, columns, out / "recorded.csv")
-        compare.write_csv(simulated, (*ROW_COLUMNS, *MEASURES), out / "simulated.csv")
+        compare.write_csv(simulated, (*SIM_ROW_COLUMNS, *COMPARED_MEASURES), out / "simulated.csv")
         rows = compare.compare(recorded, simulated)
         written = [
             compare.write_csv(rows, compare.COMPARISON_COLUMNS, out / "comparison.csv"),

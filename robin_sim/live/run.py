@@ -45,7 +45,7 @@ def live_parts(
 ) -> tuple[Run, LiveParticipant]:
     """The checked ``config``'s run in ``world`` (assembled as an episode, with the live
     body's tempo), with a :class:`LiveParticipant` in the scripted person's place: a live
-    session's, or a simulated participant's (:mod:`robin_sim.person.fitted_session`)."""
+    session's, or a simulated participant's (:mod:`robin_sim.fitted.session`)."""
     spec = config.run_spec()
     scripted = assemble(spec, world=world, tempo=LIVE)
     body = scripted.person.body

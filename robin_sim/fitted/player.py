@@ -1,7 +1,7 @@
 """A fitted person at a live participant's place: gestures and thumbs from the physics tick.
 
 :class:`FittedPlayer` plays a :class:`~pil.experiments.people_fit.FittedPerson` in a simulated
-session (:mod:`robin_sim.person.fitted_session`): it is a
+session (:mod:`robin_sim.fitted.session`): it is a
 :class:`~robin_sim.control.simulator.Simulator` observer, so it acts between two control
 ticks, in simulated time, as the page's messages reach a live session between two ticks. It
 hands the :class:`~robin_sim.live.participant.LiveParticipant` what a page would send, so the
@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from pil.experiments.people_fit import FittedPerson
-from pil.experiments.people_observed import FINGER_ACTIONS
+from pil.experiments.people_observed import FINGER_MOTIONS
 from pil.task.records import StepRecord
 from pil.task.world import Target
 from pil.types import Feedback, Gesture
@@ -77,7 +77,7 @@ class FittedPlayer:
         meant = None if record.intended_action is None else record.intended_action.value
         person, roll = self.person, float(self.rng.random())
         wrong = action != meant
-        if wrong and action in FINGER_ACTIONS:
+        if wrong and action in FINGER_MOTIONS:
             down = person.down_on_wrong_fingers.value(person.down_on_wrong.value(1.0))
         elif wrong:
             down = person.down_on_wrong_move.value(person.down_on_wrong.value(1.0))

@@ -27,7 +27,7 @@ from pil.experiments.people_observed import observe, session_measures
 from pil.experiments.people_sources import read_json, read_session
 from pil.experiments.sessions_load import SUMMARY_NAME
 from pil.task.seeds import block_seed
-from robin_sim.person.fitted_session import Setting, simulate
+from robin_sim.fitted.session import Setting, simulate
 from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 
 SIMULATED_DIR = "simulated"

@@ -4,7 +4,7 @@
 scenario, handover types, feedback window and caps, from the recorded summary) with the live
 session's own parts (:func:`robin_sim.live.run.live_parts`: the live body's tempo, the exact
 detector, the within-step memory on, the watchdog), puts a
-:class:`~robin_sim.person.fitted_player.FittedPlayer` at the participant's place and runs the
+:class:`~robin_sim.fitted.player.FittedPlayer` at the participant's place and runs the
 step loop as fast as physics goes (no pacing, no frames). It writes the files a live session
 writes (``inputs.jsonl``, ``events.jsonl``, ``log.jsonl``, ``summary.json`` with a ``live``
 block marked ``simulated``), so one reader measures recorded and simulated sessions alike.
@@ -29,10 +29,10 @@ from robin_sim.episode.assemble import layout_of
 from robin_sim.episode.book import StepBook, run_summary
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.summary import EpisodeTotals
+from robin_sim.fitted.player import FittedPlayer
 from robin_sim.live.booking import Booking
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.status import LiveStatus
-from robin_sim.person.fitted_player import FittedPlayer
 from robin_sim.robot.world import PhysicalWorld
 
 
