@@ -18,6 +18,7 @@ import pytest
 from scipy import stats
 
 from pil.experiments.people_fit import (
+    FittedPerson,
     FittedPersonError,
     Latency,
     Rate,
@@ -27,6 +28,7 @@ from pil.experiments.people_fit import (
 )
 from pil.experiments.people_observed import observe
 from pil.experiments.people_sources import find_sources
+from pil.types import Feedback
 from robin_sim.cli.main import main
 
 DATA = Path(__file__).parent / "data" / "fitted_people"
@@ -251,3 +253,39 @@ def test_a_session_not_in_the_registry_is_refused_and_a_sessions_folder_is_enoug
     shutil.copytree(folder / "sessions/P01/block1-pil", folder / "sessions/P01/stray")
     err = refused(capsys, "--from-sessions", str(folder), "--out", str(tmp_path / "out"))
     assert "sessions/P01/stray (not among P01's sessions in the study's registry)" in err
+
+
+def test_the_players_thumbs_follow_the_fitted_shares() -> None:
+    """The simulated person's verdicts on 1000 actions of each kind against its shares
+    (binomial tests), and its latencies against the fitted lognormal's median."""
+    from robin_sim.fitted.player import draw_verdict
+
+    down, up = Latency(1.0, 0.3, 10, 0.9, 1.1), Latency(2.0, 0.3, 10, 1.8, 2.2)
+    person = FittedPerson(
+        participant="X",
+        gesture_latency=down,
+        down_latency=down,
+        up_latency=up,
+        down_on_wrong_move=Rate(9, 10, 0.9, 0.5, 1.0),
+        down_on_wrong_fingers=Rate(6, 10, 0.6, 0.3, 0.9),
+        down_on_right=Rate(1, 10, 0.1, 0.0, 0.4),
+        up_on_right=Rate(5, 10, 0.5, 0.2, 0.8),
+        late_thumbs=0,
+    )
+    rng, n = np.random.default_rng(1), 1000
+    cases = {  # (action, meant) -> (P(thumb down), P(thumb up)), shares of all such actions
+        ("location", "object"): (0.9, 0.0),
+        ("close", "object"): (0.6, 0.0),
+        ("object", "object"): (0.1, 0.5),
+    }
+    for (action, meant), (p_down, p_up) in cases.items():
+        verdicts = [draw_verdict(person, action, meant, rng) for _ in range(n)]
+        downs = [v[1] for v in verdicts if v is not None and v[0] is Feedback.NOT_OK]
+        ups = [v[1] for v in verdicts if v is not None and v[0] is Feedback.OK]
+        assert stats.binomtest(len(downs), n, p_down).pvalue > 0.001, (action, len(downs))
+        if p_up:
+            assert stats.binomtest(len(ups), n, p_up).pvalue > 0.001, (action, len(ups))
+            assert float(np.median(ups)) == pytest.approx(2.0, rel=0.1)
+        else:
+            assert not ups
+        assert float(np.median(downs)) == pytest.approx(1.0, rel=0.1)

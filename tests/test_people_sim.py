@@ -12,20 +12,11 @@ import json
 import shutil
 from pathlib import Path
 
-import numpy as np
 import pytest
-from scipy import stats
 
-from pil.experiments.people_fit import FittedPerson, Latency, Rate, read_person
-from pil.task.records import StepRecord
-from pil.types import Action, Feedback, Gesture
+from pil.experiments.people_fit import read_person
 from robin_sim.cli.main import main
-from robin_sim.episode.assemble import layout_of
-from robin_sim.fitted.player import FittedPlayer
 from robin_sim.fitted.session import Setting, simulate
-from robin_sim.live.config import LiveConfig
-from robin_sim.live.run import live_parts
-from robin_sim.robot.world import PhysicalWorld
 
 pytestmark = pytest.mark.slow
 TINY = Path(__file__).parent / "data" / "fitted_people" / "tiny"
@@ -62,38 +53,3 @@ def test_a_fitted_person_runs_and_is_compared_with_the_recording(tmp_path: Path)
     simulate(person, Setting.from_json(person.settings[0]), summary["live"]["seed"], again)
     assert (again / "log.jsonl").read_text() == (sim / "log.jsonl").read_text()
     assert (again / "inputs.jsonl").read_text() == (sim / "inputs.jsonl").read_text()
-
-
-def test_the_players_thumbs_follow_the_fitted_rates() -> None:
-    config = LiveConfig(scenario="one_handover", video=False).checked()
-    world = PhysicalWorld(layout_of(config.run_spec().scenario))
-    _, participant = live_parts(config, world)
-    latency = Latency(1.0, 0.3, 10, 0.9, 1.1)
-    person = FittedPerson(
-        participant="X",
-        gesture_latency=latency,
-        down_latency=latency,
-        up_latency=Latency(2.0, 0.3, 10, 1.8, 2.2),
-        down_on_wrong_move=Rate(9, 10, 0.9, 0.5, 1.0),
-        down_on_wrong_fingers=Rate(6, 10, 0.6, 0.3, 0.9),
-        down_on_right=Rate(1, 10, 0.1, 0.0, 0.4),
-        up_on_right=Rate(5, 10, 0.5, 0.2, 0.8),
-        late_thumbs=0,
-    )
-    player = FittedPlayer(person, participant, np.random.default_rng(1), lambda *a: None)
-    base = StepRecord(0, 1, 0, 0, "A", 0, Gesture.POINTING, Gesture.POINTING, Action.OBJECT, 0)
-    cases = {  # action -> (wanted, P(thumb down), P(thumb up))
-        Action.LOCATION: (Action.OBJECT, 0.9, 0.0),
-        Action.CLOSE: (Action.OBJECT, 0.6, 0.0),
-        Action.OBJECT: (Action.OBJECT, 0.1, 0.5),  # shares of all right actions
-    }
-    n = 1000
-    for action, (wanted, p_down, p_up) in cases.items():
-        thumbs = []
-        for _ in range(n):
-            player.decided(base._replace(action=action, intended_action=wanted))
-            thumbs.append(None if player.thumb is None else player.thumb[0])
-        downs = sum(t is Feedback.NOT_OK for t in thumbs)
-        ups = sum(t is Feedback.OK for t in thumbs)
-        assert stats.binomtest(downs, n, p_down).pvalue > 0.001, (action, downs)
-        assert stats.binomtest(ups, n, p_up).pvalue > 0.001 if p_up else ups == 0

@@ -45,6 +45,29 @@ LATE_ERROR = (  # the page's refusal of a thumb with no action to judge
 InputLog = Callable[[dict[str, Any], str, float], None]  # raw message, error, sim time
 
 
+def draw_verdict(
+    person: FittedPerson, action: str | None, meant: str | None, rng: np.random.Generator
+) -> tuple[Feedback, float] | None:
+    """The thumb ``person`` gives when the robot begins ``action`` meaning ``meant``, and its
+    latency from that beginning (None: no thumb, silence). A share fitted from nothing falls
+    back on the wrong actions' pooled share (a wrong action), else 1 for a wrong action and 0
+    for a right one."""
+    wrong = action != meant
+    if wrong and action in FINGER_MOTIONS:
+        down = person.down_on_wrong_fingers.value(person.down_on_wrong.value(1.0))
+    elif wrong:
+        down = person.down_on_wrong_move.value(person.down_on_wrong.value(1.0))
+    else:
+        down = person.down_on_right.value(0.0)
+    up = 0.0 if wrong else person.up_on_right.value(0.0)
+    roll = float(rng.random())
+    if roll < down and person.down_latency is not None:
+        return Feedback.NOT_OK, person.down_latency.draw(rng)
+    if roll < down + up and person.up_latency is not None:
+        return Feedback.OK, person.up_latency.draw(rng)
+    return None
+
+
 class FittedPlayer:
     """``person`` at ``participant``'s place (see the module doc); ``rng`` draws its dice."""
 
@@ -75,21 +98,8 @@ class FittedPlayer:
         self.stuck = 0
         action = None if record.action is None else record.action.value
         meant = None if record.intended_action is None else record.intended_action.value
-        person, roll = self.person, float(self.rng.random())
-        wrong = action != meant
-        if wrong and action in FINGER_MOTIONS:
-            down = person.down_on_wrong_fingers.value(person.down_on_wrong.value(1.0))
-        elif wrong:
-            down = person.down_on_wrong_move.value(person.down_on_wrong.value(1.0))
-        else:
-            down = person.down_on_right.value(0.0)
-        up = 0.0 if wrong else person.up_on_right.value(0.0)
-        latency = None
-        if roll < down and person.down_latency is not None:
-            feedback, latency = Feedback.NOT_OK, person.down_latency
-        elif roll < down + up and person.up_latency is not None:
-            feedback, latency = Feedback.OK, person.up_latency
-        self.thumb = None if latency is None else (feedback, self.now + latency.draw(self.rng))
+        verdict = draw_verdict(self.person, action, meant, self.rng)
+        self.thumb = None if verdict is None else (verdict[0], self.now + verdict[1])
 
     def gave_turn(self) -> None:
         """Robin gave the turn back (a step logged, or a gesture handed back)."""
