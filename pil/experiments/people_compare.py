@@ -106,8 +106,11 @@ def markdown(
     people: Sequence[Mapping[str, Any]],
     left_out: Mapping[str, str],
     sessions_per_person: int,
+    statuses: Mapping[str, Mapping[str, int]] | None = None,
 ) -> str:
-    """The comparison as a markdown page: the fitted parameters, then one table per person."""
+    """The comparison as a markdown page: the fitted parameters, how the simulated sessions
+    ended (``statuses``: person -> status -> sessions), then one table per person."""
+    statuses = statuses or {}
     lines = [
         "# Fitted people: simulated sessions against the recorded ones",
         "",
@@ -131,6 +134,16 @@ def markdown(
     if left_out:
         lines += ["", "Left out: " + ", ".join(f"{k} ({v})" for k, v in left_out.items()) + "."]
     inside = [r["inside"] for r in rows if r.get("inside") is not None]
+    if statuses:
+        lines += [
+            "",
+            "Simulated sessions by how they ended: "
+            + "; ".join(
+                f"{who} " + ", ".join(f"{k} {n}" for k, n in sorted(counts.items()))
+                for who, counts in sorted(statuses.items())
+            )
+            + ".",
+        ]
     lines += [
         "",
         f"Recorded values inside the simulated 95 % range: {sum(inside)} of {len(inside)}.",

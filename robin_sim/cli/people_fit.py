@@ -127,7 +127,11 @@ def run(args: argparse.Namespace) -> int:
         fitted = [
             json.loads((out / "people" / f"{p.participant}.json").read_text()) for p in people
         ]
-        text = compare.markdown(rows, fitted, sources.left_out, args.sessions_per_person)
+        ended: dict[str, dict[str, int]] = {}
+        for row in simulated:
+            counts = ended.setdefault(row["participant"], {})
+            counts[str(row["status"])] = counts.get(str(row["status"]), 0) + 1
+        text = compare.markdown(rows, fitted, sources.left_out, args.sessions_per_person, ended)
         (out / "comparison.md").write_text(text + "\n", encoding="utf-8")
     inside = [r["inside"] for r in rows if r.get("inside") is not None]
     print(

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from pil.errors import RobinPilError
 from pil.experiments.people_fit import FittedPerson
 from pil.experiments.sessions_load import EVENTS_NAME, INPUTS_NAME, SESSION_LOG_NAME, SUMMARY_NAME
 from pil.task.records import StepRecord
@@ -188,6 +189,8 @@ def simulate(person: FittedPerson, setting: Setting, seed: int, out_dir: Path) -
         status = "finished" if done else "ended"
     except Stopped as stopped:
         status = stopped.status
+    except Exception as problem:  # saved as failed, with the error (as a live session is)
+        error = str(problem) if isinstance(problem, RobinPilError) else repr(problem)
     finally:
         remove()
         inputs.close()
