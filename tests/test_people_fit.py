@@ -7,6 +7,7 @@ Pure Python and scipy: no physics here (``tests/test_people_sim.py`` runs the si
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -258,8 +259,6 @@ def test_a_session_not_in_the_registry_is_refused_and_a_sessions_folder_is_enoug
 def test_the_players_thumbs_follow_the_fitted_shares() -> None:
     """The simulated person's verdicts on 1000 actions of each kind against its shares
     (binomial tests), and its latencies against the fitted lognormal's median."""
-    from robin_sim.fitted.player import draw_verdict
-
     down, up = Latency(1.0, 0.3, 10, 0.9, 1.1), Latency(2.0, 0.3, 10, 1.8, 2.2)
     person = FittedPerson(
         participant="X",
@@ -279,7 +278,7 @@ def test_the_players_thumbs_follow_the_fitted_shares() -> None:
         ("object", "object"): (0.1, 0.5),
     }
     for (action, meant), (p_down, p_up) in cases.items():
-        verdicts = [draw_verdict(person, action, meant, rng) for _ in range(n)]
+        verdicts = [person.verdict(action, meant, rng) for _ in range(n)]
         downs = [v[1] for v in verdicts if v is not None and v[0] is Feedback.NOT_OK]
         ups = [v[1] for v in verdicts if v is not None and v[0] is Feedback.OK]
         assert stats.binomtest(len(downs), n, p_down).pvalue > 0.001, (action, len(downs))
@@ -289,3 +288,10 @@ def test_the_players_thumbs_follow_the_fitted_shares() -> None:
         else:
             assert not ups
         assert float(np.median(downs)) == pytest.approx(1.0, rel=0.1)
+    # a share fitted from nothing: the wrong actions' pooled share stands in for it
+    unseen = dataclasses.replace(person, down_on_wrong_fingers=Rate.of(0, 0))
+    downs = sum(
+        (v := unseen.verdict("open", "human", rng)) is not None and v[0] is Feedback.NOT_OK
+        for _ in range(n)
+    )
+    assert stats.binomtest(downs, n, 0.9).pvalue > 0.001

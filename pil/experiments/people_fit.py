@@ -19,6 +19,8 @@ read by :mod:`pil.experiments.people_observed`):
 The file (JSON, ``format`` :data:`PERSON_FORMAT`) names every source session with its files'
 SHA-256, and the settings each was run with, so the simulated sessions repeat them. The
 simulation uses the fitted values (the MLE); the intervals say how well the sessions pin them.
+:meth:`FittedPerson.verdict` draws the person's thumb on one robot action from them (the
+simulated player, :mod:`robin_sim.fitted.player`, sends it).
 """
 
 from __future__ import annotations
@@ -34,7 +36,8 @@ import numpy as np
 from scipy import stats
 
 from pil.errors import RobinPilError
-from pil.experiments.people_observed import Observed
+from pil.experiments.people_observed import FINGER_MOTIONS, Observed
+from pil.types import Feedback
 
 PERSON_FORMAT = 1
 KIND = "robin-pil fitted person"
@@ -127,6 +130,30 @@ class FittedPerson:
         """Thumbs down on every wrong action, arm and fingers together."""
         moves, fingers = self.down_on_wrong_move, self.down_on_wrong_fingers
         return Rate.of(moves.k + fingers.k, moves.n + fingers.n)
+
+    def verdict(
+        self, action: str | None, meant: str | None, rng: np.random.Generator
+    ) -> tuple[Feedback, float] | None:
+        """The thumb this person gives when the robot begins ``action`` meaning ``meant``,
+        and its latency from that beginning (None: no thumb, silence). A share fitted from
+        nothing falls back on the wrong actions' pooled share (a wrong action), else 1 for a
+        wrong action and 0 for a right one."""
+        wrong = action != meant
+        moves, fingers = self.down_on_wrong_move, self.down_on_wrong_fingers
+        pooled = (moves.k + fingers.k) / (moves.n + fingers.n) if moves.n + fingers.n else 1.0
+        if wrong and action in FINGER_MOTIONS:
+            down = fingers.value(pooled)
+        elif wrong:
+            down = moves.value(pooled)
+        else:
+            down = self.down_on_right.value(0.0)
+        up = 0.0 if wrong else self.up_on_right.value(0.0)
+        roll = float(rng.random())
+        if roll < down and self.down_latency is not None:
+            return Feedback.NOT_OK, self.down_latency.draw(rng)
+        if roll < down + up and self.up_latency is not None:
+            return Feedback.OK, self.up_latency.draw(rng)
+        return None
 
     def as_json(self) -> dict[str, Any]:
         return {"kind": KIND, "format": PERSON_FORMAT, **asdict(self)}

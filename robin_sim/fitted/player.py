@@ -31,7 +31,6 @@ from typing import Any
 import numpy as np
 
 from pil.experiments.people_fit import FittedPerson
-from pil.experiments.people_observed import FINGER_MOTIONS
 from pil.task.records import StepRecord
 from pil.task.world import Target
 from pil.types import Feedback, Gesture
@@ -43,29 +42,6 @@ LATE_ERROR = (  # the page's refusal of a thumb with no action to judge
     "There is no robot action to judge now: give a thumb while Robin moves or just after."
 )
 InputLog = Callable[[dict[str, Any], str, float], None]  # raw message, error, sim time
-
-
-def draw_verdict(
-    person: FittedPerson, action: str | None, meant: str | None, rng: np.random.Generator
-) -> tuple[Feedback, float] | None:
-    """The thumb ``person`` gives when the robot begins ``action`` meaning ``meant``, and its
-    latency from that beginning (None: no thumb, silence). A share fitted from nothing falls
-    back on the wrong actions' pooled share (a wrong action), else 1 for a wrong action and 0
-    for a right one."""
-    wrong = action != meant
-    if wrong and action in FINGER_MOTIONS:
-        down = person.down_on_wrong_fingers.value(person.down_on_wrong.value(1.0))
-    elif wrong:
-        down = person.down_on_wrong_move.value(person.down_on_wrong.value(1.0))
-    else:
-        down = person.down_on_right.value(0.0)
-    up = 0.0 if wrong else person.up_on_right.value(0.0)
-    roll = float(rng.random())
-    if roll < down and person.down_latency is not None:
-        return Feedback.NOT_OK, person.down_latency.draw(rng)
-    if roll < down + up and person.up_latency is not None:
-        return Feedback.OK, person.up_latency.draw(rng)
-    return None
 
 
 class FittedPlayer:
@@ -98,7 +74,7 @@ class FittedPlayer:
         self.stuck = 0
         action = None if record.action is None else record.action.value
         meant = None if record.intended_action is None else record.intended_action.value
-        verdict = draw_verdict(self.person, action, meant, self.rng)
+        verdict = self.person.verdict(action, meant, self.rng)
         self.thumb = None if verdict is None else (verdict[0], self.now + verdict[1])
 
     def gave_turn(self) -> None:
