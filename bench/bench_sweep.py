@@ -5,7 +5,7 @@
 Each figure is the median of ``--repeats`` rounds of timed sweeps through the real pipeline (the
 executor, the journal with one fsync per row, ``results.csv``), after a warm-up that starts
 the workers and imports the run function there. Learner-only runs use the paper's grid
-(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:run_physical``:
+(5 systems x 4 rates, 10 tables); physical runs (``robin_sim.episode.physical_run:PHYSICAL_RUNS``:
 PIL at 100 %, one table of ``--physical-legs`` legs, ``--physical-runs`` seeds: the handover
 types differ, so the runs differ in length) are timed in the grid's order and longest expected
 first (the order ``robin-pil sweep`` uses, :func:`pil.experiments.sweep_grid.longest_first`).
@@ -34,21 +34,20 @@ from pil.experiments.sweep_exec import execute
 from pil.experiments.sweep_grid import (
     DEFAULT_RATES,
     DEFAULT_SYSTEMS,
-    RunSpec,
+    GridRow,
     build_grid,
-    import_object,
-    load_target,
     longest_first,
 )
+from pil.experiments.sweep_kinds import KINDS, SweepKind, import_object, load_kind
 from pil.experiments.sweep_store import RunStore, make_record
 
 
-def timed_sweep(backend: Backend, function: str, specs: list[RunSpec]) -> tuple[float, float]:
+def timed_sweep(backend: Backend, kind: SweepKind, specs: list[GridRow]) -> tuple[float, float]:
     """(seconds for one sweep of ``specs`` on a warm ``backend``, seconds spent inside runs)."""
     errors: list[str] = []
     busy = 0.0
 
-    def record(spec: RunSpec, outcome: dict, attempt: int, final: bool) -> None:
+    def record(spec: GridRow, outcome: dict, attempt: int, final: bool) -> None:
         nonlocal busy
         store.append(make_record(spec.columns(), outcome, attempt))
         busy += outcome.get("wall_s") or 0.0
@@ -57,7 +56,7 @@ def timed_sweep(backend: Backend, function: str, specs: list[RunSpec]) -> tuple[
 
     with tempfile.TemporaryDirectory() as directory, RunStore(directory, {"bench": 1}) as store:
         started = time.perf_counter()
-        tally = execute(specs, function, backend, record)
+        tally = execute(specs, kind.run, backend, record)
         store.write_results([s.run_id for s in specs], list(specs[0].columns()))
         seconds = time.perf_counter() - started
     if tally.failed:
@@ -65,21 +64,22 @@ def timed_sweep(backend: Backend, function: str, specs: list[RunSpec]) -> tuple[
     return seconds, busy
 
 
-def warm_up(backend: Backend, function: str) -> None:
-    """Start the workers and import the run function's module in them."""
-    futures = [backend.executor().submit(import_object, function) for _ in range(backend.slots())]
+def warm_up(backend: Backend, kind: SweepKind) -> None:
+    """Start the workers and import the kind's module in them."""
+    path = KINDS.get(kind.name, kind.function)
+    futures = [backend.executor().submit(import_object, path) for _ in range(backend.slots())]
     for future in futures:
         future.result()
 
 
 def median_sweep(
-    backend: Backend, function: str, specs: list[RunSpec], repeats: int
+    backend: Backend, kind: SweepKind, specs: list[GridRow], repeats: int
 ) -> tuple[float, float]:
     """Median (seconds, share of worker time spent in runs) over ``repeats`` sweeps."""
     try:
-        warm_up(backend, function)
+        warm_up(backend, kind)
         workers = backend.slots()
-        timings = [timed_sweep(backend, function, specs) for _ in range(repeats)]
+        timings = [timed_sweep(backend, kind, specs) for _ in range(repeats)]
     finally:
         backend.close()
     seconds = statistics.median(t for t, _ in timings)
@@ -104,20 +104,20 @@ def specs_for(
     params: tuple[str, ...] = (),
     systems: tuple[str, ...] = DEFAULT_SYSTEMS,
     rates: tuple[float, ...] = DEFAULT_RATES,
-) -> tuple[str, list[RunSpec]]:
-    """The run function and the runs of a grid of ``kind``."""
-    target = load_target(kind)
+) -> tuple[SweepKind, list[GridRow]]:
+    """The sweep kind ``kind`` and the runs of its grid."""
+    target = load_kind(kind)
     grid = build_grid(target, systems=systems, rates=rates, reps=reps, tables=tables, params=params)
-    return target.function, grid.runs()
+    return target, grid.runs()
 
 
 def bench_kind(
     label: str,
-    function: str,
-    specs: list[RunSpec],
+    kind: SweepKind,
+    specs: list[GridRow],
     repeats: int,
     dask: str | None,
-    ordered: list[RunSpec] | None = None,
+    ordered: list[GridRow] | None = None,
 ):
     """Table rows for one run kind: 1 worker, 2 workers (grid order, and ``ordered`` if
     given: longest expected run first), Dask with 2 workers (in the order the sweep uses).
@@ -126,7 +126,7 @@ def bench_kind(
     rounds of that round's ratio: load from other processes then hits all of them alike.
     """
     n = len(specs)
-    sweeps: dict[str, list[RunSpec]] = {
+    sweeps: dict[str, list[GridRow]] = {
         "local, 1 worker": specs,
         "local, 2 workers, grid order": specs,
     }
@@ -142,7 +142,7 @@ def bench_kind(
                 backend: Backend = DaskBackend(dask)  # type: ignore[arg-type]
             else:
                 backend = LocalBackend(1 if "1 worker" in name else 2)
-            times[name].append(median_sweep(backend, function, runs, 1))
+            times[name].append(median_sweep(backend, kind, runs, 1))
     one = [t for t, _ in times["local, 1 worker"]]
     rows = []
     for name, measured in times.items():
@@ -183,23 +183,21 @@ def main() -> None:
         )
     address = None if cluster is None else cluster.scheduler_address
     try:
-        function, specs = specs_for("learner", args.learner_reps, 10)
-        rows = bench_kind("learner", function, specs, args.repeats, address)
+        kind, specs = specs_for("learner", args.learner_reps, 10)
+        rows = bench_kind("learner", kind, specs, args.repeats, address)
         try:
-            importlib.import_module("robin_sim.episode.physical_run").run_physical  # noqa: B018
+            importlib.import_module("robin_sim.episode.physical_run").PHYSICAL_RUNS  # noqa: B018
         except (ImportError, AttributeError) as error:
             physical_note = (
-                f"physical: not measured (robin_sim.episode.physical_run.run_physical: {error})"
+                f"physical: not measured (robin_sim.episode.physical_run.PHYSICAL_RUNS: {error})"
             )
         else:
             physical_note = ""
             legs = (f"legs_per_table={args.physical_legs}",)  # PIL at 100 %: runs of like length
-            function, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
-            ordered = longest_first(specs, load_target("physical"))
+            kind, specs = specs_for("physical", args.physical_runs, 1, legs, ("pil",), (1.0,))
+            ordered = longest_first(specs, kind)
             try:
-                rows += bench_kind(
-                    "physical", function, specs, args.physical_repeats, address, ordered
-                )
+                rows += bench_kind("physical", kind, specs, args.physical_repeats, address, ordered)
             except RuntimeError as error:
                 physical_note = f"physical: not measured ({error})"
     finally:

@@ -27,7 +27,7 @@ from robin_sim.control.gaze import pose_head  # noqa: E402
 from robin_sim.render.renderer import FrameRenderer  # noqa: E402
 from robin_sim.vision.classifier import load_shipped  # noqa: E402
 from robin_sim.vision.dataset import SampleSpec  # noqa: E402
-from robin_sim.vision.eyes import Condition, EyeCameras  # noqa: E402
+from robin_sim.vision.eyes import EyeCameras, EyeCondition  # noqa: E402
 from robin_sim.vision.features import hand_features  # noqa: E402
 from robin_sim.vision.reader import looked_at_depth  # noqa: E402
 from robin_sim.vision.render_set import SampleRenderer  # noqa: E402
@@ -44,7 +44,7 @@ def main() -> None:
     scene = SampleRenderer()
     eyes = EyeCameras(scene.model, size=args.size)
     model = load_shipped()
-    condition = Condition(camera_noise=4.0)
+    condition = EyeCondition(camera_noise=4.0)
     rng = np.random.default_rng(0)
     names = ("render", "segment", "features", "classify", "read")
     stages: dict[str, list[float]] = {k: [] for k in names}

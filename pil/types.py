@@ -121,6 +121,21 @@ START_ACTION = Action.OPEN
 START_HAND = Hand.FREE
 # The one source of "an approved close fills the hand, an approved open empties it".
 HAND_AFTER: dict[Action, Hand] = {Action.CLOSE: Hand.OCCUPIED, Action.OPEN: Hand.FREE}
+# The six hand signs a person shows, by the one name the person's poses, the eye cameras'
+# classes, the live webcam reader and the live page share: each gesture's own name
+# (``give_me``) and the two thumbs.
+SIGN_OF: dict[Gesture | Feedback, str] = {
+    **{gesture: gesture.name.lower() for gesture in Gesture},
+    Feedback.OK: "thumb_up",
+    Feedback.NOT_OK: "thumb_down",
+}
+SIGNS: dict[str, Gesture | Feedback] = {name: sign for sign, name in SIGN_OF.items()}
+SIGN_NAMES: tuple[str, ...] = tuple(SIGNS)  # pointing, give_me, grasp, release, thumbs
+
+
+def sign_label(name: str) -> str:
+    """A sign's name as people read it: ``"give me"``, ``"thumb up"``."""
+    return name.replace("_", " ")
 
 
 def hand_after(action: Action, hand: Hand) -> Hand:

@@ -5,11 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from learner_rows import learner_row
 
 from pil import Action, Learner, State, load_table
 from pil.agents import AGENTS, Agent, BanditAgent, TamerAgent
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS, run_one
+from pil.task.spec import parse_run_spec
+from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS, SYSTEMS
 from pil.types import ACTIONS
 
 S = State("pointing", "open", "free")
@@ -17,7 +19,7 @@ S = State("pointing", "open", "free")
 
 @pytest.mark.parametrize("name", sorted(AGENTS))
 def test_every_agent_implements_the_protocol(name: str) -> None:
-    agent = AGENTS[name](3, None, {})
+    agent = AGENTS[name](3, None, parse_run_spec().learner)  # the registry's defaults
     assert isinstance(agent, Agent)
     decision = agent.decide("pointing", "open", "free")
     assert decision.state == S and decision.action in ACTIONS
@@ -84,11 +86,11 @@ def test_bad_agent_settings_are_refused() -> None:
 
 @pytest.mark.parametrize("system", ["bandit", "tamer"])
 def test_baseline_systems_run_in_the_study_loop_deterministically(system: str) -> None:
-    first = run_one(system, 0.6, seed=4, tables=2)
-    assert first == run_one(system, 0.6, seed=4, tables=2)
+    first = learner_row(system, 0.6, seed=4, tables=2)
+    assert first == learner_row(system, 0.6, seed=4, tables=2)
     assert first["legs"] == 8 and first["train_actions"] == 0
     assert first["corrections"] == 0
-    pil = run_one("pil", 0.6, seed=4, tables=2)
+    pil = learner_row("pil", 0.6, seed=4, tables=2)
     assert first["scripted_gestures"] == pil["scripted_gestures"]  # the same script
 
 
@@ -97,5 +99,5 @@ def test_registry_is_one_source() -> None:
     assert set(PAPER_SYSTEMS) < set(SYSTEMS) and {"bandit", "tamer"} <= set(SYSTEMS)
     assert SYSTEMS["tamer"] == SYSTEM_SPECS["tamer"].description
     with pytest.raises(InvalidChoiceError, match="'bandit', 'tamer'"):
-        run_one("clairvoyant", 0.6, seed=0)  # "proactive" is a system now
+        learner_row("clairvoyant", 0.6, seed=0)  # "proactive" is a system now
     assert isinstance(Learner(), Agent)

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import pytest
+from learner_rows import learner_row
 
 from pil.anticipation import anticipate, can_anticipate
 from pil.errors import RobinPilError
 from pil.experiments.study import StudyConfig, csv_text, run_study, summary_text
-from pil.experiments.systems import PAPER_SYSTEMS, SYSTEM_SPECS, run_one
 from pil.learner import Learner
 from pil.table import AssociationTable, state_id
 from pil.task.counting import RunStats
@@ -15,6 +15,7 @@ from pil.task.detector import Detector
 from pil.task.person import ScriptedPerson
 from pil.task.runner import steps
 from pil.task.scenario import load_scenario
+from pil.task.systems import PAPER_SYSTEMS, SYSTEM_SPECS
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, Gesture, Hand, State
 from pil.validity import ALL_STATES, is_valid
@@ -187,11 +188,11 @@ def test_an_anticipation_updates_the_table_like_any_feedback() -> None:
 def test_proactive_is_a_registered_study_system_with_the_flag_set() -> None:
     assert SYSTEM_SPECS["proactive"].params == {"proactive": True}
     assert "proactive" not in PAPER_SYSTEMS
-    row = run_one("proactive", 0.8, 3, tables=2)
+    row = learner_row("proactive", 0.8, 3, tables=2)
     assert row["proactive"] is True and row["anticipated"] >= row["anticipated_ok"]
-    assert run_one("pil", 0.8, 3, tables=2)["anticipated"] == 0
+    assert learner_row("pil", 0.8, 3, tables=2)["anticipated"] == 0
     with pytest.raises(RobinPilError, match="proactive_threshold"):
-        run_one("proactive", 0.8, 3, tables=2, proactive_threshold=2)
+        learner_row("proactive", 0.8, 3, tables=2, proactive_threshold=2)
 
 
 def test_the_study_with_proactive_is_deterministic_and_leaves_the_other_rows_alone() -> None:

@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from pil.experiments.systems import SYSTEMS
+from pil.task.systems import SYSTEMS
 from robin_sim.cli.help_format import package_version
 from robin_sim.cli.main import COMMANDS, build_parser, main
 

@@ -63,6 +63,61 @@ def test_every_documented_command_line_parses(where: str, argv: list[str], capsy
         assert stop.value.code == 0, f"{where}: {capsys.readouterr().err.strip()}"
 
 
+# The documented command lines fast enough to run in the tests (seconds, learner only), by
+# page; each page's run in its order in a fresh folder (a report reads the study before it).
+RUN_IN_TESTS: dict[str, tuple[str, ...]] = {
+    "docs/commands.md": (
+        "robin-pil model-path",
+        "robin-pil study --reps 2 --tables 1 --rates 1.0 --systems pil,c1 --out out/first",
+        "robin-pil report out/first/runs.csv --out out/first/report",
+    ),
+    "docs/architecture.md": (
+        "robin-pil sweep --systems pil,c1 --rates 1.0 --reps 1 --tables 1 --workers 1 "
+        "--no-report --out out/spine",
+    ),
+    "docs/model-and-control.md": ("robin-pil model-path",),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", sorted(RUN_IN_TESTS))
+def test_the_fast_documented_command_lines_run(
+    page: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Each line of :data:`RUN_IN_TESTS` is on its page and runs there (exit 0), in order."""
+    from robin_sim.cli.main import main
+
+    documented = [
+        shlex.split(line.split(" #", 1)[0])
+        for block in _blocks(ROOT / page, "bash")
+        for line in block.replace("\\\n", " ").splitlines()
+    ]
+    monkeypatch.chdir(tmp_path)
+    for line in RUN_IN_TESTS[page]:
+        argv = shlex.split(line)
+        assert argv in documented, f"{page} no longer documents: {line}"
+        assert main(argv[1:] + (["--no-progress"] if argv[1] in PROGRESS else [])) == 0, (
+            f"{page}: {line}: {capsys.readouterr().err}"
+        )
+        if "--out" in argv:  # what the line says it writes is there
+            written = tmp_path / argv[argv.index("--out") + 1]
+            assert written.is_dir() and any(written.iterdir()), line
+        else:  # model-path prints the model's file
+            assert Path(capsys.readouterr().out.strip()).is_file(), line
+
+
+PROGRESS = {"study", "sweep"}  # their bar is switched off in the tests (not in the docs)
+
+
+def test_the_model_and_control_model_example_runs() -> None:
+    """docs/model-and-control.md's first example: a scene of a layout, a hand sensor."""
+    example = _blocks(ROOT / "docs" / "model-and-control.md", "python")[0]
+    names: dict[str, object] = {}
+    exec(compile(example, "model-and-control.md", "exec"), names)
+    model = names["model"]
+    assert getattr(model, "nbody", 0) > 0 and names["sensor"] is not None
+
+
 def _options(command: str) -> set[str]:
     parser = build_parser(command)
     sub = next(a for a in parser._actions if a.dest == "command").choices[command]

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from absl.testing import absltest
 from dm_env import test_utils
+from learner_rows import learner_row
 
 from pil import Learner
 from pil.env import DISCARDED, AssemblyEnv, observation_state
 from pil.errors import RobinPilError
-from pil.experiments.systems import run_one
 from pil.task.parts import derive_seeds
 from pil.task.world import SymbolicWorld
 from pil.types import ACTIONS, Action, Hand
@@ -60,7 +60,7 @@ def test_pil_through_the_environment_decides_like_the_study_loop() -> None:
         learner.feedback(decision.state, action, ok)
         if ok:
             decision = None
-    row = run_one("pil", 1.0, seed=3, tables=2)
+    row = learner_row("pil", 1.0, seed=3, tables=2)
     assert step.step_type is dm_env.StepType.LAST and step.discount == 0.0
     assert (env.stats.gestures, env.stats.actions) == (row["gestures"], row["actions"])
     assert env.stats.rejected == row["rejected"] and env.stats.approved == row["gestures"]

@@ -56,3 +56,16 @@ def test_the_largest_seed_runs_many_episodes() -> None:
     assert AssemblyEnv(seed=5).run_seed(2) == 7  # ordinary seeds: seed + episode, as before
     with pytest.raises(RobinPilError, match="from 0 to"):
         AssemblyEnv(seed=2**63)
+
+
+def test_a_world_factory_returning_no_world_is_named() -> None:
+    env = AssemblyEnv(world=lambda: None, seed=0, tables=1)
+    with pytest.raises(TypeError, match=r"world\(\) must return a World .* got None"):
+        env.reset()
+
+
+@pytest.mark.parametrize("value", ["no", "yes", 1, 0, None])
+def test_one_hot_takes_true_or_false_only(value: object) -> None:
+    with pytest.raises(RobinPilError, match="one_hot must be True or False"):
+        AssemblyEnv(one_hot=value, tables=1)  # type: ignore[arg-type]
+    assert AssemblyEnv(one_hot=True, tables=1).one_hot is True

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from pil.errors import RobinPilError
-from pil.experiments.systems import SYSTEM_SPECS
 from pil.task.scenario import load_scenario
+from pil.task.systems import SYSTEM_SPECS
 from robin_sim.live.protocol import (
     ORDERS,
     PROTOCOLS_DIR,

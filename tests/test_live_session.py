@@ -239,8 +239,14 @@ def test_end_saves_the_session_as_ended_and_nothing_more_is_taken(tmp_path: Path
     assert summary["status"] == "ended" and summary["actions"] == 0
     assert session.status()["phase"] == "done" and session.status()["status"] == "ended"
     saved = json.loads((session.out_dir / "summary.json").read_text())
-    # inputs.jsonl holds the session's messages; the one after it was saved is only refused
+    # the summary counts the session's messages; the one after it was saved is refused, and
+    # inputs.jsonl has it after them with why (as the answers to a questionnaire after a block)
     assert saved["live"]["inputs"] == 1 and saved["live"]["inputs_rejected"] == 0
+    lines = [json.loads(x) for x in (session.out_dir / "inputs.jsonl").read_text().splitlines()]
+    assert [(x["accepted"], x["error"][:21]) for x in lines] == [
+        (True, ""),
+        (False, "the session has ended"),
+    ]
 
 
 def test_an_error_in_the_physics_thread_saves_the_session_as_failed(tmp_path: Path) -> None:

@@ -42,11 +42,16 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         "FONT": ("robin_sim/render/overlay.py", "robin_sim/vision/picture.py"),
         # each file kind's format version
         "FORMAT": (
+            "pil/experiments/rep_journal.py",
             "pil/experiments/sweep_store.py",
             "pil/table_io.py",
             "robin_sim/render/state_log.py",
             "robin_sim/vision/classifier.py",
         ),
+        # JSON's deepest nesting read; the segmenter's farthest depth (m)
+        "MAX_DEPTH": ("pil/regular_files.py", "robin_sim/vision/segment.py"),
+        # a type variable of generic helpers
+        "T": ("pil/task/assemble.py", "pil/worker_pool.py"),
         # the live stream's JPEG quality; the replay page's
         "JPEG_QUALITY": ("robin_sim/live/frames.py", "robin_sim/replay/serve.py"),
         # each module's logger
@@ -82,12 +87,8 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         "RULES": ("pil/exploration.py", "pil/validity.py"),
         # each web page's own static folder
         "STATIC_DIR": ("robin_sim/live/pages.py", "robin_sim/replay/serve.py"),
-        # an episode's and a live session's file names (left to the run-assembly refactor)
-        "SUMMARY_NAME": ("pil/experiments/sessions_load.py", "robin_sim/episode/run.py"),
-        # an episode's step log (episode.jsonl); a live session's (log.jsonl)
-        "LOG_NAME": ("robin_sim/episode/run.py", "robin_sim/live/run.py"),
         # the step loop's Hand.OCCUPIED; the validity rules' set of hand states
-        "_OCCUPIED": ("pil/task/runner.py", "pil/validity.py"),
+        "_OCCUPIED": ("pil/task/step_phases.py", "pil/validity.py"),
         # each task file kind's keys
         "_KEYS": (
             "pil/experiments/adaptation.py",
@@ -170,7 +171,7 @@ def test_no_constant_is_defined_in_two_modules() -> None:
         ("BASELINE", "pil/experiments/paper.py"),
         ("INPUTS_NAME", "pil/experiments/sessions_load.py"),
         ("PAIR_BY", "pil/experiments/study_tests.py"),
-        ("QUESTIONNAIRES_NAME", "pil/experiments/questionnaire_report.py"),
+        ("QUESTIONNAIRES_NAME", "pil/file_names.py"),
         ("HUMAN_VIS_PREFIX", "robin_sim/model/names.py"),
     ],
 )
@@ -219,14 +220,73 @@ def literal_count(pattern: str, packages: tuple[str, ...] = PACKAGES) -> dict[st
         (r"\{id\(s\)", "pil/table.py"),
         # the reading label of a discarded reading
         (r'(?m)^[A-Z_]+(\s*:[^=\n]+)?\s*=\s*"discarded"', "robin_sim/vision/train.py"),
-        # the live page's gesture keys
-        (r'"give_me":\s*Gesture', "robin_sim/live/inputs.py"),
         # the detection rate's range: one spec (no second rate check, e.g. check_rate)
-        (r'"gesture detection rate", 0\.0, 1\.0', "pil/task/params.py"),
+        (r'"gesture detection rate",\s*0\.0,\s*1\.0', "pil/task/params.py"),
     ],
 )
 def test_a_fact_is_written_once(pattern: str, home: str) -> None:
     assert literal_count(pattern) == {home: 1}
+
+
+@pytest.mark.parametrize(
+    ("pattern", "homes"),
+    [
+        # the default repetitions: the paper's 20 (also the registry's REPS default)
+        (
+            r"(?i)reps\b[^\n=(]*=\s*20\b|\"reps\",\s*\"int\",\s*20\b",
+            ("pil/task/params.py",),
+        ),
+        # robin-pil transfer's rates; adapt's and people's (two studies, two facts)
+        (r"[(\"]0\.6,\s*0\.8,\s*1\.0[)\"]", ("pil/experiments/transfer.py",)),
+        (r"[(\"]0\.8,\s*1\.0[)\"]", ("pil/experiments/adaptation.py", "pil/experiments/people.py")),
+        # the exact dice's name
+        (r"[\"']exact[\"']", ("pil/task/detector.py",)),
+        # the six hand signs' names: the gestures' own (pil.types derives them), the thumbs'
+        (r"[\"']give_me[\"']", ()),
+        (r"[\"']thumb_up[\"']", ("pil/types.py",)),
+        (r"[\"']thumb_down[\"']", ("pil/types.py",)),
+        # the files the commands write and read
+        *(
+            (rf"[\"']{re.escape(name)}[\"']", ("pil/file_names.py",))
+            for name in (
+                "summary.json",
+                "episode.jsonl",
+                "episode.mp4",
+                "runs.csv",
+                "results.csv",
+                "measured.json",
+            )
+        ),
+    ],
+)
+def test_a_value_is_written_once(pattern: str, homes: tuple[str, ...]) -> None:
+    """The value itself (not only its name) is written in its home alone: everywhere else
+    imports the name."""
+    assert literal_count(pattern) == dict.fromkeys(homes, 1)
+
+
+def test_the_live_page_takes_the_signs_from_python() -> None:
+    """webcam.js retypes none of the six signs' names or labels: the participant's page
+    carries them (and the gesture keys live.js sends) from the Python source."""
+    import html
+    import json
+
+    from pil.types import SIGN_NAMES, sign_label
+    from robin_sim.live.inputs import GESTURE_KEYS
+    from robin_sim.live.pages import PAGE_CONSTANTS
+
+    script = (ROOT / "robin_sim" / "live" / "static" / "webcam.js").read_text(encoding="utf-8")
+    quoted = set(re.findall(r"[\"'`]([^\"'`\n]*)[\"'`]", script))
+    assert not [n for n in SIGN_NAMES if n in quoted or sign_label(n) in quoted], quoted
+    constants = json.loads(html.unescape(PAGE_CONSTANTS))
+    assert constants == {
+        "signs": {name: sign_label(name) for name in SIGN_NAMES},
+        "cursor": "pointing",
+        "gestures": list(GESTURE_KEYS),
+    }
+    assert len(SIGN_NAMES) == 6
+    page = (ROOT / "robin_sim" / "live" / "static" / "index.html").read_text(encoding="utf-8")
+    assert 'data-constants="{{CONSTANTS}}"' in page
 
 
 def test_agent_settings_are_the_agents_defaults_and_ranges() -> None:
@@ -287,9 +347,8 @@ def test_frame_checks_are_the_episode_s_for_the_live_page_and_the_writer() -> No
 
 def test_row_columns_and_lookups_are_imported_not_copied() -> None:
     from pil import learner, table
-    from pil.experiments import run_row, study, systems
+    from pil.experiments import run_row, study
 
-    assert systems.ROW_COLUMNS is run_row.ROW_COLUMNS
     assert study.STUDY_COLUMNS[1:] == run_row.ROW_COLUMNS
     assert learner.ACTION_INDEX is table.ACTION_INDEX
     assert learner.STATE_ID_BY_OBJECT is table.STATE_ID_BY_OBJECT

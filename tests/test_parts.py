@@ -6,9 +6,9 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
+from learner_rows import learner_row
 
 from pil.errors import InvalidChoiceError
-from pil.experiments.systems import run_one
 from pil.task.assemble import assemble
 from pil.task.parts import DEFAULT_VALUES, SEED_NAMES, derive_seeds, phase_script
 from pil.task.runner import run, steps
@@ -28,10 +28,10 @@ class MeasuringWorld(SymbolicWorld):
         return replace(result, detail=f"moved for {target}")
 
 
-def test_parts_reproduce_run_one() -> None:
+def test_parts_reproduce_learner_row() -> None:
     parts = assemble(parse_run_spec(rate=0.6, seed=4, params={"tables": 2}))
     stats = run(parts.learner, parts.person, parts.detector, SymbolicWorld(), **parts.options)
-    row = run_one("pil", 0.6, 4, tables=2)
+    row = learner_row("pil", 0.6, 4, tables=2)
     assert (stats.gestures, stats.actions, stats.legs) == (row["gestures"], row["actions"], 8)
 
 

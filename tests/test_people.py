@@ -69,6 +69,7 @@ def test_people_command(tmp_path: Path) -> None:
         "people.md",
         "people.png",
         "tests.csv",
+        "reps.jsonl",  # the finished repetitions (a rerun resumes from them)
     }
     tests = (tmp_path / "tests.csv").read_text().splitlines()
     assert tests[0].startswith("measure,reading,rate,system,system_a,system_b,test,n,pairing,")

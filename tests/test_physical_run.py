@@ -1,23 +1,14 @@
-"""One physical run as a results row (the sweep's physical kind)."""
+"""The sweep's physical kind: its parameters (a physical run's row: tests/test_spine.py)."""
 
 from __future__ import annotations
 
 import pytest
 
 from pil.errors import InvalidChoiceError
-from robin_sim.episode.physical_run import run_physical
-
-
-@pytest.mark.slow
-def test_a_physical_run_returns_a_flat_row_with_the_legs_delivered() -> None:
-    row = run_physical("pil", 1.0, 4, tables=1, legs_per_table=1)
-    assert row["status"] == "finished" and row["error"] == ""
-    assert (row["legs_total"], row["legs_delivered"], row["legs_delivered_fraction"]) == (1, 1, 1.0)
-    assert row["physical_failures"] == 0
-    assert row["sim_time_s"] > 0
-    assert all(not isinstance(value, dict) for value in row.values())
+from pil.experiments.sweep_grid import parse_param
+from robin_sim.episode.physical_run import PHYSICAL_RUNS
 
 
 def test_an_unknown_parameter_lists_the_valid_ones() -> None:
     with pytest.raises(InvalidChoiceError, match="discard"):
-        run_physical("pil", 1.0, 0, discrad=0.3)
+        parse_param("discrad=0.3", PHYSICAL_RUNS)

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from pil.experiments.systems import SYSTEM_SPECS
 from pil.task.assemble import assemble
 from pil.task.runner import steps
 from pil.task.spec import parse_run_spec
+from pil.task.systems import SYSTEM_SPECS
 from pil.task.world import SymbolicWorld
 from robin_sim.cli.main import main
 from robin_sim.episode.log import read_step_log

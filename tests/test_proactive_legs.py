@@ -4,8 +4,8 @@ on a spot delivers a leg like any approved open)."""
 from __future__ import annotations
 
 import pytest
+from learner_rows import learner_row
 
-from pil.experiments.systems import run_one
 from pil.task.assemble import assemble
 from pil.task.runner import steps
 from pil.task.spec import parse_run_spec
@@ -14,7 +14,7 @@ from pil.task.world import SymbolicWorld
 
 @pytest.mark.parametrize(("rate", "seed"), [(0.8, 1), (1.0, 1), (1.0, 0)])
 def test_every_leg_is_counted_with_anticipations(rate: float, seed: int) -> None:
-    row = run_one("proactive", rate, seed=seed)
+    row = learner_row("proactive", rate, seed=seed)
     assert row["anticipated_ok"] > 0
     assert row["legs"] == 40  # 10 tables of 4 legs, each delivered once
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from scipy.stats import ttest_rel, wilcoxon
 
@@ -166,6 +167,10 @@ def test_answers_are_saved_one_line_each_and_wrong_messages_refused(tmp_path: Pa
         ("[" * 3000, "not a JSON message"),
         ('{"type": "end"}', "answer it"),
         ('{"type": "answers", "questionnaire": "ease"}', "is 'nasa-tlx'"),
+        (
+            '{"type": "answers", "questionnaire": "nasa-tlx", "answers": {}, "note": "hi"}',
+            r"unknown field\(s\) 'note'; an answer takes 'type', 'questionnaire', 'answers'",
+        ),
     ):
         with pytest.raises(LiveInputError, match=expected):
             asking.receive(message)
@@ -178,6 +183,11 @@ def test_answers_are_saved_one_line_each_and_wrong_messages_refused(tmp_path: Pa
     assert [(x["questionnaire"], x["scores"]) for x in lines] == [
         ("nasa-tlx", {"raw_tlx": 30.0}),
         ("ease", {"clear": 4.0, "mean": 4.0}),
+    ]
+    # each score's scale is saved with it: the report refuses a score off it
+    assert [x["ranges"] for x in lines] == [
+        {"raw_tlx": [0.0, 100.0]},
+        {"clear": [1.0, 5.0], "mean": [1.0, 5.0]},
     ]
     assert {(x["participant"], x["condition"], x["block"]) for x in lines} == {
         ("P03", "proactive", 1)
@@ -234,3 +244,23 @@ def test_report_pairs_participants_who_rated_both_conditions(tmp_path: Path) -> 
 def test_the_shipped_protocol_asks_nasa_tlx_and_godspeed() -> None:
     protocol = load_protocol("reactive_vs_proactive")
     assert [q.name for q in protocol.questionnaires] == ["nasa-tlx", "godspeed"]
+
+
+def test_every_preset_score_lies_within_its_saved_range() -> None:
+    from robin_sim.live.questionnaire_presets import godspeed, nasa_tlx
+
+    rng = np.random.default_rng(0)
+    for questionnaire in (nasa_tlx(), nasa_tlx(weighted=True), godspeed()):
+        ranges = questionnaire.score_ranges()
+        for _ in range(20):
+            answers: dict[str, object] = {}
+            for item in questionnaire.items:
+                if item.kind == "choice":
+                    answers[item.id] = str(rng.choice(item.choices))
+                else:
+                    steps = (item.maximum - item.minimum) // item.step
+                    answers[item.id] = item.minimum + item.step * int(rng.integers(steps + 1))
+            scores = questionnaire.scores(questionnaire.check_answers(answers))
+            assert set(scores) <= set(ranges), questionnaire.name
+            for name, value in scores.items():
+                assert ranges[name][0] <= value <= ranges[name][1], (name, value)

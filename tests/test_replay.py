@@ -8,12 +8,13 @@ MP4s with PyAV and compared pixel by pixel (the episode's replay is checked in
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import mujoco
 import numpy as np
 import pytest
-from replay_rig import COMPARED, decoded_frames, frames_match
+from replay_rig import COMPARED, META, decoded_frames, frames_match, recorded_run
 
 from robin_sim.render.gl_backend import ensure_gl_backend
 
@@ -21,7 +22,12 @@ ensure_gl_backend()
 
 from robin_sim.cli.main import main  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
-from robin_sim.render.state_log import STATES_NAME, StateLog, load_states  # noqa: E402
+from robin_sim.render.state_log import (  # noqa: E402
+    STATES_NAME,
+    StateLog,
+    StatesError,
+    load_states,
+)
 from robin_sim.render.worker import FrameState  # noqa: E402
 
 
@@ -30,7 +36,7 @@ def test_states_round_trip_with_geometry_changes_kept_only_where_they_change(
 ) -> None:
     model = build_model()
     data = mujoco.MjData(model)
-    log = StateLog(tmp_path / STATES_NAME, {"layout": {}, "size": [8, 8]})
+    log = StateLog(tmp_path / STATES_NAME, META)
     for step in range(5):
         data.qpos[0] = 0.1 * step
         if step == 3:
@@ -80,6 +86,100 @@ def test_unreadable_states_and_viewer_without_display(tmp_path: Path, capsys, mo
     assert "--viewer needs a display" in capsys.readouterr().err
     assert main(["replay", str(tmp_path), "--out", str(tmp_path / "x.avi")]) == 2
     assert "ending in .mp4" in capsys.readouterr().err
+
+
+def _damaged(folder: Path, **changes: object) -> Path:
+    """A recorded run's states file with some arrays replaced (a callable gets the old one)."""
+    path = recorded_run(folder)
+    with np.load(path) as raw:
+        arrays = {name: raw[name] for name in raw.files}
+    for name, change in changes.items():
+        arrays[name] = change(arrays[name]) if callable(change) else np.asarray(change)
+    np.savez_compressed(path, **arrays)
+    return path
+
+
+def _deep(levels: int) -> str:
+    return '{"a": ' * levels + "1" + "}" * levels
+
+
+def _with(array: np.ndarray, index: tuple[int, ...], value: float) -> np.ndarray:
+    array = array.copy()
+    array[index] = value
+    return array
+
+
+@pytest.mark.parametrize(
+    ("changes", "expected"),
+    [
+        ({"qpos": lambda q: q[:, :10]}, "qpos has 10 joint positions a frame; the run's scene"),
+        ({"qpos": lambda q: q[:-1]}, "lengths do not match"),
+        ({"mocap_quat": lambda q: q[:-2]}, "lengths do not match"),
+        ({"meta": _deep(5000)}, "meta is damaged: nested more than"),
+        ({"overlays": json.dumps([_deep(5000)])}, "an overlay is damaged"),
+        ({"time": np.zeros(3_000_000)}, "time has 3,000,000 rows, more than"),
+        ({"copies": lambda c: _with(c, (0,), 10**9)}, "copies must be 0 to"),
+        ({"qpos": lambda q: _with(q, (2, 5), np.nan)}, "qpos holds nan"),
+        ({"mocap_pos": lambda m: _with(m, (1, 0, 0), 1e308)}, "mocap_pos holds 1e+308"),
+        ({"geom_rgba": lambda g: _with(g, (0, 3, 1), np.inf)}, "geom_rgba holds inf"),
+        ({"time": lambda t: t[::-1].copy()}, "time goes back at frame 1"),
+        ({"qpos": lambda q: q.astype(object)}, "qpos holds object, expected floating"),
+        ({"overlay_index": lambda i: i + 5}, "overlay_index points past"),
+        ({"meta": json.dumps({**META, "format": 1, "fps": 10**9})}, "meta: fps"),
+    ],
+    ids=lambda v: "" if isinstance(v, str) else str(sorted(v)),
+)
+def test_a_damaged_states_file_is_refused_before_rendering(
+    tmp_path: Path, changes: dict[str, object], expected: str
+) -> None:
+    path = _damaged(tmp_path, **changes)
+    with pytest.raises(StatesError, match=re.escape(expected)):
+        load_states(path)
+
+
+def test_an_array_whose_header_claims_more_than_its_data_is_refused_before_allocation(
+    tmp_path: Path,
+) -> None:
+    import io
+    import zipfile
+
+    path = recorded_run(tmp_path)
+    header = io.BytesIO()  # 900 000 frames x 9 000 geoms: 259 GB if it were allocated
+    np.lib.format.write_array_header_2_0(
+        header, {"descr": "<f8", "fortran_order": False, "shape": (900_000, 9_000, 4)}
+    )
+    with zipfile.ZipFile(path) as archive:
+        members = {i.filename: archive.read(i) for i in archive.infolist()}
+    members["geom_rgba.npy"] = header.getvalue()  # the header alone, no data
+    with zipfile.ZipFile(path, "w") as archive:
+        for name, data in members.items():
+            archive.writestr(name, data)
+    with pytest.raises(StatesError, match="geom_rgba's size in the zip does not match its header"):
+        load_states(path)
+
+
+def test_replay_of_a_damaged_states_file_is_one_line(tmp_path: Path, capsys) -> None:
+    _damaged(tmp_path, qpos=lambda q: _with(q, (0, 0), np.nan))
+    assert main(["replay", str(tmp_path)]) == 2
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "qpos holds nan" in lines[0] and STATES_NAME in lines[0]
+    assert not (tmp_path / "replay.mp4").exists()
+
+
+@pytest.mark.parametrize("kind", ["dev-zero", "fifo"])
+def test_a_states_file_that_is_no_regular_file_is_refused(tmp_path: Path, capsys, kind) -> None:
+    import os
+
+    (tmp_path / "summary.json").write_text("{}")
+    if kind == "fifo":
+        os.mkfifo(tmp_path / STATES_NAME)
+    else:
+        (tmp_path / STATES_NAME).symlink_to("/dev/zero")
+    assert main(["replay", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "not a regular file" in err and "recorded runs" not in err
+    with pytest.raises(StatesError, match="not a regular file"):
+        load_states(tmp_path / STATES_NAME)
 
 
 @pytest.mark.slow

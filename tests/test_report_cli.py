@@ -11,7 +11,8 @@ from scipy.stats import ttest_rel
 
 from pil.experiments.results_report import grid_axes, with_physical, write_report
 from pil.experiments.sweep_exec import execute_run
-from pil.experiments.sweep_grid import build_grid, load_target
+from pil.experiments.sweep_grid import build_grid
+from pil.experiments.sweep_kinds import load_kind
 from pil.experiments.sweep_store import RunStore, make_record, rows_to_csv
 from robin_sim.cli import main as cli
 
@@ -21,7 +22,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
 @pytest.fixture(scope="module")
 def results(tmp_path_factory) -> Path:
     """A real sweep's results.csv (learner runs executed in this process, written by the store)."""
-    target = load_target("learner")
+    target = load_kind("learner")
     grid = build_grid(
         target, systems=["pil", "c1"], rates=[0.6, 1.0], reps=3, params=["discard=0,0.3"], tables=1
     )
@@ -29,8 +30,7 @@ def results(tmp_path_factory) -> Path:
     directory = tmp_path_factory.mktemp("sweep")
     with RunStore(directory, {"kind": "learner"}) as store:
         for spec in runs:
-            args, kwargs = spec.call_args()
-            store.append(make_record(spec.columns(), execute_run(target.function, args, kwargs), 1))
+            store.append(make_record(spec.columns(), execute_run(target.run, spec.spec), 1))
         return store.write_results([s.run_id for s in runs], list(runs[0].columns()))
 
 

@@ -41,7 +41,6 @@ VALIDATORS: dict[str, tuple[str, str]] = {
 CHECKING_MODULES = (
     "pil.task.spec",
     "pil.experiments.study",
-    "pil.experiments.systems",
     "robin_sim.episode.physical_run",
     "robin_sim.episode.config",
     "robin_sim.live.config",
@@ -134,10 +133,11 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
 def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system: str) -> None:
     """Every value given is checked once (the learner's exploration rule and the agent's
     settings included): by the registry, not again by the constructors."""
-    from pil.experiments.systems import run_one
+    from pil.experiments.run_row import spec_row
 
     given = {"discard": "0.3", "patience": "2", "exploration": "avoid-last", "epsilon": "0.2"}
-    row = run_one(system, "0.6", "4", tables="1", **given)
+    spec = parse_run_spec(system=system, rate="0.6", seed="4", params={"tables": "1", **given})
+    row = spec_row(spec)
     assert row["tables"] == 1 and row["discard"] == 0.3 and row["patience"] == 2
     names = {"rate", "seed", "system", *given}
     # the scenario file's own assembly keys: checked once, when the file is read
@@ -148,16 +148,20 @@ def test_a_learner_run_checks_each_value_once(parse_calls: Counter[str], system:
 
 
 def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
-    """The grid parses every value once; its per-cell check and the worker (called here in
-    this process) take the typed row as given: nothing is parsed again, and the row is the
-    one :func:`run_one` makes of the same values given as text."""
-    from pil.experiments.sweep_exec import execute_run
-    from pil.experiments.sweep_grid import build_grid, load_target
-    from pil.experiments.systems import run_one
+    """The grid parses every value once and each row once into its typed spec (the scenario
+    file read once for the sweep); the worker (called here in this process) runs the typed
+    spec as given: nothing is parsed again, no ``**params`` spread, and the row is the one a
+    learner run of the same values given as text makes."""
+    from learner_rows import learner_row
 
-    target = load_target("learner")
+    from pil.experiments.sweep_exec import execute_run
+    from pil.experiments.sweep_grid import build_grid
+    from pil.experiments.sweep_kinds import load_kind
+    from pil.task.spec import RunSpec
+
+    kind = load_kind("learner")
     grid = build_grid(
-        target,
+        kind,
         systems=["pil", "c1"],
         rates=["0.6", "1.0"],
         reps=2,
@@ -165,17 +169,102 @@ def test_a_sweep_checks_each_value_once(parse_calls: Counter[str]) -> None:
         tables=1,
     )
     runs = grid.runs()
-    outcomes = [execute_run(target.worker_function, *run.call_args()) for run in runs]
+    assert all(isinstance(run.spec, RunSpec) for run in runs)
+    outcomes = [execute_run(kind.run, run.spec) for run in runs]
     assert len(outcomes) == 2 * 2 * 2 * 2, len(outcomes)
     assert all(outcome["status"] == "ok" for outcome in outcomes), outcomes[0]
     # once each value as given (two rates, two discards), once the table count and the seed
-    assert parse_calls["rate"] == 2 and parse_calls["discard"] == 2, parse_calls
-    assert parse_calls["patience"] == 1 and parse_calls["seed"] == 1, parse_calls
-    assert parse_calls["system"] == 0, parse_calls  # the grid checks them against its systems
-    args, kwargs = runs[-1].call_args()
-    text = {name: str(value) for name, value in kwargs.items()}
-    again = run_one(args[0], str(args[1]), str(args[2]), **text)
+    assert parse_calls.pop("rate") == 2 and parse_calls.pop("discard") == 2, parse_calls
+    assert parse_calls.pop("patience") == 1 and parse_calls.pop("seed") == 1, parse_calls
+    assert parse_calls.pop("reps") == 1, parse_calls
+    assert parse_calls.pop("system", 0) == 0, parse_calls  # checked against the kind's systems
+    # tables: once as given, once as the scenario file's own value when the file is read once
+    assert parse_calls.pop("tables") == 2, parse_calls
+    assert parse_calls == Counter(dict.fromkeys(set(ASSEMBLY) - {"tables"}, 1)), parse_calls
+    last = runs[-1]
+    text = {name: str(value) for name, value in last.params}
+    again = learner_row(last.system, str(last.rate), str(last.seed), **text)
     assert {k: v for k, v in outcomes[-1]["metrics"].items() if k in again} == again
+
+
+@pytest.mark.slow
+def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_path: Path) -> None:
+    """A physical sweep's grid to the episode's end: each value checked once (by the grid),
+    each row parsed once into an EpisodeSpec, which the worker (called here in this process,
+    so that its checks are counted) runs as given, to a flat row with the legs delivered."""
+    from pil.experiments.sweep_exec import execute_run
+    from pil.experiments.sweep_grid import build_grid
+    from pil.experiments.sweep_kinds import load_kind
+    from robin_sim.episode.config import EpisodeSpec
+
+    kind = load_kind("physical")
+    grid = build_grid(
+        kind,
+        systems=["pil"],
+        rates=["1.0"],
+        reps=1,
+        params=["legs_per_table=1", "verify=false"],
+        tables=None,
+    )
+    runs = grid.runs()
+    assert all(isinstance(run.spec, EpisodeSpec) for run in runs)
+    outcomes = [execute_run(kind.run, run.spec) for run in runs]
+    assert [o["status"] for o in outcomes] == ["ok"], outcomes
+    row = outcomes[0]["metrics"]  # a flat row: the summary's fields and the share delivered
+    assert row["status"] == "finished" and row["error"] == "" and row["physical_failures"] == 0
+    assert (row["legs_total"], row["legs_delivered"], row["legs_delivered_fraction"]) == (1, 1, 1.0)
+    assert row["sim_time_s"] > 0 and not any(isinstance(v, dict) for v in row.values())
+    for name in ("rate", "seed", "reps", "verify"):
+        assert parse_calls.pop(name) == 1, (name, parse_calls)
+    # legs_per_table: once as given, once as the scenario file's own value (read once)
+    assert parse_calls.pop("legs_per_table") == 2, parse_calls
+    assert parse_calls == Counter(dict.fromkeys(set(ASSEMBLY) - {"legs_per_table"}, 1))
+
+
+def test_a_live_session_checks_each_value_once(
+    parse_calls: Counter[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``robin-pil live`` from its command line to the sessions the conductor holds: each
+    value checked once, by the session's config (the command line passes --speed and the
+    watchdog's limits as text; the conductor and the session take the checked config as it
+    is). Its own checks are counted by the value they check, beside the registry's."""
+    from robin_sim.cli.live import session_configs
+    from robin_sim.cli.main import build_parser
+    from robin_sim.live import config as live_config
+    from robin_sim.live import limits
+    from robin_sim.live.conductor import Conductor
+
+    for name in ("_name", "_whole", "_number"):
+        real = getattr(live_config, name)
+
+        def counted(value: Any, what: str, *args: Any, _real: Any = real) -> Any:
+            parse_calls[what] += 1
+            return _real(value, what, *args)
+
+        monkeypatch.setattr(live_config, name, counted)
+    real_watchdog = limits.WatchdogLimits.checked
+
+    def watchdog(self: Any) -> Any:
+        parse_calls["max_attempts"] += 1
+        parse_calls["max_step_seconds"] += 1
+        return real_watchdog(self)
+
+    monkeypatch.setattr(limits.WatchdogLimits, "checked", watchdog)
+    argv = ["live", "--participant", "P07", "--system", "c1", "--speed", "2", "--seed", "3"]
+    argv += ["--max-attempts", "5", "--no-video", "--session", "s1", "--out", str(tmp_path)]
+    configs = session_configs(build_parser("live").parse_args(argv))
+    conductor = Conductor(configs)
+    (config,) = conductor.configs
+    assert conductor.sessions[0].config is config and config.speed == 2.0
+    assert (config.participant, config.system, config.max_attempts) == ("P07", "c1", 5)
+    # the study seed: once as --seed at the command line, once as the config's study_seed;
+    # the session's own seed (derived from it) once
+    assert parse_calls.pop("seed") == 3, parse_calls
+    assert parse_calls.pop("size") == 2, parse_calls  # the frame's width and height, once each
+    file_keys = dict.fromkeys(ASSEMBLY, 1)  # the scenario file's keys, read once
+    own = ["participant", "session", "system", "frame size", "fps", "speed", "feedback_window"]
+    own += ["render_workers", "stream_level", "max_attempts", "max_step_seconds"]
+    assert parse_calls == Counter({**file_keys, **dict.fromkeys(own, 1)}), parse_calls
 
 
 @pytest.mark.slow
@@ -246,7 +335,7 @@ def test_sub_seeds_are_derived_in_one_place() -> None:
     derivers = {"SeedSequence", "derive_seeds", "sub_seeds"}
     run_path = [
         *(ROOT / "pil" / "task").glob("*.py"),
-        ROOT / "pil" / "experiments" / "systems.py",
+        ROOT / "pil" / "experiments" / "run_row.py",
         *(ROOT / "robin_sim").rglob("*.py"),
     ]
     deriving = {str(p.relative_to(ROOT)) for p in run_path if "SeedSequence" in _calls(p, derivers)}

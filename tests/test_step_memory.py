@@ -2,16 +2,19 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
+from learner_rows import learner_row
 
 from pil import Action, State
 from pil.agents import AGENTS, BanditAgent, TamerAgent
 from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.errors import InvalidChoiceError
-from pil.experiments.systems import run_one
 from pil.learner import Learner
 from pil.step_memory import STEP_MEMORY, step_memory_on
 from pil.task.params import PARAMS, ParamError
+from pil.task.spec import parse_run_spec
 from pil.types import ACTIONS
 from robin_sim.cli.main import main
 
@@ -23,7 +26,8 @@ SETTINGS = {"pil": {}, "bandit": {"epsilon": 0.0}, "tamer": {"step_size": 0.25}}
 
 def _refusals_in_one_step(learner: str, memory: str, seed: int) -> list[Action]:
     """Learn OBJECT in S (ten approvals), then refuse the first six choices of a new step."""
-    agent = AGENTS[learner](seed, None, {**SETTINGS[learner], "step_memory": memory})
+    settings = parse_run_spec(params={**SETTINGS[learner], "step_memory": memory}).learner
+    agent = AGENTS[learner](seed, None, settings)
     for _ in range(10):
         agent.feedback(S, Action.OBJECT, True)
     chosen = []
@@ -61,17 +65,19 @@ def test_without_it_every_learner_repeats_a_refused_action_within_the_step(learn
 def test_the_default_is_each_learners_own_setting() -> None:
     assert PARAMS["step_memory"].default == "per-learner"
     assert PARAMS["step_memory"].choices == tuple(STEP_MEMORY)
-    assert not AGENTS["pil"](0, None, {}).step_memory and not Learner().step_memory
-    assert AGENTS["bandit"](0, None, {}).step_memory and AGENTS["tamer"](0, None, {}).step_memory
-    assert AGENTS["pil"](0, None, {"step_memory": "on"}).step_memory
-    assert not AGENTS["tamer"](0, None, {"step_memory": "off"}).step_memory
+    default = parse_run_spec().learner
+    assert not AGENTS["pil"](0, None, default).step_memory and not Learner().step_memory
+    assert AGENTS["bandit"](0, None, default).step_memory
+    assert AGENTS["tamer"](0, None, default).step_memory
+    assert AGENTS["pil"](0, None, replace(default, step_memory="on")).step_memory
+    assert not AGENTS["tamer"](0, None, replace(default, step_memory="off")).step_memory
     with pytest.raises(InvalidChoiceError, match="'per-learner', 'on', 'off'"):
         step_memory_on("sometimes", True)
 
 
 def test_in_runs_the_memory_changes_next_best_but_not_untried_first() -> None:
     def actions(**params: object) -> int:
-        return run_one("pil", 0.6, seed=2, tables=3, **params)["total_actions"]
+        return learner_row("pil", 0.6, seed=2, tables=3, **params)["total_actions"]
 
     assert actions(exploration="untried-first", step_memory="on") == actions(
         exploration="untried-first", step_memory="off"
@@ -81,8 +87,8 @@ def test_in_runs_the_memory_changes_next_best_but_not_untried_first() -> None:
     assert actions(exploration="with-replacement", step_memory="on") == actions(
         exploration="avoid-last", step_memory="on"
     )  # both draw among the actions not refused in this step
-    tamer = run_one("tamer", 0.6, seed=2, tables=3)
-    assert tamer == run_one("tamer", 0.6, seed=2, tables=3, step_memory="on") | {
+    tamer = learner_row("tamer", 0.6, seed=2, tables=3)
+    assert tamer == learner_row("tamer", 0.6, seed=2, tables=3, step_memory="on") | {
         "step_memory": "per-learner"
     }
 
@@ -94,7 +100,7 @@ def test_step_size_has_one_range_the_registry_and_tamer_agree() -> None:
     with pytest.raises(ParamError, match=r"parameter 'step_size' must be a number in \[0, 1\]"):
         spec.parse(1.5)
     with pytest.raises(ParamError, match=r"'step_size' must be a number in \[0, 1\]"):
-        run_one("tamer", 0.6, seed=0, step_size=1.5)  # refused before the run
+        learner_row("tamer", 0.6, seed=0, step_size=1.5)  # refused before the run
     assert TamerAgent(step_size=1.0).step_size == 1.0  # the top of the range is allowed
     for name, agent in (("epsilon", BanditAgent()), ("epsilon_decay", BanditAgent())):
         assert PARAMS[name].default == getattr(agent, name)

@@ -36,6 +36,7 @@ def test_study_command_writes_its_outputs(tmp_path: Path, capsys: pytest.Capture
         "gestures.png",
         "actions.png",
         "training.png",
+        "reps.jsonl",  # the finished repetitions (a rerun resumes from them)
     }
     assert "20 runs" in capsys.readouterr().out
 

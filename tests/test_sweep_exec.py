@@ -1,8 +1,7 @@
 """Tests of the sweep executors: a real process pool and a real Dask LocalCluster (loopback).
 
-Failures are real: ``max_actions_per_gesture=1`` makes :func:`pil.experiments.systems.run_one`
-raise, and
-the run functions of ``tests/sweep_test_runs.py`` end their worker process or fail once.
+Failures are real: ``max_actions_per_gesture=1`` makes a learner run raise, and the run
+functions of ``tests/sweep_test_runs.py`` end their worker process or fail once.
 """
 
 from __future__ import annotations
@@ -12,21 +11,28 @@ import socket
 from pathlib import Path
 
 import pytest
+from learner_rows import learner_row
 
 from pil.experiments.sweep_backends import LocalBackend, SchedulerError, make_backend
 from pil.experiments.sweep_exec import execute, execute_run
-from pil.experiments.sweep_grid import build_grid, load_target
-from pil.experiments.systems import run_one
+from pil.experiments.sweep_grid import build_grid
+from pil.experiments.sweep_kinds import CustomCall, load_kind, run_custom, run_learner
+from pil.task.spec import parse_run_spec
 
 TESTS_DIR = str(Path(__file__).resolve().parent)
 
 
-def specs(function: str = "pil.experiments.systems:run_one", **grid):
+def kind_of(function: str | None):
+    """The learner kind, or a custom function's."""
+    return load_kind("learner") if function is None else load_kind("custom", function)
+
+
+def specs(function: str | None = None, **grid):
     arguments = {"systems": ["pil", "c1"], "rates": [1.0], "reps": 2, "tables": 1, **grid}
-    return build_grid(load_target("custom", function), **arguments).runs()
+    return build_grid(kind_of(function), **arguments).runs()
 
 
-def run_all(backend, runs, function: str = "pil.experiments.systems:run_one"):
+def run_all(backend, runs, function: str | None = None):
     """Execute ``runs``; return the tally and every (run_id, status, error, metrics, attempt)."""
     seen = []
 
@@ -34,7 +40,7 @@ def run_all(backend, runs, function: str = "pil.experiments.systems:run_one"):
         seen.append((spec.run_id, outcome["status"], outcome["error"], outcome["metrics"], attempt))
 
     try:
-        tally = execute(runs, function, backend, record)
+        tally = execute(runs, kind_of(function).run, backend, record)
     finally:
         backend.close()
     return tally, seen
@@ -49,16 +55,17 @@ def by_id(seen):
 
 
 def test_execute_run_returns_metrics_or_the_error() -> None:
-    outcome = execute_run("pil.experiments.systems:run_one", ("pil", 1.0, 3), {"tables": 1})
+    spec = parse_run_spec(system="pil", rate=1.0, seed=3, params={"tables": 1})
+    outcome = execute_run(run_learner, spec)
     assert outcome["status"] == "ok" and outcome["error"] == ""
-    assert outcome["metrics"] == run_one("pil", 1.0, 3, tables=1)
+    assert outcome["metrics"] == learner_row("pil", 1.0, 3, tables=1)
     assert outcome["wall_s"] > 0 and ":" in outcome["host"]
-    failed = execute_run(
-        "pil.experiments.systems:run_one", ("pil", 1.0, 3), {"max_actions_per_gesture": 1}
-    )
+    failing = parse_run_spec(system="pil", rate=1.0, seed=3, params={"max_actions_per_gesture": 1})
+    failed = execute_run(run_learner, failing)
     assert failed["status"] == "failed" and failed["metrics"] == {}
     assert "RunnerError: no approved action after 1 actions" in failed["error"]
-    reported = execute_run("sweep_test_runs:self_failing_run", ("pil", 1.0, 3), {"tables": 1})
+    call = CustomCall("sweep_test_runs:self_failing_run", "pil", 1.0, 3, (("tables", 1),))
+    reported = execute_run(run_custom, call)
     assert (reported["status"], reported["error"]) == ("failed", "gave up")
     assert reported["metrics"]["legs"] == 4  # what the run counted is kept
 
@@ -70,8 +77,9 @@ def test_local_pool_runs_the_grid_like_direct_calls() -> None:
     assert (tally.ok, tally.failed, tally.attempts) == (len(runs), 0, len(runs))
     got = {run_id: metrics for run_id, _, _, metrics, _ in seen}
     for spec in runs:
-        args, kwargs = spec.call_args()
-        assert got[spec.run_id] == run_one(*args, **kwargs)
+        assert got[spec.run_id] == learner_row(
+            spec.system, spec.rate, spec.seed, **dict(spec.params)
+        )
 
 
 @pytest.mark.slow

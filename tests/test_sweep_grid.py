@@ -9,24 +9,26 @@ from pil.experiments.sweep_grid import (
     SweepGridError,
     build_grid,
     derive_seed,
-    load_target,
     parse_param,
     split_list,
 )
-from pil.experiments.systems import DEFAULT_VALUES, SYSTEMS
+from pil.experiments.sweep_kinds import LEARNER_RUNS, load_kind
 from pil.task.params import ParamError
+from pil.task.parts import DEFAULT_VALUES
+from pil.task.systems import SYSTEMS
 
 
 @pytest.fixture(scope="module")
 def learner():
-    return load_target("learner")
+    return load_kind("learner")
 
 
-def test_learner_target_lists_run_one_params_and_systems(learner) -> None:
-    assert learner.function == "pil.experiments.systems:run_one"
+def test_learner_kind_lists_its_params_and_systems(learner) -> None:
+    assert learner is LEARNER_RUNS
+    assert learner.function == "pil.experiments.systems:run_one"  # what sweep.json names
     assert learner.systems == tuple(SYSTEMS)
     assert set(DEFAULT_VALUES) <= set(learner.params)
-    assert "scenario" in learner.params  # keyword-only argument of run_one
+    assert "scenario" in learner.params  # the run option besides the run parameters
     assert not {"system", "rate", "seed", "rep"} & set(learner.params)
 
 
@@ -132,15 +134,15 @@ def test_unknown_kind_and_missing_function_are_clear() -> None:
     with pytest.raises(
         InvalidChoiceError, match="unknown run kind 'fast'; valid choices: 'learner'"
     ):
-        load_target("fast")
+        load_kind("fast")
     with pytest.raises(SweepGridError, match="has no 'nope'"):
-        load_target("custom", "pil.experiments.systems:nope")
+        load_kind("custom", "pil.task.systems:nope")
     with pytest.raises(SweepGridError, match=r"must be written 'package\.module:function'"):
-        load_target("custom", "pil.experiments.systems.run_one")
+        load_kind("custom", "pil.task.systems.check_system")
 
 
 def test_custom_function_declares_its_own_params() -> None:
-    target = load_target("custom", "sweep_test_runs:paced_run")
+    target = load_kind("custom", "sweep_test_runs:paced_run")
     assert {"delay", "die", "discard", "tables"} <= set(target.params)
     assert target.systems == tuple(SYSTEMS)
     assert parse_param("delay=0.01", target) == ("delay", (0.01,))
@@ -148,20 +150,20 @@ def test_custom_function_declares_its_own_params() -> None:
 
 def test_physical_runs_start_longest_expected_first() -> None:
     from pil.experiments.sweep_grid import longest_first
-    from robin_sim.episode.physical_run import expected_cost
+    from robin_sim.episode.physical_run import physical_cost
 
-    target = load_target("physical")
+    target = load_kind("physical")
     grid = build_grid(
         target, systems=["pil"], rates=[0.6, 1.0], reps=4, tables=1, params=["legs_per_table=1"]
     )
     runs = grid.runs()
     ordered = longest_first(runs, target)
     assert sorted(r.run_id for r in ordered) == [r.run_id for r in runs]
-    costs = [expected_cost(*r.call_args()[0], **r.call_args()[1]) for r in ordered]
+    costs = [physical_cost(r.spec) for r in ordered]
     assert costs == sorted(costs, reverse=True) and costs[0] > costs[-1]
     # the learner-only twin's counts: a run at 60 % costs more than the same seed at 100 %
     low = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 0.6}
     high = {r.seed: c for r, c in zip(ordered, costs, strict=True) if r.rate == 1.0}
     assert sum(low.values()) > sum(high.values())
-    learner = load_target("learner")
+    learner = load_kind("learner")
     assert longest_first(runs, learner) == runs  # learner-only: the grid's order

@@ -15,7 +15,7 @@ from pil.learner import Learner  # noqa: E402
 from pil.types import Action, Feedback, Gesture, State  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, GestureModel, load_shipped  # noqa: E402
 from robin_sim.vision.dataset import SampleSpec  # noqa: E402
-from robin_sim.vision.eyes import Condition, ConditionError  # noqa: E402
+from robin_sim.vision.eyes import ConditionError, EyeCondition  # noqa: E402
 from robin_sim.vision.reader import aim_and_see, read_views  # noqa: E402
 from robin_sim.vision.render_set import POSE_OF, SampleRenderer  # noqa: E402
 from robin_sim.vision.segment import find_hand  # noqa: E402
@@ -37,11 +37,11 @@ def renderer() -> SampleRenderer:
     return SampleRenderer()
 
 
-def _views(renderer: SampleRenderer, spec: SampleSpec, condition: Condition | None = None):
+def _views(renderer: SampleRenderer, spec: SampleSpec, condition: EyeCondition | None = None):
     renderer.render(spec)  # shows the pose and aims the head
     target = renderer.data.site("human_palm_site").xpos.copy()
     rng = np.random.default_rng(spec.seed)
-    return aim_and_see(renderer.eyes, renderer.data, target, condition or Condition(), rng)
+    return aim_and_see(renderer.eyes, renderer.data, target, condition or EyeCondition(), rng)
 
 
 def test_segmentation_matches_the_renderers_ground_truth(renderer: SampleRenderer) -> None:
@@ -76,21 +76,21 @@ def test_shipped_model_reads_the_seven_poses_on_renders(renderer: SampleRenderer
 def test_dim_light_and_noise_lower_the_reading(renderer: SampleRenderer) -> None:
     model = load_shipped()
 
-    def right(condition: Condition) -> int:
+    def right(condition: EyeCondition) -> int:
         count = 0
         for k in range(len(CLASSES)):
             views, depths = _views(renderer, _spec(k, CLEAR_PLACES[0], seed=k), condition)
             count += read_views(model, views, depths).label == CLASSES[k]
         return count
 
-    assert right(Condition(lighting=0.05, camera_noise=30)) < right(Condition())
+    assert right(EyeCondition(lighting=0.05, camera_noise=30)) < right(EyeCondition())
 
 
 def test_condition_rejects_out_of_range_values() -> None:
     with pytest.raises(ConditionError, match="lighting must lie in"):
-        Condition(lighting=-1)
+        EyeCondition(lighting=-1)
     with pytest.raises(ConditionError, match="camera_noise"):
-        Condition(camera_noise=float("nan"))
+        EyeCondition(camera_noise=float("nan"))
 
 
 def _swapped_thumbs(model: GestureModel) -> GestureModel:
@@ -179,7 +179,7 @@ def test_detector_from_params_names_the_valid_parameters(renderer: SampleRendere
         HandTargets(np.array(spec.HAND_OPEN_CTRL), np.array(spec.HAND_CLOSED_CTRL)),
     )
     detector = VisionDetector.from_params(sim, {"lighting": "0.3", "camera_noise": 12})
-    assert detector.condition == Condition(lighting=0.3, camera_noise=12.0)
+    assert detector.condition == EyeCondition(lighting=0.3, camera_noise=12.0)
     detector.close()
     with pytest.raises(RobinPilError, match=r"'brightness'.*'lighting'"):
         VisionDetector.from_params(sim, {"brightness": 1})

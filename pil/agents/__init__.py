@@ -3,58 +3,78 @@
 :class:`Agent` is what the step loop (:func:`pil.task.runner.steps`), the study and the
 environment use. :class:`pil.learner.Learner` (PIL) implements it; :mod:`pil.agents.bandit` and
 :mod:`pil.agents.tamer` are baselines over the same states. :data:`AGENTS` maps a name to a
-factory ``(seed, table, params) -> Agent``; add an entry to make a new agent selectable.
+factory ``(seed, table, settings) -> Agent``; add an entry to make a new agent selectable. The
+settings are typed and checked (:class:`AgentSettings`, e.g. a run spec's
+``pil.task.spec.LearnerSettings``): a factory reads them as they are, re-defaults nothing.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from typing import Any
+from collections.abc import Callable
+from typing import Protocol
 
-from pil.agents.bandit import EPSILON, EPSILON_DECAY, BanditAgent
+from pil.agents.bandit import BanditAgent
 from pil.agents.base import Agent, FeedbackAgent
-from pil.agents.tamer import STEP_SIZE, TamerAgent
-from pil.exploration import DEFAULT_RULE
+from pil.agents.tamer import TamerAgent
 from pil.learner import Learner
-from pil.step_memory import DEFAULT_STEP_MEMORY, step_memory_on
+from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 
-AgentFactory = Callable[[int, AssociationTable | None, Mapping[str, Any]], Agent]
+
+class AgentSettings(Protocol):
+    """What the agents read of a run's learner settings (typed and checked by the edge)."""
+
+    @property
+    def exploration(self) -> str: ...
+    @property
+    def step_memory(self) -> str: ...
+    @property
+    def epsilon(self) -> float: ...
+    @property
+    def epsilon_decay(self) -> float: ...
+    @property
+    def step_size(self) -> float: ...
 
 
-def _memory(params: Mapping[str, Any], own: bool) -> bool:
-    return step_memory_on(str(params.get("step_memory", DEFAULT_STEP_MEMORY)), own)
+AgentFactory = Callable[[int, AssociationTable | None, AgentSettings], Agent]
 
 
-def _pil(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
+def _pil(seed: int, table: AssociationTable | None, settings: AgentSettings) -> Agent:
     return Learner(
         seed,
         table=table,
-        correction=bool(params.get("correction", True)),
-        exploration=str(params.get("exploration", DEFAULT_RULE)),
-        step_memory=_memory(params, Learner.STEP_MEMORY_OWN),
+        exploration=settings.exploration,
+        step_memory=step_memory_on(settings.step_memory, Learner.STEP_MEMORY_OWN),
     )
 
 
-def _bandit(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
+def _bandit(seed: int, table: AssociationTable | None, settings: AgentSettings) -> Agent:
     return BanditAgent(
         seed,
-        epsilon=params.get("epsilon", EPSILON),
-        epsilon_decay=params.get("epsilon_decay", EPSILON_DECAY),
+        epsilon=settings.epsilon,
+        epsilon_decay=settings.epsilon_decay,
         table=table,
-        step_memory=_memory(params, BanditAgent.STEP_MEMORY_OWN),
+        step_memory=step_memory_on(settings.step_memory, BanditAgent.STEP_MEMORY_OWN),
     )
 
 
-def _tamer(seed: int, table: AssociationTable | None, params: Mapping[str, Any]) -> Agent:
+def _tamer(seed: int, table: AssociationTable | None, settings: AgentSettings) -> Agent:
     return TamerAgent(
         seed,
-        step_size=params.get("step_size", STEP_SIZE),
+        step_size=settings.step_size,
         table=table,
-        step_memory=_memory(params, TamerAgent.STEP_MEMORY_OWN),
+        step_memory=step_memory_on(settings.step_memory, TamerAgent.STEP_MEMORY_OWN),
     )
 
 
 AGENTS: dict[str, AgentFactory] = {"pil": _pil, "bandit": _bandit, "tamer": _tamer}
 
-__all__ = ["AGENTS", "Agent", "AgentFactory", "BanditAgent", "FeedbackAgent", "TamerAgent"]
+__all__ = [
+    "AGENTS",
+    "Agent",
+    "AgentFactory",
+    "AgentSettings",
+    "BanditAgent",
+    "FeedbackAgent",
+    "TamerAgent",
+]

@@ -17,7 +17,7 @@ get the person's verdict as the reward.
 The world is anything with the :class:`pil.task.world.World` protocol: the
 :class:`~pil.task.world.SymbolicWorld` by default, or a factory that builds another (a
 physical one) for each episode. The person, detector and seeds are the study's
-(:func:`pil.task.assemble.assemble_phase` of the environment's
+(:func:`pil.task.assemble.assemble` of the environment's
 :class:`~pil.task.spec.RunSpec`), so the same ``seed`` gives the same episode.
 """
 
@@ -32,14 +32,14 @@ import dm_env
 import numpy as np
 from dm_env import specs
 
-from pil.errors import RobinPilError
-from pil.task.assemble import assemble_phase
+from pil.errors import RobinPilError, quote
+from pil.task.assemble import assemble
 from pil.task.params import MAX_SEED, STEP_RATE
 from pil.task.person import PersonBody, ScriptStep
 from pil.task.runner import MAX_PERFORMANCES
 from pil.task.scenario import Scenario
 from pil.task.spec import parse_run_spec
-from pil.task.world import SymbolicWorld, World
+from pil.task.world import WORLD_METHODS, SymbolicWorld, World
 from pil.types import ACTIONS, GESTURES, START_ACTION, Action, Feedback, Hand, State
 
 DISCARDED = len(GESTURES)  # the gesture index of a discarded reading
@@ -102,7 +102,9 @@ class AssemblyEnv(dm_env.Environment):
         self._spec = replace(parse_run_spec(scenario=scenario, params=params), rate=self.rate)
         self._make_world = world
         self._make_body = body
-        self.one_hot = bool(one_hot)
+        if not isinstance(one_hot, bool):  # "no" would be truthy: one-hot on by mistake
+            raise RobinPilError(f"one_hot must be True or False, got {quote(one_hot)}")
+        self.one_hot = one_hot
         self.episode = -1
         self.stats = EnvStats()
         self.world: World | None = None
@@ -131,10 +133,16 @@ class AssemblyEnv(dm_env.Environment):
     def reset(self) -> dm_env.TimeStep:
         """Start the next assembly: a new handover order, detector deck and world."""
         self.episode += 1
-        self.world = self._make_world()
+        world = self._make_world()
+        if not all(callable(getattr(world, name, None)) for name in WORLD_METHODS):
+            raise TypeError(
+                f"world() must return a World (an object with the methods "
+                f"{', '.join(WORLD_METHODS)}, e.g. SymbolicWorld()), got {quote(world)}"
+            )
+        self.world = world
         body = None if self._make_body is None else self._make_body(self.world)
         spec = self._spec.for_run("pil", self.rate, self.run_seed(self.episode))
-        parts = assemble_phase(spec, "test", body=body)
+        parts = assemble(spec, body=body)
         self._started = True
         self._person, self._detector = parts.person, parts.detector
         self._repeat_discarded = bool(parts.options["repeat_discarded"])

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.task.assemble import assemble, pretraining
@@ -29,6 +30,7 @@ from pil.types import Action, Feedback, Gesture
 
 DEFAULT_CHANGE = SCENARIOS_DIR / "mapping_change.yaml"
 ADAPT_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve", "c1", "c2", "c3", "c4", "bandit", "tamer")
+ADAPT_RATES: tuple[float, ...] = (0.8, 1.0)  # robin-pil adapt's default detection rates
 _KEYS = ("name", "description", "scenario", "change")
 _CHANGE_KEYS = ("from_table", "gesture", "action")
 
@@ -158,8 +160,8 @@ def _old_states(scenario: Scenario, gesture: Gesture) -> list[tuple[Any, Action]
 def run_adaptation_study(
     change: MappingChange,
     systems: Sequence[str] = ADAPT_SYSTEMS,
-    rates: Sequence[float] = (0.8, 1.0),
-    reps: int = 20,
+    rates: Sequence[float] = ADAPT_RATES,
+    reps: int = PAPER_REPS,
     seed: int = 0,
     params: Mapping[str, Any] | None = None,
     progress: Any = None,

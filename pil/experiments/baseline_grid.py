@@ -1,7 +1,7 @@
 """The settings a baseline table tunes over, the held-out seeds, and the choice of the best.
 
 Each learner (``pil``, ``bandit``, ``tamer``: study systems of
-:mod:`pil.experiments.systems`) has a small grid of :class:`Setting` objects, each with the
+:mod:`pil.task.systems`) has a small grid of :class:`Setting` objects, each with the
 within-step memory (:mod:`pil.step_memory`) off and on:
 
 * ``pil``: every exploration rule of :mod:`pil.exploration`;

@@ -35,10 +35,10 @@ from pil.experiments.baseline_grid import (
     score,
     split_seeds,
 )
-from pil.experiments.paper import PAPER_RATES
+from pil.experiments.paper import PAPER_RATES, PAPER_REPS
 from pil.experiments.report import markdown_table, summary_markdown
+from pil.experiments.run_row import ROW_COLUMNS, spec_row
 from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
-from pil.experiments.systems import ROW_COLUMNS, spec_row
 from pil.task.params import RATE, REPS, SEED
 from pil.task.runner import RunnerError
 from pil.task.spec import RunSpec, parse_run_spec
@@ -64,7 +64,7 @@ class BaselineConfig:
     """What to run: rates, repetitions (evaluation and tuning), master seed, run parameters."""
 
     rates: tuple[float, ...] = PAPER_RATES
-    reps: int = 20
+    reps: int = PAPER_REPS
     tuning_reps: int = 10
     seed: int = 0
     params: Mapping[str, Any] | None = None  # e.g. {"tables": 2}

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,7 @@ from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
 from pil.experiments.report import Row, group_rows, load_rows, markdown_table, number_or_nan
 from pil.experiments.stats import PAIRED_T, WELCH, mean_ci
+from pil.regular_files import UnreadableFileError, read_kind_text
 
 SETTINGS_FILE = "settings.json"  # written last: a seed folder with it holds a finished run
 MAX_SEEDS = 1000
@@ -51,11 +53,18 @@ def _settings_text(settings: Mapping[str, Any], seed: int) -> str:
     return json.dumps({**settings, "seed": seed}, indent=1, sort_keys=True, default=str) + "\n"
 
 
+def _read_settings(path: Path) -> str:
+    try:
+        return read_kind_text(path, "settings", "the study's settings")
+    except UnreadableFileError as error:
+        raise RobinPilError(f"{error}; use another --out") from None
+
+
 def check_seed_folders(out: Path, seeds: Sequence[int], settings: Mapping[str, Any]) -> None:
     """Refuse, before anything runs, a seed folder that holds a study with other settings."""
     for seed in seeds:
         path = seed_folder(out, seed) / SETTINGS_FILE
-        if path.is_file() and path.read_text(encoding="utf-8") != _settings_text(settings, seed):
+        if os.path.lexists(path) and _read_settings(path) != _settings_text(settings, seed):
             raise RobinPilError(
                 f"{path.parent} holds a study with other settings (see {path}); use another "
                 "--out, or the same settings to resume"

@@ -7,8 +7,10 @@ Tables, legs per table and training tables are scenario facts (``scenarios/assem
 
 from __future__ import annotations
 
+from pil.task.params import REPS
+
 PAPER_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)  # the detection rates d simulated
-PAPER_REPS = 20  # each set of 10 tables was assembled 20 times per rate
+PAPER_REPS: int = REPS.default  # each set of 10 tables was assembled 20 times per rate
 BASELINE = "pil"  # the paper's learner: the system every other one is compared against
 # The pre-trained conditions' training (5 tables): rate -> (gestures, actions)
 PAPER_TRAINING: dict[float, tuple[int, int]] = {

@@ -64,7 +64,7 @@ def rule_training(
     """The training figures of every exploration rule, at ``rates``, one run per seed:
     ``base``'s training run (a PIL run with correction on the training tables), each rule
     applied as a typed value (nothing parsed again)."""
-    from pil.task.assemble import assemble_phase
+    from pil.task.assemble import assemble
 
     out: dict[str, Figures] = {}
     for rule in RULES:
@@ -73,7 +73,8 @@ def rule_training(
         for rep, seed in enumerate(seeds):
             cache: dict[Any, Any] = {}
             for rate in rates:
-                stats = assemble_phase(spec.for_run("pil", rate, seed), "train", cache=cache).run()
+                run = assemble(spec.for_run("pil", rate, seed), phase="train", cache=cache)
+                stats = run.run()
                 runs[(rate, str(rep))] = (stats.gestures, stats.actions)
         out[rule] = _figures(runs)
     return out

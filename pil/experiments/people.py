@@ -19,21 +19,22 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from pil.experiments.adaptation import remap
+from pil.experiments.paper import PAPER_REPS
+from pil.experiments.rep_journal import RepJournal
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
-from pil.task.assemble import assemble_phase
+from pil.task.assemble import assemble
 from pil.task.person import plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
-from pil.task.seeds import sub_seeds
+from pil.task.seeds import person_seed, sub_seeds
 from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Gesture
 
 DEFAULT_PEOPLE = SCENARIOS_DIR / "two_people.yaml"
 MODES: tuple[str, ...] = ("shared", "per-person")
 PEOPLE_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+PEOPLE_RATES: tuple[float, ...] = (0.8, 1.0)  # robin-pil people's default detection rates
 _KEYS = ("name", "description", "scenario", "people")
 
 
@@ -70,8 +71,7 @@ def person_types(people: People, name: str, types: Sequence[HandoverType]) -> li
 def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     """One run of the whole assembly by the people taking turns, in ``mode``; each learner's
     run is assembled from ``spec`` (its system's parameters applied) with the people's
-    script (:func:`pil.task.assemble.assemble_phase`)."""
-    tested = spec.effective()
+    script (:func:`pil.task.assemble.assemble`)."""
     scenario, names = people.scenario, list(people.overrides)
     legs = scenario.legs_per_table
     seeds = spec.seeds.phase("test")
@@ -82,16 +82,16 @@ def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     ]
     if mode == "shared":
         script = plan_script([t for table in by_table for t in table], legs, scenario.spots)
-        parts = [assemble_phase(tested, "test", seeds=seeds, script=script).run()]
+        parts = [assemble(spec, seeds=seeds, script=script).run()]
     else:
         parts = []
         for i in range(len(names)):
             own = [t for k, table in enumerate(by_table) if k % len(names) == i for t in table]
             if not own:  # fewer tables than people: this person builds none and costs nothing
                 continue
-            word = int(np.random.SeedSequence([spec.seed, i]).generate_state(1)[0] >> 1)
             script = plan_script(own, legs, scenario.spots)
-            run = assemble_phase(tested, "test", seeds=sub_seeds(word).phase("test"), script=script)
+            own_seeds = sub_seeds(person_seed(spec.seed, i)).phase("test")
+            run = assemble(spec, seeds=own_seeds, script=script)
             parts.append(run.run())
     return {
         "system": spec.system,
@@ -108,27 +108,52 @@ def run_people(spec: RunSpec, mode: str, people: People) -> dict[str, Any]:
     }
 
 
+def journal_settings(
+    people: People, systems: Sequence[str], rates: Sequence[float], seed: int
+) -> dict[str, Any]:
+    """What makes two people studies' repetitions the same (:class:`RepJournal`'s key)."""
+    return {
+        "study": "people",
+        "scenario": repr(people.scenario),
+        "overrides": repr(people.overrides),
+        "systems": list(systems),
+        "rates": list(rates),
+        "seed": seed,
+    }
+
+
 def run_people_study(
     people: People,
     systems: Sequence[str] = PEOPLE_SYSTEMS,
-    rates: Sequence[float] = (0.8, 1.0),
-    reps: int = 20,
+    rates: Sequence[float] = PEOPLE_RATES,
+    reps: int = PAPER_REPS,
     seed: int = 0,
     progress: Any = None,
+    journal: RepJournal | None = None,
 ) -> list[dict[str, Any]]:
     """Both modes for every system, rate and repetition (same handover order per seed).
     ``systems`` (PIL learners from scratch) and ``rates`` are taken as checked by the edge
-    (``robin-pil people``'s ``run_options``); the scenario is parsed here, once."""
+    (``robin-pil people``'s ``run_options``); the scenario is parsed here, once. With a
+    ``journal`` (of :func:`journal_settings`) each finished repetition is kept as it ends and
+    one kept already is read back, not run again."""
     base = parse_run_spec(scenario=people.scenario)
-    rows = []
+    rows: list[dict[str, Any]] = []
     for rep, run_seed in enumerate(rep_seeds(seed, reps)):
+        kept = None if journal is None else journal.finished(rep, run_seed)
+        if kept is not None:
+            rows += kept
+            if progress is not None:
+                progress(len(rates) * len(systems))
+            continue
+        these = []
         for rate in rates:
             for system in systems:
                 for mode in MODES:
                     row = run_people(base.for_run(system, rate, run_seed), mode, people)
-                    rows.append({"rep": rep, **row})
+                    these.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
+        rows += these if journal is None else journal.add(rep, run_seed, these)
     from pil.experiments.outputs import sort_runs  # with the other outputs: loaded late
 
     return sort_runs(rows, systems, "mode", MODES)

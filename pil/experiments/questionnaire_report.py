@@ -12,7 +12,6 @@ within each questionnaire. Pure Python, scipy and statsmodels: no MuJoCo.
 
 from __future__ import annotations
 
-import json
 import math
 import statistics
 from collections.abc import Mapping, Sequence
@@ -20,38 +19,24 @@ from itertools import combinations
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.answers_file import read_answers
 from pil.experiments.report import markdown_table
-from pil.experiments.sessions_load import SessionsError
+from pil.experiments.sessions_load import SessionsError  # noqa: F401 (raised by the reading)
+from pil.file_names import QUESTIONNAIRES_NAME
 
-QUESTIONNAIRES_NAME = "questionnaires.jsonl"
-REQUIRED = ("participant", "condition", "questionnaire", "scores")
+__all__ = ["QUESTIONNAIRES_NAME", "load_answers", "paired_tests", "summarize_answers"]
 SUMMARY_COLUMNS = ("questionnaire", "score", "condition", "participants", "mean", "sd")
 TEST_COLUMNS = ("questionnaire", "score", "a", "b", "n", "mean_a", "mean_b", "t", "p_t", "w", "p_w")
 
 
 def load_answers(folder: str | Path) -> list[dict[str, Any]]:
-    """Every answered questionnaire under ``folder`` (``[]`` when none); a line that is not a
-    questionnaire record raises :class:`SessionsError` naming its file and line."""
+    """Every answered questionnaire under ``folder`` (``[]`` when none); a record that is not a
+    questionnaire record, or holds a score off its scale, raises :class:`SessionsError` naming
+    its file and line (:func:`pil.experiments.answers_file.read_answers`)."""
     rows = []
     for path in sorted(Path(folder).rglob(QUESTIONNAIRES_NAME)):
-        try:
-            lines = path.read_text(encoding="utf-8").splitlines()
-        except (OSError, UnicodeDecodeError) as error:
-            raise SessionsError(f"{path}: cannot read the questionnaires: {error}") from None
-        for number, line in enumerate(lines, 1):
-            if not line.strip():
-                continue
-            try:
-                row = json.loads(line)
-            except (ValueError, RecursionError):
-                row = None
-            bad = not isinstance(row, dict) or any(k not in row for k in REQUIRED)
-            if bad or not isinstance(row["scores"], Mapping):
-                raise SessionsError(
-                    f"{path}:{number}: not a questionnaire record (a JSON object "
-                    "with " + ", ".join(REQUIRED) + ")"
-                )
-            rows.append({**row, "file": path.relative_to(folder).as_posix()})
+        file = path.relative_to(folder).as_posix()
+        rows += [{**row, "file": file} for row in read_answers(path)]
     return rows
 
 
@@ -216,13 +201,16 @@ def answers_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def write_answers_report(folder: str | Path, out: str | Path) -> list[Path]:
+def write_answers_report(
+    folder: str | Path, out: str | Path, rows: Sequence[Mapping[str, Any]] | None = None
+) -> list[Path]:
     """Write ``questionnaires.md`` and ``questionnaires.csv`` to ``out`` when ``folder`` holds
-    answers; their paths (none written without answers)."""
+    answers (``rows``: those :func:`load_answers` read already); their paths (none written
+    without answers)."""
     from pil.atomic import write_text_atomic
     from pil.experiments.sweep_store import rows_to_csv
 
-    rows = load_answers(folder)
+    rows = load_answers(folder) if rows is None else rows
     if not rows:
         return []
     out = Path(out)

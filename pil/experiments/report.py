@@ -17,12 +17,12 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
-from pil.regular_files import FileTooLargeError, read_regular_text
+from pil.regular_files import LIMITS, FileTooLargeError, read_regular_text
 
 Row = Mapping[str, Any]
 DEFAULT_GROUP_BY: tuple[str, ...] = ("system", "rate")
 DEFAULT_METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
-MAX_RESULTS_BYTES = 2_000_000_000  # a results CSV read whole: 2 GB is millions of runs
+MAX_RESULTS_BYTES = LIMITS["results"]  # a results CSV read whole: 2 GB is millions of runs
 MAX_MAGNITUDE = 1e15  # no count or time of a run comes near; larger is a corrupt cell
 
 
@@ -49,6 +49,34 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
     if not rows:
         raise ReportError(f"{path}: no result rows")
     return rows
+
+
+RUN_ID_COLUMNS: tuple[str, ...] = ("system", "rate", "rep", "seed")  # named in the message
+
+
+def check_unique_runs(rows: Sequence[Row], source: object) -> None:
+    """Raise when a run appears twice: the same ``run_id`` (a sweep's), or where the rows have
+    no ``run_id`` but a ``rep`` or ``seed`` (a study's, whose other columns may tell runs
+    apart too: a person, a training rate) the same row twice. Rows without either (hand-made
+    tables) are not checked: they name no run."""
+    if not rows:
+        return
+    columns = list(rows[0])
+    by_id = "run_id" in columns
+    if not by_id and not {"rep", "seed"} & set(columns):
+        return
+    key = ("run_id",) if by_id else tuple(columns)
+    named = ("run_id",) if by_id else tuple(c for c in RUN_ID_COLUMNS if c in columns)
+    seen: dict[tuple[str, ...], int] = {}
+    for number_, row in enumerate(rows, 1):
+        ident = tuple(str(row.get(c)) for c in key)
+        if ident in seen:
+            shown = ", ".join(f"{c}={row.get(c)}" for c in named)
+            raise ReportError(
+                f"{source}: the run {shown} appears twice (rows {seen[ident]} and {number_}); "
+                "each run is one row: remove the copy (a file appended to twice?)"
+            )
+        seen[ident] = number_
 
 
 def number(value: Any, column: str = "value") -> float:

@@ -82,6 +82,7 @@ def write_report(
     from pil.experiments.report import (
         ReportError,
         check_columns,
+        check_unique_runs,
         load_rows,
         number,
         summary_markdown,
@@ -100,6 +101,7 @@ def write_report(
 
     results, out = Path(results), Path(out)
     rows = load_rows(results)
+    check_unique_runs(rows, results)  # a row twice would double n and shrink every p
     failed = [r for r in rows if r.get("status", "ok") != "ok"]
     rows = with_physical([r for r in rows if r.get("status", "ok") == "ok"])
     if not rows:

@@ -1,5 +1,7 @@
 """A learner-only run's CSV row: :data:`ROW_COLUMNS` names the cells, :func:`run_row` fills
-them in that order (one source for both: a column without a value is a KeyError at once).
+them in that order (one source for both: a column without a value is a KeyError at once), and
+:func:`spec_row` runs a :class:`~pil.task.spec.RunSpec` (any system of
+:mod:`pil.task.systems`) to its row.
 
 Counts come from the test run's :class:`~pil.task.counting.RunStats` by name, ``train_*`` ones
 from the training run's; ``total_*`` add the two, as the paper does; then every parameter of
@@ -8,11 +10,13 @@ from the training run's; ``total_*`` add the two, as the paper does; then every 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, MutableMapping
 from typing import Any
 
+from pil.task.assemble import assemble
 from pil.task.counting import RunStats
 from pil.task.parts import DEFAULT_VALUES
+from pil.task.spec import RunSpec
 
 TRAIN = "train_"  # prefix of the training run's counts
 TOTAL = "total_"  # prefix of training + test counts
@@ -64,3 +68,22 @@ def run_row(
         return getattr(test, column)
 
     return {column: cell(column) for column in ROW_COLUMNS}
+
+
+def spec_row(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> dict[str, Any]:
+    """One learner-only run of ``spec`` as a flat CSV row (:data:`ROW_COLUMNS`).
+
+    ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
+    runs, the person's scripts); share it only between specs that differ in system and rate.
+    Results are the same with or without it.
+    """
+    run = assemble(spec, cache=cache)
+    stats = run.run()
+    train = RunStats() if run.training is None else run.training.stats
+    cells = {
+        "system": spec.system,
+        "rate": spec.rate,
+        "seed": spec.seed,
+        "scenario": spec.scenario.name,
+    }
+    return run_row(cells, stats, train, spec.effective().values())

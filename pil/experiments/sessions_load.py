@@ -8,7 +8,6 @@ naming the file. Pure Python: no MuJoCo.
 
 from __future__ import annotations
 
-import json
 import os
 import re
 from collections.abc import Mapping
@@ -17,12 +16,14 @@ from typing import Any
 
 from pil.errors import quote
 from pil.experiments.report import ReportError, number
+from pil.file_names import SUMMARY_NAME
+from pil.regular_files import UnreadableFileError, parse_json, read_kind_text
 
-SUMMARY_NAME = "summary.json"  # a run's summary: episodes, live sessions (their folders)
 INPUTS_NAME = "inputs.jsonl"  # a live session's first file (robin_sim.live.files)
 SESSION_LOG_NAME = "log.jsonl"  # a live session's step log (robin_sim.live.run)
 EVENTS_NAME = "events.jsonl"  # what a live session did of itself (robin_sim.live.files)
 COUNTED_STATUS = "finished"
+SESSION_ID = ("participant", "session", "block", "scenario")  # one session's identity
 # measure -> what it is (the summary's field names; sim_time_s is the session's physics time)
 MEASURES: dict[str, str] = {
     "gestures": "instruction gestures",
@@ -78,11 +79,21 @@ def load_sessions(folder: str | Path) -> list[dict[str, Any]]:
     block (episodes) are skipped. Rows are sorted by participant, block and session.
     """
     folder = Path(folder)
-    rows = []
+    rows: list[dict[str, Any]] = []
+    seen: dict[tuple[Any, ...], str] = {}  # a session's identity -> its summary
     for path in sorted(folder.rglob(SUMMARY_NAME)):
         summary = _read_summary(path)
         if "live" in summary:
-            rows.append(session_row(summary, path, folder))
+            row = session_row(summary, path, folder)
+            ident = tuple(row[k] for k in SESSION_ID)
+            if ident in seen:  # a copied folder would count one session twice
+                raise SessionsError(
+                    f"{path}: the session {row['participant']}/{row['session']} "
+                    f"(block {row['block']}) is also in {seen[ident]}; each session is "
+                    "reported once: remove the copy"
+                )
+            seen[ident] = row["summary"]
+            rows.append(row)
     rows.sort(
         key=lambda r: (
             _natural(r["participant"]),
@@ -150,18 +161,19 @@ def _number(value: Any, key: str, path: Path, *, nullable: bool) -> float | None
 
 
 def _read_summary(path: Path) -> Mapping[str, Any]:
+    """A summary read as :func:`pil.regular_files.read_json_file` reads (a link to a device, a
+    FIFO or a huge file is refused before it is read), or :class:`SessionsError`."""
     try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise SessionsError(f"{path}: cannot read the summary: {error.strerror}") from None
-    except UnicodeDecodeError as error:
-        raise SessionsError(f"{path}: not UTF-8 text (byte {error.start})") from None
-    except (ValueError, RecursionError) as error:  # ValueError: bad JSON, a 5000-digit number
-        where = getattr(error, "lineno", None)
-        at = f" at line {where}" if where else ""
+        text = read_kind_text(path, "summary", "the summary")
+    except UnreadableFileError as error:
+        raise SessionsError(str(error)) from None
+    try:
+        summary = parse_json(text)
+    except ValueError as error:  # bad JSON, a key twice, 5000 levels deep
+        at = re.search(r" at line \d+", str(error))
         raise SessionsError(
-            f"{path}: not a JSON summary{at}; the file is corrupt or cut "
-            "short (remove it or rerun the session)"
+            f"{path}: not a JSON summary{at.group(0) if at else f' ({error})'}; the file is "
+            "corrupt or cut short (remove it or rerun the session)"
         ) from None
     if not isinstance(summary, Mapping):
         raise SessionsError(f"{path}: expected a JSON object (a session's summary)")

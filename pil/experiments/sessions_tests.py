@@ -42,7 +42,7 @@ SESSION_TEST_COLUMNS = [
 
 def conditions_of(rows: Sequence[Mapping[str, Any]]) -> list[str]:
     """The conditions in registry order (pil, c1, ..., proactive), unknown ones after, by name."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     known = list(SYSTEM_SPECS)
     names = {str(r["condition"]) for r in rows}

@@ -1,6 +1,6 @@
 """The paper's simulation study (section IV-B): five systems, four rates, 20 repetitions.
 
-:func:`run_study` returns one row per run (see :data:`pil.experiments.systems.ROW_COLUMNS`, plus
+:func:`run_study` returns one row per run (see :data:`pil.experiments.run_row.ROW_COLUMNS`, plus
 ``rep``);
 :func:`write_outputs` writes ``runs.csv``, ``tests.csv`` (paired tests of PIL against every
 other system, :mod:`pil.experiments.study_tests`), ``summary.md`` and the figures; with pil, c1
@@ -33,7 +33,9 @@ from pil.experiments.paper_comparison import (
     training_markdown,
 )
 from pil.experiments.proactive_report import proactive_figures, proactive_markdown
+from pil.experiments.rep_journal import RepJournal
 from pil.experiments.report import Row, summary_markdown
+from pil.experiments.run_row import ROW_COLUMNS, spec_row
 from pil.experiments.stats import PAIRED_T, csv_columns, describe_tests, tests_markdown
 from pil.experiments.study_tests import (
     CLAIM_SYSTEMS,
@@ -44,16 +46,12 @@ from pil.experiments.study_tests import (
     discard_reading,
     study_tests,
 )
-from pil.experiments.systems import (
-    PAPER_SYSTEMS,
-    ROW_COLUMNS,
-    check_system,
-    spec_row,
-)
+from pil.file_names import RUNS_NAME
 from pil.task.detector import MEASURED_PREFIX, load_measured
 from pil.task.params import RATE, REPS, SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import RunSpec, parse_run_spec
+from pil.task.systems import PAPER_SYSTEMS, check_system
 
 STUDY_COLUMNS: tuple[str, ...] = ("rep", *ROW_COLUMNS)
 METRICS: tuple[str, ...] = ("total_gestures", "total_actions")
@@ -70,7 +68,7 @@ class StudyConfig:
     seed: int = 0
     systems: tuple[str, ...] = PAPER_SYSTEMS
     scenario: Scenario | str | Path | None = None
-    params: Mapping[str, Any] = field(default_factory=dict)  # see pil.experiments.systems.PARAMS
+    params: Mapping[str, Any] = field(default_factory=dict)  # see pil.task.params.PARAMS
     labels: Mapping[str, str] = field(default_factory=dict, compare=False)  # names in messages
     # the runs' spec: scenario and params parsed once, here (the system, rate and seed vary)
     base: RunSpec = field(init=False, repr=False, compare=False)
@@ -127,21 +125,46 @@ def rep_seeds(seed: int, reps: int) -> list[int]:
     return [int(child.generate_state(1, np.uint64)[0] >> 1) for child in children]
 
 
+def journal_settings(config: StudyConfig) -> dict[str, Any]:
+    """What makes two studies' repetitions the same (:class:`RepJournal`'s key): all but the
+    number of repetitions (repetition ``r``'s seed does not depend on it)."""
+    return {
+        "study": "study",
+        "rates": list(config.rates),
+        "systems": list(config.systems),
+        "seed": config.seed,
+        "scenario": repr(config.base.scenario),
+        "params": config.base.values(),
+    }
+
+
 def run_study(
-    config: StudyConfig, progress: Callable[[int], None] | None = None
+    config: StudyConfig,
+    progress: Callable[[int], None] | None = None,
+    journal: RepJournal | None = None,
 ) -> list[dict[str, Any]]:
-    """All runs of the study, ordered by rate, system and repetition."""
+    """All runs of the study, ordered by rate, system and repetition. With a ``journal``
+    (of :func:`journal_settings`), each finished repetition is kept there as it ends and one
+    kept already is read back, not run again."""
     base = config.base  # checked once, by the config
     seeds = rep_seeds(config.seed, config.reps)
     rows: list[dict[str, Any]] = []
     for rep, seed in enumerate(seeds):
+        kept = None if journal is None else journal.finished(rep, seed)
+        if kept is not None:
+            rows += kept
+            if progress is not None:
+                progress(len(kept))
+            continue
         cache: dict[Any, Any] = {}  # training runs and scripts shared within this rep
+        these = []
         for rate in config.rates:
             for system in config.systems:
                 row = spec_row(base.for_run(system, rate, seed), cache)
-                rows.append({"rep": rep, **row})
+                these.append({"rep": rep, **row})
                 if progress is not None:
                     progress(1)
+        rows += these if journal is None else journal.add(rep, seed, these)
     order = {s: i for i, s in enumerate(config.systems)}
     rows.sort(key=lambda r: (r["rate"], order[r["system"]], r["rep"]))
     return rows
@@ -302,7 +325,7 @@ def write_outputs(rows: Sequence[Row], config: StudyConfig, out: str | Path) -> 
     other = claim_config(config)
     claim = run_study(other) if other is not None else None
     tests = all_tests(rows, claim)
-    written = [write_text_atomic(out / "runs.csv", csv_text(rows))]
+    written = [write_text_atomic(out / RUNS_NAME, csv_text(rows))]
     if claim:
         written.append(write_text_atomic(out / "claim_runs.csv", csv_text(claim)))
     if tests:

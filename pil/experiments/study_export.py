@@ -22,12 +22,13 @@ participants are left out. Every path is relative to the study folder. Pure Pyth
 from __future__ import annotations
 
 import json
+import os
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
+from pil.experiments.answers_file import read_answers
 from pil.experiments.sessions_load import (
     EVENTS_NAME,
     MEASURES,
@@ -35,6 +36,8 @@ from pil.experiments.sessions_load import (
     SUMMARY_NAME,
     SessionsError,
 )
+from pil.file_names import QUESTIONNAIRES_NAME
+from pil.regular_files import UnreadableFileError, read_json_file, read_jsonl_file
 
 SESSIONS_DIR = "sessions"  # a study folder's sessions: <participant>/<session> (robin_sim.lab)
 DEMOGRAPHICS_NAME = "demographics.jsonl"  # in the participant's folder (robin_sim.live)
@@ -82,23 +85,26 @@ LONG_COLUMNS = (
 
 def read_jsonl(path: Path, *, strict: bool = True) -> list[dict[str, Any]]:
     """A JSON-lines file's objects ([] when it is missing); a bad line names the file, or is
-    skipped when not ``strict`` (a line a crash cut short)."""
-    if not path.is_file():
+    skipped when not ``strict`` (a line a crash cut short). Read as
+    :func:`pil.regular_files.read_jsonl_file` reads: a device, a FIFO or a huge file is refused."""
+    if not os.path.lexists(path):
         return []
-    rows = []
-    text = path.read_text(encoding="utf-8", errors="strict" if strict else "replace")
-    for number, line in enumerate(text.splitlines(), 1):
-        if not line.strip():
-            continue
-        try:
-            row = json.loads(line)
-        except ValueError:
-            if not strict:
-                continue
-            raise SessionsError(f"{path}:{number}: not a JSON line") from None
-        if isinstance(row, dict):
-            rows.append(row)
-    return rows
+    try:
+        lines = read_jsonl_file(Path(path), "log", "the log", strict=strict)
+    except UnreadableFileError as error:
+        raise SessionsError(str(error)) from None
+    return [row for row in lines if isinstance(row, dict)]
+
+
+def read_summary(path: Path) -> dict[str, Any]:
+    """A session's ``summary.json`` as an object, read as the sessions report reads it."""
+    try:
+        summary = read_json_file(path, "summary", "the summary")
+    except UnreadableFileError as error:
+        raise SessionsError(str(error)) from None
+    if not isinstance(summary, dict):
+        raise SessionsError(f"{path}: expected a JSON object (a session's summary)")
+    return summary
 
 
 def study_blocks(folder: Path, participants: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
@@ -113,7 +119,7 @@ def study_blocks(folder: Path, participants: Sequence[Mapping[str, Any]]) -> lis
             summary_path = path / SUMMARY_NAME
             if not summary_path.is_file():
                 continue  # a session killed before its summary: listed by study-status
-            summary = json.loads(summary_path.read_text(encoding="utf-8"))
+            summary = read_summary(summary_path)
             live = summary.get("live", {})
             practice = bool(live.get("practice"))
             blocks.append(
@@ -191,7 +197,7 @@ def long_rows(
                     "value": summary.get(measure),
                 }
             )
-        for entry in read_jsonl(block["path"] / QUESTIONNAIRES_NAME):
+        for entry in read_answers(block["path"] / QUESTIONNAIRES_NAME):
             for kind, variable, value in answer_values(entry):
                 rows.append(
                     {
@@ -248,7 +254,7 @@ def wide_rows(
         key = (block["participant"], block["condition"])
         seen[key] = seen.get(key, 0) + 1
         prefix = f"{_name(block['condition'])}_{seen[key]}"
-        for entry in read_jsonl(block["path"] / QUESTIONNAIRES_NAME):
+        for entry in read_answers(block["path"] / QUESTIONNAIRES_NAME):
             stem = f"{prefix}_{_name(entry.get('questionnaire', ''))}"
             for kind, variable, value in answer_values(entry):
                 middle = {"answer": "", "score": "score_", "attention": "check_"}[kind]

@@ -10,7 +10,7 @@ import yaml
 
 from pil.task.parts import resolve_scenario
 from pil.task.scenario import Scenario, ScenarioError, find_scenario
-from pil.task.yaml_files import load_yaml_text, read_small_text
+from pil.task.yaml_files import load_yaml_text, read_small_text, yaml_problem
 
 
 def read_study_file(
@@ -22,7 +22,13 @@ def read_study_file(
     path = find_scenario(path)
     try:
         raw = load_yaml_text(read_small_text(path))
-    except (OSError, ValueError, yaml.YAMLError) as error:  # ValueError: not UTF-8, too large
+    except yaml.YAMLError as error:
+        raise ScenarioError(f"{path}: the {what}: {yaml_problem(error)}") from None
+    except RecursionError:
+        raise ScenarioError(f"{path}: nested too deeply to be a {what}") from None
+    except OSError as error:
+        raise ScenarioError(f"{path}: cannot read the {what}: {error.strerror}") from None
+    except ValueError as error:  # not UTF-8, too large
         raise ScenarioError(f"{path}: cannot read the {what}: {error}") from None
     if not isinstance(raw, Mapping):
         raise ScenarioError(f"{path}: expected a mapping with keys {', '.join(keys)}")

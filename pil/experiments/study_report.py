@@ -17,11 +17,12 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
+from pil.experiments.answers_file import read_answers
 from pil.experiments.report import markdown_table
 from pil.experiments.sessions_load import COUNTED_STATUS, MEASURES
 from pil.experiments.study_analysis import analyse
-from pil.experiments.study_export import EXCLUDED, read_jsonl, study_blocks
+from pil.experiments.study_export import EXCLUDED, study_blocks
+from pil.file_names import QUESTIONNAIRES_NAME
 
 STUDY_TEST_COLUMNS = (
     "instrument",
@@ -64,7 +65,7 @@ def study_outcomes(
                 value = block["summary"].get(measure)
                 if isinstance(value, int | float) and not isinstance(value, bool):
                     outcomes.setdefault(("blocks", measure), []).append({**head, "value": value})
-        for entry in read_jsonl(block["path"] / QUESTIONNAIRES_NAME):
+        for entry in read_answers(block["path"] / QUESTIONNAIRES_NAME):
             for score, value in entry.get("scores", {}).items():
                 key = (str(entry.get("questionnaire")), str(score))
                 outcomes.setdefault(key, []).append({**head, "value": value})
@@ -222,7 +223,7 @@ def attention_failures(folder: Path, participants: Sequence[Mapping[str, Any]]) 
     """``participant (session: item)`` for every attention check answered wrong."""
     failed = []
     for block in study_blocks(folder, participants):
-        for entry in read_jsonl(block["path"] / QUESTIONNAIRES_NAME):
+        for entry in read_answers(block["path"] / QUESTIONNAIRES_NAME):
             for item, passed in entry.get("attention", {}).items():
                 if not passed:
                     failed.append(f"{block['participant']} ({block['session']}: {item})")

@@ -6,7 +6,8 @@ the whole configured study in ``OUT/seed_<n>/``) and their headlines over seeds.
 paper's claim holds, every paired comparison's mean difference over seeds and, with ``pil``
 and ``proactive``, the gestures saved and actions wasted. ``OUT/seeds.csv`` holds each seed's
 eight figures, ``OUT/seeds_tests.csv`` the comparisons over seeds. A seed folder that already
-holds a finished study with the same settings is read back, not re-run (resumable).
+holds a finished study with the same settings is read back, not re-run (resumable); an
+unfinished one resumes from its finished repetitions (``reps.jsonl``).
 """
 
 from __future__ import annotations
@@ -29,10 +30,18 @@ from pil.experiments.over_seeds import (
 from pil.experiments.paper import PAPER_TRAINING
 from pil.experiments.paper_comparison import training_figures, worst_difference
 from pil.experiments.proactive_report import proactive_figures
+from pil.experiments.rep_journal import RepJournal
 from pil.experiments.report import Row, load_rows, markdown_table
 from pil.experiments.stats import mean_ci
-from pil.experiments.study import StudyConfig, csv_text, run_study, write_outputs
+from pil.experiments.study import (
+    StudyConfig,
+    csv_text,
+    journal_settings,
+    run_study,
+    write_outputs,
+)
 from pil.experiments.study_tests import claim_rows, claim_verdicts, discard_reading
+from pil.file_names import RUNS_NAME
 
 SEEDS_COLUMNS: tuple[str, ...] = ("seed", "rate", "measure", "ours", "paper", "diff_percent")
 FIGURES: tuple[str, ...] = ("gestures", "actions")
@@ -224,8 +233,10 @@ def run_study_seeds(
         out,
         seeds,
         settings(config),
-        "runs.csv",
-        lambda seed: run_study(one(seed), progress),
+        RUNS_NAME,
+        lambda seed: run_study(
+            one(seed), progress, RepJournal(seed_folder(out, seed), journal_settings(one(seed)))
+        ),
         lambda seed, rows, folder: write_outputs(rows, one(seed), folder),
         skipped=(lambda _seed: progress(config.runs())) if progress else None,
     )

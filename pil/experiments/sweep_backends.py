@@ -11,18 +11,15 @@ from __future__ import annotations
 import contextlib
 import gc
 import logging
-import multiprocessing
 import os
-import signal
-import threading
 import time
 from abc import ABC, abstractmethod
 from concurrent.futures import Executor
-from concurrent.futures.process import ProcessPoolExecutor
 
 from pil.errors import RobinPilError, quote
 from pil.extras import require_extra
 from pil.task.params import ParamSpec
+from pil.worker_pool import SpawnPool
 
 DEFAULT_CONNECT_TIMEOUT_S = 10.0
 WORKERS = ParamSpec(
@@ -43,23 +40,6 @@ _SLOTS_REFRESH_S = 5.0  # how often to ask a Dask cluster how many threads it ha
 
 class SchedulerError(RobinPilError):
     """A Dask scheduler that cannot be reached or used."""
-
-
-def _init_worker() -> None:
-    """Pool worker initializer: leave Ctrl-C to the parent; exit when orphaned.
-
-    Workers are children of the sweep process, so a changed parent pid means the sweep is
-    gone (e.g. ``kill -9``): stop within half a second instead of idling forever.
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    parent = os.getppid()
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.5)
-        os._exit(1)
-
-    threading.Thread(target=watch, name="orphan-watch", daemon=True).start()
 
 
 # --- back ends ------------------------------------------------------------------------------
@@ -94,20 +74,18 @@ class Backend(ABC):
 
 
 class LocalBackend(Backend):
-    """A process pool on this machine (``spawn`` processes: no inherited threads or locks)."""
+    """A process pool on this machine (:class:`pil.worker_pool.SpawnPool`: ``spawn``
+    processes, deaf to signals, ended with the sweep, even by ``kill -9``)."""
 
     name = "local"
 
     def __init__(self, workers: int | None = None) -> None:
         self.workers = workers or os.cpu_count() or 1
-        self._pool: ProcessPoolExecutor | None = None
+        self._pool: SpawnPool | None = None
 
-    def executor(self) -> ProcessPoolExecutor:
+    def executor(self) -> SpawnPool:
         if self._pool is None:
-            context = multiprocessing.get_context("spawn")
-            self._pool = ProcessPoolExecutor(
-                self.workers, mp_context=context, initializer=_init_worker
-            )
+            self._pool = SpawnPool(self.workers)
         return self._pool
 
     def renew(self) -> None:
@@ -120,18 +98,10 @@ class LocalBackend(Backend):
         pool, self._pool = self._pool, None
         if pool is None:
             return
-        if not cancel:
+        if cancel:  # stop runs in flight now, not when they end
+            pool.stop()
+        else:
             pool.shutdown(wait=True)
-        elif hasattr(pool, "terminate_workers"):  # Python >= 3.14
-            pool.terminate_workers()
-        else:  # stop runs in flight now, not when they end (the pool's own process table)
-            processes = list((getattr(pool, "_processes", None) or {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for process in processes:
-                if process.is_alive():
-                    process.terminate()
-            for process in processes:
-                process.join(timeout=5)
 
 
 _DASK_LOGGERS = ("distributed", "distributed.client", "tornado", "tornado.application")

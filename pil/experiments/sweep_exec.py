@@ -2,8 +2,9 @@
 
 The back ends (a local process pool, a Dask cluster) are :class:`concurrent.futures.Executor`
 s, so :func:`execute` is the same code for both.
-Workers receive the run function's import path and the run's arguments, never pickled code:
-a Dask worker needs nothing but the installed package.
+Workers receive the kind's run function (a module-level function, pickled by name) and the
+run's typed spec (:attr:`~pil.experiments.sweep_grid.GridRow.spec`), never pickled code nor a
+value to parse: a Dask worker needs nothing but the installed package.
 
 Failure semantics: a run that raises comes back as a failed outcome with the error; a run
 whose worker process dies comes back as a failed outcome too. Each failed run is retried once
@@ -28,7 +29,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from pil.experiments.sweep_backends import Backend, SchedulerError
-from pil.experiments.sweep_grid import RunSpec, import_object
+from pil.experiments.sweep_kinds import GridRow
 
 _ERROR_LIMIT = 2000  # characters of an error kept in the results
 
@@ -38,14 +39,17 @@ class ClusterLostError(SchedulerError):
 
 
 # --- worker side ----------------------------------------------------------------------------
-def execute_run(function: str, args: Sequence[Any], kwargs: Mapping[str, Any]) -> dict[str, Any]:
-    """Run ``function(*args, **kwargs)`` in a worker; return the outcome, never raise."""
+RunFunction = Callable[[Any], Mapping[str, Any]]  # a kind's run: typed spec -> metrics
+
+
+def execute_run(run: RunFunction, spec: Any) -> dict[str, Any]:
+    """Run ``run(spec)`` in a worker; return the outcome, never raise."""
     started = time.perf_counter()
     outcome: dict[str, Any]
     try:
-        metrics = import_object(function)(*args, **kwargs)
+        metrics = run(spec)
         if not isinstance(metrics, Mapping):
-            raise TypeError(f"{function} returned {type(metrics).__name__}, not a dict")
+            raise TypeError(f"{run.__name__} returned {type(metrics).__name__}, not a dict")
         outcome = {"status": "ok", "error": "", "metrics": _plain_values(metrics)}
         if metrics.get("status") == "failed":  # a run function that reports its own failure
             outcome.update(status="failed", error=str(metrics.get("error") or "failed"))
@@ -77,13 +81,13 @@ class Tally:
     failed_ids: list[str] = field(default_factory=list)
 
 
-OnOutcome = Callable[[RunSpec, dict[str, Any], int, bool], None]
+OnOutcome = Callable[[GridRow, dict[str, Any], int, bool], None]
 WAIT_NOTICE_S = 10.0  # how long runs may make no progress before on_wait is told why
 
 
 def execute(
-    specs: Sequence[RunSpec],
-    function: str,
+    specs: Sequence[GridRow],
+    run: RunFunction,
     backend: Backend,
     on_outcome: OnOutcome,
     *,
@@ -100,13 +104,13 @@ def execute(
     cluster raises :class:`ClusterLostError`; the runs in flight are not charged an attempt.
     """
     tally = Tally()
-    queue: deque[RunSpec] = deque(specs)
-    alone: deque[RunSpec] = deque()  # runs in flight when a local worker died
+    queue: deque[GridRow] = deque(specs)
+    alone: deque[GridRow] = deque()  # runs in flight when a local worker died
     tries: dict[str, int] = {}  # attempts in this call
     bases: dict[str, int] = {}  # number of each run's first attempt in this call
-    in_flight: dict[Future[dict[str, Any]], tuple[RunSpec, bool]] = {}
+    in_flight: dict[Future[dict[str, Any]], tuple[GridRow, bool]] = {}
 
-    def finish(spec: RunSpec, outcome: dict[str, Any], isolated: bool) -> None:
+    def finish(spec: GridRow, outcome: dict[str, Any], isolated: bool) -> None:
         if spec.run_id not in tries:
             tries[spec.run_id], bases[spec.run_id] = 0, first_attempt(spec.run_id)
         count = tries[spec.run_id] = tries[spec.run_id] + 1
@@ -122,9 +126,8 @@ def execute(
             tally.failed += 1
             tally.failed_ids.append(spec.run_id)
 
-    def submit(spec: RunSpec, isolated: bool) -> None:
-        args, kwargs = spec.call_args()
-        future = backend.executor().submit(execute_run, function, args, kwargs)
+    def submit(spec: GridRow, isolated: bool) -> None:
+        future = backend.executor().submit(execute_run, run, spec.spec)
         in_flight[future] = (spec, isolated)
 
     def check_cluster(error: BaseException | None = None) -> None:

@@ -7,196 +7,60 @@ The seed does not depend on the system: the systems of one (rate, parameters, re
 face the same person and detector draws (common random numbers), which makes the comparison
 fairer. Everything the user gives is checked here, before any run starts.
 
-Run functions are named by import path (``"pil.experiments.systems:run_one"``), so a worker needs
-nothing
-but the installed package. A run function is called as
-``function(system, rate, seed, tables=..., **params)`` and returns one flat dict of metrics.
+Each row is parsed once, when the grid is built, into its kind's typed spec
+(:class:`~pil.experiments.sweep_kinds.SweepKind`'s ``parse``): :attr:`GridRow.spec` is what a
+worker runs, nothing parsed again there.
 """
 
 from __future__ import annotations
 
 import hashlib
-import importlib
-import inspect
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-from pil.errors import InvalidChoiceError, RobinPilError
+from pil.errors import InvalidChoiceError
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
-from pil.experiments.systems import PAPER_SYSTEMS
-from pil.task.params import ASSEMBLY_DEFAULTS, RATE, REPS, SEED, ParamSpec, spec_for
+from pil.experiments.sweep_kinds import (
+    RESERVED,
+    GridRow,
+    SweepGridError,
+    SweepKind,
+    format_value,
+    pair_text,
+)
+from pil.task.params import ASSEMBLY_DEFAULTS, RATE, REPS, SEED
+from pil.task.systems import PAPER_SYSTEMS
 
-KINDS: dict[str, str] = {
-    "learner": "pil.experiments.systems:run_one",
-    "physical": "robin_sim.episode.physical_run:run_physical",
-}
-# what a worker calls for each kind's row: the run function of values the grid parsed (typed,
-# trusted: nothing is checked again in the worker); its results are the kind's function's
-RUNNERS: dict[str, str] = {
-    "learner": "pil.experiments.systems:run_checked",
-    "physical": "robin_sim.episode.physical_run:run_physical_checked",
-}
-# where each kind's parameter specs live (later sources override earlier ones)
-PARAM_SOURCES: dict[str, tuple[str, ...]] = {
-    "learner": ("pil.task.params:PARAMS", "pil.task.params:RUN_OPTIONS"),
-    "physical": (
-        "pil.task.params:PARAMS",
-        "pil.task.params:RUN_OPTIONS",
-        "robin_sim.episode.physical_run:PHYSICAL_PARAMS",
-    ),
-}
-# each kind's whole-run check: check(system, rate, seed, **params) raises on a run that cannot
-# start (a missing scenario, a layout without the legs asked for), before the first run
-CHECKS: dict[str, str] = {
-    "learner": "pil.experiments.systems:check_run",
-    "physical": "robin_sim.episode.physical_run:check_physical",
-}
-# each kind's expected cost of a run, cost(system, rate, seed, **params) -> float, to start the
-# longest runs first (learner-only runs are all short: they keep the grid's order)
-COSTS: dict[str, str] = {"physical": "robin_sim.episode.physical_run:expected_cost"}
+__all__ = [
+    "DEFAULT_RATES",
+    "DEFAULT_SYSTEMS",
+    "Grid",
+    "GridRow",
+    "SweepGridError",
+    "build_grid",
+    "derive_seed",
+    "format_value",
+    "longest_first",
+    "parse_param",
+    "split_list",
+]
+
 DEFAULT_SYSTEMS: tuple[str, ...] = tuple(PAPER_SYSTEMS)  # the paper's five
 DEFAULT_RATES: tuple[float, ...] = PAPER_RATES
-RESERVED: dict[str, str] = {
-    "system": "--systems",
-    "rate": "--rates",
-    "seed": "--seed",
-    "rep": "--reps",
-}
-_SYSTEMS_MODULE = "pil.experiments.systems"
-
-
-class SweepGridError(RobinPilError):
-    """A sweep grid that cannot run: empty, an unknown name, a value of the wrong type."""
-
-
-def import_object(path: str) -> Any:
-    """The object named by ``"package.module:attribute"``; a clear error when it is missing."""
-    module_name, _, attribute = path.partition(":")
-    if not module_name or not attribute:
-        raise SweepGridError(f"run function {path!r} must be written 'package.module:function'")
-    try:
-        module = importlib.import_module(module_name)
-    except ImportError as error:
-        raise SweepGridError(f"cannot import {module_name!r} for {path!r}: {error}") from None
-    try:
-        return getattr(module, attribute)
-    except AttributeError:
-        raise SweepGridError(f"module {module_name!r} has no {attribute!r} ({path!r})") from None
-
-
-@dataclass(frozen=True, slots=True)
-class RunTarget:
-    """What a sweep runs: the function's import path, its valid systems and parameters."""
-
-    kind: str
-    function: str
-    systems: tuple[str, ...] | None  # None: any system name is passed through
-    params: Mapping[str, ParamSpec]  # valid parameter name -> its spec (type, range, default)
-    open_params: bool  # the function takes **params and names no PARAMS: accept any name
-    check: str | None = None  # import path of check(system, rate, seed, **params), if any
-    cost: str | None = None  # import path of cost(system, rate, seed, **params), if any
-    runner: str | None = None  # what a worker calls (a kind's trusted runner); None: function
-
-    @property
-    def worker_function(self) -> str:
-        """The import path a worker calls with a grid row's typed values."""
-        return self.runner or self.function
-
-    def spec(self, name: str) -> ParamSpec:
-        """The spec of parameter ``name`` (an open target's unknown names: any value)."""
-        return self.params.get(name) or spec_for(name, None)
-
-
-def load_target(kind: str, function: str | None = None) -> RunTarget:
-    """The run target of ``kind`` (``learner`` or ``physical``) or of a custom ``function``.
-
-    Valid parameters are the keyword-only arguments of the function plus the spec mappings of
-    :data:`PARAM_SOURCES` (for a custom function: ``PARAMS`` or ``DEFAULT_VALUES`` of its
-    module, if any: specs or defaults); valid systems come from ``SYSTEMS`` of the function's
-    module or of ``pil.experiments.systems``; the whole-run check is :data:`CHECKS`' (for a custom
-    function: ``check_run`` of its module, if any).
-    """
-    own = function is None  # the kind's own run function: its whole-run check applies
-    if function is None:
-        if kind not in KINDS:
-            raise InvalidChoiceError("run kind", kind, KINDS)
-        function = KINDS[kind]
-    run_function = import_object(function)
-    if not callable(run_function):
-        raise SweepGridError(f"{function!r} is not a function")
-    modules = [importlib.import_module(function.partition(":")[0])]
-    check: str | None = None
-    if kind in KINDS:
-        modules.append(importlib.import_module(_SYSTEMS_MODULE))
-        sources = [import_object(path) for path in PARAM_SOURCES[kind]]
-    else:
-        module = modules[0]
-        sources = [getattr(module, "PARAMS", None) or getattr(module, "DEFAULT_VALUES", None) or {}]
-    cost: str | None = None
-    if own:
-        check, cost = CHECKS[kind], COSTS.get(kind)
-    elif callable(getattr(modules[0], "check_run", None)):
-        check = f"{modules[0].__name__}:check_run"
-    params: dict[str, ParamSpec] = {}
-    for source in sources:
-        params.update({name: spec_for(name, value) for name, value in source.items()})
-    systems: tuple[str, ...] | None = None
-    for module in modules:
-        if systems is None and getattr(module, "SYSTEMS", None):
-            systems = tuple(str(s) for s in module.SYSTEMS)
-    open_params = False
-    for parameter in list(inspect.signature(run_function).parameters.values())[3:]:
-        if parameter.kind is inspect.Parameter.VAR_KEYWORD:
-            open_params = not params
-        elif parameter.name not in params:
-            default = parameter.default
-            default = None if default is inspect.Parameter.empty else default
-            params[parameter.name] = spec_for(parameter.name, default)
-    for name in RESERVED:
-        params.pop(name, None)
-    params = dict(sorted(params.items()))
-    runner = RUNNERS.get(kind) if own else None
-    return RunTarget(kind, function, systems, params, open_params, check, cost, runner)
-
-
-@dataclass(frozen=True, slots=True)
-class RunSpec:
-    """One run of the grid: who (system), at which rate, with which parameters and seed."""
-
-    run_id: str
-    system: str
-    rate: float
-    rep: int
-    seed: int
-    params: tuple[tuple[str, Any], ...]  # (name, value) in the grid's parameter order
-
-    def columns(self) -> dict[str, Any]:
-        """The identifying columns of this run's row in the results file."""
-        return {
-            "run_id": self.run_id,
-            "system": self.system,
-            "rate": self.rate,
-            **dict(self.params),
-            "rep": self.rep,
-            "seed": self.seed,
-        }
-
-    def call_args(self) -> tuple[tuple[str, float, int], dict[str, Any]]:
-        """Positional and keyword arguments for the run function."""
-        return (self.system, self.rate, self.seed), dict(self.params)
 
 
 @dataclass(frozen=True, slots=True)
 class Grid:
-    """A validated grid; :meth:`runs` lists its runs, sorted by id."""
+    """A validated grid; :meth:`runs` lists its runs, sorted by id, each parsed once."""
 
-    target: RunTarget
+    kind: SweepKind
     systems: tuple[str, ...]
     rates: tuple[float, ...]
     reps: int
     params: tuple[tuple[str, tuple[Any, ...]], ...]  # swept and fixed parameters, in order
     base_seed: int
+    rows: tuple[GridRow, ...] = field(default=(), repr=False)  # parsed by build_grid
 
     @property
     def swept(self) -> tuple[str, ...]:
@@ -204,30 +68,27 @@ class Grid:
         axes = [("system", self.systems), ("rate", self.rates), *self.params]
         return tuple(name for name, values in axes if len(values) > 1)
 
-    def runs(self) -> list[RunSpec]:
-        """Every run of the grid, sorted by run id."""
+    def runs(self) -> list[GridRow]:
+        """Every run of the grid, sorted by run id, with its typed spec."""
+        return list(self.rows)
+
+    def expand(self) -> list[GridRow]:
+        """Every run of the grid, sorted by run id, not yet parsed (no spec)."""
         combos: list[tuple[tuple[str, Any], ...]] = [()]
         for name, values in self.params:
             combos = [(*combo, (name, value)) for combo in combos for value in values]
         specs = []
         for rate in self.rates:
             for combo in combos:
-                cell = "|".join([f"rate={format_value(rate)}"] + [_pair(n, v) for n, v in combo])
+                cell = "|".join(
+                    [f"rate={format_value(rate)}"] + [pair_text(n, v) for n, v in combo]
+                )
                 for rep in range(self.reps):
                     key = f"{cell}|rep={rep:04d}"
                     seed = derive_seed(self.base_seed, key)
                     for system in self.systems:
-                        specs.append(RunSpec(f"{system}|{key}", system, rate, rep, seed, combo))
+                        specs.append(GridRow(f"{system}|{key}", system, rate, rep, seed, combo))
         return sorted(specs, key=lambda spec: spec.run_id)
-
-
-def format_value(value: Any) -> str:
-    """Canonical text of a parameter value (floats by ``repr``: 0.3 -> '0.3')."""
-    return repr(value) if isinstance(value, float) else str(value)
-
-
-def _pair(name: str, value: Any) -> str:
-    return f"{name}={format_value(value)}"
 
 
 def derive_seed(base_seed: int, key: str) -> int:
@@ -247,7 +108,7 @@ def split_list(text: str, what: str) -> list[str]:
     return items
 
 
-def parse_param(text: str, target: RunTarget) -> tuple[str, tuple[Any, ...]]:
+def parse_param(text: str, target: SweepKind) -> tuple[str, tuple[Any, ...]]:
     """``"discard=0,0.3"`` -> ``("discard", (0.0, 0.3))``, checked against the target."""
     name, sep, values = text.partition("=")
     name = name.strip()
@@ -256,7 +117,7 @@ def parse_param(text: str, target: RunTarget) -> tuple[str, tuple[Any, ...]]:
     if name in RESERVED:
         raise SweepGridError(f"--param {name}: not a parameter; use {RESERVED[name]}")
     if name not in target.params and not target.open_params:
-        raise InvalidChoiceError(f"{target.kind} parameter", name, target.params)
+        raise InvalidChoiceError(f"{target.name} parameter", name, target.params)
     raw = split_list(values, f"--param {name}")
     if not raw:
         raise SweepGridError(f"empty grid: --param {name} has no values")
@@ -268,7 +129,7 @@ def parse_param(text: str, target: RunTarget) -> tuple[str, tuple[Any, ...]]:
 
 
 def build_grid(
-    target: RunTarget,
+    target: SweepKind,
     *,
     systems: Sequence[str] = DEFAULT_SYSTEMS,
     rates: Sequence[float | str] = DEFAULT_RATES,
@@ -301,36 +162,33 @@ def build_grid(
         swept.insert(0, ("tables", (target.spec("tables").parse(tables, "--tables"),)))
     base_seed = SEED.parse(base_seed, "--seed")
     grid = Grid(target, tuple(systems), checked_rates, reps, tuple(swept), base_seed)
-    check_runs(grid)
-    return grid
+    return replace(grid, rows=tuple(parse_rows(target, grid.expand())))
 
 
-def longest_first(specs: Sequence[RunSpec], target: RunTarget) -> list[RunSpec]:
-    """``specs`` in the order to start them: by the target's expected cost, longest first.
+def parse_rows(kind: SweepKind, rows: Sequence[GridRow]) -> list[GridRow]:
+    """Each row with its kind's typed spec, parsed once; the kind's whole-run check once per
+    distinct parameter combination (not per repetition or system), so that a run that cannot
+    start is refused before the first one."""
+    cache: dict[Any, Any] = {}
+    parsed = [replace(row, spec=kind.parse(row, cache)) for row in rows]
+    if kind.check is not None:
+        seen: set[str] = set()
+        for row in parsed:
+            key = row.cell
+            if key not in seen:
+                seen.add(key)
+                kind.check(row.spec)
+    return parsed
+
+
+def longest_first(rows: Sequence[GridRow], kind: SweepKind) -> list[GridRow]:
+    """``rows`` in the order to start them: by the kind's expected cost, longest first.
 
     Starting the longest runs first (LPT scheduling) keeps a worker from being left alone with
     a long run at the end of a sweep. Without a cost function the order is unchanged.
     """
-    if target.cost is None:
-        return list(specs)
-    cost = import_object(target.cost)
-    expected = {}
-    for spec in specs:
-        args, kwargs = spec.call_args()
-        expected[spec.run_id] = float(cost(*args, **kwargs))
-    return sorted(specs, key=lambda spec: -expected[spec.run_id])
-
-
-def check_runs(grid: Grid) -> None:
-    """Run the target's whole-run check once per distinct parameter combination (not per
-    repetition or system), so a run that cannot start is refused before the first one."""
-    if grid.target.check is None:
-        return
-    check = import_object(grid.target.check)
-    seen: set[str] = set()
-    for spec in grid.runs():
-        key = "|".join(_pair(n, v) for n, v in spec.params)
-        if key not in seen:
-            seen.add(key)
-            args, kwargs = spec.call_args()
-            check(*args, **kwargs)
+    cost = kind.cost
+    if cost is None:
+        return list(rows)
+    expected = {row.run_id: float(cost(row.spec)) for row in rows}
+    return sorted(rows, key=lambda row: -expected[row.run_id])

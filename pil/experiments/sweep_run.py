@@ -56,13 +56,8 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
     1 when some failed, :data:`EXIT_CLUSTER_LOST` when the cluster went away."""
     from pil.experiments.sweep_backends import CONNECT_TIMEOUT, WORKERS, check_address, make_backend
     from pil.experiments.sweep_exec import ClusterLostError, execute
-    from pil.experiments.sweep_grid import (
-        DEFAULT_SYSTEMS,
-        build_grid,
-        load_target,
-        longest_first,
-        split_list,
-    )
+    from pil.experiments.sweep_grid import DEFAULT_SYSTEMS, build_grid, longest_first, split_list
+    from pil.experiments.sweep_kinds import load_kind
     from pil.experiments.sweep_store import RunStore, make_record
     from pil.outdir import check_out_dir
 
@@ -72,7 +67,7 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
     timeout = CONNECT_TIMEOUT.parse(request.connect_timeout, "--connect-timeout")
     if request.scheduler is not None:
         check_address(request.scheduler)
-    target = load_target(request.kind, request.run_function)
+    target = load_kind(request.kind, request.run_function)
     params = with_detector(list(request.params), request.detector)
     rates = split_list(rates_or_default(request.rates, params), "--rates")  # parsed by the grid
     tables = request.tables
@@ -91,7 +86,7 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
     )
     specs = grid.runs()
     id_columns = list(specs[0].columns())
-    manifest = {"kind": target.kind, "function": target.function, "seed": grid.base_seed}
+    manifest = {"kind": target.name, "function": target.function, "seed": grid.base_seed}
     out = Path(request.out)
     backend = make_backend(workers, request.scheduler, timeout)
     try:
@@ -127,7 +122,7 @@ def run_sweep(request: SweepRequest, say: Callable[[str], None] = say) -> int:
             try:
                 tally = execute(
                     specs=todo,
-                    function=target.worker_function,  # the grid's values, trusted
+                    run=target.run,  # each run's typed spec, parsed once by the grid
                     backend=backend,
                     on_outcome=record,
                     first_attempt=lambda run_id: store.attempts(run_id) + 1,

@@ -32,11 +32,12 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
+from pil.file_names import RESULTS_NAME as RESULTS
 from pil.folder_lock import FolderInUseError, FolderLock
+from pil.regular_files import UnreadableFileError, read_json_file, read_kind_bytes
 
 MANIFEST = "sweep.json"
 JOURNAL = "runs.jsonl"
-RESULTS = "results.csv"
 TIMINGS = "timings.csv"
 # metrics that measure the machine, not the run: kept in the journal and timings.csv only,
 # so that results.csv is the same bytes however and wherever the grid was executed
@@ -56,14 +57,13 @@ def read_journal(path: Path) -> tuple[list[dict[str, Any]], int]:
     A last line without a newline that does not parse (torn by a kill) is left out; any
     other line that does not parse is an error naming the file and the line.
     """
-    if not path.exists():
+    if not os.path.lexists(path):
         return [], 0
-    try:
-        data = path.read_bytes()
-    except OSError as error:
+    try:  # a link to /dev/zero, a FIFO: refused before a byte is read
+        data = read_kind_bytes(path, "log", "the journal")
+    except UnreadableFileError as error:
         raise SweepStoreError(
-            f"{path}: cannot read the journal ({error.strerror}); it must be the file the "
-            "sweep wrote; use another --out"
+            f"{error}; it must be the file the sweep wrote; use another --out"
         ) from None
     records: list[dict[str, Any]] = []
     intact = 0
@@ -156,9 +156,9 @@ class RunStore:
         path = self.directory / MANIFEST
         if path.exists():
             try:
-                bound = json.loads(path.read_text(encoding="utf-8"))
-            except (OSError, ValueError):
-                raise SweepStoreError(f"{path} is not valid JSON; remove the directory") from None
+                bound = read_json_file(path, "settings", "the sweep's settings")
+            except UnreadableFileError as error:
+                raise SweepStoreError(f"{error}; remove the directory") from None
             if not isinstance(bound, dict):
                 raise SweepStoreError(
                     f"{path} holds {type(bound).__name__} JSON, not the sweep's settings "

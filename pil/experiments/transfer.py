@@ -16,22 +16,24 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.table import AssociationTable
 from pil.table_io import load_table, save_table
-from pil.task.assemble import assemble_phase
+from pil.task.assemble import assemble
 from pil.task.scenario import SCENARIOS_DIR, load_scenario
 from pil.task.spec import RunSpec, parse_run_spec
 
 TIDY = SCENARIOS_DIR / "tidy.yaml"
 STARTS: tuple[str, ...] = ("scratch", "table")
 TRANSFER_SYSTEMS: tuple[str, ...] = ("pil", "pil-halve")
+TRANSFER_RATES: tuple[float, ...] = (0.6, 0.8, 1.0)  # robin-pil transfer's default rates
 
 
 def assembly_table(spec: RunSpec) -> AssociationTable:
     """The table a PIL run of ``spec`` (its system's parameters applied) leaves after
     assembling its scenario's test tables."""
-    run = assemble_phase(spec.effective(), "test")
+    run = assemble(spec)
     run.run()
     return run.learner.table
 
@@ -40,7 +42,7 @@ def run_transfer(spec: RunSpec, start: str, table: AssociationTable | None) -> d
     """One run of ``spec``'s task (its scenario: the second task) from ``start`` ("scratch"
     or "table")."""
     used = None if start == "scratch" else table.copy()  # type: ignore[union-attr]
-    stats = assemble_phase(spec.effective(), "test", table=used).run()
+    stats = assemble(spec, table=used).run()
     return {
         "system": spec.system,
         "start": start,
@@ -59,8 +61,8 @@ def run_transfer(spec: RunSpec, start: str, table: AssociationTable | None) -> d
 
 def run_transfer_study(
     systems: Sequence[str] = TRANSFER_SYSTEMS,
-    rates: Sequence[float] = (0.6, 0.8, 1.0),
-    reps: int = 20,
+    rates: Sequence[float] = TRANSFER_RATES,
+    reps: int = PAPER_REPS,
     seed: int = 0,
     *,
     table_file: str | Path | None = None,

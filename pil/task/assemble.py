@@ -23,12 +23,12 @@ from pil.learner import Learner
 from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 from pil.task.counting import RunStats
-from pil.task.detector import MEASURED_PREFIX, GestureReader, make_detector
+from pil.task.detector import EXACT, INDEPENDENT, MEASURED_PREFIX, GestureReader, make_detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.records import StepRecord
 from pil.task.runner import StepObserver, steps
 from pil.task.scenario import Scenario
-from pil.task.seeds import PhaseSeeds
+from pil.task.seeds import PHASES, PhaseSeeds
 from pil.task.spec import SYMBOLIC, RunSpec
 from pil.task.watching import ReactionTime
 from pil.task.world import SymbolicWorld, World
@@ -83,7 +83,7 @@ def _dice(context: DetectorContext) -> GestureReader:
     )
 
 
-DETECTORS: dict[str, DetectorFactory] = {"exact": _dice, "independent": _dice, MEASURED: _dice}
+DETECTORS: dict[str, DetectorFactory] = {EXACT: _dice, INDEPENDENT: _dice, MEASURED: _dice}
 
 
 def detector_key(model: str) -> str:
@@ -150,47 +150,49 @@ def script_of(
 def assemble(
     spec: RunSpec,
     *,
+    phase: str = "test",
     world: World | None = None,
     body: PersonBody | None = None,
     detectors: Mapping[str, DetectorFactory] = DETECTORS,
     cache: MutableMapping[Any, Any] | None = None,
     training: Training | None = None,
+    table: AssociationTable | None = None,
+    seeds: PhaseSeeds | None = None,
     script: Sequence[ScriptStep] | None = None,
 ) -> Run:
-    """The test run of ``spec``: its system's learner (pre-trained for c1-c4), the scripted
-    person (with ``body`` in a physical world), the detector of ``detectors`` and ``world``
-    (default: the symbolic world; a physical one is ``robin_sim.assemble``'s).
+    """The ``phase`` run of ``spec``: by default its test run, its system's learner (its agent,
+    pre-trained for c1-c4, its own parameters applied), the scripted person (with ``body`` in
+    a physical world), the detector of ``detectors`` and ``world`` (default: the symbolic
+    world; a physical one is ``robin_sim.assemble``'s); ``phase="train"``: the pre-training
+    run (a PIL learner with correction, the spec as it is, on the training tables).
 
     ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
     runs, scripts): share it only between specs that differ in system and rate. ``training``
-    defaults to :func:`pretraining`'s; ``script`` to the scenario's test script (drawn by the
-    spec's seed), e.g. a changed mapping's (pil.experiments.adaptation).
+    defaults to :func:`pretraining`'s; ``table``: start the test run from it instead (used as
+    it is: a transferred table); ``seeds``: the phase's sub-seeds (default: the spec's);
+    ``script``: the person's (default: the scenario's, drawn by the phase's seed; e.g. a
+    changed mapping's, or the people's taking turns).
     """
     if world is None:
         if spec.world != SYMBOLIC:
             raise RobinPilError(f"a {spec.world} run is assembled by robin_sim.assemble")
         world = SymbolicWorld()
-    if training is None:
-        training = pretraining(spec, cache)
-    table = None if training is None else training.table.copy()
+    if phase not in PHASES:
+        raise InvalidChoiceError("phase", phase, PHASES)
+    pieces = (world, body, detectors, cache, script)
+    if phase == "train":
+        return _phase(spec, "train", seeds, None, False, *pieces)
+    if table is None:
+        if training is None:
+            training = pretraining(spec, cache)
+        table = None if training is None else training.table.copy()
     system = spec.system_spec
     tested = spec.effective()  # the system's own parameters applied
-    run = assemble_phase(
-        tested,
-        "test",
-        table=table,
-        manual=system.manual,
-        world=world,
-        body=body,
-        detectors=detectors,
-        cache=cache,
-        script=script,
-    )
-    run = replace(run, training=training)
+    run = replace(_phase(tested, "test", seeds, table, system.manual, *pieces), training=training)
     if system.agent == "pil":
         return run
-    params = asdict(tested.learner)
-    agent = AGENTS[system.agent](spec.seeds.phase("test").learner, table, params)
+    agent_seed = (spec.seeds.phase("test") if seeds is None else seeds).learner
+    agent = AGENTS[system.agent](agent_seed, table, tested.learner)
     return replace(run, learner=agent)  # type: ignore[arg-type]
 
 
@@ -204,35 +206,33 @@ def pretraining(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) ->
         return None
     rate = spec.rate if trained_at == "d" else 1.0
     model = spec.detector.model
-    learner_only = model if detector_key(model) in DETECTORS else "exact"
-    trained = replace(spec, rate=rate, detector=replace(spec.detector, model=learner_only))
+    learner_only = model if detector_key(model) in DETECTORS else EXACT
+    trained = replace(
+        spec, rate=rate, detector=replace(spec.detector, model=learner_only), world=SYMBOLIC
+    )
 
     def train() -> Training:
-        run = assemble_phase(trained, "train", cache=cache)
+        run = assemble(trained, phase="train", cache=cache)
         return Training(run.learner.table, run.run())
 
     return cached(cache, ("training", rate, spec.seed), train)
 
 
-def assemble_phase(
+def _phase(
     spec: RunSpec,
     phase: str,
-    *,
-    seeds: PhaseSeeds | None = None,
-    table: AssociationTable | None = None,
-    manual: bool = False,
-    world: World | None = None,
-    body: PersonBody | None = None,
-    detectors: Mapping[str, DetectorFactory] = DETECTORS,
-    cache: MutableMapping[Any, Any] | None = None,
-    script: Sequence[ScriptStep] | None = None,
+    seeds: PhaseSeeds | None,
+    table: AssociationTable | None,
+    manual: bool,
+    world: World,
+    body: PersonBody | None,
+    detectors: Mapping[str, DetectorFactory],
+    cache: MutableMapping[Any, Any] | None,
+    script: Sequence[ScriptStep] | None,
 ) -> Run:
-    """A PIL learner, the scripted person and the detector for ``phase`` ("train" or "test")
-    of ``spec`` as it is (no system parameters applied) on ``world`` (default: symbolic).
-    ``seeds`` default to the spec's; ``table`` is used as is (not copied); ``script``: the
-    person's (default: the scenario's, drawn by the phase's seed; e.g. a changed mapping's)."""
+    """A PIL learner, the scripted person and the detector for ``phase`` of ``spec`` as it is
+    (no system parameters applied) on ``world``; ``table`` used as it is (not copied)."""
     seeds = spec.seeds.phase(phase) if seeds is None else seeds
-    world = SymbolicWorld() if world is None else world
     script = script_of(spec.scenario, phase, seeds, cache) if script is None else tuple(script)
     mind = spec.person
     person = ScriptedPerson(

@@ -28,7 +28,8 @@ from typing import Protocol, runtime_checkable
 from pil.errors import RobinPilError
 from pil.types import GESTURES, Feedback, Gesture
 
-MODELS: tuple[str, ...] = ("exact", "independent")
+EXACT, INDEPENDENT = "exact", "independent"  # the dice: an exact share, or each on its own
+MODELS: tuple[str, ...] = (EXACT, INDEPENDENT)
 CAMERAS = "vision"  # Robin reads with its eye cameras: physical runs only (robin_sim.vision)
 NO_CAMERAS = (
     f"{CAMERAS!r} reads with Robin's eye cameras, which only physical runs have (robin-pil "
@@ -115,7 +116,7 @@ class Detector:
         rate: float,
         seed: int,
         *,
-        model: str = "exact",
+        model: str = EXACT,
         deck_size: int = 100,
         discard: float = DEFAULT_DISCARD,
         confusion: Sequence[Sequence[float]] | None = None,
@@ -143,7 +144,7 @@ class Detector:
 
     def correct_next(self) -> bool:
         """Whether the next gesture is read correctly (consumes one card or one draw)."""
-        if self.model == "independent":
+        if self.model == INDEPENDENT:
             return self._rng.random() < self.rate
         if not self._deck:
             hits = round(self.rate * self.deck_size)
@@ -308,5 +309,5 @@ def make_detector(
         return MeasuredDetector(load_measured(model[len(MEASURED_PREFIX) :]), seed)
     if isinstance(model, str) and model.startswith(MEASURED_PREFIX):
         load_measured(model[len(MEASURED_PREFIX) :])  # a bad file fails here too
-        model = "exact"
+        model = EXACT
     return Detector(rate, seed, model=model, **options)  # type: ignore[arg-type]

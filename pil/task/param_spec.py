@@ -53,6 +53,9 @@ class ParamSpec:
     empty: str = "the scenario's"  # what None (an empty value) means for an optional spec
     low_open: bool = False  # ``low`` itself is not valid: (low, high]
     why_low: str = ""  # said when a value at or below ``low`` is refused
+    # the smallest positive value (a float spec with ``low`` 0): below it is refused as 0 is,
+    # with ``why_low``; e.g. a detection rate of 1e-320 would read no gesture either
+    smallest: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in _KINDS:
@@ -171,6 +174,11 @@ def _to_float(spec: ParamSpec, value: Any) -> Any:
         number = float(value)
     except (TypeError, ValueError):
         return _BAD
+    if spec.smallest is not None and 0 < number < spec.smallest:
+        why = f" as 0 is: {spec.why_low}" if spec.why_low else ""
+        raise _InvalidValueError(
+            f"the smallest positive value is {spec.smallest:g}; less is refused{why}"
+        )
     return number if math.isfinite(number) and _in_range(spec, number) else _BAD
 
 

@@ -24,7 +24,7 @@ from pil.errors import NEVER_DETECTED, InvalidChoiceError
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.learner import ADAPTATIONS
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
-from pil.task.detector import DEFAULT_DISCARD, MODELS
+from pil.task.detector import DEFAULT_DISCARD, EXACT, MODELS
 from pil.task.param_spec import MAX_TEXT, ParamError, ParamSpec, spec_for
 from pil.task.watching import DEFAULT_REACTION_MEAN, DEFAULT_REACTION_SPREAD
 
@@ -82,7 +82,7 @@ ASSEMBLY_DEFAULTS: dict[str, Any] = {
 PARAMS: dict[str, ParamSpec] = {
     **ASSEMBLY,
     **_specs(
-        ParamSpec("detector", "detector", "exact", "detection model", choices=MODELS),
+        ParamSpec("detector", "detector", EXACT, "detection model", choices=MODELS),
         ParamSpec("discard", "float", DEFAULT_DISCARD, "share of misses discarded", 0.0, 1.0),
         ParamSpec(
             "confusion",
@@ -186,14 +186,23 @@ SCENARIO = ParamSpec(
     optional=True,
     empty="scenarios/assembly.yaml",
 )
-RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # run_one's keyword besides PARAMS
+RUN_OPTIONS: dict[str, ParamSpec] = {"scenario": SCENARIO}  # a run's option besides PARAMS
+MIN_RATE = 0.001  # the smallest detection rate: one gesture in a thousand read
 RATE = ParamSpec(
-    "rate", "float", 1.0, "gesture detection rate", 0.0, 1.0, low_open=True, why_low=NEVER_DETECTED
+    "rate",
+    "float",
+    1.0,
+    "gesture detection rate",
+    0.0,
+    1.0,
+    low_open=True,
+    why_low=NEVER_DETECTED,
+    smallest=MIN_RATE,
 )
 # a step-level environment (pil.env) may miss every gesture: rate 0 is valid there
 STEP_RATE = replace(RATE, low_open=False, why_low="", doc="gesture detection rate (0: all missed)")
 SEED = ParamSpec("seed", "int", 0, "seed of every random choice", 0, MAX_SEED)
-REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)
+REPS = ParamSpec("reps", "int", 20, "repetitions", 1, 100_000)  # the paper's 20
 
 
 def parse_all(

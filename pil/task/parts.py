@@ -2,7 +2,7 @@
 sub-seeds): a phase's script and the scenario with its assembly fields.
 
 A run is built by :func:`pil.task.assemble.assemble` from a :class:`~pil.task.spec.RunSpec`
-(``assemble(parse_run_spec(...))``); a phase of it by :func:`pil.task.assemble.assemble_phase`.
+(``assemble(parse_run_spec(...))``); its pre-training by ``assemble(spec, phase="train")``.
 :data:`DEFAULT_VALUES` names every parameter with its default; their types and valid ranges are
 the specs of :mod:`pil.task.params`, which :func:`pil.task.spec.parse_run_spec` applies.
 """

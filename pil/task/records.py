@@ -6,7 +6,7 @@ study counts records (:mod:`pil.task.counting`), an episode logs and renders the
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Protocol
 
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture, State
@@ -64,3 +64,20 @@ class StepRecord(NamedTuple):
             if isinstance(value, (Gesture, Action, Feedback)):
                 out[key] = value.value
         return out
+
+
+class StepObserver(Protocol):
+    """Presentation of the loop (e.g. a video overlay); it must not act in the world."""
+
+    def decided(self, record: StepRecord) -> None:
+        """The robot is about to act on ``record`` (no feedback or outcome yet)."""
+        ...
+
+    def answered(self, record: StepRecord) -> None:
+        """The person is about to show ``record.feedback``."""
+        ...
+
+    def received(self, record: StepRecord) -> None:
+        """The learner has received ``record``'s feedback (the step is complete; a delivered
+        leg is in the person's hand, before they carry it away)."""
+        ...

@@ -191,7 +191,7 @@ def build_type(name: str, raw: object, source: str) -> HandoverType:
     where = f"{source}: types.{name}"
     if not isinstance(raw, Mapping):
         raise ScenarioError(f"{where}: expected a mapping with keys {', '.join(TYPE_KEYS)}")
-    _reject_unknown(raw, TYPE_KEYS, where)
+    reject_unknown(raw, TYPE_KEYS, where, ScenarioError)
     steps_raw = raw.get("steps")
     if not isinstance(steps_raw, list):
         raise ScenarioError(f"{where}.steps: expected a list of 'gesture -> action' steps")
@@ -238,13 +238,13 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
     """
     path = find_scenario(path)
     raw = read_yaml_mapping(path, "scenario", ScenarioError, shipped_scenarios())
-    _reject_unknown(raw, ASSEMBLY_KEYS, str(path))
+    reject_unknown(raw, ASSEMBLY_KEYS, str(path), ScenarioError)
     types_raw = raw.get("types", str(DEFAULT_TYPES))
     types_source = str(path)
     if isinstance(types_raw, str):  # a file name, relative to this file
         types_path = (path.parent / types_raw).resolve()
         types_file = read_yaml_mapping(types_path, "scenario", ScenarioError, shipped_scenarios())
-        _reject_unknown(types_file, ("types",), str(types_path))
+        reject_unknown(types_file, ("types",), str(types_path), ScenarioError)
         types_raw, types_source = types_file.get("types"), str(types_path)
     types = build_types(types_raw, types_source)
     sequence_raw = raw.get("sequence", [])
@@ -297,8 +297,3 @@ def _check_assembly(raw: Mapping[str, Any], source: str) -> dict[str, Any]:
         except ParamError as error:
             raise ScenarioError(str(error)) from None
     return values
-
-
-def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:
-    """Raise :class:`ScenarioError` on the first key of ``raw`` that is not in ``valid``."""
-    reject_unknown(raw, valid, where, ScenarioError)

@@ -68,6 +68,12 @@ def derive_seeds(seed: int) -> dict[str, int]:
     return sub_seeds(SEED.parse(seed, "seed")).as_dict()
 
 
+def person_seed(run_seed: int, person: int) -> int:
+    """The run seed of person ``person`` (0-based) among the people taking turns in a run
+    seeded ``run_seed`` (both parsed already): a numpy ``SeedSequence`` of the two."""
+    return int(np.random.SeedSequence([int(run_seed), int(person)]).generate_state(1)[0] >> 1)
+
+
 def block_seed(study_seed: int, participant: str, block: int) -> int:
     """The seed of ``participant``'s block ``block`` (0-based) in a study seeded ``study_seed``
     (all parsed already): a numpy ``SeedSequence`` of the three, the participant id by its

@@ -4,6 +4,21 @@ A system says how its learner learns and is tested: from scratch or pre-trained 
 rate d or at 100 %), with correction or manual repetition, which agent of
 :data:`pil.agents.AGENTS`, and parameters it sets. :func:`pil.task.assemble.assemble` builds a
 run of any of them; add an entry to make a new one selectable everywhere.
+
+* ``pil``: Proactive Incremental Learning from scratch, with correction, on the test tables.
+* ``c1``: pre-trained at the test rate d, with correction; ``c2``: at 100 %, with correction.
+* ``c3``: pre-trained at d, manual repetition (the person repeats a misread gesture);
+  ``c4``: at 100 %, manual repetition.
+* ``proactive`` (ours): ``pil`` that acts on the likely next state before its gesture
+  (:mod:`pil.anticipation`); ``pil-halve`` (ours): a not-OK halves the refused count.
+* ``bandit``, ``tamer``: the baselines of :mod:`pil.agents`, from scratch, same person, detector
+  and counting (they act on the detected state as it is: no correction).
+
+Pre-training is a PIL run (with correction) on ``training_tables`` tables (5 x 4 = 20
+handovers, each handover type exactly twice); its gestures and actions are reported apart
+(``train_gestures``, ``train_actions``) and added to the totals, as the paper does. A run's
+sub-seeds derive from its seed alone, not from the system or the rate, so the systems of one
+repetition face the same handover order and detector deck (common random numbers).
 """
 
 from __future__ import annotations

@@ -101,6 +101,12 @@ class World(Protocol):
         ...
 
 
+# the methods of World, for a check that a factory made one (the Protocol is not runtime-checked)
+WORLD_METHODS: tuple[str, ...] = tuple(
+    name for name, value in vars(World).items() if callable(value) and not name.startswith("_")
+)
+
+
 class SymbolicWorld:
     """An instant world: the person sees the action at once; the hand follows close and open."""
 

@@ -35,10 +35,39 @@ class _NoAliasLoader(yaml.SafeLoader):
             )
         return super().compose_node(parent, index)
 
+    def construct_mapping(self, node: Any, deep: bool = False) -> Any:
+        """A mapping, refusing a key given twice (PyYAML would keep the last one silently)."""
+        if isinstance(node, yaml.MappingNode):
+            seen: set[Any] = set()
+            for key_node, _value in node.value:
+                key = self.construct_object(key_node, deep=True)
+                try:
+                    twice = key in seen
+                    seen.add(key)
+                except TypeError:  # an unhashable key: SafeLoader refuses it below
+                    continue
+                if twice:
+                    raise yaml.constructor.ConstructorError(
+                        None,
+                        None,
+                        f"the key {quote(key)} appears twice in one mapping; give each key once",
+                        key_node.start_mark,
+                    )
+        return super().construct_mapping(node, deep)
+
 
 def load_yaml_text(text: str) -> Any:
-    """``text`` parsed as YAML like ``yaml.safe_load``, but with aliases refused."""
+    """``text`` parsed as YAML like ``yaml.safe_load``, but with aliases and a key given twice
+    refused (every YAML file of the project is read through here)."""
     return yaml.load(text, Loader=_NoAliasLoader)  # a SafeLoader subclass
+
+
+def yaml_problem(problem: yaml.YAMLError) -> str:
+    """PyYAML's error as one line: "malformed YAML at line L, column C: what"."""
+    mark = getattr(problem, "problem_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+    what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
+    return f"malformed YAML{where}: {what}"
 
 
 def shipped_in(folder: Path) -> tuple[str, ...]:
@@ -83,10 +112,7 @@ def read_yaml_mapping(
     try:
         raw = load_yaml_text(text)
     except yaml.YAMLError as problem:
-        mark = getattr(problem, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        what = getattr(problem, "problem", None) or str(problem).splitlines()[0]
-        raise error(f"{path}: malformed YAML{where}: {what}") from None
+        raise error(f"{path}: {yaml_problem(problem)}") from None
     except RecursionError:
         raise error(f"{path}: nested too deeply to be a {kind}") from None
     if not isinstance(raw, Mapping):
@@ -95,12 +121,18 @@ def read_yaml_mapping(
 
 
 def reject_unknown(
-    raw: Mapping[str, Any], valid: Sequence[str], where: str, error: type[RobinPilError]
+    raw: Mapping[str, Any],
+    valid: Sequence[str],
+    where: str,
+    error: type[RobinPilError],
+    takes: str = "valid choices:",
 ) -> None:
-    """Raise ``error`` on the first key of ``raw`` that is not in ``valid``, naming them all."""
+    """Raise ``error`` on the first key of ``raw`` that is not in ``valid``, naming them all
+    after ``takes`` (every file's one check of its keys)."""
     for key in raw:
         if key not in valid:
-            raise error(f"{where}: unknown key {quote(key)}; valid choices: " + ", ".join(valid))
+            shown = ", ".join(valid) if valid else "no options"
+            raise error(f"{where}: unknown key {quote(key)}; {takes} {shown}")
 
 
 def read_small_text(path: Path, limit: int = MAX_YAML_BYTES) -> str:

@@ -9,24 +9,24 @@ classifiers see the same handover order and the same performances: their runs pa
 Each finished run is one JSON file in ``OUT/runs`` (its row and its per-table rows), written
 whole or not at all, with its episode log beside it; a run whose file exists is not run again,
 so an interrupted study (Ctrl-C to the process group, or SIGTERM) resumes where it stopped.
-Runs go to a ``spawn`` process pool (each worker builds its own scene and OpenGL context).
+Runs go to a :class:`pil.worker_pool.SpawnPool` (each worker builds its own scene and OpenGL
+context); on an interrupt its workers are ended at once, the episodes in flight not waited for.
 """
 
 from __future__ import annotations
 
 import json
-import multiprocessing
 import os
-import signal
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
+from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME
+from pil.worker_pool import SpawnPool
 from robin_sim.appearance.people import AppearancePeople, Looks
-from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 
 CLASSIFIERS: tuple[str, ...] = ("fixed", "adapted")
 RUNS_DIR = "runs"
@@ -118,8 +118,8 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         raise
     except Exception as problem:  # the run failed: recorded, the study goes on
         error = str(problem)
-        summary = json.loads((folder / "summary.json").read_text())
-    log_path = folder / "episode.jsonl"
+        summary = json.loads((folder / SUMMARY_NAME).read_text())
+    log_path = folder / EPISODE_LOG_NAME
     log = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
     vision = summary.get("vision") or {}
     row = {
@@ -193,11 +193,7 @@ def run_all(
             results[run.run_id] = run_one(run, out)
             progress(1)
     elif todo:
-        previous = signal.signal(signal.SIGTERM, raise_interrupt)
-        context = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(
-            min(workers, len(todo)), mp_context=context, initializer=worker_leaves_ctrl_c
-        )
+        pool = SpawnPool(min(workers, len(todo)))
         try:
             futures: dict[Future[dict[str, Any]], AppearanceRun] = {
                 pool.submit(run_one, run, out): run for run in todo
@@ -208,7 +204,8 @@ def run_all(
                 for future in done_now:
                     results[futures[future].run_id] = future.result()
                     progress(1)
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
-            signal.signal(signal.SIGTERM, previous)
+        except BaseException:  # an interrupt: the runs in flight are not waited for
+            pool.stop()
+            raise
+        pool.shutdown(wait=True)
     return [results[run.run_id] for run in runs]

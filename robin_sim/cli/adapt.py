@@ -17,14 +17,15 @@ DEFAULT_OUT = Path("out/adapt")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The adaptation study's options."""
-    from pil.experiments.adaptation import ADAPT_SYSTEMS
+    from pil.experiments.adaptation import ADAPT_RATES, ADAPT_SYSTEMS
+    from pil.experiments.paper import rates_text
 
     parser.add_argument(
         "--change",
         default=None,
         help="mapping change file (default: scenarios/mapping_change.yaml)",
     )
-    add_run_options(parser, rates="0.8,1.0", out=DEFAULT_OUT, systems=ADAPT_SYSTEMS)
+    add_run_options(parser, rates=rates_text(ADAPT_RATES), out=DEFAULT_OUT, systems=ADAPT_SYSTEMS)
 
 
 def run(args: argparse.Namespace) -> int:

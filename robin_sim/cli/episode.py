@@ -24,7 +24,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="tables to assemble, 4 legs each (default: 1; with --scenario, the scenario's)",
     )
-    parser.add_argument("--rate", default=1.0, help="gesture detection rate in (0, 1]")
+    parser.add_argument(
+        "--rate",
+        default=None,
+        help="gesture detection rate in (0, 1]; not with --detector vision, whose eye cameras "
+        "read what they see (default: 1.0)",
+    )
     parser.add_argument("--seed", default=0, help="seed of every random choice (>= 0)")
     parser.add_argument("--system", default="pil", help=_system_help())
     parser.add_argument(
@@ -82,7 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _system_help() -> str:
     """The --system help: every system of the study's registry (no MuJoCo imported)."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     names = ", ".join(SYSTEM_SPECS)
     return (
@@ -106,6 +111,7 @@ def _params(texts: list[str]) -> dict[str, str]:
 def run(args: argparse.Namespace) -> int:
     """Check every option, then run the episode and print its summary."""
     from pil.task.detector import CAMERAS as VISION
+    from pil.task.params import RATE
     from robin_sim.episode.config import EpisodeConfig
 
     video = not args.no_video
@@ -116,9 +122,15 @@ def run(args: argparse.Namespace) -> int:
         if "adapt" in params:
             raise RobinPilError("give --adapt or --param adapt=..., not both")
         params["adapt"] = "true"
+    if args.rate is not None and params.get("detector", "").strip() == VISION:
+        raise RobinPilError(
+            f"--rate sets the simulated detector's rate; --detector {VISION} reads the gestures "
+            f"with Robin's eye cameras, whose rate is what they see: give --detector {VISION} "
+            "without --rate, or --rate with another detector (default exact)"
+        )
     config = EpisodeConfig(
         tables=args.tables,
-        rate=args.rate,
+        rate=RATE.default if args.rate is None else args.rate,
         seed=args.seed,
         system=args.system,
         scenario=args.scenario,

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from robin_sim.episode.run import LOG_NAME, SUMMARY_NAME, VIDEO_NAME
+from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME, VIDEO_NAME
 
 
 def _seconds(value: float | None) -> str:
@@ -17,6 +17,13 @@ def _seconds(value: float | None) -> str:
         return "-"
     minutes, seconds = divmod(float(value), 60.0)
     return f"{int(minutes)} min {seconds:04.1f} s" if minutes else f"{seconds:.1f} s"
+
+
+def _detection(summary: dict[str, Any]) -> str:
+    """How gestures were read: the simulated detector's rate, or the eye cameras (no rate)."""
+    if "vision" in summary:
+        return "gestures read by Robin's eye cameras (vision)"
+    return f"detection rate {summary['rate']:g}"
 
 
 def summary_text(summary: dict[str, Any], out: Path) -> str:
@@ -29,7 +36,7 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
     lines = [
         f"episode {ended}",
         f"  run             {summary['system_name']}, scenario {summary['scenario']}",
-        f"                  detection rate {summary['rate']:g}, seed {summary['seed']}",
+        f"                  {_detection(summary)}, seed {summary['seed']}",
         f"  legs delivered  {legs} ({where})",
         f"  gestures        {summary['gestures']} instruction gestures, "
         f"{summary['repeats']} repeats, {summary['corrections']} corrections",
@@ -42,7 +49,7 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
         + (f" ({rate:g}x real time)" if rate is not None else ""),
         "  files written",
     ]
-    for name in (VIDEO_NAME, LOG_NAME, SUMMARY_NAME):
+    for name in (VIDEO_NAME, EPISODE_LOG_NAME, SUMMARY_NAME):
         path = out / name
         if path.exists():
             lines.append(f"    {path}  {_what(name, summary)}")

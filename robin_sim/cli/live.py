@@ -117,7 +117,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _system_help() -> str:
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     return f"the learner system (default: %(default)s), one of {', '.join(SYSTEM_SPECS)}"
 
@@ -140,16 +140,6 @@ def parse_grace(text: str) -> float:
     return float(seconds)
 
 
-def parse_speed(text: str) -> float:
-    """``--speed`` as a number (its range is the engine's: :class:`LiveConfig` checks it)."""
-    try:
-        return float(text)
-    except ValueError:
-        raise RobinPilError(
-            f"--speed must be a number from 0.1 to 10 (1 = real time), got {quote(text)}"
-        ) from None
-
-
 def session_configs(args: argparse.Namespace) -> list[Any]:
     """The run's checked sessions: one, or one per protocol block of the participant."""
     from pil.task.params import SEED
@@ -159,28 +149,29 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
 
     session = parse_session(getattr(args, "session", None))
     study_seed = SEED.parse(getattr(args, "seed", "0"), "--seed")
+    attempts: Any = getattr(args, "max_attempts", "10")
+    step_seconds: Any = getattr(args, "max_step_seconds", "120")
     base = LiveConfig(
         participant=DEFAULT_PARTICIPANT if args.participant is None else args.participant,
         system=args.system,
         scenario=args.scenario,
         out_root=args.out,
-        speed=parse_speed(args.speed),
+        speed=args.speed,  # text: checked once, by the session's config
         video=not args.no_video,
         webcam=bool(getattr(args, "webcam", False)),
         calibrate=not getattr(args, "no_calibration", False),
         seed=block_seed(study_seed, str(args.participant), 0),
         study_seed=study_seed,
-        max_attempts=parse_number(getattr(args, "max_attempts", "10"), "--max-attempts", int),
-        max_step_seconds=parse_number(
-            getattr(args, "max_step_seconds", "120"), "--max-step-seconds", float
-        ),
-    ).checked()
+        max_attempts=attempts,  # text, as --speed
+        max_step_seconds=step_seconds,
+    )  # checked once, as each session's config (below)
     if getattr(args, "no_calibration", False) and not base.webcam:
         raise RobinPilError("--no-calibration is for --webcam sessions; add --webcam or drop it")
     if args.protocol is None:
         return [replace(base, session=session).checked()]
     from robin_sim.live.protocol import load_protocol
 
+    base.checked()  # the options as given, before the protocol file is read
     protocol = load_protocol(args.protocol)
     scenario = args.scenario if args.scenario is not None else protocol.scenario
     return [

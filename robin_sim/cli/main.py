@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     import argparse
 
+    from pil.signal_policy import CommandSignals
+
 # command -> (module, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
     "study": ("robin_sim.cli.study", "the paper's simulation study (learner only)"),
@@ -83,40 +85,48 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, *, exiting: bool | None = None) -> int:
     """Entry point; bad input, and a file that cannot be written (full disk), end with one clear
-    message and exit code 2, Ctrl-C with 130.
+    message and exit code 2, Ctrl-C and SIGTERM with 130.
 
-
-    From its first line a Ctrl-C or SIGTERM is only noted (:class:`InterruptGuard`), so none
-    lands inside an import. A command whose module sets ``HOLDS_SIGNALS`` (the episode) runs
-    inside this guard and acts on a noted signal itself once its files are open; any other
-    command ends with 130 before it starts, or runs with Python's usual Ctrl-C.
+    From its first line SIGINT and SIGTERM follow one policy, whatever disposition the process
+    inherited (:class:`pil.signal_policy.CommandSignals`): noted while the command's modules
+    import and its options parse (the command then ends with 130 before it starts), raised as
+    ``KeyboardInterrupt`` once while it runs (its finished work is kept), ignored in teardown.
+    A command whose module sets ``HOLDS_SIGNALS`` (the episode) keeps them noted while it runs
+    and acts on them itself once its files are open. ``exiting`` (default: no ``argv`` given,
+    i.e. the ``robin-pil`` entry point) says the process ends with the command; otherwise
+    (a command run from Python) the signal handlers found are put back when it returns.
     """
-    from robin_sim.episode.interrupts import InterruptGuard  # imports nothing heavy
+    from pil.signal_policy import INTERRUPTED, CommandSignals  # imports nothing heavy
 
-    argv = sys.argv[1:] if argv is None else list(argv)
-    command = next((arg for arg in argv if not arg.startswith("-")), None)
-    with InterruptGuard() as early:
+    policy = CommandSignals().install()
+    exiting = argv is None if exiting is None else exiting
+    try:
+        argv = sys.argv[1:] if argv is None else list(argv)
+        command = next((arg for arg in argv if not arg.startswith("-")), None)
         parser = build_parser(command if command in COMMANDS else None)
         args = parser.parse_args(argv)
         if args.command is None:  # bare robin-pil: the command list, as a missing argument
             parser.print_help(sys.stderr)
             return 2
-        if getattr(args._module, "HOLDS_SIGNALS", False):
-            return _run(args)
-    if early.requested is not None:  # while parsing or importing the command: nothing started
-        print(f"robin-pil {command}: interrupted before starting", file=sys.stderr)
-        return 130
-    return _run(args)
+        holding = bool(getattr(args._module, "HOLDS_SIGNALS", False))
+        if policy.requested is not None and not holding:  # nothing started yet
+            print(f"robin-pil {command}: interrupted before starting", file=sys.stderr)
+            return INTERRUPTED
+        return _run(args, policy, holding)
+    finally:
+        policy.finish(exiting)  # teardown: a late signal no longer changes the exit code
 
 
-def _run(args: argparse.Namespace) -> int:
-    """Run the chosen command: its exit code, 2 for bad input, 130 for Ctrl-C."""
+def _run(args: argparse.Namespace, policy: CommandSignals, holding: bool) -> int:
+    """Run the chosen command: its exit code, 2 for bad input, 130 for Ctrl-C or SIGTERM."""
     from pil.errors import RobinPilError, os_error_line
+    from pil.signal_policy import INTERRUPTED
 
     try:
-        return int(args._module.run(args) or 0)
+        with policy.running(holding=holding):
+            return int(args._module.run(args) or 0)
     except RobinPilError as error:
         print(f"robin-pil {args.command}: error: {error}", file=sys.stderr)
         return 2
@@ -125,7 +135,7 @@ def _run(args: argparse.Namespace) -> int:
         return 2
     except KeyboardInterrupt:
         print(f"robin-pil {args.command}: interrupted; finished work is kept", file=sys.stderr)
-        return 130
+        return INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.experiments.paper import PAPER_REPS
 
 RATES_LABEL = "--rates: each detection rate (comma separated)"  # names a bad one
 
@@ -32,7 +33,7 @@ def parse_rates(text: str) -> tuple[float, ...]:
 def parse_systems(text: str) -> tuple[str, ...]:
     """``"pil,bandit"`` as system names; an unknown or repeated one raises listing them."""
     from pil.errors import InvalidChoiceError
-    from pil.experiments.systems import SYSTEMS
+    from pil.task.systems import SYSTEMS
 
     names = tuple(part.strip() for part in text.split(","))
     for name in names:
@@ -46,13 +47,10 @@ def parse_systems(text: str) -> tuple[str, ...]:
 def systems_help(default: str, accepts: Sequence[str] | None = None) -> str:
     """The help of a ``--systems`` option: ``default`` and every system it accepts (``accepts``;
     by default every system of the registry)."""
-    from pil.experiments.systems import SYSTEMS
+    from pil.task.systems import SYSTEMS
 
     names = ", ".join(SYSTEMS if accepts is None else accepts)
     return f"comma-separated systems (default: {default}); any of {names}"
-
-
-DEFAULT_REPS = 20  # repetitions of a study's runs
 
 
 def add_run_options(
@@ -72,7 +70,7 @@ def add_run_options(
     parser.add_argument(
         "--reps",
         type=int,
-        default=None if reps_help else DEFAULT_REPS,
+        default=None if reps_help else PAPER_REPS,
         help=reps_help or "repetitions (default: %(default)s)",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")

@@ -2,8 +2,9 @@
 ``--appearance``: people who look different to Robin's eye cameras, fixed vs adapted model.
 
 The mappings study writes ``people.csv``, ``people.md`` (mean ± sd, paired tests of shared
-against per-person), ``tests.csv`` and ``people.png``; with ``--seeds K`` K such studies in
-``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``). The appearance study
+against per-person), ``tests.csv`` and ``people.png``, and keeps each finished repetition in
+``reps.jsonl`` as it ends (an interrupted study resumes from it); with ``--seeds K`` K such
+studies in ``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``). The appearance study
 (:mod:`robin_sim.appearance`) writes ``appearance_runs.csv``, ``appearance_tables.csv``,
 ``tests.csv``, ``appearance.md`` and ``appearance.png``. ``--from-sessions DIR``: simulated
 people fitted to recorded live sessions (:mod:`robin_sim.cli.people_fit`).
@@ -12,11 +13,13 @@ people fitted to recorded live sessions (:mod:`robin_sim.cli.people_fit`).
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError
+from pil.experiments.paper import PAPER_REPS
 from robin_sim.cli import people_fit
-from robin_sim.cli.options import DEFAULT_REPS, add_run_options, progress_bar, run_options
+from robin_sim.cli.options import add_run_options, progress_bar, run_options
 from robin_sim.cli.people_fit import MAX_WORKERS
 
 DEFAULT_OUT = Path("out/people")
@@ -25,7 +28,8 @@ APPEARANCE_REPS = 5  # repetitions of the appearance study (physical episodes: m
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The personal-mappings study's options."""
-    from pil.experiments.people import PEOPLE_SYSTEMS
+    from pil.experiments.paper import rates_text
+    from pil.experiments.people import PEOPLE_RATES, PEOPLE_SYSTEMS
 
     parser.add_argument(
         "--people",
@@ -62,11 +66,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     add_run_options(
         parser,
-        rates="0.8,1.0",
+        rates=rates_text(PEOPLE_RATES),
         out=DEFAULT_OUT,
         systems=PEOPLE_SYSTEMS,
         accepts=PEOPLE_SYSTEMS,
-        reps_help=f"repetitions (default: {DEFAULT_REPS}; with --appearance "
+        reps_help=f"repetitions (default: {PAPER_REPS}; with --appearance "
         f"{APPEARANCE_REPS}, each its own seed, shared by the fixed and adapted runs)",
     )
 
@@ -80,15 +84,17 @@ def run(args: argparse.Namespace) -> int:
     if args.person is not None:
         raise RobinPilError("--person chooses people of the appearance study: add --appearance")
     if args.reps is None:
-        args.reps = DEFAULT_REPS
+        args.reps = PAPER_REPS
     from pil.experiments.people import (
         DEFAULT_PEOPLE,
         PEOPLE_SYSTEMS,
         People,
+        journal_settings,
         load_people,
         run_people_study,
         write_people,
     )
+    from pil.experiments.rep_journal import RepJournal
     from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, PEOPLE_SYSTEMS, only=PEOPLE_SYSTEMS)
@@ -98,6 +104,7 @@ def run(args: argparse.Namespace) -> int:
     # before the computation; the folder stays locked until the files are written
     with claimed_out_dir(args.out):
         if args.seeds > 1:
+            from pil.experiments.over_seeds import seed_folder
             from robin_sim.cli.options import run_seed_studies
 
             settings = {
@@ -113,16 +120,32 @@ def run(args: argparse.Namespace) -> int:
                 "people",
                 settings,
                 lambda seed, step: run_people_study(
-                    people, systems, rates, args.reps, seed, progress=step
+                    people,
+                    systems,
+                    rates,
+                    args.reps,
+                    seed,
+                    progress=step,
+                    journal=RepJournal(
+                        seed_folder(args.out, seed),
+                        journal_settings(people, systems, rates, seed),
+                    ),
                 ),
                 lambda _seed, rows, folder: write_people(rows, folder),
                 within=("rate", "system"),
                 title="Personal mappings: one shared table vs one per person",
                 runs_per_seed=len(rates) * len(systems) * args.reps,
             )
+        journal = RepJournal(args.out, journal_settings(people, systems, rates, args.seed))
+        if journal.count():
+            print(
+                f"robin-pil people: resuming: {journal.count()} finished repetitions kept in "
+                f"{journal.path}",
+                file=sys.stderr,
+            )
         with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
             rows = run_people_study(
-                people, systems, rates, args.reps, args.seed, progress=bar.update
+                people, systems, rates, args.reps, args.seed, progress=bar.update, journal=journal
             )
         written = write_people(rows, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))

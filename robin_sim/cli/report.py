@@ -16,8 +16,9 @@ import sys
 from pathlib import Path
 
 from pil.experiments.results_report import BASELINE, METRICS
+from pil.file_names import RESULTS_NAME, RUNS_NAME
 
-RESULTS_FILES: tuple[str, ...] = ("results.csv", "runs.csv")  # a sweep's, a study's
+RESULTS_FILES: tuple[str, ...] = (RESULTS_NAME, RUNS_NAME)  # a sweep's, a study's
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -117,11 +118,12 @@ def run_folder(args: argparse.Namespace) -> int:
                 "on all its measures, every pair of conditions compared"
             )
         out = args.out if args.out is not None else folder / "report"
+        from pil.experiments.questionnaire_report import load_answers, write_answers_report
+
+        answers = load_answers(folder)  # a damaged answer raises before anything is written
         for path in write_sessions_report(rows, folder, out):
             print(path)
-        from pil.experiments.questionnaire_report import write_answers_report
-
-        for path in write_answers_report(folder, out):  # answers after the blocks, if any
+        for path in write_answers_report(folder, out, answers):  # after the blocks, if any
             print(path)
         for where, why in unreported_sessions(folder):  # listed in report.md too
             print(f"robin-pil report: not reported: {where}: {why}", file=sys.stderr)

@@ -2,7 +2,9 @@
 
 Writes ``runs.csv`` (one row per run), ``tests.csv`` (paired tests of PIL against every other
 system), ``summary.md`` (mean ± sd, training figures next to the paper's, the paper's claim,
-the tests) and ``gestures.png``, ``actions.png``, ``training.png``. With ``--seeds K`` it runs
+the tests) and ``gestures.png``, ``actions.png``, ``training.png``. Each finished repetition is
+kept in ``reps.jsonl`` as it ends (:mod:`pil.experiments.rep_journal`): an interrupted study
+(Ctrl-C, SIGTERM) resumes from it when run again, to the same files. With ``--seeds K`` it runs
 K such studies into ``OUT/seed_<n>/`` and writes their headlines over seeds
 (:mod:`pil.experiments.study_seeds`).
 """
@@ -18,6 +20,7 @@ from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
+from pil.task.detector import EXACT
 from robin_sim.cli.options import RATES_LABEL, add_progress_switch, systems_help
 
 DEFAULT_OUT = Path("out/study")
@@ -69,7 +72,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--detector",
-        default="exact",
+        default=EXACT,
         help="detection model: exact, independent, or measured:FILE (a measured confusion "
         "matrix and discard rate, e.g. the measured.json of robin-pil train-gestures) "
         "(default: %(default)s)",
@@ -110,9 +113,16 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
-    from pil.experiments.study import DETECTOR_RATES, StudyConfig, run_study, write_outputs
-    from pil.experiments.systems import PAPER_SYSTEMS
+    from pil.experiments.rep_journal import RepJournal
+    from pil.experiments.study import (
+        DETECTOR_RATES,
+        StudyConfig,
+        journal_settings,
+        run_study,
+        write_outputs,
+    )
     from pil.outdir import claimed_out_dir
+    from pil.task.systems import PAPER_SYSTEMS
 
     params = {
         "tables": args.tables,
@@ -164,10 +174,17 @@ def run(args: argparse.Namespace) -> int:
                 + ", ".join(str(p) for p in written)
             )
             return 0
+        journal = RepJournal(args.out, journal_settings(config))  # finished reps: kept
+        if journal.count():
+            print(
+                f"robin-pil study: resuming: {journal.count()} finished repetitions kept in "
+                f"{journal.path}",
+                file=sys.stderr,
+            )
         with tqdm(
             total=config.runs(), desc="study", unit="run", file=sys.stderr, disable=args.no_progress
         ) as bar:
-            rows = run_study(config, progress=bar.update)
+            rows = run_study(config, progress=bar.update, journal=journal)
         written = write_outputs(rows, config, args.out)
     print(f"{len(rows)} runs; wrote " + ", ".join(str(p) for p in written))
     return 0

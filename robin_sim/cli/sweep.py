@@ -12,6 +12,7 @@ import argparse
 from pathlib import Path
 
 from pil.experiments.paper import PAPER_REPS, rates_text
+from pil.experiments.sweep_kinds import KINDS
 from robin_sim.cli.options import add_progress_switch, systems_help
 
 _EPILOG = (
@@ -29,7 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     grid.add_argument(
         "--kind",
         default="learner",
-        choices=("learner", "physical"),
+        choices=tuple(KINDS),
         help="learner-only runs or physical MuJoCo episodes (default: learner)",
     )
     grid.add_argument(

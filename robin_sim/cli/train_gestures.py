@@ -15,6 +15,7 @@ import shutil
 import sys
 from pathlib import Path
 
+from pil.file_names import MEASURED_NAME
 from robin_sim.cli.options import add_progress_switch
 
 
@@ -50,10 +51,10 @@ def run(args: argparse.Namespace) -> int:
 
     from pil.outdir import claimed_out_dir
     from robin_sim.vision.build import render_all, train_and_report
-    from robin_sim.vision.build_config import BuildConfig, default_workers
+    from robin_sim.vision.build_config import BuildConfig, default_build_workers
     from robin_sim.vision.classifier import shipped_path
 
-    workers = default_workers() if args.workers is None else args.workers
+    workers = default_build_workers() if args.workers is None else args.workers
     config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=workers)
     total = config.samples + config.heldout
     with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         result = train_and_report(config)
     if args.install:
         folder = shipped_path().parent
-        for name in (shipped_path().name, "report.md", "confusion.png", "measured.json"):
+        for name in (shipped_path().name, "report.md", "confusion.png", MEASURED_NAME):
             shutil.copyfile(config.out / name, folder / name)
         result["installed"] = str(folder)
     print(json.dumps(result, indent=2))

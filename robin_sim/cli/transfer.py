@@ -18,7 +18,8 @@ DEFAULT_OUT = Path("out/transfer")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The transfer study's options."""
-    from pil.experiments.transfer import TRANSFER_SYSTEMS
+    from pil.experiments.paper import rates_text
+    from pil.experiments.transfer import TRANSFER_RATES, TRANSFER_SYSTEMS
 
     parser.add_argument(
         "--table",
@@ -29,7 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     add_run_options(
         parser,
-        rates="0.6,0.8,1.0",
+        rates=rates_text(TRANSFER_RATES),
         out=DEFAULT_OUT,
         systems=TRANSFER_SYSTEMS,
         accepts=TRANSFER_SYSTEMS,

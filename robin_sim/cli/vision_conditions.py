@@ -44,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
     """Validate, render (resuming), measure, study; print what was written."""
     from tqdm import tqdm
 
-    from robin_sim.vision.build_config import MIN_SAMPLES, cpu_count
+    from pil.cpus import cpu_count
+    from robin_sim.vision.build_config import MIN_SAMPLES
     from robin_sim.vision.conditions import run_conditions
 
     lighting = _numbers(args.lighting, "--lighting", 0.0, 5.0)

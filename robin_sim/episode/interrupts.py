@@ -10,12 +10,13 @@ the video is being finished is honoured after the file is complete. Render worke
 signals (:mod:`robin_sim.render.worker_start`) and are ended by the episode.
 
 The guard installs its handlers only in the main thread of a process whose SIGINT handler is
-Python's default or another guard's: in a sweep's worker (SIGINT ignored) or a Dask worker
-thread it does nothing, and the sweep's own interrupt handling applies. ``robin-pil`` holds a
-guard from its first line (:func:`robin_sim.cli.main.main`) so that a signal while the
-command's modules import or the world is built is noted, not raised inside an import; the
-episode's own guard takes over a signal its outer guard noted, and acts on it once its files
-are open (an ``interrupted`` summary and a playable MP4 even then).
+Python's default, another guard's or the command's signal policy
+(:class:`pil.signal_policy.CommandSignals`): in a pool's worker (signals ignored) or a Dask
+worker thread it does nothing, and the pool's own interrupt handling applies. ``robin-pil``
+notes signals from its first line (:func:`robin_sim.cli.main.main`), so that a signal while
+the command's modules import or the world is built is noted, not raised inside an import; the
+episode's own guard takes over a signal noted so, and acts on it once its files are open (an
+``interrupted`` summary and a playable MP4 even then).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import threading
 from types import FrameType, TracebackType
 from typing import Any
 
-from robin_sim.render.worker_start import SIGNALS
+from pil.signal_policy import SIGNALS, policy_of
 
 
 class InterruptGuard:
@@ -55,9 +56,11 @@ class InterruptGuard:
         in_main = threading.current_thread() is threading.main_thread()
         handler = signal.getsignal(signal.SIGINT)
         outer = getattr(handler, "__self__", None)
-        if isinstance(outer, InterruptGuard):  # nested: take over what the outer one noted
+        if not isinstance(outer, InterruptGuard):
+            outer = policy_of(handler)  # the command's policy, or None
+        if outer is not None:  # nested: take over what the outer one noted
             self.requested = outer.requested
-        if in_main and (handler is signal.default_int_handler or isinstance(outer, InterruptGuard)):
+        if in_main and (handler is signal.default_int_handler or outer is not None):
             for signum in SIGNALS:
                 self._previous[signum] = signal.signal(signum, self._note)
         return self

@@ -11,15 +11,19 @@ numbers as ``vision_*`` columns (``vision_detection_rate``: the measured d).
 from __future__ import annotations
 
 import tempfile
+from collections.abc import MutableMapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import check_system, run_checked
-from pil.task.detector import CAMERAS
+from pil.errors import RobinPilError
+from pil.experiments.run_row import spec_row
+from pil.experiments.sweep_kinds import BOUND_AS, GridRow, SweepKind, scenario_of
+from pil.task.assemble import cached
+from pil.task.detector import CAMERAS, EXACT
 from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec
-from pil.task.spec import DETECTOR_SPECS, PHYSICAL, build_run_spec
+from pil.task.spec import DETECTOR_SPECS, PHYSICAL, SYMBOLIC, build_run_spec
+from pil.task.systems import SYSTEM_SPECS
 from robin_sim.episode.config import DEFAULT_TABLES, NO_VIDEO, EpisodeSpec
 from robin_sim.episode.run import run_episode
 from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings
@@ -34,19 +38,26 @@ PHYSICAL_PARAMS: dict[str, ParamSpec] = {
 VISION_PREFIX = "vision_"  # the vision block's numbers in a results row
 
 
-def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> EpisodeSpec:
+def parse_physical(row: GridRow, cache: MutableMapping[Any, Any]) -> EpisodeSpec:
     """The episode of a sweep's grid row, whose values the grid parsed by
-    :data:`PHYSICAL_PARAMS` and the run parameters (typed: nothing is parsed again)."""
-    options = dict(params)
+    :data:`PHYSICAL_PARAMS` and the run parameters (typed: nothing is parsed again; the
+    scenario file read once per cell)."""
+    made = cached(cache, ("physical", row.cell), lambda: _cell_spec(dict(row.params), cache))
+    return replace(made, run=made.run.for_run(row.system, row.rate, row.seed))
+
+
+def _cell_spec(options: dict[str, Any], cache: MutableMapping[Any, Any]) -> EpisodeSpec:
+    """The episode of a cell's typed values (system pil, rate 1, seed 0: set per row)."""
     verify = bool(options.pop("verify", PHYSICAL_PARAMS["verify"].default))
-    scenario = options.pop("scenario", None)
+    name = options.pop("scenario", None)
+    scenario = scenario_of(name, cache)
     given = {name: options.pop(name) for name in CONDITION_PARAMS if name in options}
     if options.get("tables") is None:
         options.pop("tables", None)
-        if scenario is None:
+        if name is None:
             options["tables"] = DEFAULT_TABLES  # as the episode: one table of the assembly
     run = build_run_spec(
-        system=system, rate=rate, seed=seed, scenario=scenario, values=options, world=PHYSICAL
+        system="pil", rate=1.0, seed=0, scenario=scenario, values=options, world=PHYSICAL
     )
     vision = run.detector.model == CAMERAS
     if given and not vision:
@@ -59,13 +70,12 @@ def _spec(system: str, rate: float, seed: int, params: dict[str, Any]) -> Episod
     return EpisodeSpec(run, conditions, NO_VIDEO, verify, False, Path("."))
 
 
-def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:
-    """What a sweep grid cannot check value by value, for a row it parsed: the scenario, its
-    layout's legs and spots, the camera conditions' detector; a sweep calls it once per
-    distinct cell before its first run."""
+def check_physical(spec: EpisodeSpec) -> None:
+    """What a sweep grid cannot check value by value: the scenario's layout's legs and spots;
+    a sweep calls it once per distinct cell before its first run."""
     from robin_sim.episode.assemble import layout_of  # imports MuJoCo
 
-    layout_of(_spec(system, rate, seed, params).run.scenario)
+    layout_of(spec.run.scenario)
 
 
 # relative cost of what a physical run does, in simulated seconds (bench/README.md): an
@@ -74,48 +84,24 @@ def check_physical(system: str, rate: float, seed: int, **params: Any) -> None:
 APPROVED_S, REJECTED_S = 5.5, 1.5
 
 
-def expected_cost(system: str, rate: float, seed: int, **params: Any) -> float:
+def physical_cost(spec: EpisodeSpec) -> float:
     """Expected simulated seconds of a physical run, from its learner-only twin.
 
-    The physical episode makes the same decisions as the learner-only run with the same
-    arguments (when every action succeeds physically), which takes milliseconds: its action
-    counts predict the physical run's length.
+    The physical episode makes the same decisions as the learner-only run of the same spec
+    (when every action succeeds physically), which takes milliseconds: its action counts
+    predict the physical run's length. The eye cameras' twin reads with the exact detector.
     """
-    options = {k: v for k, v in params.items() if k not in PHYSICAL_PARAMS}
-    if params.get("detector") not in (None, CAMERAS):
-        options["detector"] = params["detector"]  # the eye cameras' twin: the exact detector
-    tables = params.get("tables")  # parsed by the grid
-    if tables is None and options.get("scenario") is None:
-        tables = 1  # as the episode: one table of the paper's assembly
-    row = run_checked(system, rate, seed, tables=tables, **options)
+    run = spec.run
+    if run.detector.model == CAMERAS:
+        run = replace(run, detector=replace(run.detector, model=EXACT))
+    row = spec_row(replace(run, world=SYMBOLIC))
     rejected = row["rejected"]
     return APPROVED_S * (row["actions"] - rejected) + REJECTED_S * rejected
 
 
-def run_physical(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
-    """One physical run without video, as a flat results row (the sweep's physical kind).
-
-    ``params`` are :data:`PHYSICAL_PARAMS` and any of :data:`pil.task.params.PARAMS`, given as
-    text or typed: each is parsed here by its spec (a sweep's worker runs
-    :func:`run_physical_checked` on values its grid parsed); the step log and summary go to a
-    temporary folder that is removed afterwards.
-    """
-    from pil.task.params import RATE, SEED
-
-    specs = {**PARAMS, **RUN_OPTIONS, **PHYSICAL_PARAMS}
-    for name in params:
-        if name not in specs:
-            raise InvalidChoiceError("physical parameter", name, specs)
-    parsed = {name: specs[name].parse(value) for name, value in params.items()}
-    check_system(system)
-    rate, seed = RATE.parse(rate, "detection rate"), SEED.parse(seed, "seed")
-    return run_physical_checked(system, rate, seed, **parsed)
-
-
-def run_physical_checked(system: str, rate: float, seed: int, **params: Any) -> dict[str, Any]:
-    """:func:`run_physical` of a sweep grid's row, whose values the grid parsed (typed,
-    trusted): what a sweep's worker runs, so no value is checked again there."""
-    spec = _spec(system, rate, seed, params)
+def physical_row(spec: EpisodeSpec) -> dict[str, Any]:
+    """One physical run without video, as a flat results row (the sweep's physical kind):
+    the step log and summary go to a temporary folder that is removed afterwards."""
     if spec.run.detector.model == CAMERAS:
         from robin_sim.render.gl_backend import ensure_gl_backend
 
@@ -129,3 +115,15 @@ def run_physical_checked(system: str, rate: float, seed: int, **params: Any) -> 
         if not isinstance(value, dict):
             row[VISION_PREFIX + key] = value
     return row
+
+
+PHYSICAL_RUNS = SweepKind(
+    name="physical",
+    function=BOUND_AS["physical"],
+    params=dict(sorted({**PARAMS, **RUN_OPTIONS, **PHYSICAL_PARAMS}.items())),
+    systems=tuple(SYSTEM_SPECS),
+    parse=parse_physical,
+    run=physical_row,
+    check=check_physical,
+    cost=physical_cost,
+)

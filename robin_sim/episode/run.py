@@ -20,6 +20,7 @@ from typing import Any
 from tqdm import tqdm
 
 from pil.errors import RobinPilError
+from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME, VIDEO_NAME
 from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
 from pil.task.records import StepRecord
@@ -33,7 +34,6 @@ from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
 from robin_sim.robot.world import PhysicalWorld
 
-LOG_NAME, SUMMARY_NAME, VIDEO_NAME = "episode.jsonl", "summary.json", "episode.mp4"
 __all__ = [
     "EpisodeConfig",
     "EpisodeError",
@@ -78,7 +78,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                 _summary(spec, totals, parts, world, started, status, error, None),
                 reserve=SUMMARY_RESERVE,
             )
-            for stale in (LOG_NAME, VIDEO_NAME):
+            for stale in (EPISODE_LOG_NAME, VIDEO_NAME):
                 (out / stale).unlink(missing_ok=True)
             with ExitStack() as stack:
                 stack.callback(world.sim.add_observer(guard.check))
@@ -105,7 +105,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                         )
                     )
                 checks = stack.enter_context(RenderChecks(world, enabled=spec.verify))
-                log = stack.enter_context(StepLog(out / LOG_NAME))
+                log = stack.enter_context(StepLog(out / EPISODE_LOG_NAME))
                 view.update(legs_total=legs_total)
                 bar = stack.enter_context(progress_bar(legs_total, spec.progress))
                 guard.check()  # a signal during start-up

@@ -6,18 +6,18 @@ settings taken in turn; session ``k`` of participant ``P`` has the seed
 sessions and the same results. A session's folder is ``OUT/simulated/<P>/sim<k>``; one whose
 ``summary.json`` is there with its seed is finished and only measured again (an interrupted
 run goes on where it stopped); a folder without it is made anew. Runs go to a ``spawn``
-process pool (each worker builds its own scene), or run in this process with ``workers`` 0.
+process pool (:class:`pil.worker_pool.SpawnPool`: each worker builds its own scene, leaves
+Ctrl-C and SIGTERM to the command and dies with it), or run in this process with ``workers``
+0.
 """
 
 from __future__ import annotations
 
 import json
-import multiprocessing
 import os
 import shutil
-import signal
 from collections.abc import Callable, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,8 +27,8 @@ from pil.experiments.people_observed import observe, session_measures
 from pil.experiments.people_sources import read_json, read_session
 from pil.experiments.sessions_load import SUMMARY_NAME
 from pil.task.seeds import block_seed
+from pil.worker_pool import SpawnPool
 from robin_sim.fitted.session import Setting, simulate
-from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 
 SIMULATED_DIR = "simulated"
 
@@ -116,11 +116,7 @@ def run_all(
             rows[i] = run_one(runs[i], out)
             progress(1)
     elif todo:
-        previous = signal.signal(signal.SIGTERM, raise_interrupt)
-        context = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(
-            min(workers, len(todo)), mp_context=context, initializer=worker_leaves_ctrl_c
-        )
+        pool = SpawnPool(min(workers, len(todo)))
         try:
             futures: dict[Future[dict[str, Any]], int] = {
                 pool.submit(run_one, runs[i], out): i for i in todo
@@ -131,7 +127,8 @@ def run_all(
                 for future in finished:
                     rows[futures[future]] = future.result()
                     progress(1)
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
-            signal.signal(signal.SIGTERM, previous)
+        except BaseException:  # an interrupt: the runs in flight are not waited for
+            pool.stop()
+            raise
+        pool.shutdown(wait=True)
     return [rows[i] for i in range(len(runs))]

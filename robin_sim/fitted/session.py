@@ -26,7 +26,6 @@ from pil.experiments.people_fit import FittedPerson
 from pil.experiments.sessions_load import EVENTS_NAME, INPUTS_NAME, SESSION_LOG_NAME, SUMMARY_NAME
 from pil.task.records import StepRecord
 from pil.task.runner import steps
-from robin_sim.episode.assemble import layout_of
 from robin_sim.episode.book import StepBook, run_summary
 from robin_sim.episode.log import StepLog, write_json_atomic
 from robin_sim.episode.summary import EpisodeTotals
@@ -144,8 +143,9 @@ def simulate(person: FittedPerson, setting: Setting, seed: int, out_dir: Path) -
     from robin_sim.live.run import live_parts  # the live session's own parts
 
     spec = config.run_spec()
-    world = PhysicalWorld(layout_of(spec.scenario))
-    parts, participant = live_parts(config, world, on_event)
+    parts, participant = live_parts(config, on_event)
+    world = parts.world
+    assert isinstance(world, PhysicalWorld)
 
     def log_input(raw: dict[str, Any], error: str, sim_time: float) -> None:
         row = {"sim_time": round(sim_time, 4), "raw": raw, "accepted": not error, "error": error}

@@ -20,6 +20,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, quote
+from pil.regular_files import UnreadableFileError, read_json_file
 
 REGISTRY_NAME = "registry.json"
 LOCK_NAME = ".registry.lock"
@@ -60,10 +61,10 @@ class Registry:
         if not self.path.exists():
             return []
         try:
-            data = json.loads(self.path.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError) as error:
+            data = read_json_file(self.path, "registry", "the registry")
+        except UnreadableFileError as error:
             raise RegistryError(
-                f"{self.path}: not a readable registry ({error}); restore it from the study's "
+                f"not a readable registry ({error}); restore it from the study's "
                 "archive, it is the one list of the ids given"
             ) from None
         people = data.get("participants") if isinstance(data, dict) else None

@@ -252,7 +252,7 @@ def _practice(raw: Any, protocol: Protocol, where: str) -> Practice | None:
     if not isinstance(raw, Mapping):
         raise StudyError(f"{where}: expected a mapping with keys " + ", ".join(PRACTICE_KEYS))
     reject_unknown(raw, PRACTICE_KEYS, where, StudyError)
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     system = raw.get("system")
     if system is not None and system not in SYSTEM_SPECS:

@@ -251,7 +251,7 @@ class Conductor:
             if asked and session.status().get("status") in ASKED_AFTER:
                 self.phase, self._asking = "questionnaire", "block"
                 self._questioning = Questioning(
-                    self.questionnaires, session.out_dir, self.configs[self.index]
+                    self.questionnaires, session.out_dir, self.configs[self.index], inputs=session
                 )
                 return
             await self._next()

@@ -15,13 +15,13 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.experiments.systems import check_system
 from pil.step_memory import STEP_MEMORY
 from pil.task.params import SEED
 from pil.task.scenario import Scenario
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
+from pil.task.systems import check_system
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
-from robin_sim.live.limits import BlockLimits, WatchdogLimits
+from robin_sim.live.limits import BlockLimits, WatchdogLimits, from_text
 from robin_sim.live.quality import LEVELS
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
@@ -40,7 +40,7 @@ class LiveConfig:
     """Everything that defines one live session (the live page's contract)."""
 
     participant: str = "P01"
-    system: str = "pil"  # a key of pil.experiments.systems
+    system: str = "pil"  # a key of pil.task.systems
     scenario: str | Path | None = None  # a shipped scenario name or a YAML path
     handover_types: tuple[str, ...] | None = None  # the block's types (None: the scenario's)
     out_root: Path = Path("out/live")
@@ -80,9 +80,20 @@ class LiveConfig:
     inactivity_seconds: float | None = None
     # set by checked(): the learner side (its scenario loaded once) and what it was built from
     resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
+    # True on what checked() returns (not copied by dataclasses.replace: a changed copy is
+    # checked again), so that the layers below the edge take a checked config as it is
+    is_checked: bool = field(default=False, init=False, compare=False, repr=False)
 
     def checked(self) -> LiveConfig:
-        """This config with every value checked (nothing is built or written)."""
+        """This config with every value checked (nothing is built or written); a config
+        :meth:`checked` returned is returned as it is, checked once."""
+        if self.is_checked:
+            return self
+        done = self._checked()
+        object.__setattr__(done, "is_checked", True)
+        return done
+
+    def _checked(self) -> LiveConfig:
         _name(self.participant, "participant")
         if self.session is not None:
             _name(self.session, "session")
@@ -213,6 +224,7 @@ def _whole(value: object, what: str, low: int, high: int) -> int:
 
 
 def _number(value: object, what: str, low: float, high: float) -> float:
+    value = from_text(value, float)  # the command line's text: checked here, once
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
         raise RobinPilError(f"{what} must be a number from {low} to {high}, got {value!r:.40}")
     if not low <= value <= high:

@@ -116,16 +116,26 @@ class SessionFiles:
         }
         if reading is not None:
             entry["reading"] = reading
+        line = json.dumps(entry, default=str) + "\n"
         with self._lock:
-            if self._inputs.closed:
+            if self._inputs.closed:  # after the summary: the questionnaires, late messages
+                self._append_late(line)
                 return
-            self._inputs.write(json.dumps(entry, default=str) + "\n")
+            self._inputs.write(line)
             self._inputs.flush()
             if reading is not None:
                 self.readings += 1
                 return
             self.inputs += 1
             self.rejected += bool(error)
+
+    def _append_late(self, line: str) -> None:
+        """A line after the summary was written (not in its counts); a full disk loses it."""
+        try:
+            with (self.out_dir / INPUTS_NAME).open("a", encoding="utf-8") as late:
+                late.write(line)
+        except OSError:
+            pass
 
     def log_event(self, kind: str, fields: dict[str, Any]) -> None:
         """One line of ``events.jsonl`` (flushed): ``kind`` (e.g. ``silence``,

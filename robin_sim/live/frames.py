@@ -29,11 +29,11 @@ from robin_sim.model.names import DEFAULT_CAMERA, EYE_CAMERA
 from robin_sim.model.scene import LEG_COLORS, SceneLayout
 from robin_sim.render.inset import EyeInset, draw_eye_inset, inset_size
 from robin_sim.render.pool import FrameState, RenderedFrame, RenderPool
+from robin_sim.render.spots import PAGE_FIRST_SPOT, draw_spots
 from robin_sim.render.state_log import StateLog, layout_dict
 from robin_sim.render.video import Mp4Writer
 
 JPEG_QUALITY = 80
-SPOT_COLOUR = (40, 40, 48)  # RGB of the rings marking the table spots (dark on the table)
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,16 +99,6 @@ class FrameHub:
             callbacks = tuple(self._subscribers)
         for callback in callbacks:
             callback(frame)
-
-
-def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None:
-    """Rings numbered from 1 (as the page names them) where the table spots are, in place."""
-    scale = frame.shape[0] / 480
-    for k, (x, y) in enumerate(pixels):
-        centre = (round(x), round(y))
-        axes = (max(3, round(10 * scale)), max(2, round(5 * scale)))  # the table seen at a slant
-        cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_COLOUR, 2, cv2.LINE_AA)
-        _label(frame, str(k + 1), (centre[0] + axes[0] + 2, centre[1] + 4), (255, 255, 255), scale)
 
 
 def draw_leg_numbers(frame: np.ndarray, labels: Iterable[tuple[float, float, int]]) -> None:
@@ -265,7 +255,7 @@ class FrameStream(ClosesOnExit):
                 draw_eye_inset(pixels, eye)
             if self.on_state is not None:
                 self.on_state(state)
-            draw_spots(pixels, self.spots)
+            draw_spots(pixels, self.spots, first=PAGE_FIRST_SPOT)
             if self.legs is not None:
                 draw_leg_numbers(pixels, self.legs())
             ok, jpeg = cv2.imencode(

@@ -5,7 +5,7 @@
 choices. Valid messages (the live page's contract)::
 
     {"type": "point", "x": 312, "y": 207}          a click at a pixel of the scene frame
-    {"type": "gesture", "gesture": "give_me"}      give_me | grasp | release
+    {"type": "gesture", "gesture": KEY}            KEY: GESTURE_KEYS, give_me | grasp | release
     {"type": "thumb", "value": "up"}               up | down
     {"type": "end"}                                the participant ends the session
     {"type": "start"}                              leave a protocol block's instructions
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from pil.errors import RobinPilError
-from pil.types import Feedback, Gesture
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.live.hands.landmarks import HandError, HandInput, check_hand
 
 # The fields each kind takes besides "type".
@@ -40,10 +40,8 @@ FIELDS: dict[str, tuple[str, ...]] = {
     "consent": ("value",),
     "finish": (),
 }
-GESTURE_BY_KEY: dict[str, Gesture] = {  # pointing is the click
-    "give_me": Gesture.GIVE_ME,
-    "grasp": Gesture.GRASP,
-    "release": Gesture.RELEASE,
+GESTURE_BY_KEY: dict[str, Gesture] = {  # the signs' names (pil.types); pointing is the click
+    SIGN_OF[gesture]: gesture for gesture in (Gesture.GIVE_ME, Gesture.GRASP, Gesture.RELEASE)
 }
 THUMBS: dict[str, Feedback] = {"up": Feedback.OK, "down": Feedback.NOT_OK}
 INPUT_KINDS: tuple[str, ...] = tuple(FIELDS)

@@ -21,7 +21,7 @@ Pure Python.
 from __future__ import annotations
 
 import statistics
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -193,6 +193,35 @@ class Questionnaire:
         subscales = {name: statistics.fmean(values) for name, values in scales.items()}
         points = [scores[i.id] for i in rated if i.kind == "scale"] or list(scores.values())
         return {**scores, **subscales, "mean": statistics.fmean(points)}
+
+    def score_ranges(self) -> dict[str, list[float]]:
+        """Each score of :meth:`scores` -> ``[lowest, highest]``: the span of its items (a
+        NASA-TLX weight: 0 to the number of pairs). Saved with the scores, so that a report
+        can refuse a score off its scale."""
+
+        def span(items: Sequence[Item]) -> list[float]:
+            return [float(min(i.minimum for i in items)), float(max(i.maximum for i in items))]
+
+        if self.kind == "nasa-tlx":
+            ratings = [i for i in self.items if i.kind == "scale"]
+            out = {"raw_tlx": span(ratings)}
+            pairs = sum(1 for i in self.items if i.scale == TLX_PAIR)
+            if pairs:
+                out["weighted_tlx"] = span(ratings)
+                out.update({f"weight_{i.id}": [0.0, float(pairs)] for i in ratings})
+            return out
+        rated = [i for i in self.items if i.scored]
+        scales: dict[str, list[Item]] = {}
+        for item in rated:
+            if item.scale:
+                scales.setdefault(item.scale, []).append(item)
+        subscales = {name: span(items) for name, items in scales.items()}
+        if self.kind == "godspeed":
+            return subscales
+        if self.kind == "form" or not rated:
+            return {}
+        points = [i for i in rated if i.kind == "scale"] or rated
+        return {**{i.id: span([i]) for i in rated}, **subscales, "mean": span(points)}
 
     def _tlx(self, answers: Mapping[str, Answer]) -> dict[str, float]:
         ratings = {i.id: int(answers[i.id]) for i in self.items if i.kind == "scale"}

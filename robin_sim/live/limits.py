@@ -20,6 +20,18 @@ ATTEMPTS = (1, 100)  # the range of the attempts limit
 SECONDS = (5.0, 3600.0)  # s of simulated time
 
 
+def from_text(value: object, kind: type) -> object:
+    """``value`` as a number of ``kind`` when it is a command line's text of one (else as it
+    is: the caller's check names what is wrong with it), so that a value given as text is
+    checked once, where its range is."""
+    if isinstance(value, str):
+        try:
+            return kind(value)
+        except ValueError:
+            return value
+    return value
+
+
 @dataclass(frozen=True)
 class WatchdogLimits:
     """At most ``attempts`` robot actions and ``seconds`` s of simulated time on one gesture
@@ -30,7 +42,7 @@ class WatchdogLimits:
 
     def checked(self) -> WatchdogLimits:
         """These limits, each checked (one :class:`RobinPilError` naming the valid range)."""
-        attempts, seconds = self.attempts, self.seconds
+        attempts, seconds = from_text(self.attempts, int), from_text(self.seconds, float)
         low, high = ATTEMPTS
         if isinstance(attempts, bool) or not isinstance(attempts, int):
             raise RobinPilError(f"max_attempts must be a whole number, got {attempts!r:.40}")

@@ -10,15 +10,32 @@ name (no path from a request ever reaches the file system). :meth:`Pages.token_c
 from __future__ import annotations
 
 import asyncio
+import html
+import json
 import secrets
 from pathlib import Path
 from typing import Any
 
 from aiohttp import web
 
+from pil.types import SIGN_NAMES, sign_label
+from robin_sim.live.hands.shape import POINTING_SIGN
 from robin_sim.live.hands.vendor import TEXT_TYPES, VENDOR_DIR, VENDOR_TYPES
+from robin_sim.live.inputs import GESTURE_KEYS
 
 STATIC_DIR = Path(__file__).with_name("static")
+# what the participant's page takes from the Python source, not retyped (its body's
+# data-constants): the six signs' names and labels, the one that moves the cursor, the
+# gesture keys a message may name
+PAGE_CONSTANTS = html.escape(
+    json.dumps(
+        {
+            "signs": {name: sign_label(name) for name in SIGN_NAMES},
+            "cursor": POINTING_SIGN,
+            "gestures": list(GESTURE_KEYS),
+        }
+    )
+)
 STATIC_TYPES = {  # all /static/ serves
     "live.js": "text/javascript",
     "live.css": "text/css",
@@ -80,6 +97,7 @@ class Pages:
     async def _index(self, request: web.Request) -> web.Response:
         page = (STATIC_DIR / "index.html").read_text(encoding="utf-8")
         page = page.replace("{{WEBCAM}}", "on" if self.webcam else "off")
+        page = page.replace("{{CONSTANTS}}", PAGE_CONSTANTS)
         return web.Response(text=page.replace("{{QUERY}}", self._query()), content_type="text/html")
 
     async def _no_icon(self, request: web.Request) -> web.Response:

@@ -5,7 +5,7 @@ A protocol is YAML (see ``scenarios/protocols/reactive_vs_proactive.yaml`` and d
 
     name: reactive_vs_proactive
     scenario: table_one                # optional: a shipped scenario or a path (from this file)
-    conditions:                        # system keys of pil.experiments.systems, neutral labels
+    conditions:                        # system keys of pil.task.systems, neutral labels
       - {system: pil, label: Robot A}
       - {system: proactive, label: Robot B}
     order: counterbalanced             # fixed | counterbalanced | latin-square
@@ -90,7 +90,7 @@ class BlockSpec:
 
 
 @dataclass(frozen=True)
-class Condition:
+class ProtocolCondition:
     """One condition: a system, the label participants see, and its blocks."""
 
     system: str
@@ -105,7 +105,7 @@ class Protocol:
 
     name: str
     scenario: str | None  # a shipped scenario's name or a file path (None: the default)
-    conditions: tuple[Condition, ...]
+    conditions: tuple[ProtocolCondition, ...]
     order: str = "counterbalanced"
     description: str = ""
     source: str = "<protocol>"
@@ -196,7 +196,7 @@ def load_protocol(path: str | Path) -> Protocol:
     path = find_protocol(path)
     source = str(path)
     raw = read_yaml_mapping(path, "protocol", ProtocolError, shipped_protocols())
-    _reject_unknown(raw, PROTOCOL_KEYS, source)
+    reject_unknown(raw, PROTOCOL_KEYS, source, ProtocolError)
     name = _text(raw.get("name", path.stem), f"{source}: name")
     description = _text(raw.get("description", ""), f"{source}: description", empty=True)
     scenario_name, scenario = _scenario(raw.get("scenario"), path)
@@ -249,9 +249,9 @@ def _load_scenario(value: str | None, where: str) -> Scenario:
 
 def _conditions(
     raw: Any, scenario: Scenario, blocks: tuple[BlockSpec, ...], instructions: str, source: str
-) -> tuple[Condition, ...]:
+) -> tuple[ProtocolCondition, ...]:
     """The ``conditions`` list: system keys (or mappings with system, label, blocks, ...)."""
-    from pil.experiments.systems import SYSTEM_SPECS
+    from pil.task.systems import SYSTEM_SPECS
 
     where = f"{source}: conditions"
     if not isinstance(raw, list) or not raw:
@@ -259,7 +259,7 @@ def _conditions(
             f"{where}: expected a non-empty list of conditions, each a system key or a mapping "
             f"with keys {', '.join(CONDITION_KEYS)}; systems: " + ", ".join(SYSTEM_SPECS)
         )
-    conditions: list[Condition] = []
+    conditions: list[ProtocolCondition] = []
     for i, item in enumerate(raw):
         here = f"{where}[{i}]"
         entry = {"system": item} if isinstance(item, str) else item
@@ -267,7 +267,7 @@ def _conditions(
             raise ProtocolError(
                 f"{here}: expected a system key or a mapping with keys " + ", ".join(CONDITION_KEYS)
             )
-        _reject_unknown(entry, CONDITION_KEYS, here)
+        reject_unknown(entry, CONDITION_KEYS, here, ProtocolError)
         system = entry.get("system")
         if system not in SYSTEM_SPECS:
             raise ProtocolError(
@@ -279,7 +279,7 @@ def _conditions(
         own_blocks = blocks if own is None else _blocks(own, scenario, f"{here}.blocks")
         text = entry.get("instructions")
         own_text = instructions if text is None else _template(text, f"{here}.instructions")
-        conditions.append(Condition(system, label, own_blocks, own_text))
+        conditions.append(ProtocolCondition(system, label, own_blocks, own_text))
     for key in ("system", "label"):
         values = [getattr(c, key) for c in conditions]
         repeated = next((v for v in values if values.count(v) > 1), None)
@@ -308,7 +308,7 @@ def _blocks(
         here = f"{where}[{i}]"
         if not isinstance(item, Mapping):
             raise ProtocolError(f"{here}: expected a mapping with keys " + ", ".join(BLOCK_KEYS))
-        _reject_unknown(item, BLOCK_KEYS, here)
+        reject_unknown(item, BLOCK_KEYS, here, ProtocolError)
         types = item.get("types")
         if not isinstance(types, list) or not types or len(types) > MAX_TYPES:
             raise ProtocolError(
@@ -367,7 +367,3 @@ def _text(value: Any, where: str, *, empty: bool = False) -> str:
     if not isinstance(value, str) or not (empty or value.strip()):
         raise ProtocolError(f"{where}: expected a non-empty text, got {quote(value)}")
     return value
-
-
-def _reject_unknown(raw: Mapping[str, Any], valid: Sequence[str], where: str) -> None:
-    reject_unknown(raw, valid, where, ProtocolError)

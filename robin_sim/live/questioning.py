@@ -17,15 +17,23 @@ import time
 from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from pil.errors import quote
-from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
+from pil.experiments.answers_file import RANGES_KEY
+from pil.file_names import QUESTIONNAIRES_NAME
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.inputs import LiveInputError
 from robin_sim.live.items import Answer, Questionnaire, QuestionnaireError
 
 MAX_ANSWER_BYTES = 16 * 1024  # a questionnaire's answers are a few hundred bytes
+ANSWER_FIELDS = ("type", "questionnaire", "answers")  # the fields of an answer message
+
+
+class Inputs(Protocol):
+    """Where a message of the page's is logged (:class:`robin_sim.live.session.LiveSession`)."""
+
+    def record_input(self, raw: object, error: str) -> None: ...
 
 
 class Questioning:
@@ -37,14 +45,16 @@ class Questioning:
         folder: Path,
         config: LiveConfig,
         *,
+        inputs: Inputs | None = None,
         file_name: str = QUESTIONNAIRES_NAME,
         context: Mapping[str, Any] | None = None,
     ) -> None:
-        """``file_name``: where in ``folder`` the answers go; ``context``: the fields each
-        entry starts with (default: the block's participant, session, condition, block and
-        protocol)."""
+        """``inputs``: where each message is logged, accepted or refused with why (the block's
+        session: its ``inputs.jsonl``); ``file_name``: where in ``folder`` the answers go;
+        ``context``: the fields each entry starts with (default: the block's participant,
+        session, condition, block and protocol)."""
         self.questionnaires, self.folder, self.config = tuple(questionnaires), folder, config
-        self.file_name = file_name
+        self.file_name, self.inputs = file_name, inputs
         self.context = dict(context) if context is not None else None
         self.index = 0
         self.shown_at = time.monotonic()
@@ -78,7 +88,18 @@ class Questioning:
         }
 
     def receive(self, raw: str | bytes) -> bool:
-        """Check and save one page message; True once the block's last one is answered."""
+        """Check, save and log one page message; True once the block's last one is answered."""
+        try:
+            done = self._receive(raw)
+        except LiveInputError as error:
+            if self.inputs is not None:
+                self.inputs.record_input(raw, str(error))
+            raise
+        if self.inputs is not None:
+            self.inputs.record_input(raw, "")
+        return done
+
+    def _receive(self, raw: str | bytes) -> bool:
         message = _decode(raw)
         name = message.get("questionnaire")
         if name != self.current.name:
@@ -111,6 +132,7 @@ class Questioning:
             "kind": questionnaire.kind,
             "answers": answers,
             "scores": questionnaire.scores(answers),
+            RANGES_KEY: questionnaire.score_ranges(),
             "seconds_to_answer": round(time.monotonic() - self.shown_at, 1),
             "utc": datetime.now(UTC).isoformat(timespec="seconds"),
         }
@@ -144,5 +166,11 @@ def _decode(raw: str | bytes) -> dict[str, Any]:
         kind = message.get("type") if isinstance(message, dict) else None
         raise LiveInputError(
             f"{kind or 'message'}: a questionnaire is shown; answer it first (send type 'answers')"
+        )
+    unknown = [str(key) for key in message if key not in ANSWER_FIELDS]
+    if unknown:
+        raise LiveInputError(
+            f"answers: unknown field(s) {', '.join(map(quote, unknown))}; an answer takes "
+            + ", ".join(repr(k) for k in ANSWER_FIELDS)
         )
     return message

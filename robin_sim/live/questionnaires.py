@@ -31,6 +31,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from pil.errors import quote
+from pil.task.yaml_files import reject_unknown
 from robin_sim.live.items import (
     ITEM_KINDS,
     MAX_ANSWER_CHARS,
@@ -112,7 +113,7 @@ def load_form(raw: Any, where: str, name: str) -> Questionnaire:
     """A form (kind ``form``: answers kept, nothing scored) of items of any kind."""
     if not isinstance(raw, Mapping):
         raise QuestionnaireError(f"{where}: expected a mapping with keys " + ", ".join(FORM_KEYS))
-    _reject_unknown(raw, FORM_KEYS, where)
+    reject_unknown(raw, FORM_KEYS, where, QuestionnaireError, "valid keys:")
     items = _items(raw.get("items"), where, 7, "", "")
     title = _text(raw.get("title", name.capitalize()), f"{where}.title")
     instructions = _text(
@@ -129,7 +130,7 @@ def _one(raw: Any, where: str) -> Questionnaire:
             f"{where}: expected a preset name or a mapping with keys "
             + ", ".join(QUESTIONNAIRE_KEYS)
         )
-    _reject_unknown(raw, QUESTIONNAIRE_KEYS, where)
+    reject_unknown(raw, QUESTIONNAIRE_KEYS, where, QuestionnaireError, "valid keys:")
     name = raw.get("name")
     if not isinstance(name, str) or not NAME.fullmatch(name) or name in PRESETS:
         raise QuestionnaireError(
@@ -167,7 +168,7 @@ def _preset(raw: Any, where: str) -> Questionnaire:
             + " (or a mapping with items)"
         )
     options = PRESET_OPTIONS[name]
-    _reject_unknown(entry, options, where, f"preset {name} takes")
+    reject_unknown(entry, options, where, QuestionnaireError, f"preset {name} takes")
     for key, value in entry.items():
         if not isinstance(value, bool):
             raise QuestionnaireError(f"{where}.{key}: expected true or false, got {quote(value)}")
@@ -208,7 +209,7 @@ def _item(raw: Any, here: str, points: int, low: str, high: str) -> Item:
     if not isinstance(raw, Mapping):
         keys = ", ".join(ITEM_KEYS[:4])
         raise QuestionnaireError(f"{here}: expected a mapping with keys {keys}")
-    _reject_unknown(raw, ITEM_KEYS, here)
+    reject_unknown(raw, ITEM_KEYS, here, QuestionnaireError, "valid keys:")
     item_id = raw.get("id")
     if not isinstance(item_id, str) or not NAME.fullmatch(item_id):
         raise QuestionnaireError(
@@ -305,12 +306,3 @@ def _text(value: Any, where: str) -> str:
             f"{where}: expected a text of 1 to {MAX_TEXT} characters, got {quote(value)}"
         )
     return value.strip()
-
-
-def _reject_unknown(
-    raw: Mapping[str, Any], valid: tuple[str, ...], where: str, takes: str = "valid keys:"
-) -> None:
-    unknown = [str(k) for k in raw if k not in valid]
-    if unknown:
-        shown = ", ".join(valid) if valid else "no options"
-        raise QuestionnaireError(f"{where}: unknown key {quote(unknown[0])}; {takes} {shown}")

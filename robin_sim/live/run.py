@@ -1,9 +1,9 @@
 """The parts of one live session, built in its physics thread like an episode's.
 
-:class:`LiveRun` builds the world of the session's scenario and, through the one assembly
-(:func:`robin_sim.episode.assemble.assemble`, as the episode), the simulated hand, the system's
-learner and the exact detector; then the participant in the scripted person's place, the
-picker, the frame stream (MP4 included), the pacer and the step log.
+:class:`LiveRun` builds, through the one assembly (:func:`robin_sim.episode.assemble.assemble`,
+as the episode), the world of the session's scenario, the simulated hand, the system's learner
+and the exact detector; then the participant in the scripted person's place, the picker, the
+frame stream (MP4 included), the pacer and the step log.
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -17,14 +17,14 @@ from typing import Any
 
 # the session's step log (an episode's is episode.jsonl), as the study's exports read it
 from pil.experiments.sessions_load import SESSION_LOG_NAME as LOG_NAME
+from pil.file_names import VIDEO_NAME  # the same file name as an episode's
 from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
-from robin_sim.episode.assemble import assemble, layout_of
+from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
-from robin_sim.episode.run import VIDEO_NAME  # the same file name as an episode's
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
@@ -40,14 +40,14 @@ from robin_sim.robot.world import PhysicalWorld
 
 def live_parts(
     config: LiveConfig,
-    world: PhysicalWorld,
     on_event: Callable[[str, dict[str, Any]], None] | None = None,
 ) -> tuple[Run, LiveParticipant]:
-    """The checked ``config``'s run in ``world`` (assembled as an episode, with the live
-    body's tempo), with a :class:`LiveParticipant` in the scripted person's place: a live
-    session's, or a simulated participant's (:mod:`robin_sim.fitted.session`)."""
+    """The checked ``config``'s run (assembled as an episode, in a world of the scenario's
+    layout, with the live body's tempo) with a :class:`LiveParticipant` in the scripted
+    person's place: a live session's, or a simulated participant's
+    (:mod:`robin_sim.fitted.session`)."""
     spec = config.run_spec()
-    scripted = assemble(spec, world=world, tempo=LIVE)
+    scripted = assemble(spec, tempo=LIVE)  # the world of the scenario's layout too
     body = scripted.person.body
     assert isinstance(body, PhysicalBody)
     scenario = spec.scenario
@@ -87,9 +87,11 @@ class LiveRun(ClosesOnExit):
     ) -> None:
         self.config = config
         self.spec = config.run_spec()  # the checked config's learner side, typed
-        self.world = PhysicalWorld(layout_of(self.spec.scenario))
+        self.parts, self.participant = live_parts(config, on_event)
+        world = self.parts.world
+        assert isinstance(world, PhysicalWorld)
+        self.world = world
         check_frame_size(self.world.model, config.width, config.height)
-        self.parts, self.participant = live_parts(config, self.world, on_event)
         self.body = self.participant.body
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
@@ -112,7 +114,7 @@ class LiveRun(ClosesOnExit):
                 spots=self.picker.spot_pixels(),
                 on_state=self.picker.show,
                 legs=self.picker.leg_pixels,
-                states=out_dir / STATES_NAME,
+                states=out_dir / STATES_NAME if config.video else None,  # --no-video: none
             )
             self.log = StepLog(out_dir / LOG_NAME)
             # A participant may approve an action that failed: the hand is then what physics says

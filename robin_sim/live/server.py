@@ -40,6 +40,7 @@ from robin_sim.live.tabs import (
     EXAMPLE,
     RATE_LIMIT,
     ControlSlot,
+    DropLog,
     Tab,
     close_tabs,
     error_reply,
@@ -99,6 +100,7 @@ class LiveServer:
         self.app.router.add_get("/ws", self._websocket)
         self._loop: asyncio.AbstractEventLoop | None = None
         self.control = ControlSlot(reconnect_grace_s, self._abandoned)
+        self.drops = DropLog()
 
     # --- WebSocket --------------------------------------------------------------------------
     async def _websocket(self, request: web.Request) -> web.WebSocketResponse:
@@ -155,12 +157,7 @@ class LiveServer:
     async def _received(self, tab: Tab, data: str | bytes) -> None:
         """Validate one message and act on it; anything wrong gets an error reply."""
         if tab.over_rate(time.monotonic()):
-            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role, RATE_LIMIT)
-            tab.send(
-                error_reply(
-                    f"too many messages: at most {RATE_LIMIT} per second; this one was dropped"
-                )
-            )
+            self.drops.drop(tab, data, self.conductor.session.record_input)  # logged, capped
             return
         if tab.role == "experimenter":
             await self._command(tab, data)
@@ -242,6 +239,7 @@ class LiveServer:
         loop.set_exception_handler(self.connections.loop_exception)
         self.conductor.attach(loop, self.frame_from_physics)
         signals = (signal.SIGINT, signal.SIGTERM) if handle_signals else ()
+        previous = {signum: signal.getsignal(signum) for signum in signals}  # the command's
         for signum in signals:
             loop.add_signal_handler(signum, self._signalled, signum)
         runner = web.AppRunner(
@@ -262,13 +260,17 @@ class LiveServer:
             await asyncio.sleep(0.3)
         finally:
             self.control.cancel()
+            self.drops.summary()
             if status_task is not None:
                 status_task.cancel()
             await close_tabs(self.tabs, self.limits.close_timeout_s)
             self.connections.abort_all()  # a client that never reads holds nothing up
             await runner.cleanup()
-            for signum in signals:
+            mask = signal.pthread_sigmask(signal.SIG_BLOCK, signals)  # none lost meanwhile
+            for signum in signals:  # the command's handlers back (asyncio would set defaults)
                 loop.remove_signal_handler(signum)
+                signal.signal(signum, previous[signum])
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
             loop.set_exception_handler(handle_exception)
         return outcome
 

@@ -109,7 +109,7 @@ class LiveSession:
         try:
             item = parse_input(raw, self.config.width, self.config.height)
         except LiveInputError as error:
-            self._log_input(raw, str(error))
+            self.record_input(raw, str(error))
             raise
         self.submit(item)
         return item
@@ -125,13 +125,13 @@ class LiveSession:
         try:
             self._act(item)
         except LiveInputError as error:
-            self._log_input(item.as_dict(), str(error))
+            self.record_input(item.as_dict(), str(error))
             raise
         except Exception as problem:  # logged and refused: the session goes on
             refused = LiveInputError(f"{item.kind}: could not be acted on ({problem!r:.200})")
-            self._log_input(item.as_dict(), str(refused))
+            self.record_input(item.as_dict(), str(refused))
             raise refused from None
-        self._log_input(item.as_dict(), "")
+        self.record_input(item.as_dict(), "")
 
     def subscribe(self, callback: Callable[[Frame], None]) -> Callable[[], None]:
         """Call ``callback`` (in the physics thread) for each new frame; returns unsubscribe."""
@@ -257,16 +257,19 @@ class LiveSession:
                 item, self.webcam, self._participant, self._picker, self.view, self.done.is_set()
             )
         except LiveInputError as problem:
-            self._log_input(item.as_dict(), str(problem))
+            self.record_input(item.as_dict(), str(problem))
             raise
-        self._log_input(item.as_dict(), "", reading=reading)
+        self.record_input(item.as_dict(), "", reading=reading)
 
     def _act(self, item: LiveInput) -> None:
         if self.done.is_set():
             raise LiveInputError("the session has ended; nothing more is taken")
         apply_input(item, self._participant, self._picker, self.webcam, self.view)
 
-    def _log_input(self, raw: object, error: str, reading: dict[str, Any] | None = None) -> None:
+    def record_input(self, raw: object, error: str, reading: dict[str, Any] | None = None) -> None:
+        """One line of ``inputs.jsonl`` (``error`` empty: accepted), also for messages that
+        never reach :meth:`receive`: over the rate limit, a questionnaire's (none before the
+        session's folder exists)."""
         files, participant = self._files, self._participant
         sim_time = None if participant is None else round(participant.body.world.time, 4)
         if files is not None:

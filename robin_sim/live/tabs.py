@@ -84,6 +84,36 @@ class Tab:
         return False
 
 
+MAX_DROPS_LOGGED = 5  # dropped messages logged one by one; later ones are counted
+
+
+class DropLog:
+    """Messages dropped over :data:`RATE_LIMIT`: each gets an error reply, and a participant's
+    is recorded in the block's ``inputs.jsonl`` with why; the log gets the first
+    :data:`MAX_DROPS_LOGGED` one by one, then one line saying the rest are counted, and the
+    count when the server stops (:meth:`summary`): a flood of messages never floods the log."""
+
+    def __init__(self) -> None:
+        self.dropped = 0
+
+    def drop(self, tab: Tab, data: str | bytes, record: Callable[[object, str], None]) -> None:
+        """Drop one message of ``tab``'s; ``record`` logs a participant's in ``inputs.jsonl``."""
+        why = f"too many messages: at most {RATE_LIMIT} per second; this one was dropped"
+        self.dropped += 1
+        if self.dropped <= MAX_DROPS_LOGGED:
+            LOG.warning("dropped a message from a %s tab: over %d per second", tab.role, RATE_LIMIT)
+        elif self.dropped == MAX_DROPS_LOGGED + 1:
+            LOG.warning("more messages over the rate limit; counted, no longer logged one by one")
+        if tab.role == "control":
+            record(data, why)
+        tab.send(error_reply(why))
+
+    def summary(self) -> None:
+        """The count of the messages dropped, when more were dropped than logged."""
+        if self.dropped > MAX_DROPS_LOGGED:
+            LOG.warning("dropped %d messages over the rate limit in all", self.dropped)
+
+
 class ControlSlot:
     """Which tab controls the session, and the wait for one that went away (module doc)."""
 

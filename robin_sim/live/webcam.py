@@ -17,9 +17,10 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from pil.types import Feedback, Gesture
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.live.hands.landmarks import HandInput
-from robin_sim.live.hands.reader import HandReader, Reading
+from robin_sim.live.hands.reader import HandReader, HandReading
+from robin_sim.live.hands.shape import POINTING_SIGN
 from robin_sim.live.inputs import GESTURE_BY_KEY, LiveInputError
 from robin_sim.live.participant import Gesturing
 
@@ -28,14 +29,14 @@ if TYPE_CHECKING:
     from robin_sim.live.participant import LiveParticipant
 
 MAX_READINGS_PER_S = 15  # the page sends at most this many; more are refused
-THUMB_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
+THUMB_OF = {SIGN_OF[thumb]: thumb for thumb in (Feedback.OK, Feedback.NOT_OK)}
 INSTRUCTIONS = {
-    "give_me": "Hold out your open palm, as for 'give me'.",
-    "grasp": "Make a fist (grasp).",
-    "release": "Open your hand, fingers up (release).",
-    "thumb_up": "Show a thumb up.",
-    "thumb_down": "Show a thumb down.",
-    "pointing": "Point with your index finger.",
+    SIGN_OF[Gesture.GIVE_ME]: "Hold out your open palm, as for 'give me'.",
+    SIGN_OF[Gesture.GRASP]: "Make a fist (grasp).",
+    SIGN_OF[Gesture.RELEASE]: "Open your hand, fingers up (release).",
+    SIGN_OF[Feedback.OK]: "Show a thumb up.",
+    SIGN_OF[Feedback.NOT_OK]: "Show a thumb down.",
+    SIGN_OF[Gesture.POINTING]: "Point with your index finger.",
 }
 
 
@@ -47,7 +48,7 @@ class Webcam:
         self.calibrate = calibrate
         self._lock = threading.Lock()
         self._recent: deque[float] = deque()
-        self.last: Reading | None = None
+        self.last: HandReading | None = None
         self.problem = ""  # why the last decision could not be acted on ("" none)
 
     def start(self) -> None:
@@ -69,7 +70,7 @@ class Webcam:
         participant: LiveParticipant,
         pick: Callable[[float, float], Target],
         on_pick: Callable[[Target, float, float], None],
-    ) -> Reading:
+    ) -> HandReading:
         """Read one message and act on its decision; :class:`LiveInputError` over the rate."""
         started = time.perf_counter()
         now = time.monotonic()
@@ -90,7 +91,7 @@ class Webcam:
 
     def _act(
         self,
-        reading: Reading,
+        reading: HandReading,
         participant: LiveParticipant,
         pick: Callable[[float, float], Target],
         on_pick: Callable[[Target, float, float], None],
@@ -104,7 +105,7 @@ class Webcam:
             return
         if participant.phase not in ("waiting_for_gesture", "waiting_for_thumb"):
             return
-        if decided == "pointing":
+        if decided == POINTING_SIGN:
             assert reading.cursor is not None
             x, y = reading.cursor
             try:
@@ -133,7 +134,7 @@ class Webcam:
                 approved=feedback is not Feedback.NOT_OK,
             )
 
-    def reply(self, reading: Reading) -> dict[str, Any]:
+    def reply(self, reading: HandReading) -> dict[str, Any]:
         """What the page is told of a reading (its cursor, dwell ring and calibration)."""
         with self._lock:
             return {"type": "reading", **reading.as_dict(), "problem": self.problem, **self._cal()}

@@ -10,6 +10,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
+from pil.types import SIGN_NAMES
+
 Side = Literal["l", "r"]
 SIDES: tuple[Side, ...] = ("l", "r")
 ACTIVE_SIDE: Side = "l"  # the paper's Robin hands over with its left arm
@@ -121,15 +123,7 @@ HEAD_ACTUATORS: tuple[str, ...] = HEAD_JOINTS  # position actuators named like t
 
 # Visual-only geoms on the human hand showing each gesture: ``human_vis_<pose>_<part>``; only
 # the ``neutral`` pose is opaque in the file, the others have alpha 0 until shown.
-HUMAN_VIS_POSES: tuple[str, ...] = (
-    "neutral",
-    "pointing",
-    "give_me",
-    "grasp",
-    "release",
-    "thumb_up",
-    "thumb_down",
-)
+HUMAN_VIS_POSES: tuple[str, ...] = ("neutral", *SIGN_NAMES)  # pil.types: the six signs
 HUMAN_VIS_PARTS: tuple[str, ...] = ("palm", "thumb", "index", "middle", "ring", "little")
 
 

@@ -17,22 +17,17 @@ import mujoco
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.types import Feedback, Gesture
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.model import names
 from robin_sim.model.names import HUMAN_VIS_PREFIX  # what every pose geom's name starts with
 from robin_sim.person.hand_poses import HandShaper, Performance
 
 NEUTRAL_POSE = "neutral"
-POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral, pointing, give_me, ... thumb_down
-GESTURE_POSES: dict[Gesture, str] = {
-    Gesture.POINTING: "pointing",
-    Gesture.GIVE_ME: "give_me",
-    Gesture.GRASP: "grasp",
-    Gesture.RELEASE: "release",
-}
+POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral and the six signs (pil.types)
+GESTURE_POSES: dict[Gesture, str] = {gesture: SIGN_OF[gesture] for gesture in Gesture}
 FEEDBACK_POSES: dict[Feedback, str] = {
-    Feedback.OK: "thumb_up",
-    Feedback.NOT_OK: "thumb_down",
+    Feedback.OK: SIGN_OF[Feedback.OK],
+    Feedback.NOT_OK: SIGN_OF[Feedback.NOT_OK],
     Feedback.NONE: NEUTRAL_POSE,
 }
 

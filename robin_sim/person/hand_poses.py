@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.model import names
 
 HUMAN_FINGERS: tuple[str, ...] = (
@@ -71,12 +72,24 @@ SHAPES: dict[str, PoseShape] = {
     "neutral": PoseShape(
         (0.35, 0.4, 0.45, 0.5), 0.05, (-0.6, 0.7, -0.3), (-1, 0, -0.5), (0, -1, 0)
     ),
-    "pointing": PoseShape((0.0, 1.0, 1.0, 1.0), 0.0, (-0.7, -0.2, 0.7), _POINT_DOWN, (0, -1, 0)),
-    "give_me": PoseShape((0.0, 0.0, 0.0, 0.0), 0.02, (-0.45, 0.9, 0.0), _TO_ROBOT, (0, 0, 1)),
-    "grasp": PoseShape((0.55, 0.55, 0.55, 0.55), 0.05, (-0.8, 0.1, 0.6), (0, 0, 1), _FACE_ROBOT),
-    "release": PoseShape((0.0, 0.0, 0.0, 0.0), 0.3, (-0.1, 1.0, 0.0), (0, 0, 1), _FACE_ROBOT),
-    "thumb_up": PoseShape((1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, -1, 0)),
-    "thumb_down": PoseShape((1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, 1, 0)),
+    SIGN_OF[Gesture.POINTING]: PoseShape(
+        (0.0, 1.0, 1.0, 1.0), 0.0, (-0.7, -0.2, 0.7), _POINT_DOWN, (0, -1, 0)
+    ),
+    SIGN_OF[Gesture.GIVE_ME]: PoseShape(
+        (0.0, 0.0, 0.0, 0.0), 0.02, (-0.45, 0.9, 0.0), _TO_ROBOT, (0, 0, 1)
+    ),
+    SIGN_OF[Gesture.GRASP]: PoseShape(
+        (0.55, 0.55, 0.55, 0.55), 0.05, (-0.8, 0.1, 0.6), (0, 0, 1), _FACE_ROBOT
+    ),
+    SIGN_OF[Gesture.RELEASE]: PoseShape(
+        (0.0, 0.0, 0.0, 0.0), 0.3, (-0.1, 1.0, 0.0), (0, 0, 1), _FACE_ROBOT
+    ),
+    SIGN_OF[Feedback.OK]: PoseShape(
+        (1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, -1, 0)
+    ),
+    SIGN_OF[Feedback.NOT_OK]: PoseShape(
+        (1.0, 1.0, 1.0, 1.0), 0.0, (0.05, 1.0, 0.0), _TO_ROBOT, (0, 1, 0)
+    ),
 }
 
 

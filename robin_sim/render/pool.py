@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
-import os
 from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -32,6 +31,7 @@ from typing import Any, NoReturn
 
 import mujoco
 
+from pil.cpus import cpu_count
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
@@ -53,13 +53,13 @@ from robin_sim.render.worker import (
 from robin_sim.render.worker_start import ignored_for_children, start_worker
 
 
-def default_workers() -> int:
-    """Workers used when none are given: 2, or 0 (in-process) on a machine with one CPU.
+def default_render_workers() -> int:
+    """Render workers when none are given: 2, or 0 (in-process) on a machine with one CPU.
 
     On 2 CPUs two workers recorded 1.3-1.6x the frames/s of in-process rendering (see
     ``bench/bench_render_pool.py``): llvmpipe leaves a CPU partly idle within one frame.
     """
-    return 2 if (os.cpu_count() or 1) >= 2 else 0
+    return 2 if cpu_count() >= 2 else 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +76,7 @@ class RenderPool(ClosesOnExit):
     Submit with :meth:`submit`; take finished frames with :meth:`ready` (never waits) after
     each submit and :meth:`drain` (waits for all) at the end. ``finish(frame, payload)``, a
     module-level function, runs on each frame where it was rendered (e.g. to draw an overlay).
-    ``workers=0`` renders inside :meth:`submit`; ``None`` picks :func:`default_workers`.
+    ``workers=0`` renders inside :meth:`submit`; ``None`` picks :func:`default_render_workers`.
     ``render_threads`` sets each worker's
     llvmpipe thread count (``LP_NUM_THREADS``; default: Mesa's, one per CPU). Use as a
     context manager or call :meth:`close`; frames not drained by then are dropped.
@@ -97,7 +97,7 @@ class RenderPool(ClosesOnExit):
         reflections: bool = True,
         second: SecondView | None = None,
     ) -> None:
-        workers = default_workers() if workers is None else workers
+        workers = default_render_workers() if workers is None else workers
         for name, value, least in (
             ("workers", workers, 0),
             ("in_flight_per_worker", in_flight_per_worker, 1),

@@ -2,8 +2,10 @@
 
 A spot is a point on the table top; :func:`spot_pixels` projects the layout's spots through a
 camera of a simulation as it is now (its pose from ``data``, its field of view from the model),
-and :func:`draw_spots` draws a ring and the spot's number (the index a "location" target and
-the log use) at each. Projection is the pinhole model MuJoCo renders with.
+and :func:`draw_spots` draws a ring and the spot's number at each: from 0 on an episode's
+video (the index a "location" target and the log use), from :data:`PAGE_FIRST_SPOT` on the
+live page and its replay (as the page names them to the participant). Projection is the
+pinhole model MuJoCo renders with.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from robin_sim.model import robot_spec as spec
 
 SPOT_RING = (255, 255, 255)  # RGB: white, unlike any leg (red, green, blue, yellow)
 SPOT_SHADOW = (30, 30, 30)
+PAGE_FIRST_SPOT = 1  # the live page numbers the spots from 1, as it names them
 
 
 def project(
@@ -56,8 +59,9 @@ def spot_pixels(
     return tuple((float(x), float(y)) for x, y in project(model, data, camera, points, size))
 
 
-def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None:
-    """A ring and its number at each spot (skipping points off the frame), in place."""
+def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]], *, first: int = 0) -> None:
+    """A ring and its number (from ``first``) at each spot (skipping points off the frame),
+    in place."""
     height, width = frame.shape[:2]
     scale = height / 480
     axes = (max(3, round(11 * scale)), max(2, round(5 * scale)))  # the table seen at a slant
@@ -68,7 +72,7 @@ def draw_spots(frame: np.ndarray, pixels: Iterable[tuple[float, float]]) -> None
         centre = (round(x), round(y))
         cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_SHADOW, ring + 2, cv2.LINE_AA)
         cv2.ellipse(frame, centre, axes, 0, 0, 360, SPOT_RING, ring, cv2.LINE_AA)
-        text = str(k)
+        text = str(k + first)
         (text_w, text_h), _ = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, font, ring - 1)
         label = (centre[0] - axes[0] - round(4 * scale) - text_w, centre[1] + text_h // 2)
         for colour, weight in ((SPOT_SHADOW, ring + 1), (SPOT_RING, max(1, ring - 1))):

@@ -16,24 +16,22 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-import zipfile
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from pil.errors import RobinPilError, naming
+from pil.errors import naming
 from robin_sim.model.scene import SceneLayout
+from robin_sim.render.state_checks import StatesError, check_against_model, read_state_arrays
 from robin_sim.render.worker import FrameState
+
+__all__ = ["STATES_NAME", "RecordedStates", "StateLog", "StatesError", "load_states"]
 
 STATES_NAME = "states.npz"
 FORMAT = 1  # bumped when the file's layout changes
 _GEOM = ("geom_rgba", "geom_pos", "geom_quat", "geom_size")
-
-
-class StatesError(RobinPilError):
-    """A states file that is missing, unreadable or of another format."""
 
 
 def layout_dict(layout: SceneLayout | None) -> dict[str, Any]:
@@ -173,14 +171,9 @@ class StateLog:
 
 
 def load_states(path: Path) -> RecordedStates:
-    """Read a states file written by :class:`StateLog`; :class:`StatesError` if it cannot."""
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in data.files}
-        meta = json.loads(str(arrays["meta"]))
-        overlays = [json.loads(text) for text in json.loads(str(arrays["overlays"]))]
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as problem:
-        raise StatesError(f"{path}: not a readable states file ({problem})") from None
+    """Read a states file written by :class:`StateLog`; :class:`StatesError` if it cannot,
+    or if it is damaged (:mod:`robin_sim.render.state_checks`: nothing is rendered from it)."""
+    arrays, meta, overlays = read_state_arrays(path)
     if meta.get("format") != FORMAT:
         raise StatesError(
             f"{path}: states format {meta.get('format')!r}; this version reads format {FORMAT}"
@@ -203,4 +196,12 @@ def load_states(path: Path) -> RecordedStates:
             )
         )
     index = arrays["overlay_index"]
-    return RecordedStates(tuple(states), arrays["copies"], tuple(overlays[k] for k in index), meta)
+    recorded = RecordedStates(
+        tuple(states), arrays["copies"], tuple(overlays[k] for k in index), meta
+    )
+    try:
+        layout = recorded.layout
+    except (KeyError, TypeError, ValueError) as problem:
+        raise StatesError(f"{path}: meta: not a scene layout ({problem})") from None
+    check_against_model(path, arrays, layout)
+    return recorded

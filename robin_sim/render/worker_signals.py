@@ -2,6 +2,6 @@
 
 from __future__ import annotations
 
-import signal
+from pil.signal_policy import SIGNALS
 
-SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM)
+__all__ = ["SIGNALS"]

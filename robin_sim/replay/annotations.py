@@ -15,7 +15,6 @@ step, gesture, action, feedback, legs), built from its log, for ``robin-pil repl
 
 from __future__ import annotations
 
-import json
 from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
@@ -23,7 +22,8 @@ from typing import Any
 from pil.experiments.questionnaire_report import QUESTIONNAIRES_NAME
 from pil.experiments.sessions_load import EVENTS_NAME, INPUTS_NAME, SESSION_LOG_NAME, SUMMARY_NAME
 from pil.experiments.study_export import read_jsonl
-from robin_sim.episode.run import LOG_NAME as EPISODE_LOG_NAME
+from pil.file_names import EPISODE_LOG_NAME
+from pil.regular_files import UnreadableFileError, read_json_file
 from robin_sim.live.files import NOTES_NAME
 from robin_sim.render.overlay import OverlayInfo
 from robin_sim.render.state_log import RecordedStates
@@ -126,9 +126,9 @@ def with_log_overlay(recorded: RecordedStates, folder: Path) -> RecordedStates:
 
 
 def _summary(folder: Path) -> dict[str, Any]:
-    try:
-        data = json.loads((folder / SUMMARY_NAME).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+    try:  # a link to /dev/zero, a FIFO: nothing read (the timeline goes without it)
+        data = read_json_file(folder / SUMMARY_NAME, "summary", "the summary")
+    except UnreadableFileError:
         return {}
     return data if isinstance(data, dict) else {}
 

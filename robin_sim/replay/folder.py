@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from pil.errors import RobinPilError, quote
@@ -31,6 +32,11 @@ def states_file(folder: Path) -> Path:
     path = folder / STATES_NAME
     if path.is_file():
         return path
+    if os.path.lexists(path):  # a link to /dev/zero, a FIFO, a folder, a dangling link
+        raise ReplayError(
+            f"{quote(str(path))} is not a regular file (a link to a device or to nothing, a "
+            f"FIFO or a folder); a run writes {STATES_NAME} as a file: replay another run"
+        )
     inside = sorted(p.parent for p in folder.glob(f"**/{STATES_NAME}"))
     if inside:
         names = ", ".join(quote(str(p)) for p in inside[:MAX_LISTED])

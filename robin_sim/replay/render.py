@@ -109,7 +109,8 @@ class ReplayRenderer(ClosesOnExit):
 
     def finished(self, wait: bool = False) -> Iterator[tuple[int, np.ndarray]]:
         """(index, pixels) of the frames rendered so far (``wait``: all submitted), in order."""
-        from robin_sim.live.frames import draw_leg_numbers, draw_spots
+        from robin_sim.live.frames import draw_leg_numbers
+        from robin_sim.render.spots import PAGE_FIRST_SPOT, draw_spots
 
         for frame in self.pool.drain() if wait else self.pool.ready():
             index, pixels = frame.payload, frame.pixels
@@ -123,7 +124,7 @@ class ReplayRenderer(ClosesOnExit):
             if self.second is not None and self._last_eye is not None:
                 draw_eye_inset(pixels, self._last_eye, INSET_LABEL)
             if self.spots:
-                draw_spots(pixels, self.spots)
+                draw_spots(pixels, self.spots, first=PAGE_FIRST_SPOT)
             if self.picker is not None:
                 self.picker.show(self.recorded.states[index])
                 draw_leg_numbers(pixels, self.picker.leg_pixels())

@@ -57,7 +57,6 @@ class PhysicalWorld:
     def __init__(
         self,
         layout: SceneLayout | None = None,
-        seed: int = 0,
         *,
         speed: float = DEFAULT_SPEED,
         control_dt: float = 0.02,
@@ -79,7 +78,6 @@ class PhysicalWorld:
         self.person_contacts = PersonContacts(self.sim)
         self.head = HeadController(self.sim, self._gaze_sources())  # gaze: head joints only
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)
-        self.rng = np.random.default_rng(seed)
         self.speed = speed
         self.leg_count = len(self.layout.legs)
         self._leg_qadr = [

@@ -9,21 +9,15 @@ split's samples (at least one chunk).
 
 from __future__ import annotations
 
-import multiprocessing
 import os
-import signal
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
 
+from pil.worker_pool import SpawnPool
 from robin_sim.vision.build_config import BuildConfig
 from robin_sim.vision.dataset import CHUNK, chunk_path, chunk_ready, chunks_for, load_split
-
-
-def worker_leaves_ctrl_c() -> None:
-    """Initializer of a spawn pool's worker: Ctrl-C is the parent's to handle."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _jobs(config: BuildConfig) -> list[tuple[str, int]]:
@@ -66,16 +60,13 @@ def run_jobs(
     workers: int,
     progress: Callable[[int], None] = lambda n: None,
 ) -> int:
-    """Render ``jobs`` in a spawn process pool (Ctrl-C / SIGTERM stop it; finished chunk files
-    stay); ``progress(samples)`` after each. Returns the chunks rendered."""
+    """Render ``jobs`` in a :class:`~pil.worker_pool.SpawnPool` (Ctrl-C / SIGTERM stop it at
+    once; finished chunk files stay); ``progress(samples)`` after each. Returns the chunks
+    rendered."""
     if not jobs:
         return 0
     os.environ.setdefault("MUJOCO_GL", "egl")
-    previous = signal.signal(signal.SIGTERM, raise_interrupt)
-    context = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(
-        min(workers, len(jobs)), mp_context=context, initializer=worker_leaves_ctrl_c
-    )
+    pool = SpawnPool(min(workers, len(jobs)))
     from robin_sim.vision.render_set import render_chunk
 
     done = 0
@@ -91,15 +82,13 @@ def run_jobs(
             for future in finished:
                 progress(future.result())
                 done += 1
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
-        signal.signal(signal.SIGTERM, previous)
+    except BaseException:  # an interrupt, a failed chunk: the chunks in flight are not waited for
+        pool.stop()
+        for partial in folder.glob("*.partial.npz"):  # a chunk killed while being written
+            partial.unlink(missing_ok=True)
+        raise
+    pool.shutdown(wait=True)
     return done
-
-
-def raise_interrupt(signum: int, frame: object) -> None:
-    """A SIGTERM handler: stop as Ctrl-C would (finished files stay)."""
-    raise KeyboardInterrupt
 
 
 def train_and_report(config: BuildConfig) -> dict[str, object]:

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from pil.cpus import cpu_count
 from pil.errors import RobinPilError
 from pil.task.params import SEED
 from robin_sim.vision.dataset import CHUNK
@@ -15,14 +15,8 @@ MIN_SAMPLES = 7 * 4
 MAX_SAMPLES = 100_000  # about 12x the shipped model's set; hours of rendering on 2 cores
 
 
-def cpu_count() -> int:
-    """The CPUs this process may run on (its affinity mask, else the machine's count)."""
-    affinity = getattr(os, "sched_getaffinity", None)
-    return len(affinity(0)) if affinity is not None else os.cpu_count() or 1
-
-
-def default_workers() -> int:
-    """Render processes by default: 2, or fewer on a machine with fewer CPUs."""
+def default_build_workers() -> int:
+    """Processes rendering the gesture samples by default: 2, or 1 on a machine with one CPU."""
     return min(2, cpu_count())
 
 
@@ -33,7 +27,7 @@ class BuildConfig:
     samples: int = DEFAULT_SAMPLES
     seed: int = 0
     out: Path = Path("out/gestures")
-    workers: int = field(default_factory=lambda: default_workers())
+    workers: int = field(default_factory=lambda: default_build_workers())
 
     def __post_init__(self) -> None:
         SEED.parse(self.seed, "--seed")  # a negative or huge seed: refused here
@@ -62,4 +56,4 @@ class BuildConfig:
         return self.out / "chunks"
 
 
-__all__ = ["DEFAULT_SAMPLES", "MAX_SAMPLES", "MIN_SAMPLES", "BuildConfig", "cpu_count"]
+__all__ = ["DEFAULT_SAMPLES", "MAX_SAMPLES", "MIN_SAMPLES", "BuildConfig", "default_build_workers"]

@@ -2,7 +2,7 @@
 the person's looks (``skin``, ``pose_jitter``) and whether Robin adapts its gesture model to
 the person (``adapt``, :mod:`robin_sim.vision.adapting`).
 
-One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.Condition`
+One source for their names, defaults and ranges: :class:`robin_sim.vision.eyes.EyeCondition`
 checks its values against them, the episode's edge parses them apart from the run's
 parameters (:func:`robin_sim.episode.config.parse_episode`) and a physical sweep checks them
 before its first run.
@@ -15,8 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from pil.errors import InvalidChoiceError
-from pil.task.params import ParamSpec
+from pil.task.params import ParamSpec, parse_all
 
 CONDITION_PARAMS: dict[str, ParamSpec] = {
     "lighting": ParamSpec(
@@ -74,12 +73,6 @@ class VisionSettings:
 
 
 def parse_conditions(given: Mapping[str, Any]) -> VisionSettings:
-    """The conditions ``given`` (text or numbers; missing: defaults), each checked by its spec."""
-    for name in given:
-        if name not in CONDITION_PARAMS:
-            raise InvalidChoiceError("camera condition", name, CONDITION_PARAMS)
-    values = {
-        name: spec.parse(given[name]) if name in given else spec.default
-        for name, spec in CONDITION_PARAMS.items()
-    }
-    return VisionSettings(**values)
+    """The conditions ``given`` (text or numbers; missing: defaults), each checked by its spec
+    (:func:`pil.task.params.parse_all`)."""
+    return VisionSettings(**parse_all(CONDITION_PARAMS, given, "camera condition"))

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pil.task.detector import EXACT
 from robin_sim.vision.build import Job, run_jobs
 from robin_sim.vision.classifier import GestureModel, load_shipped
 from robin_sim.vision.dataset import CHUNK, chunk_ready, chunks_for, load_split
@@ -137,7 +138,7 @@ def study_costs(
         )
     dice = []
     for rate in DICE_RATES:
-        g, gs, a, asd = pil_means(rate, "exact")
+        g, gs, a, asd = pil_means(rate, EXACT)
         dice.append(
             {"rate": rate, "gestures": g, "gestures_sd": gs, "actions": a, "actions_sd": asd}
         )

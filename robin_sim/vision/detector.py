@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
-from pil.types import Feedback, Gesture
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.control.gaze import look_at
 from robin_sim.control.simulator import Simulator
 from robin_sim.model import names
@@ -36,15 +36,15 @@ from robin_sim.person.hand_poses import Performance
 from robin_sim.vision.adapting import AdaptedModel, FeedbackLabels
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, ModelFileError, load_shipped
 from robin_sim.vision.condition_params import CONDITION_PARAMS
-from robin_sim.vision.eyes import Condition, EyeCameras
+from robin_sim.vision.eyes import EyeCameras, EyeCondition
 from robin_sim.vision.picture import reading_picture
-from robin_sim.vision.reader import Reading, read_views, see
+from robin_sim.vision.reader import EyeReading, read_views, see
 from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES
 
 # the camera conditions' defaults, by name (a run's --param values replace them)
 VISION_DEFAULTS: dict[str, float] = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
-FEEDBACK_OF = {"thumb_up": Feedback.OK, "thumb_down": Feedback.NOT_OK}
+FEEDBACK_OF = {SIGN_OF[thumb]: thumb for thumb in (Feedback.OK, Feedback.NOT_OK)}
 NO_HAND = "no hand"  # a discarded reading in which neither eye found a hand
 READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 
@@ -92,7 +92,7 @@ class VisionRecord:
         }
 
 
-def _decide(reading: Reading, classes: tuple[str, ...]) -> tuple[str, str, float]:
+def _decide(reading: EyeReading, classes: tuple[str, ...]) -> tuple[str, str, float]:
     """(what is read: a class or :data:`DISCARDED`, the best class in context, its confidence)."""
     label, confidence = reading.among(classes)
     kept = label != NO_GESTURE and confidence >= reading.threshold
@@ -117,7 +117,7 @@ class VisionDetector:
         adapt: bool = False,
     ) -> None:
         self.sim = sim
-        self.condition = Condition(lighting=lighting, camera_noise=camera_noise)
+        self.condition = EyeCondition(lighting=lighting, camera_noise=camera_noise)
         self.display = display
         self.gesture_model = gesture_model or load_shipped()
         problem = self.gesture_model.problem()  # NaN weights would read every gesture wrong
@@ -131,7 +131,7 @@ class VisionDetector:
         self.labels = None if self.adapted is None else FeedbackLabels(self.adapted)
         self.records: list[VisionRecord] = []
         self.detected = self.discarded = self.misread = 0
-        self.last_reading: Reading | None = None
+        self.last_reading: EyeReading | None = None
         self.last_view: np.ndarray | None = None
 
     @classmethod
@@ -172,7 +172,7 @@ class VisionDetector:
         return f"vision, lighting {c.lighting:g}, noise {c.camera_noise:g}"
 
     # --- reading -------------------------------------------------------------------------------
-    def look(self) -> Reading:
+    def look(self) -> EyeReading:
         """Look at the person's palm now and read the hand (all seven classes)."""
         data = self.sim.data
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
@@ -217,7 +217,7 @@ class VisionDetector:
             base, rows = self.gesture_model, reading.features
             # no hand: "no gesture" at 1 either way
             p = reading.probabilities if rows is None else base.probabilities(rows).mean(axis=0)
-            shipped = _decide(Reading(p, reading.boxes, base.threshold), classes)[0]
+            shipped = _decide(EyeReading(p, reading.boxes, base.threshold), classes)[0]
         record = VisionRecord(
             kind, pose, read, label, confidence, reading.boxes, self.sim.time, shipped
         )

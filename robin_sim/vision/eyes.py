@@ -3,7 +3,7 @@
 :class:`EyeCameras` renders the two eye cameras (``head_left_eye``, ``head_right_eye``) with
 the narrow field of view of a foveal camera (the KIT head pairs a wide and a narrow camera in
 each eye; the model's eye cameras are the wide ones, so the renderer narrows them for the
-duration of a render only). A :class:`Condition` scales the scene's light, turns its main light,
+duration of a render only). A :class:`EyeCondition` scales the scene's light, turns its main light,
 adds Gaussian sensor noise (sd in 8-bit units) and blur; the depth image gets noise too
 (``depth_noise`` m).
 """
@@ -32,7 +32,7 @@ class ConditionError(RobinPilError):
 
 
 @dataclass(frozen=True, slots=True)
-class Condition:
+class EyeCondition:
     """What the eyes see under: light scale (1 = the scene's), light turn, noise and blur."""
 
     lighting: float = 1.0  # scale of every light's intensity (and the headlight's)
@@ -78,7 +78,7 @@ class EyeCameras(ClosesOnExit):
     def render(
         self,
         data: mujoco.MjData,
-        condition: Condition = Condition(),
+        condition: EyeCondition = EyeCondition(),
         rng: np.random.Generator | None = None,
     ) -> tuple[EyeView, EyeView]:
         """Left and right eye views of ``data`` under ``condition`` (noise drawn from ``rng``)."""
@@ -101,7 +101,7 @@ class EyeCameras(ClosesOnExit):
             self._restore(saved)
         return views[0], views[1]
 
-    def _apply(self, condition: Condition) -> tuple[np.ndarray, ...]:
+    def _apply(self, condition: EyeCondition) -> tuple[np.ndarray, ...]:
         model = self.model
         head = model.vis.headlight
         saved = (
@@ -131,7 +131,7 @@ class EyeCameras(ClosesOnExit):
         model.vis.headlight.ambient[:] = saved[5]
 
     @staticmethod
-    def _degrade(rgb: np.ndarray, condition: Condition, rng: np.random.Generator) -> np.ndarray:
+    def _degrade(rgb: np.ndarray, condition: EyeCondition, rng: np.random.Generator) -> np.ndarray:
         if condition.blur > 0:
             rgb = cv2.GaussianBlur(rgb, (0, 0), condition.blur)
         if condition.camera_noise > 0:

@@ -3,7 +3,7 @@
 :func:`see` renders both eyes with the head aimed at a point; :func:`read_views` finds the
 hand in each eye, classifies each crop, and averages the eyes' class probabilities (an eye that
 finds no hand casts no vote; no eye finding one reads "no gesture" at confidence 1).
-:meth:`Reading.among` restricts a reading to the classes the robot expects (instruction
+:meth:`EyeReading.among` restricts a reading to the classes the robot expects (instruction
 gestures while it waits for an instruction, thumbs while it waits for feedback).
 """
 
@@ -19,13 +19,13 @@ import numpy as np
 from robin_sim.control.gaze import pose_head
 from robin_sim.model import names
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE
-from robin_sim.vision.eyes import Condition, EyeCameras, EyeView
+from robin_sim.vision.eyes import EyeCameras, EyeCondition, EyeView
 from robin_sim.vision.features import hand_features
 from robin_sim.vision.segment import HandRegion, find_hand
 
 
 @dataclass(frozen=True)
-class Reading:
+class EyeReading:
     """Fused class probabilities of one look, the hand boxes per eye, and the threshold."""
 
     probabilities: np.ndarray  # (7,) in CLASSES order
@@ -89,7 +89,7 @@ class Classifier(Protocol):
 
 def read_views(
     gesture_model: Classifier, views: Sequence[EyeView], depths: Sequence[float]
-) -> Reading:
+) -> EyeReading:
     """Classify the hand seen in ``views`` (one per eye) and fuse the eyes."""
     found = regions(views, depths)
     rows = [f for f in eye_features(views, found) if f is not None]
@@ -100,14 +100,14 @@ def read_views(
         probabilities = np.zeros(len(CLASSES))
         probabilities[CLASSES.index(NO_GESTURE)] = 1.0
     boxes = tuple(None if r is None else r.box for r in found)
-    return Reading(probabilities, boxes, gesture_model.threshold, features)
+    return EyeReading(probabilities, boxes, gesture_model.threshold, features)
 
 
 def see(
     eyes: EyeCameras,
     data: mujoco.MjData,
     target: np.ndarray,
-    condition: Condition,
+    condition: EyeCondition,
     rng: np.random.Generator,
 ) -> tuple[tuple[EyeView, EyeView], list[float]]:
     """Both eye views of ``data`` (head as it is) and the looked-at depth of ``target``."""
@@ -119,7 +119,7 @@ def aim_and_see(
     eyes: EyeCameras,
     data: mujoco.MjData,
     target: np.ndarray,
-    condition: Condition,
+    condition: EyeCondition,
     rng: np.random.Generator,
 ) -> tuple[tuple[EyeView, EyeView], list[float]]:
     """Aim the head kinematically at ``target`` (data sets only) and see."""

@@ -34,7 +34,7 @@ from robin_sim.vision.dataset import (  # noqa: E402
     sample_spec,
     save_chunk,
 )
-from robin_sim.vision.eyes import Condition, EyeCameras  # noqa: E402
+from robin_sim.vision.eyes import EyeCameras, EyeCondition  # noqa: E402
 from robin_sim.vision.features import FEATURE_COUNT  # noqa: E402
 from robin_sim.vision.reader import aim_and_see, eye_features, regions  # noqa: E402
 
@@ -63,7 +63,7 @@ class SampleRenderer:
         self.display.show(pose, performance)
         mujoco.mj_kinematics(self.model, self.data)
         target = self.data.site(names.HUMAN_PALM_SITE).xpos + spec.aim_error
-        condition = Condition(
+        condition = EyeCondition(
             lighting=spec.lighting,
             light_turn=spec.light_turn,
             light_tilt=spec.light_tilt,

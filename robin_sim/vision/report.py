@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pil.file_names import MEASURED_NAME
+from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import SPLITS
 from robin_sim.vision.train import DISCARDED, FEEDBACK_CLASSES, GESTURE_CLASSES, Evaluation
@@ -18,12 +20,9 @@ if TYPE_CHECKING:
 
 # the pil names of the classes (measured files speak the learner's language)
 PIL_NAMES = {
-    "pointing": "pointing",
-    "give_me": "give me",
-    "grasp": "grasp",
-    "release": "release",
-    "thumb_up": "OK",
-    "thumb_down": "not OK",
+    **{SIGN_OF[gesture]: gesture.value for gesture in Gesture},
+    SIGN_OF[Feedback.OK]: "OK",
+    SIGN_OF[Feedback.NOT_OK]: "not OK",
 }
 
 
@@ -152,6 +151,6 @@ def write_report(
     report.write_text("\n".join(lines))
     figure = out / "confusion.png"
     _figure(heldout, figure)
-    measured_path = out / "measured.json"
+    measured_path = out / MEASURED_NAME
     measured_path.write_text(json.dumps(measured(heldout, condition), indent=2) + "\n")
     return [report, figure, measured_path]

@@ -18,15 +18,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pil.types import SIGN_OF, Feedback
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE, GestureModel
-from robin_sim.vision.reader import Reading
+from robin_sim.vision.reader import EyeReading
 
 DEFAULT_THRESHOLD = 0.5
 HIDDEN = 128  # hidden units
 PENALTY = 1e-2  # scikit-learn's alpha (L2)
 MAX_ITER = 400
 GESTURE_CLASSES = CLASSES[:4]
-FEEDBACK_CLASSES = ("thumb_up", "thumb_down")
+FEEDBACK_CLASSES = (SIGN_OF[Feedback.OK], SIGN_OF[Feedback.NOT_OK])
 DISCARDED = "discarded"
 
 
@@ -61,7 +62,7 @@ def fit(
 
 
 def readings(model: GestureModel, split: dict[str, np.ndarray]) -> tuple[np.ndarray, list]:
-    """Per sample: the true class index and its fused :class:`Reading`."""
+    """Per sample: the true class index and its fused :class:`EyeReading`."""
     samples = np.unique(split["sample"])
     truth, out = [], []
     for sample in samples:
@@ -72,7 +73,7 @@ def readings(model: GestureModel, split: dict[str, np.ndarray]) -> tuple[np.ndar
             p = np.zeros(len(CLASSES))
             p[CLASSES.index(NO_GESTURE)] = 1.0
         truth.append(int(split["label"][split["sample"] == sample][0]))
-        out.append(Reading(p, (), model.threshold))
+        out.append(EyeReading(p, (), model.threshold))
     return np.array(truth), out
 
 
@@ -106,7 +107,7 @@ class Evaluation:
         return float(np.trace(self.gestures[:, :-1]) / max(self.gestures.sum(), 1))
 
 
-def _in_context(reading: Reading, classes: tuple[str, ...]) -> int:
+def _in_context(reading: EyeReading, classes: tuple[str, ...]) -> int:
     label, confidence = reading.among(classes)
     if label == NO_GESTURE or confidence < reading.threshold:
         return len(classes)

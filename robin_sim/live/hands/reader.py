@@ -29,14 +29,14 @@ import numpy as np
 
 from robin_sim.live.hands.appearance import Appearance
 from robin_sim.live.hands.landmarks import INDEX_TIP, HandInput, features, normalised
-from robin_sim.live.hands.shape import GESTURE_NAMES, memberships, read_shape
+from robin_sim.live.hands.shape import GESTURE_NAMES, POINTING_SIGN, memberships, read_shape
 
 THRESHOLD = 0.5  # confidence below which a reading is discarded
 HOLD = 2  # readings in a row that decide a gesture
 DWELL_S = 1.2  # s the pointing cursor is held still to select
 DWELL_RADIUS = 40.0  # frame pixels the cursor may wander while held still
 CURSOR_MARGIN = 0.15  # of the camera image on each side left out of the cursor's range
-CALIBRATION_ORDER = ("give_me", "grasp", "release", "thumb_up", "thumb_down", "pointing")
+CALIBRATION_ORDER = GESTURE_NAMES  # pointing last: its example moves the cursor
 CALIBRATION_GAP_S = 1.0  # s after an example is taken before the next is looked for
 # An example this close to one already taken for another gesture is refused: the hand did not
 # change (features in palm sizes; on the footage the same gesture lies 0.2-1.7 apart, two
@@ -52,7 +52,7 @@ KEEP = 4000  # readings kept for the summary's figures
 
 
 @dataclass
-class Reading:
+class HandReading:
     """One reading and what became of it (a line of ``inputs.jsonl`` holds :meth:`as_dict`)."""
 
     seq: int
@@ -102,7 +102,7 @@ class HandReader:
         self.width, self.height = width, height
         self.threshold, self.hold, self.dwell_s = threshold, hold, dwell_s
         self.appearance = Appearance()
-        self.readings: deque[Reading] = deque(maxlen=KEEP)
+        self.readings: deque[HandReading] = deque(maxlen=KEEP)
         self.count = self.found = self.discards = 0
         self.decisions = Counter[str]()
         self.confusion: dict[str, Counter[str]] = {}
@@ -112,11 +112,11 @@ class HandReader:
         self._calibration: list[str] = []
         self.calibration_note = ""  # why the last held hand was not taken ("" none)
         self._gap_until = 0.0
-        self._run: list[Reading] = []  # the current run of the same confident label
+        self._run: list[HandReading] = []  # the current run of the same confident label
         self._latched: str | None = None  # decided and acted on; waits for the hand to change
         self._anchor: tuple[float, float, float] | None = None  # dwell: x, y, since
-        self._pending: list[Reading] = []  # corrected readings waiting for their right label
-        self._by_seq: dict[int, Reading] = {}
+        self._pending: list[HandReading] = []  # corrected readings waiting for their right label
+        self._by_seq: dict[int, HandReading] = {}
 
     # --- calibration ---------------------------------------------------------------------------
     def start_calibration(self, now: float) -> None:
@@ -141,7 +141,7 @@ class HandReader:
             "note": self.calibration_note,
         }
 
-    def _calibrate(self, reading: Reading, now: float) -> None:
+    def _calibrate(self, reading: HandReading, now: float) -> None:
         reading.source = "calibration"
         if now < self._gap_until or not reading.found or reading.features is None:
             self._run = []
@@ -177,10 +177,10 @@ class HandReader:
         self.calibrated = self.asking is None and len(self.appearance.seeded) >= 2
 
     # --- reading -------------------------------------------------------------------------------
-    def read(self, hand: HandInput, now: float) -> Reading:
+    def read(self, hand: HandInput, now: float) -> HandReading:
         """Read one message received at ``now`` (monotonic s)."""
         self.count += 1
-        reading = Reading(self.count, hand.found)
+        reading = HandReading(self.count, hand.found)
         self._by_seq[reading.seq] = reading
         self.readings.append(reading)
         if len(self._by_seq) > KEEP:
@@ -214,13 +214,13 @@ class HandReader:
         if self._latched is not None and self._latched != label:
             self._latched = None
         self._run.append(reading)
-        if label == "pointing":
+        if label == POINTING_SIGN:
             self._point(reading, hand, now)
         elif len(self._run) >= self.hold and self._latched != label:
             reading.decided = label
         return reading
 
-    def _point(self, reading: Reading, hand: HandInput, now: float) -> None:
+    def _point(self, reading: HandReading, hand: HandInput, now: float) -> None:
         assert hand.points is not None
         x, y = float(hand.points[INDEX_TIP, 0]), float(hand.points[INDEX_TIP, 1])
         span = 1.0 - 2 * CURSOR_MARGIN
@@ -234,18 +234,18 @@ class HandReader:
             return
         held = now - anchor[2]
         reading.dwell = min(1.0, held / self.dwell_s)
-        if held >= self.dwell_s - 1e-6 and self._latched != "pointing":
-            reading.decided = "pointing"
+        if held >= self.dwell_s - 1e-6 and self._latched != POINTING_SIGN:
+            reading.decided = POINTING_SIGN
             reading.cursor = (anchor[0], anchor[1])
 
-    def acted(self, reading: Reading, what: str, key: tuple[int, int] | None) -> None:
+    def acted(self, reading: HandReading, what: str, key: tuple[int, int] | None) -> None:
         """The session acted on ``reading``'s decision (``what``, e.g. "gesture give_me")."""
         reading.acted, reading.key = what, key
         assert reading.decided is not None
         self.decisions[reading.decided] += 1
         self._latched, self._run, self._anchor = reading.decided, [], None
 
-    def missed(self, reading: Reading) -> None:
+    def missed(self, reading: HandReading) -> None:
         """The decision could not be acted on (pointing at nothing): start the dwell again."""
         self._anchor, self._run = None, []
 
@@ -307,7 +307,7 @@ def _words(gesture: str) -> str:
     return gesture.replace("_", " ")
 
 
-def _looks_like(run: list[Reading], asked: str) -> str | None:
+def _looks_like(run: list[HandReading], asked: str) -> str | None:
     """None when the held readings look like ``asked`` (:data:`RESEMBLES`, :data:`CLEAR_LEAD`);
     else the gesture they look most like."""
     scores = [r.shape_scores for r in run if r.shape_scores is not None]

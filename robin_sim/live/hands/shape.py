@@ -22,9 +22,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from pil.types import SIGN_NAMES, SIGN_OF, Feedback, Gesture
 from robin_sim.live.hands.landmarks import THUMB_TIP
 
-GESTURE_NAMES = ("give_me", "grasp", "release", "thumb_up", "thumb_down", "pointing")
+# the six signs (pil.types), pointing last: the reader's order (its calibration's too)
+POINTING_SIGN = SIGN_OF[Gesture.POINTING]  # the sign that moves the cursor
+GESTURE_NAMES: tuple[str, ...] = (*(n for n in SIGN_NAMES if n != POINTING_SIGN), POINTING_SIGN)
 FINGER_JOINTS = ((5, 6, 8), (9, 10, 12), (13, 14, 16), (17, 18, 20))  # knuckle, middle joint, tip
 STRAIGHT = (1.12, 0.06)  # extension at which a finger counts half straight, and the softness
 THUMB_LEAD = (0.25, 0.1)  # palm sizes the thumb's tip leads the rest by to count half a thumb
@@ -60,12 +63,12 @@ def memberships(shape: np.ndarray) -> dict[str, float]:
     open_hand = min(straight)
     three_curled = min(curled[1:])
     return {
-        "give_me": open_hand * (1.0 - raised),
-        "release": open_hand * raised,
-        "thumb_up": three_curled * up,
-        "thumb_down": three_curled * down,
-        "pointing": min(straight[0], three_curled) * (1.0 - thumb),
-        "grasp": min(curled) * (1.0 - thumb),
+        SIGN_OF[Gesture.GIVE_ME]: open_hand * (1.0 - raised),
+        SIGN_OF[Gesture.RELEASE]: open_hand * raised,
+        SIGN_OF[Feedback.OK]: three_curled * up,
+        SIGN_OF[Feedback.NOT_OK]: three_curled * down,
+        SIGN_OF[Gesture.POINTING]: min(straight[0], three_curled) * (1.0 - thumb),
+        SIGN_OF[Gesture.GRASP]: min(curled) * (1.0 - thumb),
     }
 
 

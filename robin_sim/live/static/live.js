@@ -337,14 +337,15 @@
 
   // --- the participant's inputs --------------------------------------------------------------
   const ACTIONS = {
-    give_me: () => send({ type: "gesture", gesture: "give_me" }),
-    grasp: () => send({ type: "gesture", gesture: "grasp" }),
-    release: () => send({ type: "gesture", gesture: "release" }),
     up: () => send({ type: "thumb", value: "up" }),
     down: () => send({ type: "thumb", value: "down" }),
     end: () => confirm("End this session? It is saved as it stands.") && send({ type: "end" }),
     start: () => send({ type: "start" }),
   };
+  // the gesture keys a message may name come from the Python source (inputs.GESTURE_KEYS)
+  for (const gesture of JSON.parse(document.body.dataset.constants).gestures) {
+    ACTIONS[gesture] = () => send({ type: "gesture", gesture });
+  }
   const KEYS = {
     g: "give_me", r: "grasp", l: "release", u: "up", ArrowUp: "up", d: "down",
     ArrowDown: "down", e: "end", Enter: "start", s: "start",

@@ -15,8 +15,8 @@
   const BONES = [[0, 1], [1, 2], [2, 3], [3, 4], [0, 5], [5, 6], [6, 7], [7, 8], [5, 9],
     [9, 10], [10, 11], [11, 12], [9, 13], [13, 14], [14, 15], [15, 16], [13, 17], [0, 17],
     [17, 18], [18, 19], [19, 20]];
-  const NAMES = { give_me: "give me", grasp: "grasp", release: "release", thumb_up: "thumb up",
-    thumb_down: "thumb down", pointing: "pointing" };
+  const CONSTANTS = JSON.parse(document.body.dataset.constants); // from the Python source
+  const NAMES = CONSTANTS.signs; // each sign's name -> its label
   const cam = {
     state: "starting", message: "", readings: 0, found: 0, sentAt: [], replies: [],
     last: null, ready: false, readMs: [], // how long each reading held the page's thread
@@ -183,7 +183,7 @@
     $("reading").textContent = reply.acted ? `${shown} → ${reply.acted}` : shown;
     showCursor(reply.cursor, reply.dwell);
     showCalibration(reply.calibration);
-    if (reply.problem && reply.decided === "pointing") live.showError?.(reply.problem);
+    if (reply.problem && reply.decided === CONSTANTS.cursor) live.showError?.(reply.problem);
   }
 
   // The fingertip cursor over the scene, with its dwell ring growing until it selects.

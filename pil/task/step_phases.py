@@ -1,0 +1,265 @@
+"""The phases of one step of the loop (:func:`pil.task.runner.steps`), each its own method.
+
+:class:`StepPhases` carries the loop's state from step to step (:class:`LoopState`) and runs
+a step's phases: the proactive robot acting before the gesture (:meth:`StepPhases.anticipated`,
+:func:`pil.task.proactive_step.anticipate_step`), the instruction's gesture performed and read
+(:meth:`StepPhases.instruction`) and the robot's actions until the person approves
+(:meth:`StepPhases.acting`). The loop's constants and its error are here too.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Generator, Iterator
+from dataclasses import dataclass
+
+from pil.anticipation import Anticipation
+from pil.errors import RobinPilError
+from pil.gesture_evidence import meant_gesture
+from pil.learner import Decision, Learner
+from pil.table import AssociationTable
+from pil.task.detector import GestureReader, LearnsFromFeedback
+from pil.task.person import Person, ScriptStep
+from pil.task.proactive_step import DELIVERY_FROM, anticipate_step
+from pil.task.records import StepObserver, StepRecord
+from pil.task.world import World
+from pil.types import START_ACTION, START_HAND, Action, Feedback, Gesture, Hand, State, hand_after
+
+# Random exploration has a geometric tail: 25 misses in a row at p = 3/4 happen about once a
+# study, 100 about once in 1e10 studies.
+MAX_ACTIONS_PER_GESTURE = 100
+MAX_PERFORMANCES = 1000  # times one instruction gesture may be performed before giving up
+_NOT_OK, _OPEN, _OCCUPIED = Feedback.NOT_OK, Action.OPEN, Hand.OCCUPIED
+# The last action the state takes when physics changed the hand without an approved action: a
+# hand that lost its leg is open and empty, as at the start; one that caught a leg has closed.
+AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
+
+
+class RunnerError(RobinPilError):
+    """The loop cannot go on (e.g. an instruction that never gets an approved action)."""
+
+
+@dataclass(frozen=True, slots=True)
+class StepOptions:
+    """The loop's options (:func:`steps`)."""
+
+    manual: bool
+    repeat_discarded: bool
+    max_actions_per_gesture: int
+
+
+@dataclass(slots=True)
+class LoopState:
+    """What the loop carries from step to step."""
+
+    previous: Action = START_ACTION  # the last approved action (the state's)
+    expected: Hand = START_HAND  # the hand the robot expects after it
+    gestures: int = 0
+    actions: int = 0
+    legs: int = 0
+    approved: bool = False  # the last action was approved: the robot may anticipate the next
+
+
+@dataclass(slots=True)
+class InstructionTally:
+    """One instruction's count of actions and performances, and why it is made again."""
+
+    spent: int = 0
+    performed: int = 0
+    again: str = ""
+
+
+class StepPhases:
+    """The phases of a step (:func:`steps`): the proactive robot acting before the gesture,
+    the gesture's performances and reading, and the actions until the person approves."""
+
+    def __init__(
+        self,
+        learner: Learner,
+        person: Person,
+        detector: GestureReader,
+        world: World,
+        observer: StepObserver | None,
+    ) -> None:
+        self.learner, self.person, self.detector, self.world = learner, person, detector, world
+        self.observer = observer
+        self.state = LoopState()
+
+    def anticipated(
+        self, item: ScriptStep, guess: Anticipation, hand: Hand
+    ) -> Generator[StepRecord, None, bool]:
+        """The proactive robot performs ``guess`` (:func:`anticipate_step`); True when the
+        person is to make the instruction's gesture after all (they stopped it, the hand
+        unchanged and the robot unaware)."""
+        state = self.state
+        record = anticipate_step(
+            self.learner,
+            self.person,
+            self.detector,
+            self.world,
+            item,
+            guess,
+            state.actions + 1,
+            state.gestures,
+            state.legs,
+            state.previous,
+            self.observer,
+        )
+        state.actions, state.legs = record.t, record.legs_delivered
+        yield record
+        if record.feedback_read is not _NOT_OK:  # the robot takes it as approved
+            state.previous, state.expected = guess.action, hand_after(guess.action, hand)
+            state.approved = True
+        if record.feedback is not _NOT_OK:  # and the person lets it stand
+            self.person.completed(item, guess.action)
+            return False
+        # The stopped action changed the hand, or the robot saw the stop: the person re-plans
+        # (a scripted person's next instruction is this one again; a live participant, asked
+        # for it only now, makes the gesture).
+        return self.world.hand() is hand and state.approved
+
+    def instruction(self, item: ScriptStep, options: StepOptions) -> Iterator[StepRecord]:
+        """The instruction's gesture, performed and read until the robot acts on it and the
+        person approves (or re-plans, or a live participant is asked anew)."""
+        person, intent, state = self.person, item.intent, self.state
+        true = intent.gesture
+        steps = InstructionTally()
+        while True:
+            if steps.performed and not person.performs_again(steps.again):
+                return  # a live participant is asked anew (next_step): nothing loops
+            state.gestures += 1
+            steps.performed += 1
+            if steps.performed > MAX_PERFORMANCES:
+                raise RunnerError(
+                    f"gesture {true.value!r} was performed {MAX_PERFORMANCES} times without "
+                    f"the robot acting on it (detection rate {self.detector.rate}); use a "
+                    "higher rate"
+                )
+            person.perform(intent)
+            detected = self.detector.detect(true)
+            base = StepRecord(
+                t=state.actions,
+                gesture_count=state.gestures,
+                table=intent.table,
+                handover=intent.handover,
+                handover_type=item.handover_type,
+                step=item.step,
+                true_gesture=true,
+                detected_gesture=detected,
+                intended_action=intent.action,
+                legs_delivered=state.legs,
+                target=intent.target,
+                recovery=item.recovery,
+            )
+            if (options.manual and detected is not true) or (
+                options.repeat_discarded and detected is None
+            ):
+                what = "discarded" if detected is None else f"read as {detected.value}"
+                steps.again = f"{what}; the person repeats it"
+                yield base._replace(reason=steps.again)
+                continue
+            hand = self.world.hand()
+            if hand is not state.expected:  # physics changed the hand (a drop): the robot's
+                state.previous, state.expected = AFTER_DROP[hand], hand  # is as at the start
+            decision = self.learner.decide(detected, state.previous, hand)
+            if decision.state is None or decision.action is None:
+                steps.again = decision.reason
+                yield base._replace(reason=steps.again)
+                continue
+            base = base._replace(
+                corrected_gesture=decision.state.gesture if decision.corrected else None,
+                state=decision.state,
+            )
+            if (yield from self.acting(item, base, decision, hand, steps, options)):
+                return  # approved, or the person re-plans
+
+    def acting(
+        self,
+        item: ScriptStep,
+        base: StepRecord,
+        decision: Decision,
+        hand: Hand,
+        steps: InstructionTally,
+        options: StepOptions,
+    ) -> Generator[StepRecord, None, bool]:
+        """The robot acts on ``decision`` and on each next choice while the person refuses;
+        True when the instruction is over (approved, or the robot or the world moved on),
+        False when the person performs the gesture again (out of patience)."""
+        learner, person, world, observer = self.learner, self.person, self.world, self.observer
+        intent, state = item.intent, self.state
+        learnt = base.state
+        assert learnt is not None and decision.action is not None
+        action, exploited, reason = decision.action, decision.exploited, decision.reason
+        rejections = 0
+        while True:
+            steps.spent += 1
+            if steps.spent > options.max_actions_per_gesture:
+                raise RunnerError(
+                    f"no approved action after {options.max_actions_per_gesture} actions for "
+                    f"gesture {intent.gesture.value!r} (step {item.step} of handover "
+                    f"{intent.handover}, type {item.handover_type}); the world may keep "
+                    "failing the wanted action"
+                )
+            state.actions += 1
+            if observer is not None:
+                observer.decided(
+                    base._replace(
+                        t=state.actions, action=action, exploited=exploited, reason=reason
+                    )
+                )
+            outcome = world.execute(action, intent.target, person.watch(intent))
+            feedback = person.judge(intent, action, outcome)
+            if observer is not None:
+                observer.answered(base._replace(t=state.actions, action=action, feedback=feedback))
+            person.show_feedback(feedback)
+            # What the robot sees of the thumb: it stopped a stopped action because it saw
+            # the thumb go down; the thumb after an action that ran to its end is read.
+            heard = _NOT_OK if outcome.interrupted else self.detector.read_feedback(feedback)
+            ok = heard is not _NOT_OK  # no feedback counts as OK (eq. 1)
+            delivered = (
+                ok and action is _OPEN and state.previous in DELIVERY_FROM and hand is _OCCUPIED
+            )
+            state.legs += delivered
+            record = base._replace(
+                t=state.actions,
+                action=action,
+                exploited=exploited,
+                reason=reason,
+                feedback=feedback,
+                succeeded=outcome.succeeded,
+                detail=outcome.detail,
+                delivered=delivered,
+                legs_delivered=state.legs,
+                interrupted=outcome.interrupted,
+                dropped=outcome.dropped,
+                feedback_read=heard,
+            )
+            learner.feedback(learnt, action, ok)
+            if isinstance(self.detector, LearnsFromFeedback):  # what the learner just received
+                self.detector.verdict(meant_by_table(learner, action, learnt) if ok else None, ok)
+            if observer is not None:
+                observer.received(record)
+            person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin
+            yield record
+            if ok:  # the robot takes the step as approved
+                state.previous, state.expected = action, hand_after(action, hand)
+                state.approved = True
+            if feedback is not _NOT_OK:  # the person does: on to their next instruction
+                person.completed(item, action)
+                return True
+            if ok or world.hand() is not hand:
+                return True  # the robot moved on, or the world changed: the person re-plans
+            rejections += 1
+            if person.loses_patience(rejections):
+                steps.again = f"{rejections} actions rejected in a row"
+                return False  # the person performs the gesture again
+            action = learner.choose(learnt)
+            exploited, reason = learner.last_exploited, learner.last_reason
+
+
+def meant_by_table(learner: Learner, action: Action, state: State) -> Gesture | None:
+    """The gesture an approved ``action`` means by the learner's table (None: a learner
+    without one, or no evidence yet)."""
+    table = getattr(learner, "table", None)
+    if not isinstance(table, AssociationTable):
+        return None
+    return meant_gesture(table, action, state.previous_action, state.hand)
