@@ -88,11 +88,18 @@ def test_the_fit_is_scipys_lognormal_and_exact_binomial_intervals() -> None:
     assert person.gesture_latency.n == len(latencies)
     low, high = person.gesture_latency.median_low, person.gesture_latency.median_high
     assert low < person.gesture_latency.median < high
-    rate = person.up_on_right  # Clopper-Pearson by the beta quantiles
+    rate = person.up_on_right  # Clopper-Pearson, as scipy's binomial test gives it
     k, n = rate.k, rate.n
     assert 0 < k < n
-    assert rate.low == pytest.approx(stats.beta.ppf(0.025, k, n - k + 1), abs=1e-4)
-    assert rate.high == pytest.approx(stats.beta.ppf(0.975, k + 1, n - k), abs=1e-4)
+    ci = stats.binomtest(k, n).proportion_ci(0.95, method="exact")
+    assert (rate.low, rate.high) == (
+        pytest.approx(ci.low, abs=1e-4),
+        pytest.approx(ci.high, abs=1e-4),
+    )
+    for k in (0, 3, 10):  # the ends too
+        ci = stats.binomtest(k, 10).proportion_ci(0.95, method="exact")
+        assert Rate.of(k, 10).low == pytest.approx(ci.low, abs=1e-4)
+        assert Rate.of(k, 10).high == pytest.approx(ci.high, abs=1e-4)
     # the stand-ins differ as scripted: P02 approves far more often by silence than P01
     p01 = fit_person(
         "P01",

@@ -8,11 +8,11 @@ read by :mod:`pil.experiments.people_observed`):
   gives the turn back, the thumb down's and the thumb up's latency from the action's
   beginning. Kept: the median (the lognormal's scale), sigma (its shape), n, and a 95 % interval
   of the median (Student's t on the logs). One observation: a fixed latency (sigma 0).
-* **rates**, each k of n with its exact (Clopper-Pearson) 95 % interval
-  (``scipy.stats.binomtest``): a thumb down on a wrong arm move and on a wrong finger motion
-  (close, open), a thumb down on a right action (a slip), a thumb up on a right action (the
-  rest is silence, which approves). A thumb that came after the feedback window counts as
-  given: its latency says it was late, and the simulated person is late as often.
+* **rates**, each k of n with its exact (Clopper-Pearson) 95 % interval (the beta quantiles,
+  ``scipy.stats.beta``): a thumb down on a wrong arm move and on a wrong finger motion (close,
+  open), a thumb down on a right action (a slip), a thumb up on a right action (the rest is
+  silence, which approves). A thumb that came after the feedback window counts as given: its
+  latency says it was late, and the simulated person is late as often.
 * **hand examples**: the webcam's landmarks per gesture label, as recorded (none without a
   webcam), for a hand model to retarget.
 
@@ -100,8 +100,10 @@ class Rate:
     def of(cls, k: int, n: int) -> Rate:
         if n == 0:
             return cls(0, 0, None, None, None)
-        ci = stats.binomtest(k, n).proportion_ci(0.95, method="exact")
-        return cls(k, n, round(k / n, 4), round(float(ci.low), 4), round(float(ci.high), 4))
+        # Clopper-Pearson: the beta quantiles (scipy's binomtest(...).proportion_ci's default)
+        low = float(stats.beta.ppf(0.025, k, n - k + 1)) if k > 0 else 0.0
+        high = float(stats.beta.ppf(0.975, k + 1, n - k)) if k < n else 1.0
+        return cls(k, n, round(k / n, 4), round(low, 4), round(high, 4))
 
     def value(self, fallback: float) -> float:
         """The fitted share, or ``fallback`` when nothing was observed."""
