@@ -6,7 +6,8 @@ against per-person), ``tests.csv`` and ``people.png``, and keeps each finished r
 ``reps.jsonl`` as it ends (an interrupted study resumes from it); with ``--seeds K`` K such
 studies in ``OUT/seed_<n>/`` and their comparisons over seeds (``seeds.md``). The appearance study
 (:mod:`robin_sim.appearance`) writes ``appearance_runs.csv``, ``appearance_tables.csv``,
-``tests.csv``, ``appearance.md`` and ``appearance.png``.
+``tests.csv``, ``appearance.md`` and ``appearance.png``. ``--from-sessions DIR``: simulated
+people fitted to recorded live sessions (:mod:`robin_sim.cli.people_fit`).
 """
 
 from __future__ import annotations
@@ -17,11 +18,12 @@ from pathlib import Path
 
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS
+from robin_sim.cli import people_fit
 from robin_sim.cli.options import add_run_options, progress_bar, run_options
+from robin_sim.cli.people_fit import MAX_WORKERS
 
 DEFAULT_OUT = Path("out/people")
 APPEARANCE_REPS = 5  # repetitions of the appearance study (physical episodes: minutes each)
-MAX_WORKERS = 16
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -41,6 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="the appearance study: Robin's eye cameras read people who look different, with "
         "the shipped gesture model (fixed) and one adapting to each person (adapted)",
     )
+    people_fit.add_arguments(parser)  # --from-sessions, --sessions-per-person
     parser.add_argument(
         "--person",
         action="append",
@@ -51,7 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--workers",
         type=int,
         default=2,
-        help="with --appearance: episodes run at once (0: in this process) (default: 2)",
+        help="with --appearance or --from-sessions: episodes or sessions run at once (0: in "
+        "this process) (default: 2)",
     )
     parser.add_argument(
         "--tables",
@@ -72,7 +76,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run both modes and write the outputs; bad input raises before anything runs."""
+    """Run the chosen mode and write the outputs; bad input raises before anything runs."""
+    if args.from_sessions is not None:
+        return people_fit.run(args)
     if args.appearance:
         return run_appearance(args, APPEARANCE_REPS if args.reps is None else args.reps)
     if args.person is not None:

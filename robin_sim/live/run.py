@@ -38,6 +38,42 @@ from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
 
+def live_parts(
+    config: LiveConfig,
+    on_event: Callable[[str, dict[str, Any]], None] | None = None,
+) -> tuple[Run, LiveParticipant]:
+    """The checked ``config``'s run (assembled as an episode, in a world of the scenario's
+    layout, with the live body's tempo) with a :class:`LiveParticipant` in the scripted
+    person's place: a live session's, or a simulated participant's
+    (:mod:`robin_sim.fitted.session`)."""
+    spec = config.run_spec()
+    scripted = assemble(spec, tempo=LIVE)  # the world of the scenario's layout too
+    body = scripted.person.body
+    assert isinstance(body, PhysicalBody)
+    scenario = spec.scenario
+    types, seen = [], set()
+    for step in scripted.person.script:  # the block's handovers, in the scenario's order
+        if step.intent.handover not in seen:
+            seen.add(step.intent.handover)
+            types.append(scenario.type_named(step.handover_type))
+    anticipate = getattr(scripted.learner, "anticipate", None)  # baselines have none
+
+    def robot_anticipates(previous: Action, hand: Hand) -> bool:
+        return anticipate is not None and anticipate(previous, hand) is not None
+
+    participant = LiveParticipant(
+        body,
+        types,
+        scenario.legs_per_table,
+        config.feedback_window,
+        robot_anticipates,
+        limits=config.watchdog,
+        on_event=on_event,
+    )
+    # The participant in the scripted person's place (pil.task.person.Person).
+    return replace(scripted, person=participant), participant  # type: ignore[arg-type]
+
+
 class LiveRun(ClosesOnExit):
     """World, parts, participant, picker, stream, pacer and log of a session (module doc)."""
 
@@ -51,35 +87,12 @@ class LiveRun(ClosesOnExit):
     ) -> None:
         self.config = config
         self.spec = config.run_spec()  # the checked config's learner side, typed
-        scripted = assemble(self.spec, tempo=LIVE)  # the world of the scenario's layout too
-        assert isinstance(scripted.world, PhysicalWorld)
-        self.world = scripted.world
+        self.parts, self.participant = live_parts(config, on_event)
+        world = self.parts.world
+        assert isinstance(world, PhysicalWorld)
+        self.world = world
         check_frame_size(self.world.model, config.width, config.height)
-        body = scripted.person.body
-        assert isinstance(body, PhysicalBody)
-        self.body = body
-        scenario = self.spec.scenario
-        types, seen = [], set()
-        for step in scripted.person.script:  # the block's handovers, in the scenario's order
-            if step.intent.handover not in seen:
-                seen.add(step.intent.handover)
-                types.append(scenario.type_named(step.handover_type))
-        anticipate = getattr(scripted.learner, "anticipate", None)  # baselines have none
-
-        def robot_anticipates(previous: Action, hand: Hand) -> bool:
-            return anticipate is not None and anticipate(previous, hand) is not None
-
-        self.participant = LiveParticipant(
-            self.body,
-            types,
-            scenario.legs_per_table,
-            config.feedback_window,
-            robot_anticipates,
-            limits=config.watchdog,
-            on_event=on_event,
-        )
-        # The participant in the scripted person's place (pil.task.person.Person).
-        self.parts: Run = replace(scripted, person=self.participant)  # type: ignore[arg-type]
+        self.body = self.participant.body
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
         self.pacer: Pacer | None = None

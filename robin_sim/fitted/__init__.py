@@ -1,0 +1,1 @@
+"""Simulated people fitted to recorded live sessions: the player, its session, many runs."""
