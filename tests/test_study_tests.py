@@ -76,7 +76,7 @@ def test_holm_p_is_never_below_the_raw_p(study: Path) -> None:
 def test_the_summary_names_the_test_and_the_pairing(study: Path) -> None:
     text = (study / "summary.md").read_text()
     assert "Tests: paired t, wilcoxon signed-rank; samples paired by rep+seed" in text
-    assert "Holm's correction over each test and reading" in text
+    assert "Holm's correction over each test, reading and pair of systems" in text
     assert "| paired t | 10 | rep+seed |" in text and "| welch t |" not in text
 
 

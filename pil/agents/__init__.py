@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from pil.agents.bandit import EPSILON, EPSILON_DECAY, BanditAgent
+from pil.agents.bandit import EPSILON, EPSILON_DECAY, PRIOR, BanditAgent
 from pil.agents.base import Agent, FeedbackAgent
 from pil.agents.tamer import STEP_SIZE, TamerAgent
 from pil.exploration import DEFAULT_RULE
@@ -41,6 +41,7 @@ def _bandit(seed: int, table: AssociationTable | None, params: Mapping[str, Any]
         seed,
         epsilon=params.get("epsilon", EPSILON),
         epsilon_decay=params.get("epsilon_decay", EPSILON_DECAY),
+        prior=params.get("bandit_prior", PRIOR),
         table=table,
         step_memory=_memory(params, BanditAgent.STEP_MEMORY_OWN),
     )
