@@ -40,8 +40,8 @@ def test_tuning_seeds_are_disjoint_from_the_evaluation_seeds(seed: int) -> None:
 
 def test_the_grid_and_the_choice_of_the_best() -> None:
     names = {learner: [s.name for s in grid(learner)] for learner in ("pil", "bandit", "tamer")}
-    assert names["bandit"][:3] == ["eps=0,prior=-0.5", "eps=0,prior=0", "eps=0,prior=0.5"]
-    assert "eps=0.1/(1+t/5)+memory" in names["bandit"] and len(names["bandit"]) == 42
+    assert names["bandit"][:3] == ["eps=0,prior=-1.5", "eps=0,prior=-0.9", "eps=0,prior=-0.5"]
+    assert "eps=0.1/(1+t/5)+memory" in names["bandit"] and len(names["bandit"]) == 58
     assert names["tamer"][:2] == ["step=0.02", "step=0.05"] and len(names["tamer"]) == 12
     for v in names.values():
         assert sum(n.endswith("+memory") for n in v) == len(v) // 2

@@ -23,7 +23,7 @@ from pil.types import ACTIONS
 
 _N = len(ACTIONS)
 PRIOR = 0.5  # the default value of an arm never pulled (the optimistic start)
-PRIOR_RANGE = (-1.0, 2.0)  # below every reward to above every reward
+PRIOR_RANGE = (-2.0, 2.0)  # from below every reward to above every reward
 EPSILON = 0.1  # the default exploration rate
 EPSILON_RANGE = (0.0, 1.0)
 EPSILON_DECAY = 0.0  # the default tau: no decay

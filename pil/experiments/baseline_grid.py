@@ -6,7 +6,7 @@ within-step memory (:mod:`pil.step_memory`) off and on:
 
 * ``pil``: every exploration rule of :mod:`pil.exploration`;
 * ``bandit``: epsilon 0, 0.02, 0.05, 0.1, each with the optimistic start (the value of an arm
-  never pulled, ``bandit_prior``) -0.5, 0, 0.5, 0.9 and 1.5, and a decaying epsilon,
+  never pulled, ``bandit_prior``) -1.5, -0.9, -0.5, 0, 0.5, 0.9 and 1.5, and a decaying epsilon,
   epsilon_t = 0.1 / (1 + t / 5) after t feedbacks in the state (:data:`DECAY_TAU`);
 * ``tamer``: step size 0.02, 0.05, 0.1, 0.25, 0.5 and 1.
 
@@ -46,7 +46,7 @@ LEARNERS: tuple[str, ...] = ("pil", "bandit", "tamer")
 BASELINES: tuple[str, ...] = ("bandit", "tamer")
 MEMORY: tuple[str, ...] = ("off", "on")
 EPSILONS: tuple[float, ...] = (0.0, 0.02, 0.05, 0.1)
-PRIORS: tuple[float, ...] = (-0.5, 0.0, 0.5, 0.9, 1.5)  # the bandit's optimistic start
+PRIORS: tuple[float, ...] = (-1.5, -0.9, -0.5, 0.0, 0.5, 0.9, 1.5)  # the optimistic start
 DECAY_EPSILON = EPSILON  # the decaying setting starts at the default rate ...
 DECAY_TAU = 5.0  # ... and halves after 5 feedbacks in a state
 STEP_SIZES: tuple[float, ...] = (0.02, 0.05, 0.1, 0.25, 0.5, 1.0)
