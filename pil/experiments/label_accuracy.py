@@ -86,9 +86,14 @@ def _row(seed: Any, approvals: int, labelled: int, right: int, read_right: int) 
 def label_rows(seeds: Sequence[int] = SEEDS) -> list[dict[str, Any]]:
     """A row per seed and the ``all`` row (sums)."""
     rows = [seed_row(s) for s in seeds]
-    total = {k: sum(r[k] for r in rows) for k in ("approvals", "labelled", "labelled_right")}
-    read = sum(r["read_right"] for r in rows)
-    return [*rows, _row("all", *total.values(), read)]
+
+    def total(key: str) -> int:
+        return sum(int(r[key]) for r in rows)
+
+    every = _row(
+        "all", total("approvals"), total("labelled"), total("labelled_right"), total("read_right")
+    )
+    return [*rows, every]
 
 
 def write(out: str | Path, seeds: Sequence[int] = SEEDS) -> list[Path]:
