@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
+from pil.feedback_audit import confusion_columns
 from robin_sim.appearance.people import AppearancePeople, Looks
 from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 
@@ -143,6 +144,7 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         "no_hand": vision.get("no_hand"),
         "feedback_misread": vision.get("feedback_misread"),
         "examples": (vision.get("adapt") or {}).get("examples", 0),
+        **confusion_columns(summary.get("feedback_confusion")),
     }
     tables = [
         {"person": run.person.name, "classifier": run.classifier, "rep": run.rep, **t}
