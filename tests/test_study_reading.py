@@ -109,9 +109,15 @@ def test_write_reading_writes_every_file_and_reads_the_claim(tmp_path: Path) -> 
         "validation.csv",
         "sensitivity.csv",
         "reading.md",
+        "claims.csv",
+        "sensitivity_worst.csv",
     }
     text = (out / "reading.md").read_text()
     assert "training included: PIL costlier" in text and "not replicated" in text
+    with (out / "claims.csv").open() as handle:
+        claims = {r["reading"]: r for r in csv.DictReader(handle)}
+    assert claims["training included"]["verdict"] == "not replicated"
+    assert claims["training included"]["held"] == "0"
     with (out / "experience.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     c1 = [r for r in rows if r["system"] == "c1" and r["rep"] == "0" and r["rate"] == "0.4"]

@@ -123,6 +123,54 @@ def claim_tests(tests: Sequence[Mapping[str, Any]]) -> list[Mapping[str, Any]]:
     return [t for t in tests if t["measure"] in CLAIM_MEASURES.get(str(t["reading"]), ())]
 
 
+def claim_rows(tests: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """``claims.csv``: per reading, the claim's comparisons that hold and its verdict."""
+    return [
+        {
+            "reading": reading,
+            "measures": "+".join(CLAIM_MEASURES[reading]),
+            "held": held,
+            "comparisons": tried,
+            "verdict": "replicated" if held == tried else "not replicated",
+        }
+        for reading, (held, tried) in claim_verdicts(claim_tests(tests)).items()
+    ]
+
+
+def worst_rows(swept: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """``sensitivity_worst.csv``: per type set and discard, the worst |difference| (%) from
+    the paper over the eight figures."""
+    worst: dict[tuple[str, float], float] = {}
+    for r in swept:
+        key = (str(r["types"]), float(r["discard"]))
+        worst[key] = max(worst.get(key, 0.0), abs(float(r["diff_percent"])))
+    return [
+        {"types": t, "discard": d, "worst_abs_diff_percent": round(v, 6)}
+        for (t, d), v in worst.items()
+    ]
+
+
+def write_summaries(out: Path) -> list[Path]:
+    """``claims.csv`` and ``sensitivity_worst.csv`` from the folder's own tables."""
+    from pil.experiments.report import load_rows
+
+    tests = [
+        {**r, **{k: float(r[k]) for k in ("mean_diff", "p_holm")}}
+        for r in load_rows(out / "experience_tests.csv")
+    ]
+    swept = load_rows(out / "sensitivity.csv")
+    return [
+        write_text_atomic(
+            out / "claims.csv",
+            csv_text(claim_rows(tests), ("reading", "measures", "held", "comparisons", "verdict")),
+        ),
+        write_text_atomic(
+            out / "sensitivity_worst.csv",
+            csv_text(worst_rows(swept), ("types", "discard", "worst_abs_diff_percent")),
+        ),
+    ]
+
+
 def _claim_lines(tests: Sequence[Mapping[str, Any]]) -> list[str]:
     lines = []
     for reading, (held, tried) in claim_verdicts(claim_tests(tests)).items():
@@ -198,7 +246,7 @@ def write_reading(
         ]
     text = _markdown(mode, seed, reps, tests, fitted, validated, swept, chosen)
     written.append(write_text_atomic(out / "reading.md", text))
-    return written
+    return written + write_summaries(out)
 
 
 def _markdown(
