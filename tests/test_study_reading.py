@@ -94,7 +94,7 @@ def test_the_papers_111_gestures_at_100_cannot_occur_with_our_types() -> None:
     base = parse_run_spec()
     ours = {g for g, _a in training_runs(base, 1.0, seeds)}
     assert ours == {110}
-    other = {g for g, _a in training_runs(with_types(base, TYPE_SETS["A-C,H-J"]), 1.0, seeds)}
+    other = {g for g, _a in training_runs(with_types(base, TYPE_SETS["A-C+H-J"]), 1.0, seeds)}
     assert len(other) > 1 and all(g != 110 or len(other) > 1 for g in other)
 
 

@@ -35,7 +35,7 @@ TYPE_SETS: dict[str, tuple[str, ...]] = {
     "A-J": tuple("ABCDEFGHIJ"),
     "A-C": tuple("ABC"),
     "A-G": tuple("ABCDEFG"),
-    "A-C,H-J": tuple("ABCHIJ"),
+    "A-C+H-J": tuple("ABCHIJ"),
 }
 DEFAULT_CHOICE: tuple[str, float] = ("next-best", 0.5)
 FIGURES: tuple[str, ...] = ("gestures", "actions")

@@ -69,13 +69,16 @@ FIGURE_COLUMNS: tuple[str, ...] = (
 )
 MODES: dict[str, dict[str, int]] = {  # repetitions of each part
     "quick": {"experience": 20, "calibration": 40},
-    "full": {"experience": 200, "calibration": 200},
+    "full": {"experience": 100, "calibration": 100},
     "tiny": {"experience": 2, "calibration": 1},  # for the tests: every file, in seconds
 }
 
 
 def _rounded(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    return [{k: round(v, 6) if isinstance(v, float) else v for k, v in r.items()} for r in rows]
+    """Floats to 6 significant digits (a p of 1e-12 stays 1e-12)."""
+    return [
+        {k: float(f"{v:.6g}") if isinstance(v, float) else v for k, v in r.items()} for r in rows
+    ]
 
 
 def _figure_cell(r: Mapping[str, Any]) -> str:
