@@ -4,8 +4,8 @@ A quoted figure is followed by a marker naming its source, e.g.
 
     1869/1877<!-- from bench/results/label_accuracy/labels.csv: seed=all; labelled; d -->
 
-(``FILE: key=value, ...; column; format``): the CSV row whose cells equal every key=value
-(exactly one), its column, formatted with the Python format spec; the text right before the
+(``FILE: key=value, key=value; column; format``, keys apart by ", "): the CSV row whose
+cells equal every key=value (exactly one), its column, formatted with the Python format spec; the text right before the
 marker must end with it (a typographic minus counts as "-"). Every folder of bench/results is
 made by one recipe of ``bench/regenerate.py``.
 """
@@ -37,7 +37,7 @@ def _markers() -> list[tuple[str, int, re.Match[str], str]]:
 
 
 def _row(path: Path, keys: str) -> dict[str, str]:
-    wanted = dict(k.strip().split("=", 1) for k in keys.split(",") if k.strip())
+    wanted = dict(k.strip().split("=", 1) for k in keys.split(", ") if k.strip())
     with path.open(newline="") as handle:
         rows = [r for r in csv.DictReader(handle) if all(r.get(k) == v for k, v in wanted.items())]
     assert len(rows) == 1, f"{path.name}: {len(rows)} rows match {wanted}"
