@@ -5,8 +5,8 @@ A quoted figure is followed by a marker naming its source, e.g.
     1869/1877<!-- from bench/results/label_accuracy/labels.csv: seed=all; labelled; d -->
 
 (``FILE: key=value, key=value; column; format``, keys apart by ", "): the CSV row whose
-cells equal every key=value (exactly one), its column, formatted with the Python format spec; the text right before the
-marker must end with it (a typographic minus counts as "-"). Every folder of bench/results is
+cells equal every key=value (exactly one), its column, formatted with the Python format
+spec; the text right before the marker must end with it (a typographic minus counts as "-"). Every folder of bench/results is
 made by one recipe of ``bench/regenerate.py``.
 """
 
