@@ -6,8 +6,8 @@ A quoted figure is followed by a marker naming its source, e.g.
 
 (``FILE: key=value, key=value; column; format``, keys apart by ", "): the CSV row whose
 cells equal every key=value (exactly one), its column, formatted with the Python format
-spec; the text right before the marker must end with it (a typographic minus counts as "-"). Every folder of bench/results is
-made by one recipe of ``bench/regenerate.py``.
+spec; the text right before the marker must end with it (a typographic minus counts as
+"-"). Every folder of bench/results is made by one recipe of ``bench/regenerate.py``.
 """
 
 from __future__ import annotations
