@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from pil.feedback_audit import confusion_columns, feedback_confusion, verdict_source
+from pil.task.feedback_audit import confusion_columns, feedback_confusion, verdict_source
 from pil.task.records import StepRecord
 from pil.types import Action, Feedback, Gesture
 

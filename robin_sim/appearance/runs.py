@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.feedback_audit import confusion_columns
+from pil.task.feedback_audit import confusion_columns
 from robin_sim.appearance.people import AppearancePeople, Looks
 from robin_sim.vision.build import raise_interrupt, worker_leaves_ctrl_c
 

@@ -13,8 +13,8 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-from pil.feedback_audit import TRUE_NAME, feedback_confusion, verdict_source
 from pil.task.counting import RunStats
+from pil.task.feedback_audit import TRUE_NAME, feedback_confusion, verdict_source
 from pil.task.records import StepRecord
 from pil.types import Action
 
@@ -48,7 +48,7 @@ class EpisodeTotals:
     render_disagreements: int = 0
     handovers: list[Handover] = field(default_factory=list)
     timeout_s: float = 180.0  # s from a handover's first gesture (param handover_timeout)
-    # the person's feedback against how the verdict reached the robot (pil.feedback_audit)
+    # the person's feedback against how the verdict reached the robot (pil.task.feedback_audit)
     feedback: dict[str, dict[str, int]] = field(default_factory=lambda: feedback_confusion(()))
     reads_stops: bool = False  # the reader reads the thumb that stops an action (vision)
 
