@@ -48,8 +48,6 @@ def test_each_verdict_is_counted_by_how_it_reached_the_robot() -> None:
     }
     assert found["none"]["nothing_read"] == 1
     assert verdict_source(records[2]) == "stopped_unread"
-    assert verdict_source(records[2], reads_stops=True) == "read_not_ok"  # the eye cameras
-    assert feedback_confusion(records, reads_stops=True)["not_ok"]["stopped_unread"] == 0
     columns = confusion_columns(found)
     assert columns["feedback_not_ok_nothing_read"] == 1 and len(columns) == 12
     assert set(confusion_columns(None).values()) == {None}

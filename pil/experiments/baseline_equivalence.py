@@ -15,7 +15,7 @@ from typing import Any
 from pil.experiments.equivalence import ACTION_MARGIN, tost_paired
 from pil.experiments.report import markdown_table
 
-COLUMNS: tuple[str, ...] = (
+EQUIVALENCE_COLUMNS: tuple[str, ...] = (
     "system_a",
     "system_b",
     "rate",
@@ -42,7 +42,8 @@ def _by_rep(rows: Sequence[Mapping[str, Any]], variant: str) -> dict[str, dict[s
 def equivalence_rows(
     rows: Sequence[Mapping[str, Any]], margin: float = ACTION_MARGIN
 ) -> list[dict[str, Any]]:
-    """TOST rows (:data:`COLUMNS`) of every baseline variant against every PIL variant."""
+    """TOST rows (:data:`EQUIVALENCE_COLUMNS`) of every baseline variant against every PIL
+    variant."""
     variants = list(dict.fromkeys(str(r["variant"]) for r in rows))
     pil = [v for v in variants if v.startswith("pil:")]
     out: list[dict[str, Any]] = []

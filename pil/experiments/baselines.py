@@ -24,7 +24,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
-from pil.experiments.baseline_equivalence import COLUMNS as EQ_COLUMNS
+from pil.experiments.baseline_equivalence import EQUIVALENCE_COLUMNS as EQ_COLUMNS
 from pil.experiments.baseline_equivalence import equivalence_markdown, equivalence_rows
 from pil.experiments.baseline_grid import (
     BASELINES,

@@ -38,7 +38,7 @@ TYPE_SETS: dict[str, tuple[str, ...]] = {
     "A-C+H-J": tuple("ABCHIJ"),
 }
 DEFAULT_CHOICE: tuple[str, float] = ("next-best", 0.5)
-FIGURES: tuple[str, ...] = ("gestures", "actions")
+TRAINING_FIGURES: tuple[str, ...] = ("gestures", "actions")
 
 
 def with_types(base: RunSpec, names: Sequence[str]) -> RunSpec:
@@ -69,7 +69,7 @@ def figure_rows(
     from scipy.stats import t as t_dist
 
     out = []
-    for i, name in enumerate(FIGURES):
+    for i, name in enumerate(TRAINING_FIGURES):
         values = [float(r[i]) for r in runs]
         mean, low, high = mean_ci(values)
         n = len(values)

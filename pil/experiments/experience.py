@@ -46,7 +46,7 @@ EXPERIENCE_COLUMNS: tuple[str, ...] = (
     "extra_gestures",
     "extra_actions",
 )
-MEASURES: tuple[str, ...] = ("gestures", "actions", "extra_gestures", "extra_actions")
+WINDOW_MEASURES: tuple[str, ...] = ("gestures", "actions", "extra_gestures", "extra_actions")
 
 
 def per_table(records: Iterable[StepRecord], tables: int) -> list[tuple[int, int]]:
@@ -141,7 +141,7 @@ def window_rows(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
                 if (span is None or span[0] <= k <= span[1])
                 and (phase is None or t["phase"] == phase)
             ]
-            for measure in MEASURES:
+            for measure in WINDOW_MEASURES:
                 row[f"{reading}|{measure}"] = sum(float(t[measure]) for t in chosen)
         out.append(row)
     return out
@@ -154,6 +154,8 @@ def experience_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     from pil.experiments.stats import Measure, compare
 
     windows = window_rows(rows)
-    metrics = [Measure(f"{reading}|{m}", m, reading) for reading in WINDOWS for m in MEASURES]
+    metrics = [
+        Measure(f"{reading}|{m}", m, reading) for reading in WINDOWS for m in WINDOW_MEASURES
+    ]
     present = [m for m in metrics if all(m.column in w for w in windows)]
     return compare(windows, "pil", within=("rate",), metrics=present, pair_by=("rep",))

@@ -23,7 +23,7 @@ from pil.experiments.report import markdown_table
 from pil.task.detector import Detector
 from pil.types import Gesture
 
-COLUMNS: tuple[str, ...] = (
+LABEL_COLUMNS: tuple[str, ...] = (
     "seed",
     "approvals",
     "labelled",
@@ -32,9 +32,9 @@ COLUMNS: tuple[str, ...] = (
     "unlabelled",
     "unlabelled_share",
 )
-SEEDS: tuple[int, ...] = tuple(range(10))
-RATE = 0.6
-TABLES = 10
+LABEL_SEEDS: tuple[int, ...] = tuple(range(10))
+LABEL_RATE = 0.6
+LABEL_TABLES = 10
 
 
 class RecordingDetector(Detector):
@@ -49,7 +49,7 @@ class RecordingDetector(Detector):
         self.verdicts.append((meant, approved))
 
 
-def seed_row(seed: int, rate: float = RATE, tables: int = TABLES) -> dict[str, Any]:
+def seed_row(seed: int, rate: float = LABEL_RATE, tables: int = LABEL_TABLES) -> dict[str, Any]:
     """The counts of one seed's run (learner-only, PIL, the dice at ``rate``)."""
     from pil.task.assemble import assemble
     from pil.task.runner import steps
@@ -83,7 +83,7 @@ def _row(seed: Any, approvals: int, labelled: int, right: int, read_right: int) 
     }
 
 
-def label_rows(seeds: Sequence[int] = SEEDS) -> list[dict[str, Any]]:
+def label_rows(seeds: Sequence[int] = LABEL_SEEDS) -> list[dict[str, Any]]:
     """A row per seed and the ``all`` row (sums)."""
     rows = [seed_row(s) for s in seeds]
 
@@ -96,7 +96,7 @@ def label_rows(seeds: Sequence[int] = SEEDS) -> list[dict[str, Any]]:
     return [*rows, every]
 
 
-def write(out: str | Path, seeds: Sequence[int] = SEEDS) -> list[Path]:
+def write(out: str | Path, seeds: Sequence[int] = LABEL_SEEDS) -> list[Path]:
     """``labels.csv`` and ``labels.md`` in ``out``."""
     rows = label_rows(seeds)
     body = [
@@ -113,12 +113,12 @@ def write(out: str | Path, seeds: Sequence[int] = SEEDS) -> list[Path]:
     header = ["seed", "approvals", "labelled", "label right", "reading right", "unlabelled"]
     text = (
         "# Labels an adapting reader gets from the robot's feedback\n\n"
-        f"PIL, learner only, the paper's dice at d = {RATE:g}, {TABLES} tables, seeds "
+        f"PIL, learner only, the paper's dice at d = {LABEL_RATE:g}, {LABEL_TABLES} tables, seeds "
         f"{seeds[0]}-{seeds[-1]}.\n\n" + markdown_table(header, body) + "\n"
     )
     out = Path(out)
     return [
-        write_text_atomic(out / "labels.csv", csv_text(rows, COLUMNS)),
+        write_text_atomic(out / "labels.csv", csv_text(rows, LABEL_COLUMNS)),
         write_text_atomic(out / "labels.md", text),
     ]
 

@@ -48,8 +48,8 @@ from pil.experiments.study_reading_plots import (
 )
 from pil.experiments.study_tests import claim_verdicts
 
-SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
-RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
+READING_SYSTEMS: tuple[str, ...] = ("pil", "c1", "c2", "c3", "c4")
+READING_RATES: tuple[float, ...] = (0.4, 0.6, 0.8, 1.0)
 FIGURE_COLUMNS: tuple[str, ...] = (
     "rate",
     "figure",
@@ -67,7 +67,7 @@ FIGURE_COLUMNS: tuple[str, ...] = (
     "paper_in_pi",
     "paper_possible",
 )
-MODES: dict[str, dict[str, int]] = {  # repetitions of each part
+READING_MODES: dict[str, dict[str, int]] = {  # repetitions of each part
     "quick": {"experience": 20, "calibration": 40},
     "full": {"experience": 100, "calibration": 100},
     "tiny": {"experience": 2, "calibration": 1},  # for the tests: every file, in seconds
@@ -214,11 +214,11 @@ def write_reading(
     from pil.experiments.study import rep_seeds
     from pil.task.spec import parse_run_spec
 
-    reps = MODES[mode]
+    reps = READING_MODES[mode]
     out = Path(out)
     base = parse_run_spec()
     seeds = rep_seeds(seed, reps["experience"])
-    tables = experience_rows(base, SYSTEMS, RATES, seeds)
+    tables = experience_rows(base, READING_SYSTEMS, READING_RATES, seeds)
     tests = experience_tests(tables)
     cal_seeds = rep_seeds(seed, reps["calibration"])
     fitted, chosen = fit(base, cal_seeds)

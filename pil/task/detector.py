@@ -68,11 +68,6 @@ class LearnsFromFeedback(Protocol):
         ...
 
 
-#: the attribute (True) of a reader whose every thumb is read, also the one that stops an
-#: action (Robin's eye cameras): without it a stopped action is not-OK without a reading
-READS_EVERY_THUMB = "reads_every_thumb"
-
-
 class DetectorError(RobinPilError):
     """Invalid detector settings (rate, model, discard probability, confusion matrix)."""
 

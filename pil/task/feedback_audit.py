@@ -21,11 +21,9 @@ VERDICTS: tuple[str, ...] = ("read_ok", "read_not_ok", "nothing_read", "stopped_
 TRUE_NAME = {Feedback.OK: "ok", Feedback.NOT_OK: "not_ok", Feedback.NONE: "none"}
 
 
-def verdict_source(record: StepRecord, reads_stops: bool = False) -> str:
-    """How ``record``'s verdict reached the robot (a column of :data:`VERDICTS`);
-    ``reads_stops``: the reader reads the thumb that stops an action too
-    (:data:`pil.task.detector.READS_EVERY_THUMB`)."""
-    if record.interrupted and not reads_stops:
+def verdict_source(record: StepRecord) -> str:
+    """How ``record``'s verdict reached the robot (a column of :data:`VERDICTS`)."""
+    if record.interrupted:
         return "stopped_unread"
     heard = record.feedback_read if record.feedback_read is not None else record.feedback
     if heard is Feedback.OK:
@@ -35,16 +33,14 @@ def verdict_source(record: StepRecord, reads_stops: bool = False) -> str:
     return "nothing_read"
 
 
-def feedback_confusion(
-    records: Iterable[StepRecord], reads_stops: bool = False
-) -> dict[str, dict[str, int]]:
+def feedback_confusion(records: Iterable[StepRecord]) -> dict[str, dict[str, int]]:
     """The person's feedback against the verdict's source, over the records with an action
     (every cell present, zeros included)."""
     out = {t: dict.fromkeys(VERDICTS, 0) for t in TRUE}
     for record in records:
         if record.action is None or record.feedback is None:
             continue
-        out[TRUE_NAME[record.feedback]][verdict_source(record, reads_stops)] += 1
+        out[TRUE_NAME[record.feedback]][verdict_source(record)] += 1
     return out
 
 

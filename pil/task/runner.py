@@ -32,7 +32,7 @@ from pil.gesture_evidence import meant_gesture
 from pil.learner import Learner
 from pil.table import AssociationTable
 from pil.task.counting import RunStats
-from pil.task.detector import READS_EVERY_THUMB, GestureReader, LearnsFromFeedback
+from pil.task.detector import GestureReader, LearnsFromFeedback
 from pil.task.person import Person, ScriptedPerson, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.world import World
@@ -203,7 +203,7 @@ def steps(
                 person.show_feedback(feedback)
                 # What the robot sees of the thumb: it stopped a stopped action because it saw
                 # the thumb go down; the thumb after an action that ran to its end is read.
-                heard = _hear(detector, feedback, outcome.interrupted)
+                heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
                 ok = heard is not _NOT_OK  # no feedback counts as OK (eq. 1)
                 delivered = (
                     ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
@@ -295,7 +295,7 @@ def _anticipate(
     if observer is not None:
         observer.answered(base._replace(feedback=feedback))
     person.show_feedback(feedback)
-    heard = _hear(detector, feedback, outcome.interrupted)
+    heard = _NOT_OK if outcome.interrupted else detector.read_feedback(feedback)
     ok = heard is not _NOT_OK
     delivered = ok and action is _OPEN and previous in _DELIVERY_FROM and hand is _OCCUPIED
     record = base._replace(
@@ -313,16 +313,6 @@ def _anticipate(
         observer.received(record)
     person.after_feedback(feedback)
     return record
-
-
-def _hear(detector: GestureReader, feedback: Feedback, interrupted: bool) -> Feedback:
-    """What the robot takes from the person's ``feedback``: the thumb as the reader reads it.
-    A stopped action is not-OK without a reading, unless the reader reads every thumb
-    (:data:`pil.task.detector.READS_EVERY_THUMB`, Robin's eye cameras): then the thumb that
-    stopped it is read like any other, and its reading is the verdict."""
-    if interrupted and not getattr(detector, READS_EVERY_THUMB, False):
-        return _NOT_OK
-    return detector.read_feedback(feedback)
 
 
 def _meant(learner: Learner, action: Action, state: State) -> Gesture | None:

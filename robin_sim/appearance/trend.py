@@ -13,7 +13,7 @@ import statistics
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-COLUMNS: tuple[str, ...] = (
+TREND_COLUMNS: tuple[str, ...] = (
     "person",
     "runs",
     "tables",
@@ -36,7 +36,7 @@ def _slope(points: Sequence[tuple[float, float]]) -> float:
 
 
 def trend_rows(tables: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
-    """One row per person (:data:`COLUMNS`) from ``appearance_tables.csv`` rows."""
+    """One row per person (:data:`TREND_COLUMNS`) from ``appearance_tables.csv`` rows."""
     from scipy.stats import ttest_1samp, ttest_rel
 
     runs: dict[str, dict[str, list[tuple[float, float]]]] = {}

@@ -22,7 +22,6 @@ from tqdm import tqdm
 from pil.errors import RobinPilError
 from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
-from pil.task.detector import READS_EVERY_THUMB
 from pil.task.records import StepRecord
 from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook, run_summary, vision_of
@@ -69,10 +68,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
         # the first thing written: the folder, locked (a second run into it is refused here)
         out = claim.enter_context(claimed_out_dir(spec.out))
         view = EpisodeView(table=parts.learner.table if video.policy_panel else None)
-        totals = EpisodeTotals(
-            timeout_s=spec.run.person.handover_timeout,
-            reads_stops=bool(getattr(parts.detector, READS_EVERY_THUMB, False)),
-        )
+        totals = EpisodeTotals(timeout_s=spec.run.person.handover_timeout)
         started = time.perf_counter()
         status, error, recorder = "running", "", None
         try:

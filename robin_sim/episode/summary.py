@@ -50,7 +50,6 @@ class EpisodeTotals:
     timeout_s: float = 180.0  # s from a handover's first gesture (param handover_timeout)
     # the person's feedback against how the verdict reached the robot (pil.task.feedback_audit)
     feedback: dict[str, dict[str, int]] = field(default_factory=lambda: feedback_confusion(()))
-    reads_stops: bool = False  # the reader reads the thumb that stops an action (vision)
 
     def add(
         self, record: StepRecord, entry: Mapping[str, Any], gesture_started: float, ended: float
@@ -72,8 +71,7 @@ class EpisodeTotals:
         if record.action is None:
             return
         if record.feedback is not None:
-            source = verdict_source(record, self.reads_stops)
-            self.feedback[TRUE_NAME[record.feedback]][source] += 1
+            self.feedback[TRUE_NAME[record.feedback]][verdict_source(record)] += 1
         now.actions += 1
         now.interrupted += record.interrupted
         now.drops += record.dropped is not None

@@ -103,8 +103,6 @@ def _decide(reading: Reading, classes: tuple[str, ...]) -> tuple[str, str, float
 class VisionDetector:
     """Reads the person's hand with Robin's eye cameras in ``sim``'s model and data."""
 
-    reads_every_thumb = True  # pil.task.detector.READS_EVERY_THUMB: a stop's thumb is read too
-
     def __init__(
         self,
         sim: Simulator,
