@@ -13,6 +13,7 @@ spec; the text right before the marker must end with it (a typographic minus cou
 from __future__ import annotations
 
 import csv
+import functools
 import importlib.util
 import re
 import sys
@@ -36,10 +37,15 @@ def _markers() -> list[tuple[str, int, re.Match[str], str]]:
     return found
 
 
+@functools.cache
+def _table(path: Path) -> tuple[dict[str, str], ...]:
+    with path.open(newline="") as handle:
+        return tuple(csv.DictReader(handle))
+
+
 def _row(path: Path, keys: str) -> dict[str, str]:
     wanted = dict(k.strip().split("=", 1) for k in keys.split(", ") if k.strip())
-    with path.open(newline="") as handle:
-        rows = [r for r in csv.DictReader(handle) if all(r.get(k) == v for k, v in wanted.items())]
+    rows = [r for r in _table(path) if all(r.get(k) == v for k, v in wanted.items())]
     assert len(rows) == 1, f"{path.name}: {len(rows)} rows match {wanted}"
     return rows[0]
 
