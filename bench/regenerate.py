@@ -41,6 +41,7 @@ class Recipe:
     folder: str
     command: tuple[str, ...]
     quick: bool  # cheap enough for --quick (learner-only, minutes at most)
+    drop: tuple[str, ...] = ()  # caches the command leaves in its folder (not results)
 
     def argv(self, out: Path) -> list[str]:
         """The command line with ``--out``."""
@@ -62,7 +63,12 @@ RECIPES: tuple[Recipe, ...] = (
         ("robin-pil", "study", "--seeds", "10", "--systems", SYSTEMS, "--no-progress"),
         False,
     ),
-    Recipe("vision_conditions", ("robin-pil", "vision-conditions", "--no-progress"), False),
+    Recipe(
+        "vision_conditions",
+        ("robin-pil", "vision-conditions", "--no-progress"),
+        False,
+        drop=("chunks",),  # the rendered samples: a cache, 11 MB
+    ),
     Recipe(
         "appearance",
         ("robin-pil", "people", "--appearance", "--reps", "10", "--no-progress"),
@@ -92,6 +98,22 @@ def commit() -> tuple[str, bool]:
     return head or "unknown", bool(status)
 
 
+TEXT_SUFFIXES = (".csv", ".md", ".json", ".txt")
+
+
+def tidy(out: Path, written_at: str, recipe: Recipe) -> None:
+    """Leave only results in ``out``: the recipe's caches removed, and the temporary path the
+    command wrote into its text files (``written_at``) replaced by the folder's own."""
+    for name in recipe.drop:
+        shutil.rmtree(out / name, ignore_errors=True)
+    final = f"bench/results/{recipe.folder}"
+    for path in out.rglob("*"):
+        if path.is_file() and path.suffix in TEXT_SUFFIXES:
+            text = path.read_text()
+            if written_at in text:
+                path.write_text(text.replace(written_at, final))
+
+
 def regenerate(recipe: Recipe, mode: str) -> float:
     """Run ``recipe`` into a temporary folder and put it in place with its stamp; seconds."""
     RESULTS.mkdir(parents=True, exist_ok=True)
@@ -103,6 +125,7 @@ def regenerate(recipe: Recipe, mode: str) -> float:
         if done.returncode != 0:
             raise SystemExit(f"{recipe.folder}: the command exited {done.returncode}")
         seconds = time.monotonic() - start
+        tidy(out, str(out), recipe)
         head, dirty = commit()
         stamp = {
             "folder": recipe.folder,
