@@ -160,6 +160,17 @@ def test_a_comparisons_holm_p_does_not_depend_on_what_else_ran():
     assert got == want
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_holm_equals_statsmodels(seed: int) -> None:
+    from statsmodels.stats.multitest import multipletests
+
+    p = [*np.random.default_rng(seed).uniform(0, 0.2, 9).tolist(), 0.5, 0.0001]
+    expected = multipletests(p, method="holm")[1]
+    assert holm(p) == pytest.approx(list(expected), rel=1e-12)
+    padded = multipletests([*p, 1.0, 1.0], method="holm")[1][: len(p)]
+    assert holm(p, size=len(p) + 2) == pytest.approx(list(padded), rel=1e-12)
+
+
 def test_a_declared_family_counts_its_missing_members_as_p_one():
     assert holm([0.01, 0.02], size=4) == pytest.approx([0.04, 0.06])
     assert holm([0.01, math.nan], size=3)[0] == pytest.approx(0.03)
