@@ -13,9 +13,11 @@ from pil.experiments.baseline_grid import (
     SAME_WITH_MEMORY,
     Score,
     Setting,
+    at_edge,
     choose_best,
     grid,
     pil_references,
+    score,
     split_seeds,
 )
 from pil.experiments.study import rep_seeds
@@ -38,16 +40,22 @@ def test_tuning_seeds_are_disjoint_from_the_evaluation_seeds(seed: int) -> None:
 
 def test_the_grid_and_the_choice_of_the_best() -> None:
     names = {learner: [s.name for s in grid(learner)] for learner in ("pil", "bandit", "tamer")}
-    assert names["bandit"][:4] == ["eps=0", "eps=0.05", "eps=0.1", "eps=0.1/(1+t/5)"]
-    assert all(len(v) == 8 and sum(n.endswith("+memory") for n in v) == 4 for v in names.values())
+    assert names["bandit"][:3] == ["eps=0,prior=-1.5", "eps=0,prior=-0.9", "eps=0,prior=-0.5"]
+    assert "eps=0.1/(1+t/5)+memory" in names["bandit"] and len(names["bandit"]) == 58
+    assert names["tamer"][:2] == ["step=0.02", "step=0.05"] and len(names["tamer"]) == 12
+    for v in names.values():
+        assert sum(n.endswith("+memory") for n in v) == len(v) // 2
     assert len(pil_references()) == 2 * len(RULES) - len(SAME_WITH_MEMORY)
     a, b, c = (Setting("tamer", n) for n in "abc")
-    scores = [
-        Score(a, 40, 0, 300.0, 9, 250.0),
-        Score(b, 30, 10, 200.0, 9, 240.0),
-        Score(c, 40, 0, 300.0, 9, 249.0),
+    stuck = score(b, [{"total_actions": 200, "total_gestures": 240}] * 3, caps=[22000.0])
+    assert stuck.stuck == 1 and stuck.actions == pytest.approx((3 * 200 + 22000) / 4)
+    scores = [Score(a, 40, 0, 300.0, 9, 250.0), stuck, Score(c, 40, 0, 300.0, 9, 249.0)]
+    assert choose_best(scores).setting is c  # b counts its stuck run at the cap; a, c tie
+    tamer = grid("tamer")
+    assert at_edge(next(s for s in tamer if s.name == "step=0.02+memory"), tamer) == [
+        "step_size=0.02"
     ]
-    assert choose_best(scores).setting is c  # b got stuck; a and c tie on actions
+    assert at_edge(next(s for s in tamer if s.name == "step=0.1+memory"), tamer) == []
 
 
 @pytest.mark.slow
@@ -62,6 +70,7 @@ def test_the_command_writes_its_table_and_its_p_values_are_scipys(
         "baselines.csv",
         "tuning.csv",
         "tests.csv",
+        "equivalence.csv",
         "summary.md",
     }
     runs, tests, tuning = (_read(out / f) for f in ("baselines.csv", "tests.csv", "tuning.csv"))
@@ -69,7 +78,7 @@ def test_the_command_writes_its_table_and_its_p_values_are_scipys(
     assert {int(r["seed"]) for r in runs} == set(seeds)  # evaluation seeds only
     assert not set(tuning_seeds) & set(seeds)
     for learner in ("pil", "bandit", "tamer"):
-        mine = [r for r in tuning if r["learner"] == learner and r["stuck"] == "0"]
+        mine = [r for r in tuning if r["learner"] == learner]  # means over every run
         (chosen,) = [r for r in tuning if r["learner"] == learner and r["chosen"] == "True"]
         assert chosen in mine and float(chosen["mean_total_actions"]) == min(
             float(r["mean_total_actions"]) for r in mine

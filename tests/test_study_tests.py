@@ -76,7 +76,7 @@ def test_holm_p_is_never_below_the_raw_p(study: Path) -> None:
 def test_the_summary_names_the_test_and_the_pairing(study: Path) -> None:
     text = (study / "summary.md").read_text()
     assert "Tests: paired t, wilcoxon signed-rank; samples paired by rep+seed" in text
-    assert "Holm's correction over each test and reading" in text
+    assert "Holm's correction over each test, reading and pair of systems" in text
     assert "| paired t | 10 | rep+seed |" in text and "| welch t |" not in text
 
 
@@ -105,3 +105,29 @@ def test_the_claim_section_follows_the_corrected_tests(study: Path) -> None:
 def test_a_study_without_pil_has_no_tests() -> None:
     rows = [{"system": "c1", "rate": 1.0, "rep": 0, "seed": 1, **dict.fromkeys(READINGS, 1)}]
     assert study_tests(rows) == []
+
+
+def test_pil_vs_c2_gets_the_same_holm_p_whichever_other_systems_ran() -> None:
+    """The family is declared by the pair (pil, c2), not built from what ran."""
+    from learner_rows import learner_row
+
+    from pil.experiments.study import rep_seeds
+    from pil.experiments.study_tests import study_tests
+
+    rows = [
+        {**learner_row(system, rate, seed, tables=1), "rep": rep}
+        for rep, seed in enumerate(rep_seeds(0, 5))
+        for rate in (0.4, 0.6)
+        for system in ("pil", "c1", "c2", "c3")
+    ]
+
+    def holm_of(systems: set[str]) -> dict[tuple[str, str, str, str], float]:
+        found = study_tests([r for r in rows if r["system"] in systems])
+        return {
+            (t["reading"], t["rate"], t["measure"], t["test"]): t["p_holm"]
+            for t in found
+            if t["system_b"] == "c2"
+        }
+
+    small, large = holm_of({"pil", "c2"}), holm_of({"pil", "c1", "c2", "c3"})
+    assert small == large and len(small) == 16

@@ -33,6 +33,8 @@ class AgentSettings(Protocol):
     @property
     def epsilon_decay(self) -> float: ...
     @property
+    def bandit_prior(self) -> float: ...
+    @property
     def step_size(self) -> float: ...
 
 
@@ -53,6 +55,7 @@ def _bandit(seed: int, table: AssociationTable | None, settings: AgentSettings) 
         seed,
         epsilon=settings.epsilon,
         epsilon_decay=settings.epsilon_decay,
+        prior=settings.bandit_prior,
         table=table,
         step_memory=step_memory_on(settings.step_memory, BanditAgent.STEP_MEMORY_OWN),
     )

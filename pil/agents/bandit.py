@@ -3,8 +3,9 @@
 Each state (detected gesture, last approved action, hand) is an independent bandit with five
 arms (with the within-step memory on, the arms refused in the current step are left out, see
 :class:`FeedbackAgent`). The value of an arm is the mean reward it got (+1 OK, -1 not-OK); an
-arm never pulled is worth ``PRIOR`` = 0.5, above a refused arm and below an approved one, so
-every arm is tried before a refused one is tried again and an approved one is kept. With
+arm never pulled is worth ``prior`` (default :data:`PRIOR` = 0.5, run parameter
+``bandit_prior``), above a refused arm and below an approved one, so every arm is tried
+before a refused one is tried again and an approved one is kept. With
 probability epsilon the agent draws an arm at random, otherwise it takes the best (ties at
 random). ``epsilon_decay`` tau > 0 makes the rate decay in each state: after t feedbacks in
 the state, epsilon_t = epsilon / (1 + t / tau) (0: a constant epsilon). It knows nothing of
@@ -21,7 +22,8 @@ from pil.table import N_STATES, AssociationTable
 from pil.types import ACTIONS
 
 _N = len(ACTIONS)
-PRIOR = 0.5  # the value of an arm never pulled
+PRIOR = 0.5  # the default value of an arm never pulled (the optimistic start)
+PRIOR_RANGE = (-2.0, 2.0)  # from below every reward to above every reward
 EPSILON = 0.1  # the default exploration rate
 EPSILON_RANGE = (0.0, 1.0)
 EPSILON_DECAY = 0.0  # the default tau: no decay
@@ -39,13 +41,15 @@ class BanditAgent(FeedbackAgent):
         *,
         epsilon: float = EPSILON,
         epsilon_decay: float = EPSILON_DECAY,
+        prior: float = PRIOR,
         table: AssociationTable | None = None,
         step_memory: bool = FeedbackAgent.STEP_MEMORY_OWN,
     ) -> None:
         super().__init__(seed, table=table, step_memory=step_memory)
         self.epsilon = float(epsilon)  # checked once where they enter (the registry)
         self.epsilon_decay = float(epsilon_decay)
-        self.values = [[PRIOR] * _N for _ in range(N_STATES)]
+        self.prior = float(prior)
+        self.values = [[self.prior] * _N for _ in range(N_STATES)]
         self.pulls = [[0] * _N for _ in range(N_STATES)]
 
     def epsilon_in(self, sid: int) -> float:
@@ -60,7 +64,7 @@ class BanditAgent(FeedbackAgent):
         row = self.values[sid]
         top = max(row[i] for i in allowed)
         tops = [i for i in allowed if row[i] == top]
-        exploited = top > PRIOR
+        exploited = top > self.prior
         return self._rng.choice(tops), exploited, "greedy" if exploited else "untried arm"
 
     def _learn(self, sid: int, index: int, reward: float) -> None:

@@ -5,7 +5,9 @@ seeds, picks each learner's best (fewest mean total actions), then runs on the e
 PIL under every exploration rule (within-step memory off and on) and each baseline at its tuned
 setting and at the registry's defaults. :func:`baseline_tests` compares each baseline variant
 with every PIL variant (:func:`pil.experiments.stats.compare`: paired t and Wilcoxon, pairing by
-``rep`` within each rate), Holm over each test and measure across the whole table.
+``rep`` within each rate), Holm over each test, measure and pair of variants (a declared
+family, independent of what else ran); "as costly as" only where TOST
+(:mod:`pil.experiments.equivalence`) shows it.
 :func:`write_outputs` writes ``baselines.csv`` (the evaluation runs), ``tuning.csv``,
 ``tests.csv`` and ``summary.md``.
 """
@@ -22,12 +24,15 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
+from pil.experiments.baseline_equivalence import EQUIVALENCE_COLUMNS as EQ_COLUMNS
+from pil.experiments.baseline_equivalence import equivalence_markdown, equivalence_rows
 from pil.experiments.baseline_grid import (
     BASELINES,
     CRITERION,
     LEARNERS,
     Score,
     Setting,
+    at_edge,
     choose_best,
     default_setting,
     grid,
@@ -35,10 +40,11 @@ from pil.experiments.baseline_grid import (
     score,
     split_seeds,
 )
+from pil.experiments.equivalence import ACTION_MARGIN
 from pil.experiments.paper import PAPER_RATES, PAPER_REPS
 from pil.experiments.report import markdown_table, summary_markdown
 from pil.experiments.run_row import ROW_COLUMNS, spec_row
-from pil.experiments.stats import compare, csv_columns, describe_tests, holm, measures
+from pil.experiments.stats import compare, csv_columns, describe_tests, measures, pair_family
 from pil.task.params import RATE, REPS, SEED
 from pil.task.runner import RunnerError
 from pil.task.spec import RunSpec, parse_run_spec
@@ -120,23 +126,37 @@ def _run(
     base: RunSpec,
     config: BaselineConfig,
     progress: Callable[[int], None] | None,
-) -> tuple[list[dict[str, Any]], int]:
-    """``setting``'s runs at every rate and seed, and how many got stuck (left out); ``base``
+) -> tuple[list[dict[str, Any]], list[float]]:
+    """``setting``'s runs at every rate and seed, and the cap of each stuck run; ``base``
     is the config's parameters, parsed once (the setting's own are typed constants)."""
     spec = base.changed(setting.params)
-    rows, stuck = [], 0
+    rows: list[dict[str, Any]] = []
+    caps: list[float] = []
     for rep, seed in enumerate(seeds):
         cache: dict[Any, Any] = {}  # the person's scripts of this seed (no training runs)
         for rate in config.rates:
+            run_spec = spec.for_run(setting.learner, rate, seed)
             try:
-                row = spec_row(spec.for_run(setting.learner, rate, seed), cache)
+                row = spec_row(run_spec, cache)
             except RunnerError:  # a step never ended (a memoryless greedy baseline)
-                stuck += 1
+                caps.append(_cap(run_spec, cache))
             else:
                 rows.append({"setting": setting.describe(), "rep": rep, **row})
             if progress is not None:
                 progress(1)
-    return rows, stuck
+    return rows, caps
+
+
+def _cap(spec: RunSpec, cache: dict[Any, Any]) -> float:
+    """A stuck run's cost in the tuning mean: every scripted gesture (training included)
+    times ``max_actions_per_gesture``, the most any run can cost."""
+    from pil.task.assemble import assemble
+
+    run = assemble(spec, cache=cache)
+    scripted = len(run.person.script) + (
+        0 if run.training is None else run.training.stats.scripted_gestures
+    )
+    return float(scripted * spec.learner.max_actions_per_gesture)
 
 
 def run_baselines(
@@ -162,10 +182,10 @@ def run_baselines(
     for variant, setting in variants:
         key = (setting.learner, setting.describe())
         if key not in done:
-            found, stuck = _run(setting, seeds, base, config, progress)
-            if stuck:
+            found, capped = _run(setting, seeds, base, config, progress)
+            if capped:
                 raise RunnerError(
-                    f"{variant} ({setting.describe()}): {stuck} evaluation runs "
+                    f"{variant} ({setting.describe()}): {len(capped)} evaluation runs "
                     "had a step that never ended; the table needs every run"
                 )
             done[key] = found
@@ -173,11 +193,19 @@ def run_baselines(
     return BaselineResult(rows, scores, best, tuning_seeds, seeds)
 
 
+def _family(result: Mapping[str, Any]) -> tuple[Any, ...]:
+    """One test and measure of one pair of variants, over the rates (declared, not built
+    from what ran)."""
+    return (*pair_family(result), result["measure"])
+
+
 def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """Each baseline variant against every PIL variant, then PIL with the memory against
     PIL without it (same rule), and each baseline's tuned setting against its default, per
     rate and measure (paired by rep; ``mean_diff`` = baseline - PIL, with - without memory,
-    tuned - default); Holm over each test and measure across the table."""
+    tuned - default); Holm over each declared family, one test and measure of one pair of
+    variants over the rates (:func:`pil.experiments.stats.pair_family`): what else ran never
+    changes a comparison's p."""
     variants = list(dict.fromkeys(str(r["variant"]) for r in rows))
     pil = [v for v in variants if v.startswith("pil:")]
     results: list[dict[str, Any]] = []
@@ -192,6 +220,7 @@ def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
             within=("rate",),
             metrics=METRICS,
             pair_by=("rep",),
+            family=_family,
         )
     pairs = [(f"{v}+memory", v) for v in pil if f"{v}+memory" in pil]  # what the memory does
     pairs += [(f"{learner}:tuned", f"{learner}:default") for learner in BASELINES]
@@ -205,13 +234,8 @@ def baseline_tests(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
                 within=("rate",),
                 metrics=METRICS,
                 pair_by=("rep",),
+                family=_family,
             )
-    families: dict[tuple[str, str], list[int]] = {}
-    for i, r in enumerate(results):
-        families.setdefault((r["test"], r["measure"]), []).append(i)
-    for indices in families.values():
-        for i, adjusted in zip(indices, holm([results[i]["p"] for i in indices]), strict=True):
-            results[i]["p_holm"] = adjusted
     return results
 
 
@@ -296,7 +320,8 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "",
         "`stuck`: runs with a step that found no approved action within "
         "`max_actions_per_gesture` actions (without the memory a greedy learner can keep "
-        "choosing refused actions); left out of the means, and such a setting is not chosen.",
+        "choosing refused actions); each counts in the mean at the cap (every scripted "
+        "gesture × `max_actions_per_gesture`): the means are over every run. " + _edges(result),
         "",
         markdown_table(
             ["learner", "setting", "runs", "stuck", "total actions", "total gestures"], tuning_body
@@ -308,8 +333,10 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "",
         "## Paired tests against PIL",
         "",
-        describe_tests(tests) + " (In this table Holm's family is each test and measure "
-        "over the whole table.) Cells: a − b (baseline − PIL, negative: the baseline needs "
+        describe_tests(tests)
+        + " (In this table Holm's family is one test and measure of one pair over the "
+        "rates, declared, so what else ran never changes it.) Cells: a − b (baseline − PIL, "
+        "negative: the baseline needs "
         "fewer; the last rows: with − without the memory, tuned − default), 95 % CI, "
         "Holm-adjusted paired-t p; Wilcoxon in `tests.csv`.",
         "",
@@ -320,8 +347,33 @@ def summary_text(result: BaselineResult, config: BaselineConfig, tests: Sequence
         "### Total gestures",
         "",
         _matrix(tests, "total_gestures", rates),
+        "",
+        f"## Equivalence (TOST, ±{ACTION_MARGIN:g} total actions)",
+        "",
+        "A non-significant difference is not equivalence. Two one-sided paired t-tests "
+        "(`statsmodels` `ttost_paired`) per rate and averaged over the rates (each "
+        "repetition's mean); `equivalent` when both reject at 0.05 (the 90 % CI inside the "
+        'margin). Only those rows may be read as "as costly as" (`equivalence.csv`).',
+        "",
+        equivalence_markdown(equivalence_rows(result.rows)),
     ]
     return "\n".join(parts) + "\n"
+
+
+def _edges(result: BaselineResult) -> str:
+    """A sentence naming any chosen value at the edge of its grid."""
+    notes = []
+    for learner, best in result.best.items():
+        edge = at_edge(best.setting, grid(learner))
+        if edge:
+            notes.append(f"{learner} ({', '.join(edge)})")
+    if not notes:
+        return "Every chosen value lies inside its grid."
+    return (
+        "Chosen values at the edge of their grid: "
+        + "; ".join(notes)
+        + " (epsilon = 0 and step size 1 are the ends of the valid ranges)."
+    )
 
 
 def write_outputs(result: BaselineResult, config: BaselineConfig, out: str | Path) -> list[Path]:
@@ -332,5 +384,8 @@ def write_outputs(result: BaselineResult, config: BaselineConfig, out: str | Pat
         write_text_atomic(out / "baselines.csv", csv_text(result.rows, RUN_COLUMNS)),
         write_text_atomic(out / "tuning.csv", csv_text(tuning_rows(result), TUNING_COLUMNS)),
         write_text_atomic(out / "tests.csv", csv_text(tests, csv_columns(("rate",)))),
+        write_text_atomic(
+            out / "equivalence.csv", csv_text(equivalence_rows(result.rows), EQ_COLUMNS)
+        ),
         write_text_atomic(out / "summary.md", summary_text(result, config, tests)),
     ]

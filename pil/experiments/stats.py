@@ -3,12 +3,15 @@
 Where two systems ran with the same seeds (a study's repetitions share the handover order and
 the detector deck), their samples are *paired* by a key such as ``rep``: the paired t-test
 (``scipy.stats.ttest_rel``) and the Wilcoxon signed-rank test (``scipy.stats.wilcoxon``; counts
-are not normal) are run on the differences. Where nothing pairs the samples, Welch's test
-(``scipy.stats.ttest_ind(equal_var=False)``) is used and the output says so. Every result has
-an effect size (mean difference with its 95 % confidence interval; Cohen's d_z for paired
-samples, Cohen's d with the pooled sd for unpaired ones) and a Holm-adjusted p over its family
-of comparisons (``statsmodels.stats.multitest.multipletests``). :func:`mean_ci` gives the 95 %
-interval of a mean over independent seeds.
+are not normal) are run on the differences of the complete pairs (a failed run drops its pair
+only). Where the design does not pair, Welch's test (``scipy.stats.ttest_ind(equal_var=False)``)
+is used and the output says so. Every result has an estimate with its own 95 % interval (the
+mean difference for t-tests, the Hodges-Lehmann shift for Wilcoxon: :func:`hodges_lehmann`),
+an effect size (Cohen's d_z paired, d with the pooled sd unpaired) and a Holm-adjusted p over
+its declared family (:func:`pair_family`; ``statsmodels.stats.multitest.multipletests``).
+Differences without spread are tested by neither test (``note`` says so). :func:`mean_ci`
+gives the 95 % interval of a mean over independent seeds. Equivalence ("as costly as"):
+:mod:`pil.experiments.equivalence`.
 
 Rows are mappings of column name to value (numbers, or strings read back from a CSV).
 """
@@ -22,13 +25,18 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from pil.experiments.hodges_lehmann import hodges_lehmann
 from pil.experiments.report import ReportError, Row, check_columns, group_rows, number, sort_key
+from pil.experiments.stats_text import describe_tests as describe_tests
+from pil.experiments.stats_text import tests_markdown as tests_markdown
 
 CONFIDENCE = 0.95
 PAIRED_T = "paired t"
 WILCOXON = "wilcoxon signed-rank"
 WELCH = "welch t"
 UNPAIRED = "none"
+MEAN = "mean"
+HODGES_LEHMANN = "hodges-lehmann"
 
 #: The columns of ``tests.csv``, in order; ``within`` columns (``rate`` for a study) sit
 #: between ``reading`` and ``system_a``.
@@ -46,6 +54,9 @@ TRAILING_COLUMNS = (
     "ci_low",
     "ci_high",
     "effect_size",
+    "estimator",
+    "estimate",
+    "note",
 )
 
 
@@ -67,8 +78,8 @@ def measures(
 
 
 def mean_ci(values: Sequence[float], confidence: float = CONFIDENCE) -> tuple[float, float, float]:
-    """Mean and its t-based confidence interval (NaN bounds for fewer than two values, the
-    mean itself for constant values)."""
+    """Mean and its t-based confidence interval (NaN bounds for fewer than two values and
+    for constant values: no spread gives no interval, never a zero-width one)."""
     from scipy.stats import ttest_1samp  # imported here: scipy is slow to import
 
     values = [float(v) for v in values]
@@ -78,46 +89,74 @@ def mean_ci(values: Sequence[float], confidence: float = CONFIDENCE) -> tuple[fl
     if len(values) < 2:
         return mean, math.nan, math.nan
     if len(set(values)) == 1:
-        return mean, mean, mean
+        return mean, math.nan, math.nan
     ci = ttest_1samp(values, 0.0).confidence_interval(confidence)
     return mean, float(ci.low), float(ci.high)
 
 
+#: the ``note`` of a comparison whose every pair differs by the same amount: neither the
+#: t-test nor the Wilcoxon test has a spread to work on, so both are left out (no p, no
+#: interval) and the family does not count it; ``mean_diff`` still says how large it is
+CONSTANT_NOTE = "every pair differs by the same amount: not tested"
+NO_DIFFERENCE_NOTE = "no pair differs: not tested"
+
+
 def paired(a: Sequence[float], b: Sequence[float]) -> list[dict[str, Any]]:
     """Paired t-test and Wilcoxon signed-rank test of ``a`` against ``b`` (same order = same
-    pair); both results carry the mean difference a - b, its CI and Cohen's d_z."""
+    pair). Both carry ``mean_diff`` (a - b) and Cohen's d_z; each carries its own estimate
+    and interval: the mean with its t interval, the Hodges-Lehmann shift with the interval
+    the signed-rank test inverts. Differences without spread (constant, or all zero) leave
+    both tests out alike, with a ``note``; no zero-width interval is given as a 95 % CI."""
     from scipy.stats import ttest_rel, wilcoxon
 
     diffs = [x - y for x, y in zip(a, b, strict=True)]
     n = len(diffs)
     mean = statistics.fmean(diffs) if diffs else math.nan
     sd = statistics.stdev(diffs) if n > 1 else math.nan
-    effect = {
+    note = ""
+    if n > 1 and not sd > 0:
+        note = CONSTANT_NOTE if mean != 0 else NO_DIFFERENCE_NOTE
+    elif n < 2:
+        note = "fewer than two pairs: not tested"
+    common = {
         "n": n,
         "mean_diff": mean,
+        "effect_size": mean / sd if sd and sd > 0 else math.nan,
+        "note": note,
+    }
+    t_row = {
+        "test": PAIRED_T,
+        "statistic": math.nan,
+        "p": math.nan,
+        "estimator": MEAN,
+        "estimate": mean,
         "ci_low": math.nan,
         "ci_high": math.nan,
-        "effect_size": mean / sd if sd and sd > 0 else math.nan,
     }
-    t_stat = t_p = w_stat = w_p = math.nan
-    if n > 1 and sd > 0:
+    w_row = {**t_row, "test": WILCOXON, "estimator": HODGES_LEHMANN}
+    if not note:
         with warnings.catch_warnings():  # nearly constant differences: p is still valid
             warnings.filterwarnings("ignore", "Precision loss", RuntimeWarning)
             test = ttest_rel(a, b)
-        t_stat, t_p = float(test.statistic), float(test.pvalue)
         ci = test.confidence_interval(CONFIDENCE)
-        effect["ci_low"], effect["ci_high"] = float(ci.low), float(ci.high)
-    elif n > 1:  # every pair differs by the same amount: no spread, the interval is the point
-        effect["ci_low"] = effect["ci_high"] = mean
-    if any(d != 0 for d in diffs):
+        t_row.update(
+            statistic=float(test.statistic),
+            p=float(test.pvalue),
+            ci_low=float(ci.low),
+            ci_high=float(ci.high),
+        )
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", category=UserWarning)  # small n: exact / ties
-            test = wilcoxon(a, b)
-        w_stat, w_p = float(test.statistic), float(test.pvalue)
-    return [
-        {"test": PAIRED_T, "statistic": t_stat, "p": t_p, **effect},
-        {"test": WILCOXON, "statistic": w_stat, "p": w_p, **effect},
-    ]
+            w_test = wilcoxon(a, b)
+        estimate, low, high = hodges_lehmann(diffs, CONFIDENCE)
+        w_row.update(
+            statistic=float(w_test.statistic),
+            p=float(w_test.pvalue),
+            estimate=estimate,
+            ci_low=low,
+            ci_high=high,
+        )
+    return [{**t_row, **common}, {**w_row, **common}]
 
 
 def welch(a: Sequence[float], b: Sequence[float]) -> dict[str, Any]:
@@ -136,6 +175,9 @@ def welch(a: Sequence[float], b: Sequence[float]) -> dict[str, Any]:
         "ci_low": math.nan,
         "ci_high": math.nan,
         "effect_size": math.nan,
+        "estimator": MEAN,
+        "estimate": mean,
+        "note": "no spread: not tested",
     }
     if n_a > 1 and n_b > 1:
         pooled = math.sqrt(
@@ -153,38 +195,52 @@ def welch(a: Sequence[float], b: Sequence[float]) -> dict[str, Any]:
                 ci_low=float(ci.low),
                 ci_high=float(ci.high),
                 effect_size=mean / pooled,
+                note="",
             )
     return out
 
 
-def holm(pvalues: Sequence[float]) -> list[float]:
+def holm(pvalues: Sequence[float], size: int | None = None) -> list[float]:
     """Holm-adjusted p-values; NaN entries (untestable comparisons) stay NaN and do not
-    count towards the family's size."""
-    from statsmodels.stats.multitest import multipletests
+    count towards the family's size. ``size``: the family's declared size when some of its
+    comparisons are not among ``pvalues`` (each missing one counts as p = 1, so the others'
+    adjusted p never shrinks because less ran).
 
-    present = [i for i, p in enumerate(pvalues) if not math.isnan(p)]
+    The step-down of ``statsmodels.stats.multitest.multipletests(method="holm")`` (a test
+    checks they agree), computed here: statsmodels runs a full garbage collection on every
+    call, which costs seconds over a table's hundreds of small families."""
+    present = sorted((p, i) for i, p in enumerate(pvalues) if not math.isnan(p))
     adjusted = [math.nan] * len(pvalues)
-    if present:
-        _reject, corrected, _s, _b = multipletests([pvalues[i] for i in present], method="holm")
-        for i, value in zip(present, corrected, strict=True):
-            adjusted[i] = float(value)
+    m = max(len(present), size or 0)
+    running = 0.0
+    for rank, (p, i) in enumerate(present):
+        running = max(running, min(1.0, (m - rank) * p))
+        adjusted[i] = running
     return adjusted
 
 
 def _pairs(a_rows: Sequence[Row], b_rows: Sequence[Row], pair_by: Sequence[str]):
-    """The two groups' rows matched one-to-one by ``pair_by``, or None if they do not match."""
+    """The two groups' rows matched one-to-one by ``pair_by`` (only the keys both have: a
+    failed run drops its pair, never the pairing), or None where nothing pairs them (no key
+    columns, a key that repeats within a group, or no key in common)."""
     if not pair_by or any(c not in r for r in (*a_rows, *b_rows) for c in pair_by):
         return None
     keyed_a = {tuple(str(r[c]) for c in pair_by): r for r in a_rows}
     keyed_b = {tuple(str(r[c]) for c in pair_by): r for r in b_rows}
-    if (
-        len(keyed_a) != len(a_rows)
-        or len(keyed_b) != len(b_rows)
-        or keyed_a.keys() != keyed_b.keys()
-    ):
+    if len(keyed_a) != len(a_rows) or len(keyed_b) != len(b_rows):
         return None
-    keys = sorted(keyed_a, key=lambda k: [sort_key(v) for v in k])
+    common = keyed_a.keys() & keyed_b.keys()
+    if not common:
+        return None
+    keys = sorted(common, key=lambda k: [sort_key(v) for v in k])
     return [(keyed_a[k], keyed_b[k]) for k in keys]
+
+
+def pair_family(result: Mapping[str, Any]) -> tuple[Any, ...]:
+    """The default family: one test and reading of one pair of systems (every ``within``
+    group and measure of it). Declared by the pair, not built from what else ran, so a
+    comparison's Holm p is the same whichever other systems ran."""
+    return (result["test"], result["reading"], result["system_a"], result["system_b"])
 
 
 def compare(
@@ -196,11 +252,15 @@ def compare(
     metrics: Sequence[str | Measure] = ("total_gestures", "total_actions"),
     pair_by: Sequence[str] = ("rep",),
     family: Callable[[Mapping[str, Any]], Any] | None = None,
+    family_sizes: Mapping[Any, int] | None = None,
 ) -> list[dict[str, Any]]:
     """``baseline`` against every other value of ``compare_by``, for each ``within`` group
     and each metric: paired t and Wilcoxon where the rows pair by ``pair_by`` (inside the
-    ``within`` group), Welch otherwise. Holm's correction runs over each family: by default
-    the results sharing a test and a reading (one family of comparisons per question).
+    ``within`` group; a run missing from one side drops that pair only), Welch where the
+    design does not pair. Holm's correction runs over each family: by default
+    :func:`pair_family` (one test and reading of one pair of systems), so what else ran
+    never changes a comparison's p; ``family_sizes`` declares a family's size where some of
+    its comparisons may be missing (:func:`holm`'s ``size``).
 
     Each result is a row of ``tests.csv`` (:data:`LEADING_COLUMNS`, the ``within`` columns,
     :data:`TRAILING_COLUMNS`); ``pairing`` names the key (``rep``) or says ``none``.
@@ -234,18 +294,27 @@ def compare(
                     b = [number(y[m.column], m.column) for _, y in pairs]
                     pairing = "+".join(pair_by)
                     found = paired(a, b)
+                    dropped = len(base_rows) + len(other_rows) - 2 * len(pairs)
+                    if dropped:
+                        why = f"{dropped} run(s) without a partner left out"
+                        found = [
+                            {**f, "note": "; ".join(x for x in (f["note"], why) if x)}
+                            for f in found
+                        ]
                 else:
                     a = [number(r[m.column], m.column) for r in base_rows]
                     b = [number(r[m.column], m.column) for r in other_rows]
                     pairing = UNPAIRED
                     found = [welch(a, b)]
                 results += [{**head, **f, "pairing": pairing} for f in found]
-    family = family or (lambda r: (r["test"], r["reading"]))
+    family = family or pair_family
     families: dict[Any, list[int]] = {}
     for i, r in enumerate(results):
         families.setdefault(family(r), []).append(i)
-    for indices in families.values():
-        for i, adjusted in zip(indices, holm([results[i]["p"] for i in indices]), strict=True):
+    for name, indices in families.items():
+        size = (family_sizes or {}).get(name)
+        found_p = holm([results[i]["p"] for i in indices], size)
+        for i, adjusted in zip(indices, found_p, strict=True):
             results[i]["p_holm"] = adjusted
     columns = [*LEADING_COLUMNS, *within, *TRAILING_COLUMNS]
     return [{c: r[c] for c in columns} for r in results]
@@ -254,66 +323,3 @@ def compare(
 def csv_columns(within: Sequence[str] = ("rate",)) -> list[str]:
     """The column order of ``tests.csv`` for results compared within ``within``."""
     return [*LEADING_COLUMNS, *within, *TRAILING_COLUMNS]
-
-
-def _fmt(value: float, spec: str) -> str:
-    return "n/a" if math.isnan(value) else format(value, spec)
-
-
-def tests_markdown(results: Sequence[Mapping[str, Any]], within: Sequence[str] = ("rate",)) -> str:
-    """A Markdown table of :func:`compare` results; Holm-adjusted p < 0.05 marked with *."""
-    from pil.experiments.report import markdown_table
-
-    header = [
-        "measure",
-        "reading",
-        *within,
-        "a",
-        "b",
-        "test",
-        "n",
-        "pairing",
-        "mean diff [95 % CI]",
-        "effect",
-        "p",
-        "p (Holm)",
-    ]
-    body = []
-    for r in results:
-        star = " *" if not math.isnan(r["p_holm"]) and r["p_holm"] < 0.05 else ""
-        spec = ".3f" if str(r["measure"]).endswith("rate") else ".1f"  # a share, or a count
-        diff = (
-            f"{_fmt(r['mean_diff'], spec)} [{_fmt(r['ci_low'], spec)}, {_fmt(r['ci_high'], spec)}]"
-        )
-        body.append(
-            [
-                r["measure"],
-                r["reading"] or "-",
-                *(r[c] for c in within),
-                r["system_a"],
-                r["system_b"],
-                r["test"],
-                r["n"],
-                r["pairing"],
-                diff,
-                _fmt(r["effect_size"], ".2f"),
-                _fmt(r["p"], ".3g"),
-                _fmt(r["p_holm"], ".3g") + star,
-            ]
-        )
-    return markdown_table(header, body)
-
-
-def describe_tests(results: Sequence[Mapping[str, Any]]) -> str:
-    """One sentence naming the tests used, the pairing and the correction, with counts."""
-    tests = sorted({r["test"] for r in results})
-    pairings = sorted({r["pairing"] for r in results})
-    testable = [r for r in results if not math.isnan(r["p_holm"])]
-    significant = sum(1 for r in testable if r["p_holm"] < 0.05)
-    return (
-        f"Tests: {', '.join(tests)}; samples paired by {', '.join(pairings)} "
-        f"('none' = unpaired, Welch); Holm's correction over each test and reading. "
-        f"{significant} of {len(testable)} testable comparisons have Holm-adjusted p < 0.05 "
-        f"(marked *); {len(results) - len(testable)} are untestable (no spread). "
-        "Effect: Cohen's d_z (paired) or d (Welch); mean diff = a - b with its 95 % CI."
-    )

@@ -196,20 +196,30 @@ def assemble(
     return replace(run, learner=agent)  # type: ignore[arg-type]
 
 
-def pretraining(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> Training | None:
-    """The pre-training ``spec``'s system starts from (None when from scratch), from ``cache``
-    if there: a learner-only PIL run with correction on the training tables, at the test rate
-    (c1, c3) or at 100 % (c2, c4). A detector only a physical run has (the eye cameras) is
-    not there: the training reads with the exact dice at the same rate."""
+def training_spec(spec: RunSpec) -> RunSpec | None:
+    """The spec of the pre-training ``spec``'s system starts from (None when from scratch):
+    a learner-only PIL run at the test rate (c1, c3) or at 100 % (c2, c4); its "train" phase
+    is the run. A detector only a physical run has (the eye cameras) is not there: the
+    training reads with the exact dice at the same rate."""
     trained_at = spec.system_spec.trained_at
     if trained_at is None:
         return None
     rate = spec.rate if trained_at == "d" else 1.0
     model = spec.detector.model
     learner_only = model if detector_key(model) in DETECTORS else EXACT
-    trained = replace(
+    return replace(
         spec, rate=rate, detector=replace(spec.detector, model=learner_only), world=SYMBOLIC
     )
+
+
+def pretraining(spec: RunSpec, cache: MutableMapping[Any, Any] | None = None) -> Training | None:
+    """The pre-training ``spec``'s system starts from (None when from scratch), from ``cache``
+    if there: the "train" phase of :func:`training_spec` (with correction, on the training
+    tables)."""
+    trained = training_spec(spec)
+    if trained is None:
+        return None
+    rate = trained.rate
 
     def train() -> Training:
         run = assemble(trained, phase="train", cache=cache)

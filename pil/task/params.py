@@ -17,7 +17,14 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
-from pil.agents.bandit import EPSILON, EPSILON_DECAY, EPSILON_DECAY_RANGE, EPSILON_RANGE
+from pil.agents.bandit import (
+    EPSILON,
+    EPSILON_DECAY,
+    EPSILON_DECAY_RANGE,
+    EPSILON_RANGE,
+    PRIOR,
+    PRIOR_RANGE,
+)
 from pil.agents.tamer import STEP_SIZE, STEP_SIZE_RANGE
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.errors import NEVER_DETECTED, InvalidChoiceError
@@ -161,6 +168,13 @@ PARAMS: dict[str, ParamSpec] = {
             EPSILON_DECAY,
             "bandit: epsilon / (1 + t / tau) after t feedbacks in a state (0: constant)",
             *EPSILON_DECAY_RANGE,
+        ),
+        ParamSpec(
+            "bandit_prior",
+            "float",
+            PRIOR,
+            "bandit: the value of an arm never pulled (its optimistic start)",
+            *PRIOR_RANGE,
         ),
         ParamSpec(
             "step_size",

@@ -46,6 +46,7 @@ class LearnerSettings:
     proactive_min_count: int
     epsilon: float
     epsilon_decay: float
+    bandit_prior: float
     step_size: float
     step_memory: str
     max_actions_per_gesture: int

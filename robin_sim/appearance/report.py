@@ -245,6 +245,10 @@ def write_appearance(
     if tests:
         written.append(out / "tests.csv")
         written[-1].write_text(csv_text(tests, csv_columns(("person",))))
+    from robin_sim.appearance.trend import TREND_COLUMNS, trend_rows
+
+    written.append(out / "trend.csv")
+    written[-1].write_text(csv_text(trend_rows(finished_tables), TREND_COLUMNS))
     written.append(out / "appearance.md")
     written[-1].write_text("\n".join(summary_lines(rows, tests, reps, tables, table_rows)) + "\n")
     written.append(write_figure(finished_tables, out / "appearance.png"))

@@ -25,6 +25,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME
+from pil.task.feedback_audit import confusion_columns
 from pil.worker_pool import SpawnPool
 from robin_sim.appearance.people import AppearancePeople, Looks
 
@@ -143,6 +144,7 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         "no_hand": vision.get("no_hand"),
         "feedback_misread": vision.get("feedback_misread"),
         "examples": (vision.get("adapt") or {}).get("examples", 0),
+        **confusion_columns(summary.get("feedback_confusion")),
     }
     tables = [
         {"person": run.person.name, "classifier": run.classifier, "rep": run.rep, **t}

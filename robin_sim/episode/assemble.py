@@ -52,6 +52,7 @@ def vision_factory(conditions: VisionSettings) -> DetectorFactory:
             skin=conditions.skin,
             pose_jitter=conditions.pose_jitter,
             adapt=conditions.adapt,
+            discarded_thumb=conditions.discarded_thumb,
         )
 
     return make

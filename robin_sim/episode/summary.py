@@ -14,6 +14,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from pil.task.counting import RunStats
+from pil.task.feedback_audit import TRUE_NAME, feedback_confusion, verdict_source
 from pil.task.records import StepRecord
 from pil.types import Action
 
@@ -47,6 +48,8 @@ class EpisodeTotals:
     render_disagreements: int = 0
     handovers: list[Handover] = field(default_factory=list)
     timeout_s: float = 180.0  # s from a handover's first gesture (param handover_timeout)
+    # the person's feedback against how the verdict reached the robot (pil.task.feedback_audit)
+    feedback: dict[str, dict[str, int]] = field(default_factory=lambda: feedback_confusion(()))
 
     def add(
         self, record: StepRecord, entry: Mapping[str, Any], gesture_started: float, ended: float
@@ -67,6 +70,8 @@ class EpisodeTotals:
             self.render_disagreements += not check["agrees"]
         if record.action is None:
             return
+        if record.feedback is not None:
+            self.feedback[TRUE_NAME[record.feedback]][verdict_source(record)] += 1
         now.actions += 1
         now.interrupted += record.interrupted
         now.drops += record.dropped is not None
@@ -114,5 +119,6 @@ class EpisodeTotals:
             "mean_handover_s": round(sum(times) / len(times), 3) if times else None,
             "render_checks": self.render_checks,
             "render_disagreements": self.render_disagreements,
+            "feedback_confusion": self.feedback,
             "handovers": [asdict(h) for h in self.handovers],
         }

@@ -58,6 +58,14 @@ CONDITION_PARAMS: dict[str, ParamSpec] = {
         False,
         "Robin adapts its gesture model to the person from their feedback",
     ),
+    "discarded_thumb": ParamSpec(
+        "discarded_thumb",
+        "choice",
+        "approve",
+        "a thumb the classifier discards: approve (no feedback counts as OK, eq. 1) or ask "
+        "(the robot asks for the thumb again, up to twice more)",
+        choices=("approve", "ask"),
+    ),
 }
 
 
@@ -70,6 +78,7 @@ class VisionSettings:
     skin: float | None = None  # None: each performance draws a tone
     pose_jitter: float = 1.0
     adapt: bool = False
+    discarded_thumb: str = "approve"
 
 
 def parse_conditions(given: Mapping[str, Any]) -> VisionSettings:

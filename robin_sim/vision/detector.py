@@ -46,6 +46,7 @@ VISION_DEFAULTS: dict[str, float] = {name: spec.default for name, spec in CONDIT
 GESTURE_OF = {pose_for(g): g for g in Gesture}  # pose name -> gesture
 FEEDBACK_OF = {SIGN_OF[thumb]: thumb for thumb in (Feedback.OK, Feedback.NOT_OK)}
 NO_HAND = "no hand"  # a discarded reading in which neither eye found a hand
+ASK_AGAIN = 2  # with discarded_thumb="ask": readings asked for after a discarded thumb
 READING_SHOWN = 1.0  # s (simulated) the video's eye inset shows a reading after it was made
 
 
@@ -115,8 +116,11 @@ class VisionDetector:
         skin: float | None = None,
         pose_jitter: float = 1.0,
         adapt: bool = False,
+        discarded_thumb: str = "approve",
     ) -> None:
         self.sim = sim
+        self.discarded_thumb = discarded_thumb  # checked where it enters (condition_params)
+        self.thumbs_asked_again = 0
         self.condition = EyeCondition(lighting=lighting, camera_noise=camera_noise)
         self.display = display
         self.gesture_model = gesture_model or load_shipped()
@@ -243,9 +247,17 @@ class VisionDetector:
         """The feedback Robin perceives while the person gives ``feedback``.
 
         A thumb shows its pose; no feedback shows the neutral hand. A discarded reading is no
-        feedback (:attr:`Feedback.NONE`).
+        feedback (:attr:`Feedback.NONE`, which counts as OK), or with ``discarded_thumb="ask"``
+        the robot asks for the thumb again: up to :data:`ASK_AGAIN` more readings, each of a
+        fresh performance of the same feedback (the robot cannot tell a discarded thumb from
+        silence, so silence is asked again too; it stays silence).
         """
         record = self._read("feedback", pose_for(feedback), FEEDBACK_CLASSES)
+        asks = 0
+        while record.discarded and self.discarded_thumb == "ask" and asks < ASK_AGAIN:
+            asks += 1
+            self.thumbs_asked_again += 1
+            record = self._read("feedback", pose_for(feedback), FEEDBACK_CLASSES)
         return Feedback.NONE if record.discarded else FEEDBACK_OF[record.read]
 
     def verdict(self, meant: Gesture | None, approved: bool) -> None:
@@ -282,6 +294,8 @@ class VisionDetector:
             "feedback_misread": sum(not r.discarded and r.read != r.shown for r in thumbs),
             "feedback_discarded": sum(r.outcome == DISCARDED for r in thumbs),
             "feedback_no_hand": sum(r.no_hand for r in thumbs),
+            "discarded_thumb": self.discarded_thumb,
+            "thumbs_asked_again": self.thumbs_asked_again,
             "confusion": confusion,
             "reads": dict(Counter(r.outcome for r in self.records)),
             "skin": self.skin,

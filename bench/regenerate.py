@@ -1,0 +1,188 @@
+"""Regenerate the folders of ``bench/results`` from the code, each stamped with the commit.
+
+    python bench/regenerate.py --quick            # the learner-only folders (minutes)
+    python bench/regenerate.py --full             # every folder (vision ones: hours)
+    python bench/regenerate.py --only study,baselines
+    python bench/regenerate.py --list             # each folder, its command and its mode
+
+Each folder's command writes into a fresh temporary folder beside ``bench/results``; only
+when it succeeds does that folder replace ``bench/results/<folder>`` (the old one is kept
+until then, so a failed or interrupted run loses nothing), with ``stamp.json``: the folder,
+the command, the mode, the commit (and whether the working tree had changes), the Python and
+the seconds it took. ``--quick`` regenerates the folders whose command is cheap enough to run
+in full; it never writes a smaller version of a folder (the docs quote the full figures), so a
+folder is either regenerated as it is quoted or left as it was and listed as still due.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "bench" / "results"
+ROBIN = [sys.executable, "-m", "robin_sim.cli.main"]
+PYTHON = [sys.executable, "-m"]
+SYSTEMS = "pil,proactive,c1,c2,c3,c4"
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A results folder, the command that makes it (``--out`` is appended) and its mode."""
+
+    folder: str
+    command: tuple[str, ...]
+    quick: bool  # cheap enough for --quick (learner-only, minutes at most)
+    drop: tuple[str, ...] = ()  # caches the command leaves in its folder (not results)
+
+    def argv(self, out: Path) -> list[str]:
+        """The command line with ``--out``."""
+        base = ROBIN if self.command[0] == "robin-pil" else PYTHON
+        return [*base, *self.command[1:], "--out", str(out)]
+
+
+RECIPES: tuple[Recipe, ...] = (
+    Recipe("study", ("robin-pil", "study", "--systems", SYSTEMS, "--no-progress"), True),
+    Recipe("baselines", ("robin-pil", "baselines", "--no-progress"), True),
+    Recipe("adapt", ("robin-pil", "adapt", "--no-progress"), True),
+    Recipe("transfer", ("robin-pil", "transfer", "--no-progress"), True),
+    Recipe("people", ("robin-pil", "people", "--no-progress"), True),
+    Recipe("people_40", ("robin-pil", "people", "--tables", "40", "--no-progress"), True),
+    Recipe("label_accuracy", ("python", "pil.experiments.label_accuracy"), True),
+    Recipe("study_reading", ("python", "pil.experiments.study_reading"), False),
+    Recipe(
+        "study_seeds",
+        ("robin-pil", "study", "--seeds", "10", "--systems", SYSTEMS, "--no-progress"),
+        False,
+    ),
+    Recipe(
+        "vision_conditions",
+        ("robin-pil", "vision-conditions", "--no-progress"),
+        False,
+        drop=("chunks",),  # the rendered samples: a cache, 11 MB
+    ),
+    Recipe(
+        "appearance",
+        ("robin-pil", "people", "--appearance", "--reps", "10", "--no-progress"),
+        False,
+    ),
+    Recipe(
+        "vision_whole_range",
+        ("robin-pil", "train-gestures", "--samples", "8064", "--workers", "2"),
+        False,
+    ),
+)
+BY_NAME = {r.folder: r for r in RECIPES}
+
+
+def commit() -> tuple[str, bool]:
+    """The checked-out commit and whether the working tree has changes (bench/results aside)."""
+    head = subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=False
+    ).stdout.strip()
+    status = subprocess.run(
+        ["git", "status", "--porcelain", "--", ".", ":!bench/results"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=False,
+    ).stdout.strip()
+    return head or "unknown", bool(status)
+
+
+TEXT_SUFFIXES = (".csv", ".md", ".json", ".txt")
+
+
+def tidy(out: Path, written_at: str, recipe: Recipe) -> None:
+    """Leave only results in ``out``: the recipe's caches removed, and the temporary path the
+    command wrote into its text files (``written_at``) replaced by the folder's own."""
+    for name in recipe.drop:
+        shutil.rmtree(out / name, ignore_errors=True)
+    final = f"bench/results/{recipe.folder}"
+    for path in out.rglob("*"):
+        if path.is_file() and path.suffix in TEXT_SUFFIXES:
+            text = path.read_text()
+            if written_at in text:
+                path.write_text(text.replace(written_at, final))
+
+
+def regenerate(recipe: Recipe, mode: str) -> float:
+    """Run ``recipe`` into a temporary folder and put it in place with its stamp; seconds."""
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=f".{recipe.folder}.", dir=RESULTS))
+    out = work / recipe.folder
+    start = time.monotonic()
+    try:
+        done = subprocess.run(recipe.argv(out), cwd=ROOT, check=False)
+        if done.returncode != 0:
+            raise SystemExit(f"{recipe.folder}: the command exited {done.returncode}")
+        seconds = time.monotonic() - start
+        tidy(out, str(out), recipe)
+        head, dirty = commit()
+        stamp = {
+            "folder": recipe.folder,
+            "command": " ".join(recipe.command),
+            "mode": mode,
+            "commit": head,
+            "dirty": dirty,
+            "python": platform.python_version(),
+            "seconds": round(seconds, 1),
+        }
+        (out / "stamp.json").write_text(json.dumps(stamp, indent=2) + "\n")
+        target = RESULTS / recipe.folder
+        old = work / "old"
+        if target.exists():
+            target.rename(old)
+        out.rename(target)
+        return seconds
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """The command line of the module docstring."""
+    parser = argparse.ArgumentParser(prog="python bench/regenerate.py")
+    group = parser.add_mutually_exclusive_group(required=True)
+    group.add_argument("--quick", action="store_true", help="the cheap folders only")
+    group.add_argument("--full", action="store_true", help="every folder")
+    group.add_argument("--only", help="comma-separated folders")
+    group.add_argument("--list", action="store_true", help="list the folders and stop")
+    args = parser.parse_args(argv)
+    if args.list:
+        for r in RECIPES:
+            print(f"{r.folder:20} {'quick' if r.quick else 'full '}  {' '.join(r.command)}")
+        return 0
+    if args.only:
+        names = [n.strip() for n in args.only.split(",") if n.strip()]
+        unknown = [n for n in names if n not in BY_NAME]
+        if unknown or not names:
+            print(
+                f"--only: unknown folder(s) {', '.join(unknown) or '(none given)'}; "
+                f"valid choices: {', '.join(BY_NAME)}",
+                file=sys.stderr,
+            )
+            return 2
+        chosen, mode = [BY_NAME[n] for n in names], "only"
+    else:
+        mode = "quick" if args.quick else "full"
+        chosen = [r for r in RECIPES if r.quick or mode == "full"]
+    for recipe in chosen:
+        print(f"regenerating {recipe.folder} ...", flush=True)
+        seconds = regenerate(recipe, mode)
+        print(f"  {recipe.folder}: {seconds:.0f} s", flush=True)
+    due = [r.folder for r in RECIPES if r not in chosen]
+    if due:
+        print("not regenerated (run --full or --only): " + ", ".join(due))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
