@@ -75,6 +75,26 @@ RECIPES: tuple[Recipe, ...] = (
         False,
     ),
     Recipe(
+        "leaderboard",  # also writes docs/leaderboard.md; refuses a tree with changes
+        ("robin-pil", "bench", "--leaderboard", "--workers", "2", "--no-progress"),
+        False,
+    ),
+    Recipe(
+        "people_fitted",  # docs/people.md's tables then: python docs/people_tables.py
+        (
+            "robin-pil",
+            "people",
+            "--from-sessions",
+            "tests/data/fitted_people/stand_ins",
+            "--sessions-per-person",
+            "20",
+            "--workers",
+            "2",
+            "--no-progress",
+        ),
+        False,
+    ),
+    Recipe(
         "vision_whole_range",
         ("robin-pil", "train-gestures", "--samples", "8064", "--workers", "2"),
         False,

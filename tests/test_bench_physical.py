@@ -8,7 +8,7 @@ import pytest
 
 from pil.bench.entrants import reference
 from pil.bench.suite import load_suite
-from robin_sim.cli.bench_physical import run_physical
+from robin_sim.cli.bench_physical import run_physical_track
 
 
 @pytest.mark.slow
@@ -17,7 +17,7 @@ def test_an_entrant_runs_the_physical_episode() -> None:
     track = suite.track("physical")
     (condition,) = suite.track_conditions("physical", quick=True)
     seed = suite.seeds("dev", quick=True)[0]
-    row = run_physical(suite, track, condition, seed, reference("pil-next-best"), True)
+    row = run_physical_track(suite, track, condition, seed, reference("pil-next-best"), True)
     assert row["failed"] == "", row["failed"]
     assert row["scripted"] == 4  # one handover: pointing, grasp, give me, release
     assert row["actions"] >= row["scripted"] and row["gestures"] >= row["scripted"]

@@ -16,7 +16,7 @@ import pytest
 
 from pil.experiments.people_fit import read_person
 from robin_sim.cli.main import main
-from robin_sim.fitted.session import Setting, simulate
+from robin_sim.fitted.session import SessionSetting, simulate
 
 pytestmark = pytest.mark.slow
 TINY = Path(__file__).parent / "data" / "fitted_people" / "tiny"
@@ -34,7 +34,9 @@ def test_a_fitted_person_runs_and_is_compared_with_the_recording(tmp_path: Path)
     (source,) = person.sources
     assert source["session"] == "sessions/P01/block1-pil"
     assert person.settings == [
-        Setting.of(json.loads((TINY / source["session"] / "summary.json").read_text())).as_json()
+        SessionSetting.of(
+            json.loads((TINY / source["session"] / "summary.json").read_text())
+        ).as_json()
     ]
     sim = out / "simulated" / "P01" / "sim000"
     summary = json.loads((sim / "summary.json").read_text())
@@ -50,6 +52,6 @@ def test_a_fitted_person_runs_and_is_compared_with_the_recording(tmp_path: Path)
     assert (out / "comparison.png").stat().st_size > 1000
     # the same seed: the same session (learner, player and physics seeded alike)
     again = tmp_path / "again"
-    simulate(person, Setting.from_json(person.settings[0]), summary["live"]["seed"], again)
+    simulate(person, SessionSetting.from_json(person.settings[0]), summary["live"]["seed"], again)
     assert (again / "log.jsonl").read_text() == (sim / "log.jsonl").read_text()
     assert (again / "inputs.jsonl").read_text() == (sim / "inputs.jsonl").read_text()

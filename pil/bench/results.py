@@ -34,7 +34,7 @@ BENCH_SUMMARY_COLUMNS = (
     "savings",
     "savings_missing",
 )
-EQUIVALENCE_COLUMNS = (
+BENCH_EQUIVALENCE_COLUMNS = (
     "track",
     "entrant",
     "anchor",
@@ -108,7 +108,7 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
         write_text_atomic(out / "summary.csv", csv_text(found["summary"], BENCH_SUMMARY_COLUMNS)),
         write_text_atomic(out / "tests.csv", csv_text(found["tests"], BENCH_TEST_COLUMNS)),
         write_text_atomic(
-            out / "equivalence.csv", csv_text(found["equivalence"], EQUIVALENCE_COLUMNS)
+            out / "equivalence.csv", csv_text(found["equivalence"], BENCH_EQUIVALENCE_COLUMNS)
         ),
     ]
 

@@ -18,7 +18,7 @@ from typing import Any
 from pil.bench.entrants import REFERENCE, Factory, load_factory, reference
 from pil.bench.journal import Journal
 from pil.bench.suite import Suite, Track
-from pil.bench.tracks import run_one
+from pil.bench.tracks import run_track
 from pil.folder_lock import FolderLock
 
 
@@ -53,7 +53,7 @@ Task = tuple[str, str, Entrant, int, bool]
 Runner = Callable[[Suite, Track, str, int, Factory, bool], dict[str, Any]]
 
 
-def _run(suite: Suite, task: Task, runner: Runner = run_one) -> dict[str, Any]:
+def _run(suite: Suite, task: Task, runner: Runner = run_track) -> dict[str, Any]:
     track, condition, entrant, seed, quick = task
     row = runner(suite, suite.track(track), condition, seed, entrant.factory(), quick)
     params = json.dumps(dict(entrant.params), sort_keys=True)
@@ -96,10 +96,10 @@ def run_bench(
     workers: int = 1,
     progress: Callable[[int], None] | None = None,
     conditions: Sequence[str] | None = None,
-    runner: Runner = run_one,
+    runner: Runner = run_track,
 ) -> list[dict[str, Any]]:
     """Run what ``journal`` lacks; return all its rows for these entrants and tracks.
-    ``runner``: how one run is made (default :func:`pil.bench.tracks.run_one`, learner only;
+    ``runner``: how one run is made (default :func:`pil.bench.tracks.run_track`, learner only;
     the physical track's comes from ``robin_sim``)."""
     quick = bool(journal.stamp["quick"])
     every = plan(suite, entrants, tracks, seeds, quick, conditions)

@@ -16,7 +16,7 @@ person's, so every agent faces the same script and readings on a seed (common ra
 
 A run stops as failed when a gesture never gets an approved action or the actions pass
 ``cap`` x the scripted gestures (or the gestures do: a robot that keeps asking for a
-repeat). :func:`run_one` returns a flat row (the journal's).
+repeat). :func:`run_track` returns a flat row (the journal's).
 """
 
 from __future__ import annotations
@@ -235,7 +235,7 @@ def _shipped(name: str) -> str:
     return str(SCENARIOS_DIR / f"{name}.yaml")
 
 
-def run_one(
+def run_track(
     suite: Suite, track: Track, condition: str, seed: int, factory: Factory, quick: bool
 ) -> dict[str, Any]:
     """One run of ``factory``'s agent: a flat row of the metrics (see the module docstring)."""

@@ -209,10 +209,16 @@ def _run_entrants(
             suite, everyone, learner_only, journal, seeds, workers=workers, progress=bar.update
         )
         if slow:
-            from robin_sim.cli.bench_physical import run_physical  # MuJoCo: the slow track
+            from robin_sim.cli.bench_physical import run_physical_track  # MuJoCo: the slow track
 
             rows += run_bench(
-                suite, anchored, slow, journal, seeds, progress=bar.update, runner=run_physical
+                suite,
+                anchored,
+                slow,
+                journal,
+                seeds,
+                progress=bar.update,
+                runner=run_physical_track,
             )
     write_results(suite, out)
     found = analyse(suite, rows, args.quick)

@@ -1,6 +1,6 @@
 """The benchmark's slow track: the physical episode in MuJoCo, read by Robin's eye cameras.
 
-:func:`run_physical` is a :data:`pil.bench.run.Runner`: one run of an entrant on the
+:func:`run_physical_track` is a :data:`pil.bench.run.Runner`: one run of an entrant on the
 ``physical`` track. The episode of the track's scenario is assembled as ``robin-pil episode
 --detector vision --no-video`` assembles it (:func:`robin_sim.episode.assemble.assemble`: the
 physical world, the person's body, the eye cameras reading every gesture and thumb), the
@@ -18,7 +18,7 @@ from pil.bench.suite import Suite, Track
 from pil.bench.tracks import count, curve_area, curve_of
 
 
-def run_physical(
+def run_physical_track(
     suite: Suite, track: Track, condition: str, seed: int, factory: Factory, quick: bool
 ) -> dict[str, Any]:
     """One physical run of ``factory``'s agent (module docstring)."""

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from pil.outdir import claimed_out_dir
     from robin_sim.cli.options import progress_bar
     from robin_sim.fitted.runs import plan_runs, run_all
-    from robin_sim.fitted.session import Setting
+    from robin_sim.fitted.session import SessionSetting
 
     check(args)
     sources = find_sources(args.from_sessions)  # consent, readable files: else exit 2
@@ -99,8 +99,8 @@ def run(args: argparse.Namespace) -> int:
     for who, sessions in sorted(sources.sessions.items()):
         observed = [observe(s.inputs, s.events, s.log) for s in sessions]
         for s in sessions:
-            _checked(Setting.of(s.summary), who, s.name)
-        settings = [Setting.of(s.summary).as_json() for s in sessions]
+            _checked(SessionSetting.of(s.summary), who, s.name)
+        settings = [SessionSetting.of(s.summary).as_json() for s in sessions]
         names = [{"session": s.name, "sha256": s.sha256} for s in sessions]
         people.append(fit_person(who, observed, names, settings))
         for session, seen, setting in zip(sessions, observed, settings, strict=True):

@@ -28,7 +28,7 @@ from pil.experiments.people_sources import read_json, read_session
 from pil.experiments.sessions_load import SUMMARY_NAME
 from pil.task.seeds import block_seed
 from pil.worker_pool import SpawnPool
-from robin_sim.fitted.session import Setting, simulate
+from robin_sim.fitted.session import SessionSetting, simulate
 
 SIMULATED_DIR = "simulated"
 
@@ -39,7 +39,7 @@ class SimRun:
 
     person: FittedPerson
     k: int
-    setting: Setting
+    setting: SessionSetting
     seed: int
 
     def folder(self, out: Path) -> Path:
@@ -52,8 +52,8 @@ def plan_runs(people: Sequence[FittedPerson], sessions_per_person: int, seed: in
     for person in people:
         settings = []
         for s in person.settings:
-            if Setting.from_json(s) not in settings:
-                settings.append(Setting.from_json(s))
+            if SessionSetting.from_json(s) not in settings:
+                settings.append(SessionSetting.from_json(s))
         for k in range(sessions_per_person):
             setting = settings[k % len(settings)]
             runs.append(SimRun(person, k, setting, block_seed(seed, person.participant, k)))
@@ -83,7 +83,7 @@ def measured(run: SimRun, out: Path) -> dict[str, Any] | None:
     }
 
 
-def run_one(run: SimRun, out: Path) -> dict[str, Any]:
+def simulate_run(run: SimRun, out: Path) -> dict[str, Any]:
     """Simulate ``run`` (its folder made anew) and measure it."""
     folder = run.folder(out)
     if folder.exists():
@@ -113,13 +113,13 @@ def run_all(
     os.environ.setdefault("MUJOCO_GL", "egl")
     if todo and workers == 0:
         for i in todo:
-            rows[i] = run_one(runs[i], out)
+            rows[i] = simulate_run(runs[i], out)
             progress(1)
     elif todo:
         pool = SpawnPool(min(workers, len(todo)))
         try:
             futures: dict[Future[dict[str, Any]], int] = {
-                pool.submit(run_one, runs[i], out): i for i in todo
+                pool.submit(simulate_run, runs[i], out): i for i in todo
             }
             pending = set(futures)
             while pending:

@@ -1,6 +1,6 @@
 """One simulated session of a fitted person: the live engine, unpaced, with no page.
 
-:func:`simulate` builds a session as a recorded one was built (:class:`Setting`: its system,
+:func:`simulate` builds a session as a recorded one was built (:class:`SessionSetting`: its system,
 scenario, handover types, feedback window and caps, from the recorded summary) with the live
 session's own parts (:func:`robin_sim.live.run.live_parts`: the live body's tempo, the exact
 detector, the within-step memory on, the watchdog), puts a
@@ -37,7 +37,7 @@ from robin_sim.robot.world import PhysicalWorld
 
 
 @dataclass(frozen=True)
-class Setting:
+class SessionSetting:
     """How a recorded session was run, so a simulated one runs the same way."""
 
     system: str
@@ -48,7 +48,7 @@ class Setting:
     block_actions: int | None
 
     @classmethod
-    def of(cls, summary: Mapping[str, Any]) -> Setting:
+    def of(cls, summary: Mapping[str, Any]) -> SessionSetting:
         """The setting of a recorded session's summary."""
         live = summary.get("live") or {}
         limits = live.get("limits") or {}
@@ -63,7 +63,7 @@ class Setting:
         )
 
     @classmethod
-    def from_json(cls, data: Mapping[str, Any]) -> Setting:
+    def from_json(cls, data: Mapping[str, Any]) -> SessionSetting:
         """The setting :meth:`as_json` wrote."""
         types = data.get("handover_types")
         return cls(**{**data, "handover_types": None if types is None else tuple(types)})
@@ -125,7 +125,9 @@ class _Observer(Booking):
         self.player.decided(record)
 
 
-def simulate(person: FittedPerson, setting: Setting, seed: int, out_dir: Path) -> dict[str, Any]:
+def simulate(
+    person: FittedPerson, setting: SessionSetting, seed: int, out_dir: Path
+) -> dict[str, Any]:
     """One simulated session of ``person`` in ``setting`` with ``seed`` into ``out_dir`` (made
     here; it must not exist); its summary."""
     config = setting.config(person.participant, seed)
