@@ -129,6 +129,8 @@ def cell(
     run = start([*command.argv, "--out", str(out)], sigint_ignored=ignored)
     outcome = signal_when(run, how, after_s=at)
     problems = outcome.problems(finished_ok=True)
+    if "Traceback" in outcome.stderr:  # what it was, for the record
+        problems.append(outcome.stderr.strip().splitlines()[-1][:200])
     ended = (
         f"exit {outcome.code} after {outcome.seconds:3.1f} s"
         if outcome.signalled
