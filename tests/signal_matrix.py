@@ -63,7 +63,7 @@ COMMANDS: dict[str, Command] = {
         ),
         _ok_runs,
     ),
-    "people": Command(("people", "--reps", "40", "--quiet"), lambda out: lines(out / "reps.jsonl")),
+    "people": Command(("people", "--reps", "80", "--quiet"), lambda out: lines(out / "reps.jsonl")),
     "people-appearance": Command(
         (
             "people",
