@@ -32,6 +32,12 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+def _default_sigint() -> None:
+    """As a terminal starts a job in the foreground, even if this process ignores SIGINT
+    (started itself as a background job): the disposition would be inherited."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @dataclass
 class Started:
     """A started command: its process, and the files its stdout and stderr go to (files, not
@@ -66,7 +72,7 @@ def start(argv: Sequence[str], *, sigint_ignored: bool = False, cwd: Path | None
         stdout=stdout,
         stderr=stderr,
         start_new_session=True,
-        preexec_fn=_ignore_sigint if sigint_ignored else None,
+        preexec_fn=_ignore_sigint if sigint_ignored else _default_sigint,
         cwd=cwd,
         env=env,
     )

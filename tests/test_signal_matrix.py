@@ -18,7 +18,7 @@ CELLS = [("live", signal.SIGTERM, 2.0, True)]
 @pytest.mark.parametrize(
     ("name", "how", "at", "ignored"),
     CELLS,
-    ids=[f"{n}-{h.name}-{t}s-{'ignored' if i else 'inherited'}" for n, h, t, i in CELLS],
+    ids=[f"{n}-{h.name}-{t}s-{'ignored' if i else 'default'}" for n, h, t, i in CELLS],
 )
 def test_a_cell_of_the_signal_matrix_keeps_the_promise(
     tmp_path: Path, name: str, how: signal.Signals, at: float, ignored: bool
