@@ -29,7 +29,7 @@ def refused(argv: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str])
         (["--port", "http"], "--port"),
         (["--port", "70000"], "65535"),
         (["--port", "-1"], "65535"),
-        (["--speed", "fast"], "--speed"),
+        (["--speed", "fast"], "speed must be a number from 0.1 to 10.0"),
         (["--speed", "50"], "speed"),
         (["--system", "nope"], "pil"),
         (["--participant", "P 01; rm"], "participant"),
