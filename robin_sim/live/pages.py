@@ -91,6 +91,7 @@ class Pages:
                 "?token=... (printed when the server started)\n",
             )
         page = (STATIC_DIR / "experimenter.html").read_text(encoding="utf-8")
+        page = page.replace("{{CONSTANTS}}", PAGE_CONSTANTS)  # live.js reads them here too
         query = f"?token={self.experimenter_token}"
         return web.Response(text=page.replace("{{QUERY}}", query), content_type="text/html")
 
