@@ -97,7 +97,6 @@ def _scene_names() -> list[tuple[mujoco.mjtObj, str]]:
         (obj.mjOBJ_GEOM, names.TABLE_TOP_GEOM),
         (obj.mjOBJ_GEOM, names.FLOOR_GEOM),
         (obj.mjOBJ_BODY, names.HUMAN_MOCAP_BODY),
-        (obj.mjOBJ_BODY, names.HUMAN_FOREARM_BODY),
         (obj.mjOBJ_GEOM, names.HUMAN_PALM_GEOM),
         (obj.mjOBJ_SITE, names.HUMAN_PALM_SITE),
         (obj.mjOBJ_KEY, names.HOME_KEY),
