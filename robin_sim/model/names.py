@@ -190,6 +190,8 @@ PERSON_ARM_KINDS: tuple[str, ...] = (
     "wrist_flex",
     "wrist_dev",
 )
+PERSON_TORSO_BODY = "human_torso"  # the waist's turn and lean move it (the legs stay)
+PERSON_HEAD_BODY = "human_head"
 HUMAN_HAND_TURN = "human_r_hand_turn"  # ball joint: the right hand's turn in the mocap frame
 PERSON_EYES_SITE = "human_eyes"
 
@@ -231,3 +233,8 @@ def person_wrist_point(side: Side) -> str:
 def person_finger_bodies(side: Side, finger: str) -> tuple[str, str, str]:
     """Bodies of one of the person's fingers, knuckle to tip: ``human_r_index_1`` .. ``_3``."""
     return (f"human_{side}_{finger}_1", f"human_{side}_{finger}_2", f"human_{side}_{finger}_3")
+
+
+def person_arm_bodies(side: Side) -> tuple[str, str, str]:
+    """One of the person's arms: upper arm, forearm and wrist bodies."""
+    return (f"human_{side}_upper_arm", f"human_{side}_forearm", f"human_{side}_wrist")

@@ -36,6 +36,8 @@ from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, t
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
+from robin_sim.person.articulated import has_articulated_hand
+from robin_sim.person.posture import Posture
 from robin_sim.robot.actions import (
     ActionResult,
     Context,
@@ -76,6 +78,13 @@ class PhysicalWorld:
         self.data = self.sim.data
         self.human = HumanHand(self.model, self.data)
         self.human.attach(self.sim)
+        # the articulated person's body follows the mocap hand at every tick (kinematic)
+        self.posture = Posture(self.model, self.data) if has_articulated_hand(self.model) else None
+        if self.posture is not None:
+            posture = self.posture
+            self.sim.add_controller(lambda s: posture.update(s.time + s.control_dt))
+            posture.update()
+            mujoco.mj_kinematics(self.model, self.data)
         self.person_contacts = PersonContacts(self.sim)
         self.head = HeadController(self.sim, self._gaze_sources())  # gaze: head joints only
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)
