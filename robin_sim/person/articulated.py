@@ -98,7 +98,9 @@ class ArticulatedHand:
         """The hand's turn in the mocap frame now (quaternion w, x, y, z)."""
         return self.data.qpos[self.turn_q : self.turn_q + 4].copy()
 
-    def target(self, pose: str, performance: Performance | None = None) -> tuple[np.ndarray, ...]:
+    def target(
+        self, pose: str, performance: Performance | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Joint angles and turn quaternion of ``pose`` as ``performance`` makes it."""
         performance = performance or Performance()
         angles = self.library.pose(pose)

@@ -7,9 +7,8 @@ in the hand's own convention (x towards the wrist, y towards the thumb, z the pa
 model's ``human_r_hand`` frame). Each joint angle is then an angle between bone vectors:
 
 - a finger's MCP flexion: the elevation of its first bone above the palm plane; its spread:
-  the bone's azimuth in that plane relative to the middle finger's (the tracker's wrist point
-  is not on the middle finger's line), faded out as the finger flexes (a curled finger's
-  azimuth says nothing about its spread);
+  the bone's azimuth in that plane (the frame follows the middle finger: :func:`palm_frame`),
+  faded out as the finger flexes (a curled finger's azimuth says little about its spread);
 - PIP and DIP: the angle between consecutive bones;
 - the thumb's CMC (two axes): the direction of its metacarpal in the thumb's base frame, read
   from the model (abduction, then flexion); its MCP and IP: angles between bones.
@@ -56,12 +55,20 @@ def metric(points: np.ndarray, aspect: float, mirror: bool) -> np.ndarray:
 
 
 def palm_frame(p: np.ndarray) -> np.ndarray:
-    """Columns x (towards the wrist), y (towards the thumb), z (palm normal) of a right hand."""
-    forward = _unit(p[9] - p[0])
-    x = -forward
+    """Columns x (towards the wrist), y (towards the thumb), z (palm normal) of a right hand.
+
+    From the wrist to the middle knuckle (forward) and the little to the index knuckle
+    (across), then turned about the normal so that -x follows the middle finger's first bone
+    in the palm plane: the tracker's wrist point is off the middle finger's line, and the
+    model's straight fingers point along -x."""
+    x = -_unit(p[9] - p[0])
     across = p[5] - p[17]
     y = _unit(across - np.dot(across, x) * x)
-    return np.column_stack([x, y, np.cross(x, y)])
+    frame = np.column_stack([x, y, np.cross(x, y)])
+    middle = frame.T @ (p[10] - p[9])
+    turn = float(np.arctan2(middle[1], -middle[0])) if np.hypot(*middle[:2]) > 1e-9 else 0.0
+    c, s = np.cos(turn), np.sin(turn)
+    return frame @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 class Retargeter:
@@ -81,8 +88,6 @@ class Retargeter:
         p = metric(points, aspect, mirror)
         frame = palm_frame(p)
         out: list[float] = []
-        middle = _unit(frame.T @ (p[10] - p[9]))
-        middle_azimuth = float(np.arctan2(middle[1], -middle[0]))
         for finger, (a, b, c, d) in FINGER_POINTS.items():
             bones = [frame.T @ (p[j] - p[i]) for i, j in ((a, b), (b, c), (c, d))]
             if finger == "thumb":
@@ -93,7 +98,7 @@ class Retargeter:
                 continue
             first = _unit(bones[0])
             mcp = float(np.arcsin(np.clip(first[2], -1, 1)))
-            azimuth = float(np.arctan2(first[1], -first[0])) - middle_azimuth
+            azimuth = float(np.arctan2(first[1], -first[0]))
             spread = azimuth * max(float(np.cos(mcp)), 0.0) ** 2
             out += [spread, mcp, _angle(bones[0], bones[1]), _angle(bones[1], bones[2])]
         return np.clip(np.array(out), self.low, self.high)
