@@ -29,7 +29,7 @@ import mujoco
 import numpy as np
 
 from robin_sim.model import names
-from robin_sim.person.articulated import ArticulatedHand
+from robin_sim.person.articulated import LIMIT_MARGIN, ArticulatedHand
 from robin_sim.person.pose_library import load_library
 
 # z of the forearm's direction from the wrist to the elbow: the elbow at most this far below
@@ -77,7 +77,9 @@ class Posture:
         left_hand = [joint(n) for n in names.person_hand_joints("l")]
         self.left_hand_q = np.array([q for q, *_ in left_hand])
         self.left_hand_v = np.array([v for _, v, *_ in left_hand])
-        self.left_hand_pose = load_library().pose("neutral")
+        low = np.array([r[0] for *_, r in left_hand]) + LIMIT_MARGIN
+        high = np.array([r[1] for *_, r in left_hand]) - LIMIT_MARGIN
+        self.left_hand_pose = np.clip(load_library().pose("neutral"), low, high)
         body = model.body
         self.root = body(names.PERSON_BODY).pos.copy()
         self.hip = body(names.PERSON_TORSO_BODY).pos.copy()
@@ -227,11 +229,14 @@ class Posture:
             error += np.pi  # the upper arm or elbow out of range: only a last resort
         return tuple(clipped), error
 
-    def update(self, now: float | None = None) -> None:
-        """Play out :attr:`hand`'s blend at ``now``, then solve and write the person's joints;
-        nothing to solve while the hand has not moved or turned since the last call."""
-        if self.hand is not None and now is not None:
+    def tick(self, now: float) -> None:
+        """Play out :attr:`hand`'s blend into a pose at simulated time ``now``."""
+        if self.hand is not None:
             self.hand.update(now)
+
+    def update(self) -> None:
+        """Solve and write the person's joints; nothing to solve while the hand has not moved
+        or turned since the last call. Called before a render looks (no physics needs it)."""
         key = np.concatenate(
             [
                 self.data.mocap_pos[self.mocap],
@@ -246,8 +251,8 @@ class Posture:
         qpos, qvel = self.data.qpos, self.data.qvel
         joints = [*self.torso, *self.neck, *self.arm]
         ordered = [*names.TORSO_JOINTS, *names.NECK_JOINTS, *names.person_arm_joints("r")]
-        for (q, v, _, limits), name in zip(joints, ordered, strict=True):
-            qpos[q] = np.clip(values[name], *limits)
+        for (q, v, _, (low, high)), name in zip(joints, ordered, strict=True):
+            qpos[q] = min(max(values[name], low + LIMIT_MARGIN), high - LIMIT_MARGIN)
             qvel[v] = 0.0
         qpos[self.left_hand_q] = self.left_hand_pose
         qvel[self.left_hand_v] = 0.0

@@ -78,11 +78,13 @@ class PhysicalWorld:
         self.data = self.sim.data
         self.human = HumanHand(self.model, self.data)
         self.human.attach(self.sim)
-        # the articulated person's body follows the mocap hand at every tick (kinematic)
+        # the articulated person (kinematic, no contacts): the hand's blends into poses play out
+        # at every tick; the body follows the hand whenever a render looks (a view hook)
         self.posture = Posture(self.model, self.data) if has_articulated_hand(self.model) else None
         if self.posture is not None:
             posture = self.posture
-            self.sim.add_controller(lambda s: posture.update(s.time + s.control_dt))
+            self.sim.add_controller(lambda s: posture.tick(s.time + s.control_dt))
+            self.sim.add_view_hook(posture.update)
             posture.update()
             mujoco.mj_kinematics(self.model, self.data)
         self.person_contacts = PersonContacts(self.sim)

@@ -24,6 +24,7 @@ from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
@@ -178,6 +179,8 @@ class VisionDetector:
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
         look_at(self.sim, target)
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
+        self.sim.prepare_view()  # the person's arm and body follow the hand before the eyes look
+        mujoco.mj_kinematics(self.sim.model, data)
         views, depths = see(self.eyes, data, target, self.condition, self.rng)
         reading = read_views(self.adapted or self.gesture_model, views, depths)
         self.last_reading, self.last_view = reading, views[0].rgb
