@@ -3,7 +3,8 @@
 :class:`LiveRun` builds the world of the session's scenario and, through the one assembly
 (:func:`robin_sim.episode.assemble.assemble`, as the episode), the simulated hand, the system's
 learner and the exact detector; then the participant in the scripted person's place, the
-picker, the frame stream (MP4 included), the pacer and the step log.
+picker, the frame stream (MP4 included), the pacer and the step log; with ``--webcam`` the
+mirror that lets the participant's landmarks drive the person's hand (:mod:`.mirror`).
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -28,10 +29,12 @@ from robin_sim.episode.run import VIDEO_NAME  # the same file name as an episode
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
+from robin_sim.live.mirror import HandMirror
 from robin_sim.live.pacing import Pacer
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.quality import StreamGovernor
+from robin_sim.person.articulated import has_articulated_hand
 from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
@@ -79,6 +82,11 @@ class LiveRun(ClosesOnExit):
         )
         # The participant in the scripted person's place (pil.task.person.Person).
         self.parts: Run = replace(scripted, person=self.participant)  # type: ignore[arg-type]
+        # --webcam: the participant's landmarks drive the person's hand (robin_sim.live.mirror)
+        self.mirror: HandMirror | None = None
+        if config.webcam and has_articulated_hand(self.world.model):
+            self.mirror = HandMirror(self.world.model, self.world.data)
+            self.world.sim.add_controller(self.mirror.tick)  # after the hand's own blends
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
         self.pacer: Pacer | None = None

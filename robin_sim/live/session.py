@@ -35,6 +35,7 @@ from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.holds import Holds
 from robin_sim.live.inputs import LiveInput, LiveInputError, parse_input
 from robin_sim.live.limits import BlockLimits
+from robin_sim.live.mirror import HandMirror
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun, pacing_figures
@@ -149,6 +150,13 @@ class LiveSession:
         return None if participant is None else participant.body
 
     @property
+    def mirror(self) -> HandMirror | None:
+        """What drives the person's hand from the webcam's readings (None: no webcam, or the
+        scene not built yet); its ``errors_mm`` say how closely the fingertips follow."""
+        run = self._run_parts
+        return None if run is None else run.mirror
+
+    @property
     def picker(self) -> Picker | None:
         """What resolves clicks (None before the scene is built); its ``project`` maps a world
         point to the frame pixel where it is seen."""
@@ -259,6 +267,9 @@ class LiveSession:
         except LiveInputError as problem:
             self._log_input(item.as_dict(), str(problem))
             raise
+        run = self._run_parts
+        if run is not None and run.mirror is not None and item.hand is not None:
+            run.mirror.take(item.hand)  # applied on the physics thread at the next tick
         self._log_input(item.as_dict(), "", reading=reading)
 
     def _act(self, item: LiveInput) -> None:
