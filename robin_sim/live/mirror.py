@@ -75,10 +75,6 @@ def _mat(quat: np.ndarray) -> np.ndarray:
     return out.reshape(3, 3)
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / max(float(np.linalg.norm(v)), 1e-12)
-
-
 class HandMirror:
     """Drives the articulated person's right hand from landmark readings (module doc)."""
 
