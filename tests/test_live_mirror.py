@@ -8,7 +8,9 @@ fingertips scaled to the model's hand (:mod:`robin_sim.live.mirror`).
 
 from __future__ import annotations
 
+import json
 import time
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +18,7 @@ import pytest
 from hand_data import footage, message
 from live_driver import Driver
 
+from pil.errors import RobinPilError
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.session import LiveSession
 
@@ -28,6 +31,10 @@ pytestmark = pytest.mark.slow
 BOUNDS_MM = {"thumb_up": (70.0, 85.0), "palm": (15.0, 25.0)}
 FOLLOW_MM = 1.0  # the scene's fingertips against the fit's pose: the fit is what is shown
 TURN_DEG = 1.0  # the hand's rotation against the landmarks' palm frame
+
+
+def read_lines(path: Path) -> list[dict]:
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
 
 
 def footage_messages(sequence: str) -> list[dict]:
@@ -92,3 +99,57 @@ def test_the_footage_drives_the_persons_fingertips(tmp_path: Path) -> None:
     assert follow.max() <= FOLLOW_MM and turn.max() <= TURN_DEG, (follow, turn)
     assert turned > 0.1  # the hand turned to the footage's palm
     assert still < 1e-3  # no leg moved
+
+
+def test_vision_needs_the_webcam(tmp_path: Path) -> None:
+    with pytest.raises(RobinPilError, match=r"--detector vision .* add --webcam"):
+        LiveConfig(out_root=tmp_path, detector="vision").checked()
+    with pytest.raises(RobinPilError, match="detector"):
+        LiveConfig(out_root=tmp_path, webcam=True, detector="eyes").checked()
+
+
+def test_robins_eyes_read_the_mirrored_hand(tmp_path: Path) -> None:
+    """``--detector vision``: Robin's eyes look at the mirrored hand after the readings; the
+    landmarks' own give me is not acted on; what the eyes read is recorded per sequence.
+
+    Measured (seed 0): the thumb-up footage's mirrored hand read thumb down 12 of 14 looks,
+    thumb up 1, grasp 1; the palm's no gesture 15 of 16, thumb up 1. The eye-camera model does
+    not read the footage's mirrored hand reliably (docs/webcam.md), so no class is asserted."""
+    config = LiveConfig(
+        scenario="one_handover",
+        out_root=tmp_path,
+        session="v1",
+        speed=1.0,
+        fps=5,
+        webcam=True,
+        calibrate=False,
+        video=False,
+        eye_inset=False,
+        detector="vision",
+        feedback_window=30.0,
+    )
+    session = LiveSession(config)
+    driver = Driver(session)
+    session.start()
+    read: dict[str, list[str]] = {}
+    try:
+        driver.my_turn()
+        run = session._run_parts
+        assert run is not None and run.eyes is not None
+        eyes = run.eyes
+        for sequence in ("thumb_up", "palm"):
+            before = len(eyes.looks)
+            for raw in footage_messages(sequence)[::2]:
+                session.receive(raw)
+                time.sleep(0.3)  # a look at most every LOOK_GAP_S of sim time
+            read[sequence] = [look.label for look in eyes.looks[before:]]
+        offered = [look.offered for look in eyes.looks if look.offered]
+        acted = session.webcam.last
+        print("eyes read:", {k: dict(Counter(v)) for k, v in read.items()}, "offered", offered)
+    finally:
+        summary = session.stop("ended")
+    assert all(len(v) >= 5 for v in read.values()), read
+    assert summary["vision"]["eyes"]["looks"] == sum(len(v) for v in read.values())
+    assert acted is not None
+    lines = [e for e in read_lines(session.out_dir / "inputs.jsonl") if e["raw"]["type"] == "hand"]
+    assert not any(str(e["reading"]["acted"]).startswith("gesture give_me") for e in lines)

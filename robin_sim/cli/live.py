@@ -109,6 +109,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "frame leaves it); clicks and keys still work (docs/webcam.md)",
     )
     parser.add_argument(
+        "--detector",
+        default="exact",
+        help="exact (default): gestures as clicked, keyed or decided from the landmarks; "
+        "vision (needs --webcam): Robin reads the gestures with its own eye cameras from the "
+        "simulated hand that the participant's landmarks drive (docs/webcam.md)",
+    )
+    parser.add_argument(
         "--no-calibration",
         action="store_true",
         help="with --webcam: skip asking for each gesture once at the start (the hand's shape "
@@ -168,6 +175,7 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         video=not args.no_video,
         webcam=bool(getattr(args, "webcam", False)),
         calibrate=not getattr(args, "no_calibration", False),
+        detector=str(getattr(args, "detector", "exact")),
         seed=block_seed(study_seed, str(args.participant), 0),
         study_seed=study_seed,
         max_attempts=parse_number(getattr(args, "max_attempts", "10"), "--max-attempts", int),

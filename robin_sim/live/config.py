@@ -32,6 +32,7 @@ LIVE_SIDE = narrowed(SIDE, 1920)
 LIVE_FPS = narrowed(FPS, 60)
 SPEEDS = (0.1, 10.0)  # sim seconds per wall second
 FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
+LIVE_DETECTORS = ("exact", "vision")  # what reads the participant's gestures
 EXACT_RATE = 1.0  # the detector reads every click and button as what it is
 
 
@@ -66,6 +67,9 @@ class LiveConfig:
     stream_level: int = 0
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
+    # "vision": Robin reads the participant's gestures with its eye cameras from the person's
+    # hand the webcam's landmarks drive (robin_sim.live.eye_watch); "exact": as given
+    detector: str = "exact"
     # The within-step memory (pil.step_memory): on, an action the participant refused in a
     # step is not tried again in it until all five were (a person should not refuse twice).
     step_memory: str = "on"
@@ -109,6 +113,14 @@ class LiveConfig:
         ):
             if not isinstance(getattr(self, name), bool):
                 raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        if self.detector not in LIVE_DETECTORS:
+            raise InvalidChoiceError("detector", self.detector, LIVE_DETECTORS)
+        if self.detector == "vision" and not self.webcam:
+            raise RobinPilError(
+                "--detector vision reads the participant's gestures with Robin's eye cameras "
+                "from the simulated hand that the webcam drives: add --webcam, or drop "
+                "--detector vision (clicks and keys are read exactly)"
+            )
         seed = SEED.parse(self.seed, "seed")
         if self.study_seed is not None:
             SEED.parse(self.study_seed, "study_seed")

@@ -89,7 +89,12 @@ class LiveSession:
         self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
         # --webcam: the participant's hand read from the tracker's landmarks (None: off)
         self.webcam = (
-            Webcam(self.config.width, self.config.height, calibrate=self.config.calibrate)
+            Webcam(
+                self.config.width,
+                self.config.height,
+                calibrate=self.config.calibrate,
+                eyes_read=self.config.detector == "vision",
+            )
             if self.config.webcam
             else None
         )
@@ -358,6 +363,8 @@ class LiveSession:
             if run is not None:
                 run.close()  # the MP4 is complete from here on
             vision = None if self.webcam is None else self.webcam.summary()
+            if vision is not None and run is not None and run.eyes is not None:
+                vision["eyes"] = run.eyes.summary()  # what Robin's eyes read of the hand
             limits = None if self.caps is None else self.caps.status()
             self._summary = files.save(status, error, run, vision=vision, limits=limits)
             self.done.set()
