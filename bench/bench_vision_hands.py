@@ -9,9 +9,9 @@ Renders ``--samples`` samples of the held-out split (light never trained on; eve
 pose jitter 0-2.5, the four kinds of place) per seed, or reuses chunks already in ``--out``
 (``--chunks SEED=DIR`` reuses a training run's held-out chunks of that seed), reads them with
 ``--model`` (default: the shipped one) as an episode would (both eyes fused, discarded below
-the threshold) and writes one row per seed and factor level: samples, read right (seven
-classes; a discard or no hand counts as wrong). The levels group each sample by what it was
-drawn with: its place (above a leg or spot, drawn back and raised, at the handover point, in
+the threshold) and writes one row per sample: the class shown, whether it was read right
+(seven classes; a discard or no hand counts as wrong) and the levels of what it was drawn
+with: its place (above a leg or spot, drawn back and raised, at the handover point, in
 the working box), its light (dim 0.35-0.55 or bright 1.3-1.6 of the scene's light), its skin
 tone (nearest of 0-4) and its pose jitter (0-0.8, 0.8-1.6, 1.6-2.5). Written for the
 capsule-to-articulated comparison of issue 29 (``bench/vision_hands_table.py`` makes the
@@ -35,7 +35,7 @@ from robin_sim.vision.train import readings
 
 PLACES = ("above a place", "drawn back, raised", "handover point", "working box")
 JITTER_BINS = ((0.0, 0.8), (0.8, 1.6), (1.6, 2.5))
-FIELDS = ("hand", "seed", "factor", "level", "samples", "right")
+FIELDS = ("hand", "seed", "sample", "shown", "place", "light", "skin tone", "pose jitter", "right")
 
 
 def place_kind(seed: int, index: int) -> str:
@@ -56,22 +56,23 @@ def levels(seed: int, sample: int, condition: np.ndarray) -> dict[str, str]:
 
 
 def measure(folder: Path, seed: int, samples: int, model: GestureModel) -> list[dict[str, object]]:
-    """Rows of :data:`FIELDS` (less ``hand``) for one seed's rendered held-out samples."""
+    """Rows of :data:`FIELDS` (less ``hand``), one per rendered held-out sample of one seed."""
     split = load_split(folder, "heldout", samples, seed)
     truth, reads = readings(model, split)
-    ids = np.unique(split["sample"])
-    counts: dict[tuple[str, str], list[int]] = {}
-    for sample, true, reading in zip(ids, truth, reads, strict=True):
+    rows: list[dict[str, object]] = []
+    for sample, true, reading in zip(np.unique(split["sample"]), truth, reads, strict=True):
         condition = split["condition"][split["sample"] == sample][0]
         ok = reading.confidence >= model.threshold and CLASSES.index(reading.label) == true
-        for factor, level in {"all": "all", **levels(seed, int(sample), condition)}.items():
-            tally = counts.setdefault((factor, level), [0, 0])
-            tally[0] += 1
-            tally[1] += int(ok)
-    return [
-        {"seed": seed, "factor": f, "level": lv, "samples": n, "right": r}
-        for (f, lv), (n, r) in sorted(counts.items())
-    ]
+        rows.append(
+            {
+                "seed": seed,
+                "sample": int(sample),
+                "shown": CLASSES[true],
+                **levels(seed, int(sample), condition),
+                "right": int(ok),
+            }
+        )
+    return rows
 
 
 def main() -> None:
@@ -105,7 +106,8 @@ def main() -> None:
         writer = csv.DictWriter(handle, FIELDS)
         writer.writeheader()
         writer.writerows(rows)
-    print(f"wrote {args.results} ({len(rows)} rows)")
+    right = sum(int(r["right"]) for r in rows)
+    print(f"wrote {args.results}: {right} of {len(rows)} read right")
 
 
 if __name__ == "__main__":

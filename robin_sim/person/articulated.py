@@ -30,7 +30,7 @@ CURL_GAINS = (0.9, 1.1, 0.7)
 FAN = (1.5, 0.5, -0.5, -1.5)  # index .. little
 THUMB_GAINS = (1.5, 1.5, 1.0)
 # rad kept inside every joint limit: a joint at its limit would add a constraint to the solver
-LIMIT_MARGIN = 1e-6
+JOINT_LIMIT_MARGIN = 1e-6
 SKIN_CLASS_RGBA = (0.87, 0.68, 0.55)  # the scene's skin tone (hand_poses.DEFAULT_SKIN)
 # Where the hand faces (fingers' direction, palm normal; hand body frame) where an arm cannot
 # hold the capsule hand's turn (hand_poses.SHAPES: fingers straight up, the palm to Robin's
@@ -118,7 +118,7 @@ class ArticulatedHand:
         if pose in TURNS:
             shape = replace(shape, fingers_dir=TURNS[pose][0], palm_normal=TURNS[pose][1])
         mujoco.mju_mat2Quat(quat, wrist_rotation(shape, performance).flatten())
-        return np.clip(angles, self.low + LIMIT_MARGIN, self.high - LIMIT_MARGIN), quat
+        return np.clip(angles, self.low + JOINT_LIMIT_MARGIN, self.high - JOINT_LIMIT_MARGIN), quat
 
     # --- writing it -----------------------------------------------------------------------
     def show(self, pose: str, performance: Performance | None = None, blend: float = 0.0) -> None:

@@ -29,7 +29,7 @@ import mujoco
 import numpy as np
 
 from robin_sim.model import names
-from robin_sim.person.articulated import LIMIT_MARGIN, ArticulatedHand
+from robin_sim.person.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.person.pose_library import load_library
 
 # z of the forearm's direction from the wrist to the elbow: the elbow at most this far below
@@ -77,8 +77,8 @@ class Posture:
         left_hand = [joint(n) for n in names.person_hand_joints("l")]
         self.left_hand_q = np.array([q for q, *_ in left_hand])
         self.left_hand_v = np.array([v for _, v, *_ in left_hand])
-        low = np.array([r[0] for *_, r in left_hand]) + LIMIT_MARGIN
-        high = np.array([r[1] for *_, r in left_hand]) - LIMIT_MARGIN
+        low = np.array([r[0] for *_, r in left_hand]) + JOINT_LIMIT_MARGIN
+        high = np.array([r[1] for *_, r in left_hand]) - JOINT_LIMIT_MARGIN
         self.left_hand_pose = np.clip(load_library().pose("neutral"), low, high)
         body = model.body
         self.root = body(names.PERSON_BODY).pos.copy()
@@ -252,7 +252,7 @@ class Posture:
         joints = [*self.torso, *self.neck, *self.arm]
         ordered = [*names.TORSO_JOINTS, *names.NECK_JOINTS, *names.person_arm_joints("r")]
         for (q, v, _, (low, high)), name in zip(joints, ordered, strict=True):
-            qpos[q] = min(max(values[name], low + LIMIT_MARGIN), high - LIMIT_MARGIN)
+            qpos[q] = min(max(values[name], low + JOINT_LIMIT_MARGIN), high - JOINT_LIMIT_MARGIN)
             qvel[v] = 0.0
         qpos[self.left_hand_q] = self.left_hand_pose
         qvel[self.left_hand_v] = 0.0
