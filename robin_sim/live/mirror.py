@@ -38,7 +38,7 @@ import numpy as np
 from robin_sim.control.simulator import Simulator
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.model import names
-from robin_sim.person.articulated import LIMIT_MARGIN
+from robin_sim.person.articulated import JOINT_LIMIT_MARGIN
 from robin_sim.person.retarget import FINGER_POINTS, Retargeter, metric, palm_frame
 
 # camera axes (image right, image down, depth away) in the world, as Robin faces the person
@@ -83,8 +83,8 @@ class HandMirror:
         self.retargeter = Retargeter(model)
         ids = [model.joint(j).id for j in self.retargeter.joints]
         self.qadr, self.dadr = model.jnt_qposadr[ids], model.jnt_dofadr[ids]
-        self.low = self.retargeter.low + LIMIT_MARGIN
-        self.high = self.retargeter.high - LIMIT_MARGIN
+        self.low = self.retargeter.low + JOINT_LIMIT_MARGIN
+        self.high = self.retargeter.high - JOINT_LIMIT_MARGIN
         turn = model.joint(names.HUMAN_HAND_TURN)
         self.turn_q, self.turn_v = int(turn.qposadr[0]), int(turn.dofadr[0])
         self.mocap = int(model.body(names.HUMAN_MOCAP_BODY).mocapid[0])
