@@ -5,7 +5,8 @@ to the articulated person's hand by :class:`robin_sim.live.mirror.HandMirror` in
 (Robin at home, the hand at rest), then both eyes look at the palm and the shipped eye-camera
 model reads it (:class:`robin_sim.live.eye_watch.EyeWatch`, the session's own reader). Prints a
 table per footage sequence: readings, the share read as the sequence's gesture, and the classes
-read. ``python bench/bench_mirror_eyes.py [--every N]`` (every Nth reading; default 1).
+read. ``python bench/bench_mirror_eyes.py [--every N]`` (every Nth reading; default 1;
+``--smoke``: every 15th).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+import smoke  # bench/smoke.py: --smoke
 from hand_data import footage
 
 from robin_sim.live.eye_watch import EyeWatch
@@ -39,7 +41,7 @@ MEANT = {
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--every", type=int, default=1)
-    args = parser.parse_args()
+    args = smoke.parse_args(parser, every=15)
     world = PhysicalWorld()
     mirror = HandMirror(world.model, world.data)
     world.sim.add_controller(mirror.tick)
