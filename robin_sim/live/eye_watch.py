@@ -27,6 +27,7 @@ import numpy as np
 
 from pil.types import Gesture
 from robin_sim.control.simulator import Simulator
+from robin_sim.live.inputs import GESTURE_BY_KEY
 from robin_sim.live.mirror import HandMirror
 from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.model import names
@@ -36,11 +37,7 @@ from robin_sim.vision.reader import aim_and_see, read_views
 
 LOOK_GAP_S = 0.2  # s (simulated) at least between two looks
 # what Robin's eyes may offer as the participant's gesture (pointing needs the cursor's target)
-EYE_GESTURES: dict[str, Gesture] = {
-    "give_me": Gesture.GIVE_ME,
-    "grasp": Gesture.GRASP,
-    "release": Gesture.RELEASE,
-}
+EYE_GESTURES: dict[str, Gesture] = {k: GESTURE_BY_KEY[k] for k in ("give_me", "grasp", "release")}
 KEPT_LOOKS = 500
 
 
