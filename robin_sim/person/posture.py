@@ -243,9 +243,9 @@ class Posture:
         or turned since the last call, nor within :data:`VIEW_PERIOD` of simulated time
         ``now`` after the last solve (a render at most that much behind the hand's arm).
         Called before a render looks (no physics needs it)."""
-        if now is not None and self._solved_at is not None:
-            if 0.0 <= now - self._solved_at < VIEW_PERIOD:
-                return
+        last = self._solved_at
+        if now is not None and last is not None and 0.0 <= now - last < VIEW_PERIOD:
+            return
         key = np.concatenate(
             [
                 self.data.mocap_pos[self.mocap],
