@@ -39,6 +39,9 @@ UPPER_ARM_HANG = np.array([0.25, 0.25, 1.0])  # from the wanted elbow up to the 
 LOOK = 0.8  # share of the way the head turns towards the hand
 EASY_LINE = 0.9  # else: the shoulder on the line to the wrist, this share of the arm away
 EASY_REACH = 1.25  # of the upper arm's length: the wanted elbow this near keeps them upright
+# s of simulated time: renders closer together than this share one solve (a solve costs 1-3
+# ms in Python: at every frame of a live session it slowed the loop enough to matter)
+VIEW_PERIOD = 0.1
 SWIVEL_TRY = 0.35  # rad of wrist error above which other elbow swings are tried
 SWIVELS = tuple(np.radians(a) for a in (-150, -120, -90, -60, -30, 30, 60, 90, 120, 150, 180))
 
@@ -97,6 +100,7 @@ class Posture:
         self.wrist_error = 0.0
         self.hand: ArticulatedHand | None = None  # its blends play out first, at each tick
         self._last: np.ndarray | None = None
+        self._solved_at: float | None = None
 
     # --- the hand it follows --------------------------------------------------------------
     def hand_frame(self) -> tuple[np.ndarray, np.ndarray]:
@@ -234,9 +238,14 @@ class Posture:
         if self.hand is not None:
             self.hand.update(now)
 
-    def update(self) -> None:
+    def update(self, now: float | None = None) -> None:
         """Solve and write the person's joints; nothing to solve while the hand has not moved
-        or turned since the last call. Called before a render looks (no physics needs it)."""
+        or turned since the last call, nor within :data:`VIEW_PERIOD` of simulated time
+        ``now`` after the last solve (a render at most that much behind the hand's arm).
+        Called before a render looks (no physics needs it)."""
+        last = self._solved_at
+        if now is not None and last is not None and 0.0 <= now - last < VIEW_PERIOD:
+            return
         key = np.concatenate(
             [
                 self.data.mocap_pos[self.mocap],
@@ -247,6 +256,7 @@ class Posture:
         if self._last is not None and np.array_equal(key, self._last):
             return
         self._last = key
+        self._solved_at = now
         values = self.solve()
         qpos, qvel = self.data.qpos, self.data.qvel
         joints = [*self.torso, *self.neck, *self.arm]

@@ -84,7 +84,7 @@ class PhysicalWorld:
         if self.posture is not None:
             posture = self.posture
             self.sim.add_controller(lambda s: posture.tick(s.time + s.control_dt))
-            self.sim.add_view_hook(posture.update)
+            self.sim.add_view_hook(lambda: posture.update(self.sim.time))
             posture.update()
             mujoco.mj_kinematics(self.model, self.data)
         self.person_contacts = PersonContacts(self.sim)
