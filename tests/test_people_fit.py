@@ -189,12 +189,12 @@ def test_bad_input_is_one_message_and_exit_2(tmp_path: Path, capsys) -> None:
     err = refused(capsys, "--from-sessions", str(folder), "--out", out)
     assert "block2-pil: its setting cannot be simulated: nowhere: cannot read the scenario" in err
     summary.write_text('{"live": {"participant": "P02"')
-    assert "summary.json: not a JSON file" in refused(capsys, "--from-sessions", str(folder))
+    assert "summary.json: not JSON (" in refused(capsys, "--from-sessions", str(folder))
     summary.write_text(json.dumps({"live": {"participant": "P02"}}))
     inputs = summary.parent / "inputs.jsonl"
     inputs.unlink()
     os.mkfifo(inputs)  # would hang a plain open(); refused at once
-    assert "inputs.jsonl: cannot be read (not a regular file)" in refused(
+    assert "inputs.jsonl: cannot read a session file: not a regular file" in refused(
         capsys, "--from-sessions", str(folder), "--out", out
     )
     assert not Path(out).exists()

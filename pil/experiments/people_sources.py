@@ -16,7 +16,6 @@ Python: no MuJoCo.
 from __future__ import annotations
 
 import hashlib
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,12 +28,11 @@ from pil.experiments.sessions_load import (
     SUMMARY_NAME,
 )
 from pil.experiments.study_export import EXCLUDED  # the registry's statuses never analysed
-from pil.regular_files import FileTooLargeError, read_regular_text
+from pil.regular_files import UnreadableFileError, parse_json, read_kind_text
 
 STUDY_FILE = "study.yaml"
 REGISTRY_FILE = "registry.json"
 STUDY_LOG_FILE = "log.jsonl"
-MAX_BYTES = 64 * 1024 * 1024  # one session file (a long block's inputs stay far below)
 SESSION_FILES = (SUMMARY_NAME, INPUTS_NAME, EVENTS_NAME, SESSION_LOG_NAME)
 
 
@@ -68,41 +66,46 @@ class Sources:
     left_out: dict[str, str]  # participant -> why
 
 
-def read_text(path: Path) -> str:
-    """A file's text, or one :class:`PeopleSourceError` naming it and the problem."""
+def read_text(path: Path, kind: str = "log") -> str:
+    """A file's text, read as :mod:`pil.regular_files` reads every found file (a regular
+    file within its kind's size limit, UTF-8); one :class:`PeopleSourceError` naming it."""
     try:
-        return read_regular_text(path, MAX_BYTES)
-    except FileTooLargeError as error:
-        raise PeopleSourceError(f"{path}: {error}") from None
-    except UnicodeDecodeError as error:
-        raise PeopleSourceError(f"{path}: not UTF-8 text (byte {error.start})") from None
-    except OSError as error:
-        raise PeopleSourceError(f"{path}: cannot be read ({error.strerror or error})") from None
+        return read_kind_text(path, kind, "a session file")
+    except UnreadableFileError as error:
+        raise PeopleSourceError(str(error)) from None
 
 
-def read_json(path: Path) -> Any:
+def read_json(path: Path, kind: str = "summary") -> Any:
+    """A JSON file's value (strict: :func:`pil.regular_files.parse_json`)."""
+    return _parsed(read_text(path, kind), path)
+
+
+def _parsed(text: str, path: Path, number: int | None = None) -> Any:
     try:
-        return json.loads(read_text(path))
-    except (ValueError, RecursionError):
-        raise PeopleSourceError(f"{path}: not a JSON file (corrupt or cut short)") from None
+        return parse_json(text)
+    except ValueError as error:
+        where = path if number is None else f"{path}:{number}"
+        raise PeopleSourceError(f"{where}: {error}") from None
+
+
+def parse_lines(text: str, path: Path) -> list[dict[str, Any]]:
+    """The objects of a JSON-lines file's ``text`` (read from ``path``)."""
+    rows = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        row = _parsed(line, path, number)
+        if not isinstance(row, dict):
+            raise PeopleSourceError(f"{path}:{number}: expected a JSON object")
+        rows.append(row)
+    return rows
 
 
 def read_lines(path: Path, *, required: bool = True) -> list[dict[str, Any]]:
     """A JSON-lines file's objects; a missing optional file is []."""
     if not required and not path.exists():
         return []
-    rows = []
-    for number, line in enumerate(read_text(path).splitlines(), 1):
-        if not line.strip():
-            continue
-        try:
-            row = json.loads(line)
-        except (ValueError, RecursionError):
-            raise PeopleSourceError(f"{path}:{number}: not a JSON line") from None
-        if not isinstance(row, dict):
-            raise PeopleSourceError(f"{path}:{number}: expected a JSON object")
-        rows.append(row)
-    return rows
+    return parse_lines(read_text(path), path)
 
 
 def find_sources(folder: Path) -> Sources:
@@ -179,22 +182,22 @@ def read_session(
         if name == EVENTS_NAME and not path.exists():
             texts[name] = ""  # a session where nothing happened of itself
             continue
-        texts[name] = read_text(path)
+        texts[name] = read_text(path, "summary" if name == SUMMARY_NAME else "log")
         sha[name] = hashlib.sha256(texts[name].encode("utf-8")).hexdigest()
     return RecordedSession(
         participant=who,
         name=session_dir.relative_to(root).as_posix(),
         summary=summary,
-        inputs=read_lines(session_dir / INPUTS_NAME),
-        events=read_lines(session_dir / EVENTS_NAME, required=False),
-        log=read_lines(session_dir / SESSION_LOG_NAME),
+        inputs=parse_lines(texts[INPUTS_NAME], session_dir / INPUTS_NAME),
+        events=parse_lines(texts[EVENTS_NAME], session_dir / EVENTS_NAME),
+        log=parse_lines(texts[SESSION_LOG_NAME], session_dir / SESSION_LOG_NAME),
         sha256=sha,
     )
 
 
 def _is_live(path: Path) -> bool:
     """A summary that looks like a live session's (read fully later)."""
-    return (path.parent / INPUTS_NAME).exists() or '"live"' in read_text(path)
+    return (path.parent / INPUTS_NAME).exists() or '"live"' in read_text(path, "summary")
 
 
 def _study_of(session_dir: Path) -> Path | None:
@@ -210,7 +213,7 @@ def _consent(study: Path) -> tuple[dict[str, str], set[str], dict[str, list[str]
     registry = study / REGISTRY_FILE
     if not registry.exists():
         return {}, set(), {}
-    data = read_json(registry)
+    data = read_json(registry, "registry")
     people = data.get("participants") if isinstance(data, dict) else None
     if not isinstance(people, list):
         raise PeopleSourceError(f"{registry}: expected {{'participants': [...]}}")
