@@ -43,6 +43,7 @@ BENCH_TEST_COLUMNS = (
     "p",
     "p_holm",
     "family_size",
+    "note",  # why a comparison has no p (stats.paired's note: no pairs, no spread)
 )
 
 

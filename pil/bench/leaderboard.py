@@ -19,6 +19,9 @@ from pil.bench.journal import Journal, read_runs
 from pil.bench.results import read_table
 from pil.bench.suite import Suite
 from pil.experiments.report import markdown_table
+from pil.experiments.stats import CONSTANT_NOTE, NO_DIFFERENCE_NOTE
+
+NO_SPREAD = (CONSTANT_NOTE, NO_DIFFERENCE_NOTE)  # stats.paired's notes: nothing to test
 
 
 def _f(value: float, spec: str = ".1f") -> str:
@@ -168,7 +171,7 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
                 if e is None or math.isnan(e["tost_p"])
                 else (" ≡" if e["tost_p"] < suite.alpha else "")
             )
-            if t["ci_low"] == t["ci_high"]:  # every pair differs by the same: no interval
+            if t.get("note") in NO_SPREAD:  # every pair differs by the same: no interval
                 cells.append(f"{_f(t['mean_diff'], '+.1f')} on all {int(t['n'])} pairs{tost}")
                 continue
             cells.append(

@@ -135,4 +135,14 @@ def read_table(path: Path) -> list[dict[str, Any]]:
     return rows
 
 
-_TEXT = ("track", "agent", "condition", "entrant", "anchor", "measure", "test", "mixed_note")
+_TEXT = (
+    "track",
+    "agent",
+    "condition",
+    "entrant",
+    "anchor",
+    "measure",
+    "test",
+    "note",
+    "mixed_note",
+)
