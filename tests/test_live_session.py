@@ -101,6 +101,15 @@ def test_a_whole_type_a_handover_by_clicks_gestures_and_thumbs(tmp_path: Path) -
     assert len(inputs) == 4 + thumbs and all(i["accepted"] for i in inputs)
     assert inputs[0]["raw"]["type"] == "point" and inputs[0]["sim_time"] > 0
     assert all(i["wall"] > 1e9 and i["error"] == "" for i in inputs)
+    # the pace of a conversation (issue 25): from each instruction's arrival to the robot's
+    # first motion (the "acts" event) at most 1 s of simulated time (deterministic: sim time)
+    given = [i["sim_time"] for i in inputs if i["raw"]["type"] in ("point", "gesture")]
+    events = [json.loads(line) for line in (out / "events.jsonl").read_text().splitlines()]
+    acts = [e["sim_time"] for e in events if e["event"] == "acts"]
+    assert len(given) == 4
+    for at in given:
+        first = min(t for t in acts if t >= at)
+        assert first - at <= 1.0, (at, first)
     saved = json.loads((out / "summary.json").read_text())
     live = saved["live"]
     assert live["participant"] == "P01" and live["condition"] == "pil"
