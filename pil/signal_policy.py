@@ -17,8 +17,9 @@ or ``nohup ... &`` starts with SIGINT ignored; a service manager sends SIGTERM):
 * **teardown** (the command returned; its summary is written): both signals are ignored until
   the process exits, so a late SIGTERM can no longer turn a finished run into a -15.
 
-Processes a command starts itself (worker pools) begin with both signals ignored
-(:func:`ignored_for_children`) and are stopped by the command (:mod:`pil.worker_pool`).
+Processes a command starts itself (worker pools) begin with both signals held back and
+ignore them from their first call (:func:`ignored_for_children`, :func:`deaf_from_now`); the
+command stops them (:mod:`pil.worker_pool`).
 """
 
 from __future__ import annotations
@@ -147,35 +148,35 @@ def signals_deferred() -> Iterator[None]:
         yield
 
 
-def _deliver_pending() -> None:
-    """Let a signal that is waiting (blocked) reach this process's handler now."""
-    if set(signal.sigpending()) & set(SIGNALS):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)
-        signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
-
-
 @contextlib.contextmanager
 def ignored_for_children() -> Iterator[None]:
-    """Inside, processes started by this thread begin with SIGINT and SIGTERM ignored.
+    """Inside, processes started by this thread begin with SIGINT and SIGTERM held back; their
+    first call (e.g. :func:`robin_sim.render.worker_start.start_worker`) ignores both and lets
+    go of them, so a signal that came meanwhile is dropped there.
 
     A spawned process is a fresh interpreter that imports for a second or more before any of
     our code runs; a SIGINT to the process group in that time would raise inside its imports.
-    An ignored disposition survives ``exec`` (a blocked mask does not), and Python leaves an
-    ignored SIGINT ignored at start-up. This process loses nothing: both signals are blocked
-    in this thread meanwhile, and the kernel keeps a blocked signal pending even while its
-    disposition is "ignore"; when the handlers are restored and the block lifted, it is
-    delivered as usual (one already pending is delivered first). Outside the main thread
-    Python cannot set handlers: there only the block applies.
+    A blocked signal mask survives ``fork`` and ``exec``, so both signals are blocked in this
+    thread while it starts processes. This process loses nothing: its handlers stay as they
+    are, a signal is taken by another of its threads or waits until the block is lifted.
+    (Setting them to "ignore" instead would survive ``exec`` as well, but a signal that
+    another thread of this process took meanwhile, or this one once multiprocessing lifted
+    its block, would be lost.) The multiprocessing resource tracker is started first: its
+    start unblocks both signals in the thread that starts it.
     """
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()  # the first spawn's start of it would lift the block
     previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
-    previous: dict[signal.Signals, Any] = {}
     try:
-        if threading.current_thread() is threading.main_thread():
-            _deliver_pending()
-            for signum in SIGNALS:
-                previous[signum] = signal.signal(signum, signal.SIG_IGN)
         yield
     finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
         signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
+
+
+def deaf_from_now() -> None:
+    """A started process's first call: SIGINT and SIGTERM ignored from now on (one held back
+    since its start (:func:`ignored_for_children`) is dropped), and no longer blocked."""
+    for signum in SIGNALS:
+        signal.signal(signum, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)

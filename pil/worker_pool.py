@@ -3,12 +3,10 @@
 Every pool the project starts (a sweep's local back end, the appearance study's episodes, the
 gesture data set's chunks) is a :class:`SpawnPool`:
 
-* its workers ignore SIGINT and SIGTERM from their first call on: a Ctrl-C to the process
-  group or a SIGTERM is the command's to act on. (They are not started with the signals
-  ignored, as render workers are (:func:`pil.signal_policy.ignored_for_children`): that makes
-  them ignored in the whole command meanwhile, and the pool's own threads, started by then,
-  could take a signal and lose it. A Ctrl-C in a worker's first second, while its interpreter
-  starts, can still end that worker; the command stops the pool anyway.)
+* its workers start with SIGINT and SIGTERM held back and ignore them from their first call
+  on (:func:`pil.signal_policy.ignored_for_children`, as render workers do): a Ctrl-C to
+  the process group or a SIGTERM is the command's to act on, also while a worker's
+  interpreter still starts;
 * a worker dies with its parent: a watcher thread ends it (within :data:`WATCH_S`) once its
   parent's pid changes, i.e. the command is gone, even by ``kill -9``;
 * :meth:`SpawnPool.stop` ends the workers at once (``SIGKILL``: runs in flight are lost, not
@@ -19,14 +17,13 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import signal
 import threading
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
-from pil.signal_policy import SIGNALS
+from pil.signal_policy import deaf_from_now, ignored_for_children
 
 WATCH_S = 0.2  # how often a worker looks whether its parent is still there
 JOIN_S = 3.0  # how long stop() waits for a killed worker to be reaped
@@ -34,8 +31,7 @@ JOIN_S = 3.0  # how long stop() waits for a killed worker to be reaped
 
 def start_worker(initializer: Callable[..., object] | None, initargs: tuple[Any, ...]) -> None:
     """A pool worker's first call: signals ignored, the parent watched, then ``initializer``."""
-    for signum in SIGNALS:
-        signal.signal(signum, signal.SIG_IGN)
+    deaf_from_now()
     die_with_parent()
     if initializer is not None:
         initializer(*initargs)
@@ -69,6 +65,11 @@ class SpawnPool(ProcessPoolExecutor):
             initializer=start_worker,
             initargs=(initializer, initargs),
         )
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future[Any]:
+        """Submit ``fn(*args, **kwargs)``; a worker this starts holds the signals back."""
+        with ignored_for_children():
+            return super().submit(fn, *args, **kwargs)
 
     def stop(self) -> None:
         """Cancel the pending work and kill the workers now (idempotent)."""

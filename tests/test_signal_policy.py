@@ -6,12 +6,16 @@ from __future__ import annotations
 import argparse
 import os
 import signal
+import subprocess
 import sys
+import threading
 import time
 import types
+from pathlib import Path
 
 import pytest
 
+from pil.signal_policy import ignored_for_children
 from robin_sim.cli import main as cli
 
 
@@ -91,3 +95,58 @@ def test_a_signal_inside_an_import_is_raised_once_the_import_is_done(
     assert cli.main(["probe"]) == 130
     assert reached == [True] and sys.modules[name].WHOLE
     assert "interrupted; finished work is kept" in capsys.readouterr().err
+
+
+def test_a_signal_while_children_start_is_kept_though_another_thread_takes_it() -> None:
+    """Inside ``ignored_for_children`` this thread holds both signals back; a SIGTERM sent to
+    the process then goes to another thread (here one that sleeps) and must still reach the
+    handler: it was lost while the window set the signals to "ignore"."""
+    seen: list[int] = []
+    other = threading.Thread(target=time.sleep, args=(3,), daemon=True)
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: seen.append(signum))
+    try:
+        other.start()
+        with ignored_for_children():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)  # the other thread has taken it by now
+        deadline = time.monotonic() + 5
+        while not seen and time.monotonic() < deadline:
+            time.sleep(0.01)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert seen == [signal.SIGTERM]
+
+
+CHILD_MASK = """
+import multiprocessing, signal
+from pil.signal_policy import ignored_for_children
+
+def report(conn):
+    conn.send(sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, [])))
+
+if __name__ == "__main__":
+    context = multiprocessing.get_context("spawn")
+    ours, theirs = context.Pipe()  # a pipe, not a queue: no resource tracker started yet
+    with ignored_for_children():  # the first spawn of a fresh interpreter
+        child = context.Process(target=report, args=(theirs,))
+        child.start()
+        held = sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, []))
+    print(held, ours.recv())
+    child.join()
+"""
+
+
+def test_children_start_with_both_signals_held_back_from_the_first_spawn_on(
+    tmp_path: Path,
+) -> None:
+    """The first spawn of an interpreter also starts multiprocessing's resource tracker, which
+    unblocks SIGINT and SIGTERM in its caller; the child must still start with both blocked."""
+    script = tmp_path / "child_mask.py"
+    script.write_text(CHILD_MASK)
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[1])}
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=env
+    )
+    assert done.returncode == 0, done.stderr
+    both = [int(signal.SIGINT), int(signal.SIGTERM)]
+    assert done.stdout.strip() == f"{both} {both}", done.stdout  # this thread's, the child's

@@ -58,11 +58,13 @@ class InterruptGuard:
         outer = getattr(handler, "__self__", None)
         if not isinstance(outer, InterruptGuard):
             outer = policy_of(handler)  # the command's policy, or None
-        if outer is not None:  # nested: take over what the outer one noted
-            self.requested = outer.requested
         if in_main and (handler is signal.default_int_handler or outer is not None):
             for signum in SIGNALS:
                 self._previous[signum] = signal.signal(signum, self._note)
+        if outer is not None and self.requested is None:
+            # nested: take over what the outer one noted (read once ours are in: a signal
+            # in between went to the outer one, or to ours)
+            self.requested = outer.requested
         return self
 
     def __exit__(

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import signal
 import traceback
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -19,10 +18,10 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from pil.signal_policy import deaf_from_now
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
 from robin_sim.render.renderer import FrameRenderer, RenderError, camera_id
-from robin_sim.render.worker_signals import SIGNALS
 
 FinishHook = Callable[[np.ndarray, Any], object]  # finish(frame, payload), edits frame in place
 START_TIMEOUT_S = 120.0  # a worker must have its scene and renderer ready by then
@@ -170,8 +169,7 @@ def worker_main(
 ) -> None:
     """Worker loop: receive (index, state, payload, with_second), reply ("frame", index,
     (pixels, second view or None)) or an error."""
-    for signum in SIGNALS:  # the main process handles Ctrl-C and SIGTERM, and ends us
-        signal.signal(signum, signal.SIG_IGN)  # (already, when started by start_worker)
+    deaf_from_now()  # the main process handles Ctrl-C and SIGTERM, and ends us
     if render_threads is not None:  # read by Mesa's llvmpipe when the GL context is made
         os.environ["LP_NUM_THREADS"] = str(render_threads)
     try:

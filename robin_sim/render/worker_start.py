@@ -3,29 +3,25 @@
 A spawned worker is a fresh Python interpreter: before any of our code runs, it imports its
 standard library and unpickles its arguments (MuJoCo included), for a second or more on a busy
 machine. A SIGINT to the process group in that time used to raise ``KeyboardInterrupt`` inside
-those imports (the worker exited with code 1 "while starting"). Blocking the signals does not
-help: the blocked mask does not survive the spawn. An *ignored* disposition does survive
-``exec``, and Python leaves an ignored SIGINT ignored at start-up, so the pool starts each worker
-inside :func:`pil.signal_policy.ignored_for_children` (the project's one way to start a
-process deaf to both). :func:`start_worker` sets both signals to ignored again
-(they stay so) and only then imports MuJoCo and the renderer; the main process ends the workers.
+those imports (the worker exited with code 1 "while starting"). A blocked signal mask survives
+``exec``, so the pool starts each worker with both signals blocked, inside
+:func:`pil.signal_policy.ignored_for_children` (the project's one way to start a process deaf
+to both). :func:`start_worker` ignores both signals (:func:`pil.signal_policy.deaf_from_now`)
+and only then imports MuJoCo and the renderer; the main process ends the workers.
 """
 
 from __future__ import annotations
 
-import signal
 from typing import Any
 
-from pil.signal_policy import ignored_for_children
-from robin_sim.render.worker_signals import SIGNALS
+from pil.signal_policy import deaf_from_now, ignored_for_children
 
 __all__ = ["ignored_for_children", "start_worker"]
 
 
 def start_worker(*args: Any) -> None:
     """Process target of a render worker: keep the signals ignored, then run the worker loop."""
-    for signum in SIGNALS:
-        signal.signal(signum, signal.SIG_IGN)
+    deaf_from_now()
     from robin_sim.render.worker import worker_main  # MuJoCo and GL: only now
 
     worker_main(*args)
