@@ -149,7 +149,7 @@ def signals_deferred() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def ignored_for_children() -> Iterator[None]:
+def ignored_for_children(*, spawning: bool = True) -> Iterator[None]:
     """Inside, processes started by this thread begin with SIGINT and SIGTERM held back; their
     first call (e.g. :func:`robin_sim.render.worker_start.start_worker`) ignores both and lets
     go of them, so a signal that came meanwhile is dropped there.
@@ -161,12 +161,15 @@ def ignored_for_children() -> Iterator[None]:
     are, a signal is taken by another of its threads or waits until the block is lifted.
     (Setting them to "ignore" instead would survive ``exec`` as well, but a signal that
     another thread of this process took meanwhile, or this one once multiprocessing lifted
-    its block, would be lost.) The multiprocessing resource tracker is started first: its
-    start unblocks both signals in the thread that starts it.
+    its block, would be lost.) With ``spawning`` (multiprocessing processes; False: only
+    ``subprocess`` ones, which hold the signals back for their whole life) the multiprocessing
+    resource tracker is started first: its start unblocks both signals in the thread that
+    starts it.
     """
-    from multiprocessing import resource_tracker
+    if spawning:
+        from multiprocessing import resource_tracker
 
-    resource_tracker.ensure_running()  # the first spawn's start of it would lift the block
+        resource_tracker.ensure_running()  # the first spawn's start of it would lift the block
     previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, SIGNALS)
     try:
         yield

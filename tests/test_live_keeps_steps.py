@@ -28,8 +28,7 @@ def test_end_during_the_carry_to_the_bin_keeps_the_approved_open(tmp_path: Path)
         session="s1",
         speed=3.0,
         fps=10,
-        # the test thread's thumbs arrive within 2 s of wall time at speed 3 also on a busy
-        # machine (CI once saw a thumb down on an action whose 3 s window had just closed)
+        # 2 s of wall time at speed 3 for the test thread's thumbs, also on a busy machine
         feedback_window=6.0,
         video=False,
     )

@@ -129,3 +129,28 @@ def test_the_watchdog_hands_back_and_no_refused_action_is_tried_twice(tmp_path: 
     assert len(tried) == 6 and len(set(tried[:5])) == 5, tried
     watchdog = [e for e in read_jsonl(live.out_dir / "events.jsonl") if e["event"] == "watchdog"]
     assert len(watchdog) == 1 and watchdog[0]["reason"].startswith("6 actions"), watchdog
+
+
+def test_a_thumb_is_taken_from_the_moment_the_page_shows_the_action(tmp_path: Path) -> None:
+    """The status shows a robot action as the view hears of it (``decided``); from then on a
+    thumb is accepted. CI once saw the test participant's thumb down refused ("There is no
+    robot action to judge now") because the view showed the action before the person watched."""
+    live, driver = session(tmp_path, seed=1)
+    judging_when_shown: list[bool] = []
+    shown = live.view.decided
+
+    def decided(record: Any) -> None:  # in the physics thread, as the page learns the action
+        participant = live._participant
+        judging_when_shown.append(participant is not None and participant.judging)
+        shown(record)
+
+    live.view.decided = decided  # type: ignore[method-assign]
+    try:
+        driver.my_turn()
+        driver.point_at_leg(0)
+        driver.wait(lambda s: s["action"] is not None, "Robin's first try")
+        live.receive({"type": "thumb", "value": "down"})
+        driver.wait(lambda s: s["actions"] >= 1 and s["rejected"] >= 1, "the try refused")
+    finally:
+        live.stop()
+    assert judging_when_shown and all(judging_when_shown), judging_when_shown

@@ -59,9 +59,10 @@ def anticipate_step(
         reason=guess.reason,
         proactive=True,
     )
+    watcher = person.watch(intent)  # a thumb is taken from the moment the action is shown
     if observer is not None:
         observer.decided(base)
-    outcome = world.execute(action, None, person.watch(intent))
+    outcome = world.execute(action, None, watcher)
     feedback = person.judge(intent, action, outcome)
     if observer is not None:
         observer.answered(base._replace(feedback=feedback))

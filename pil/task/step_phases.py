@@ -200,13 +200,15 @@ class StepPhases:
                     "failing the wanted action"
                 )
             state.actions += 1
+            # the person watches first: a thumb is taken from the moment the action is shown
+            watcher = person.watch(intent)
             if observer is not None:
                 observer.decided(
                     base._replace(
                         t=state.actions, action=action, exploited=exploited, reason=reason
                     )
                 )
-            outcome = world.execute(action, intent.target, person.watch(intent))
+            outcome = world.execute(action, intent.target, watcher)
             feedback = person.judge(intent, action, outcome)
             if observer is not None:
                 observer.answered(base._replace(t=state.actions, action=action, feedback=feedback))

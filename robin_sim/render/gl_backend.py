@@ -35,6 +35,7 @@ import subprocess
 import sys
 
 from pil.errors import RobinPilError
+from pil.signal_policy import ignored_for_children
 
 HEADLESS_BACKENDS: tuple[str, ...] = ("egl", "osmesa")
 VALID_BACKENDS: tuple[str, ...] = ("egl", "osmesa", "glfw", "glx")
@@ -58,15 +59,16 @@ class GLBackendError(RobinPilError):
 def _probe(backend: str) -> str | None:
     """Try ``backend`` in a subprocess; None when it made a context, else the reason."""
     env = dict(os.environ, MUJOCO_GL=backend, PYOPENGL_PLATFORM=backend)
-    try:
-        result = subprocess.run(
-            [sys.executable, "-c", _PROBE_CODE],
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=PROBE_TIMEOUT_S,
-            check=False,
-        )
+    try:  # deaf to a Ctrl-C or SIGTERM to the group: that is this process's to act on
+        with ignored_for_children(spawning=False):
+            result = subprocess.run(
+                [sys.executable, "-c", _PROBE_CODE],
+                env=env,
+                capture_output=True,
+                text=True,
+                timeout=PROBE_TIMEOUT_S,
+                check=False,
+            )
     except subprocess.TimeoutExpired:
         return f"no context within {PROBE_TIMEOUT_S:.0f} s"
     if result.returncode == 0:
