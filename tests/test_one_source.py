@@ -267,24 +267,29 @@ def test_a_value_is_written_once(pattern: str, homes: tuple[str, ...]) -> None:
 
 
 def test_the_live_page_takes_the_signs_from_python() -> None:
-    """webcam.js retypes none of the six signs' names or labels: the participant's page
-    carries them (and the gesture keys live.js sends) from the Python source."""
+    """Neither webcam.js, live.js nor index.html retypes the six signs' names or labels: the
+    participant's page carries them (and the gesture keys live.js sends, with their keyboard
+    shortcuts) from the Python source."""
     import html
     import json
 
     from pil.types import SIGN_NAMES, sign_label
-    from robin_sim.live.inputs import GESTURE_KEYS
+    from robin_sim.live.inputs import GESTURE_KEYS, GESTURE_SHORTCUTS
     from robin_sim.live.pages import PAGE_CONSTANTS
 
-    script = (ROOT / "robin_sim" / "live" / "static" / "webcam.js").read_text(encoding="utf-8")
-    quoted = set(re.findall(r"[\"'`]([^\"'`\n]*)[\"'`]", script))
-    assert not [n for n in SIGN_NAMES if n in quoted or sign_label(n) in quoted], quoted
+    for name in ("webcam.js", "live.js", "index.html"):
+        script = (ROOT / "robin_sim" / "live" / "static" / name).read_text(encoding="utf-8")
+        quoted = set(re.findall(r"[\"'`]([^\"'`\n]*)[\"'`]", script))
+        assert not [n for n in SIGN_NAMES if n in quoted or sign_label(n) in quoted], (name, quoted)
     constants = json.loads(html.unescape(PAGE_CONSTANTS))
     assert constants == {
         "signs": {name: sign_label(name) for name in SIGN_NAMES},
         "cursor": "pointing",
         "gestures": list(GESTURE_KEYS),
+        "shortcuts": GESTURE_SHORTCUTS,
     }
+    assert sorted(GESTURE_SHORTCUTS) == sorted(GESTURE_KEYS)
+    assert len(set(GESTURE_SHORTCUTS.values())) == len(GESTURE_SHORTCUTS)
     assert len(SIGN_NAMES) == 6
     page = (ROOT / "robin_sim" / "live" / "static" / "index.html").read_text(encoding="utf-8")
     assert 'data-constants="{{CONSTANTS}}"' in page

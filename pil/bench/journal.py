@@ -12,38 +12,17 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.bench.suite import Suite, SuiteError
+from pil.provenance import source_commit
 
 STAMP, RUNS = "stamp.json", "runs.jsonl"
 KEY = ("track", "condition", "agent", "seed")
 _SAME = ("suite_version", "suite_sha256", "block", "quick")
-
-
-def git_commit(where: Path | None = None) -> str:
-    """The commit of the code (``-dirty`` when the tree has changes; ``unknown`` outside git)."""
-    folder = where or Path(__file__).resolve().parent
-    try:
-        head = subprocess.run(
-            ["git", "rev-parse", "HEAD"], cwd=folder, capture_output=True, text=True, timeout=20
-        )
-        if head.returncode != 0:
-            return "unknown"
-        dirty = subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no"],
-            cwd=folder,
-            capture_output=True,
-            text=True,
-            timeout=20,
-        )
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-    return head.stdout.strip() + ("-dirty" if dirty.stdout.strip() else "")
 
 
 def key_of(row: Mapping[str, Any]) -> tuple[str, str, str, int]:
@@ -59,7 +38,7 @@ class Journal:
     ) -> None:
         """``commit``: the code's commit when the command started (default: now)."""
         self.out = Path(out)
-        made_by = git_commit() if commit is None else commit
+        made_by = source_commit().label() if commit is None else commit
         self.stamp = {**suite.stamp(), "block": block, "quick": quick, "commit": made_by}
         found = self.read_stamp(self.out)
         if found is not None:

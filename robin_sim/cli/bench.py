@@ -137,12 +137,12 @@ def _read_tuned(path: Path | None) -> dict[str, Any]:
 
 def run(args: argparse.Namespace) -> int:
     """The chosen mode; bad input raises a RobinPilError (exit code 2) before any run."""
-    from pil.bench.journal import git_commit
     from pil.bench.suite import BLOCKS, SUITE_FILE, SuiteError, load_suite
+    from pil.provenance import source_commit
 
     suite = load_suite(args.suite or SUITE_FILE)
     workers = _workers(args.workers)
-    args.commit = git_commit()  # once, as the code was loaded: what every stamp names
+    args.commit = source_commit().label()  # once, as the code was loaded: what every stamp names
     if args.seeds not in BLOCKS:
         raise SuiteError(f"--seeds {args.seeds!r}; valid choices: " + ", ".join(BLOCKS))
     if args.list:

@@ -14,15 +14,16 @@ from __future__ import annotations
 import hashlib
 import json
 import platform
-import subprocess
 import zipfile
 from collections.abc import Iterable
+from dataclasses import asdict
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.provenance import source_commit
 from robin_sim.lab.registry import LOCK_NAME
 from robin_sim.lab.study_file import Study
 from robin_sim.model import names
@@ -64,33 +65,6 @@ def study_files(study: Study) -> list[Path]:
     return found
 
 
-def source_commit() -> dict[str, Any]:
-    """The git commit of the source robin-pil runs from, and whether it has changes (None
-    for either when it is not a git checkout, e.g. an installed wheel)."""
-    source = Path(names.__file__).resolve().parents[2]
-    found: dict[str, Any] = {"id": None, "dirty": None}
-    if not (source / ".git").exists():
-        return found
-    try:
-        head = subprocess.run(
-            ["git", "-C", str(source), "rev-parse", "HEAD"],
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        )
-        status = subprocess.run(
-            ["git", "-C", str(source), "status", "--porcelain", "--untracked-files=no"],
-            capture_output=True,
-            text=True,
-            timeout=10,
-            check=True,
-        )
-    except (OSError, subprocess.SubprocessError):
-        return found
-    return {"id": head.stdout.strip(), "dirty": bool(status.stdout.strip())}
-
-
 def manifest(study: Study, files: Iterable[Path], robin_pil_version: str) -> dict[str, Any]:
     """The manifest of an archive of ``files`` (relative to the study folder)."""
     libraries: dict[str, str | None] = {}
@@ -107,7 +81,7 @@ def manifest(study: Study, files: Iterable[Path], robin_pil_version: str) -> dic
         "study": study.name,
         "design": study.design,
         "created_utc": datetime.now(UTC).isoformat(timespec="seconds"),
-        "robin_pil": {"version": robin_pil_version, "commit": source_commit()},
+        "robin_pil": {"version": robin_pil_version, "commit": asdict(source_commit())},
         "python": platform.python_version(),
         "libraries": libraries,
         "models": {name: file_hash(path) for name, path in MODEL_FILES.items()},

@@ -47,6 +47,12 @@ THUMBS: dict[str, Feedback] = {"up": Feedback.OK, "down": Feedback.NOT_OK}
 INPUT_KINDS: tuple[str, ...] = tuple(FIELDS)
 GESTURE_KEYS: tuple[str, ...] = tuple(GESTURE_BY_KEY)
 THUMB_VALUES: tuple[str, ...] = tuple(THUMBS)
+# The page's keyboard shortcut for each gesture key (the page builds its buttons from these).
+GESTURE_SHORTCUTS: dict[str, str] = {
+    SIGN_OF[Gesture.GIVE_ME]: "g",
+    SIGN_OF[Gesture.GRASP]: "r",
+    SIGN_OF[Gesture.RELEASE]: "l",
+}
 CALIBRATION_ACTIONS: tuple[str, ...] = ("skip", "restart")
 CONSENT_VALUES: tuple[str, ...] = ("agree", "decline")
 SCREEN_KINDS: tuple[str, ...] = ("consent", "finish")  # a study's screens around the blocks

@@ -21,18 +21,19 @@ from aiohttp import web
 from pil.types import SIGN_NAMES, sign_label
 from robin_sim.live.hands.shape import POINTING_SIGN
 from robin_sim.live.hands.vendor import TEXT_TYPES, VENDOR_DIR, VENDOR_TYPES
-from robin_sim.live.inputs import GESTURE_KEYS
+from robin_sim.live.inputs import GESTURE_KEYS, GESTURE_SHORTCUTS
 
 STATIC_DIR = Path(__file__).with_name("static")
 # what the participant's page takes from the Python source, not retyped (its body's
 # data-constants): the six signs' names and labels, the one that moves the cursor, the
-# gesture keys a message may name
+# gesture keys a message may name with their keyboard shortcuts
 PAGE_CONSTANTS = html.escape(
     json.dumps(
         {
             "signs": {name: sign_label(name) for name in SIGN_NAMES},
             "cursor": POINTING_SIGN,
             "gestures": list(GESTURE_KEYS),
+            "shortcuts": {key: GESTURE_SHORTCUTS[key] for key in GESTURE_KEYS},
         }
     )
 )

@@ -342,14 +342,29 @@
     end: () => confirm("End this session? It is saved as it stands.") && send({ type: "end" }),
     start: () => send({ type: "start" }),
   };
-  // the gesture keys a message may name come from the Python source (inputs.GESTURE_KEYS)
-  for (const gesture of JSON.parse(document.body.dataset.constants).gestures) {
-    ACTIONS[gesture] = () => send({ type: "gesture", gesture });
-  }
   const KEYS = {
-    g: "give_me", r: "grasp", l: "release", u: "up", ArrowUp: "up", d: "down",
-    ArrowDown: "down", e: "end", Enter: "start", s: "start",
+    u: "up", ArrowUp: "up", d: "down", ArrowDown: "down", e: "end", Enter: "start", s: "start",
   };
+  // the gesture keys a message may name, their labels and shortcuts come from the Python
+  // source (inputs.GESTURE_KEYS, inputs.GESTURE_SHORTCUTS, types.sign_label)
+  const PAGE = JSON.parse(document.body.dataset.constants);
+  const gestureButtons = $("gesture-buttons");
+  for (const gesture of PAGE.gestures) {
+    ACTIONS[gesture] = () => send({ type: "gesture", gesture });
+    const shortcut = PAGE.shortcuts[gesture];
+    KEYS[shortcut] = gesture;
+    if (gestureButtons) {
+      const button = document.createElement("button");
+      const label = PAGE.signs[gesture];
+      button.type = "button";
+      button.dataset.send = gesture;
+      button.append(label.charAt(0).toUpperCase() + label.slice(1) + " ");
+      const kbd = document.createElement("kbd");
+      kbd.textContent = shortcut.toUpperCase();
+      button.append(kbd);
+      gestureButtons.append(button);
+    }
+  }
 
   for (const button of document.querySelectorAll("button[data-send]")) {
     button.addEventListener("click", () => ACTIONS[button.dataset.send]());
