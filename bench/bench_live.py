@@ -31,8 +31,8 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from robin_sim.episode.assemble import layout_of  # noqa: E402
 from robin_sim.episode.config import EpisodeConfig  # noqa: E402
+from robin_sim.episode.physical_assembly import layout_of  # noqa: E402
 from robin_sim.live.conductor import Conductor  # noqa: E402
 from robin_sim.live.inputs import LiveInput  # noqa: E402
 from robin_sim.live.picking import Picker  # noqa: E402

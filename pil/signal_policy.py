@@ -18,7 +18,7 @@ or ``nohup ... &`` starts with SIGINT ignored; a service manager sends SIGTERM):
   the process exits, so a late SIGTERM can no longer turn a finished run into a -15.
 
 Processes a command starts itself (worker pools) begin with both signals held back and
-ignore them from their first call (:func:`ignored_for_children`, :func:`deaf_from_now`); the
+ignore them from their first call (:func:`blocked_for_children`, :func:`deaf_from_now`); the
 command stops them (:mod:`pil.worker_pool`).
 """
 
@@ -149,7 +149,7 @@ def signals_deferred() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def ignored_for_children(*, spawning: bool = True) -> Iterator[None]:
+def blocked_for_children(*, spawning: bool = True) -> Iterator[None]:
     """Inside, processes started by this thread begin with SIGINT and SIGTERM held back; their
     first call (e.g. :func:`robin_sim.render.worker_start.start_worker`) ignores both and lets
     go of them, so a signal that came meanwhile is dropped there.
@@ -179,7 +179,7 @@ def ignored_for_children(*, spawning: bool = True) -> Iterator[None]:
 
 def deaf_from_now() -> None:
     """A started process's first call: SIGINT and SIGTERM ignored from now on (one held back
-    since its start (:func:`ignored_for_children`) is dropped), and no longer blocked."""
+    since its start (:func:`blocked_for_children`) is dropped), and no longer blocked."""
     for signum in SIGNALS:
         signal.signal(signum, signal.SIG_IGN)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, SIGNALS)

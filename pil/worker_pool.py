@@ -4,7 +4,7 @@ Every pool the project starts (a sweep's local back end, the appearance study's 
 gesture data set's chunks) is a :class:`SpawnPool`:
 
 * its workers start with SIGINT and SIGTERM held back and ignore them from their first call
-  on (:func:`pil.signal_policy.ignored_for_children`, as render workers do): a Ctrl-C to
+  on (:func:`pil.signal_policy.blocked_for_children`, as render workers do): a Ctrl-C to
   the process group or a SIGTERM is the command's to act on, also while a worker's
   interpreter still starts;
 * a worker dies with its parent: a watcher thread ends it (within :data:`WATCH_S`) once its
@@ -23,7 +23,7 @@ from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any
 
-from pil.signal_policy import deaf_from_now, ignored_for_children
+from pil.signal_policy import blocked_for_children, deaf_from_now
 
 WATCH_S = 0.2  # how often a worker looks whether its parent is still there
 JOIN_S = 3.0  # how long stop() waits for a killed worker to be reaped
@@ -68,7 +68,7 @@ class SpawnPool(ProcessPoolExecutor):
 
     def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future[Any]:
         """Submit ``fn(*args, **kwargs)``; a worker this starts holds the signals back."""
-        with ignored_for_children():
+        with blocked_for_children():
             return super().submit(fn, *args, **kwargs)
 
     def stop(self) -> None:

@@ -3,7 +3,7 @@
 Importing this package does not import MuJoCo; the names below import their module (and
 MuJoCo) when first used, so a command can choose the GL backend first::
 
-    from robin_sim import EpisodeConfig, RunSpec, assemble, run_episode
+    from robin_sim import EpisodeConfig, RunSpec, assemble_physical, run_episode
 
     summary = run_episode(EpisodeConfig(scenario="one_handover", video=False))
 """
@@ -17,8 +17,8 @@ from pil.lazy_names import lazy_names
 if TYPE_CHECKING:
     from pil.task.assemble import Run
     from pil.task.spec import RunSpec, parse_run_spec
-    from robin_sim.episode.assemble import assemble
     from robin_sim.episode.config import EpisodeConfig, EpisodeSpec, parse_episode
+    from robin_sim.episode.physical_assembly import assemble_physical
     from robin_sim.episode.run import run_episode
     from robin_sim.robot.world import PhysicalWorld
 
@@ -29,7 +29,7 @@ _HOMES: dict[str, str] = {
     "PhysicalWorld": "robin_sim.robot.world",
     "Run": "pil.task.assemble",
     "RunSpec": "pil.task.spec",
-    "assemble": "robin_sim.episode.assemble",
+    "assemble_physical": "robin_sim.episode.physical_assembly",
     "parse_episode": "robin_sim.episode.config",
     "parse_run_spec": "pil.task.spec",
     "run_episode": "robin_sim.episode.run",
@@ -40,7 +40,7 @@ __all__ = [
     "PhysicalWorld",
     "Run",
     "RunSpec",
-    "assemble",
+    "assemble_physical",
     "parse_episode",
     "parse_run_spec",
     "run_episode",

@@ -146,7 +146,7 @@ def walk_episode(argv: Sequence[str], *, data: bool = True, methods: bool = True
     import robin_sim.episode.run as episode_run
     from robin_sim.cli.main import main
 
-    real = episode_run.assemble
+    real = episode_run.assemble_physical
     walk = Walk(data=config_types() if data else (), methods=methods)
 
     def assembled(*args: Any, **kwargs: Any) -> Any:
@@ -154,7 +154,7 @@ def walk_episode(argv: Sequence[str], *, data: bool = True, methods: bool = True
         sys.setprofile(None)
         raise _AssemblyDone
 
-    episode_run.assemble = assembled  # type: ignore[assignment]
+    episode_run.assemble_physical = assembled  # type: ignore[assignment]
     try:
         sys.setprofile(walk.hook)
         main(["episode", *argv])
@@ -162,7 +162,7 @@ def walk_episode(argv: Sequence[str], *, data: bool = True, methods: bool = True
         pass
     finally:
         sys.setprofile(None)
-        episode_run.assemble = real  # type: ignore[assignment]
+        episode_run.assemble_physical = real  # type: ignore[assignment]
     return walk
 
 

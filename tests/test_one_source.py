@@ -322,6 +322,8 @@ def test_no_two_classes_share_a_name() -> None:
         ("reject_unknown", "pil/task/yaml_files.py"),  # every file's check of its keys
         ("spec_row", "pil/experiments/run_row.py"),
         ("person_seed", "pil/task/seeds.py"),
+        ("assemble", "pil/task/assemble.py"),  # robin_sim's is assemble_physical
+        ("source_commit", "pil/provenance.py"),  # the bench journal's and the archive's
     ],
 )
 def test_a_function_has_one_home(name: str, home: str) -> None:
@@ -333,10 +335,12 @@ def test_what_issue_26_retired_is_gone() -> None:
     functions = _top_level(ast.FunctionDef)
     gone = ["run_checked", "check_run", "_row_spec", "run_physical", "expected_cost"]
     gone += ["run_physical_checked", "assemble_phase", "default_workers", "_reject_unknown"]
+    gone += ["git_commit", "ignored_for_children"]
     assert [name for name in gone if name in functions] == []
     # the appearance study's run_one runs one appearance run: not the sweep's, gone
     assert functions["run_one"] == {"robin_sim/appearance/runs.py"}
     assert [p.name for p in source_files()].count("systems.py") == 1
+    assert [p.name for p in source_files()].count("assemble.py") == 1
 
 
 def test_agent_settings_are_the_agents_defaults_and_ranges() -> None:

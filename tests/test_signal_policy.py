@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from pil.signal_policy import ignored_for_children
+from pil.signal_policy import blocked_for_children
 from robin_sim.cli import main as cli
 
 
@@ -98,7 +98,7 @@ def test_a_signal_inside_an_import_is_raised_once_the_import_is_done(
 
 
 def test_a_signal_while_children_start_is_kept_though_another_thread_takes_it() -> None:
-    """Inside ``ignored_for_children`` this thread holds both signals back; a SIGTERM sent to
+    """Inside ``blocked_for_children`` this thread holds both signals back; a SIGTERM sent to
     the process then goes to another thread (here one that sleeps) and must still reach the
     handler: it was lost while the window set the signals to "ignore"."""
     seen: list[int] = []
@@ -106,7 +106,7 @@ def test_a_signal_while_children_start_is_kept_though_another_thread_takes_it() 
     previous = signal.signal(signal.SIGTERM, lambda signum, frame: seen.append(signum))
     try:
         other.start()
-        with ignored_for_children():
+        with blocked_for_children():
             os.kill(os.getpid(), signal.SIGTERM)
             time.sleep(0.2)  # the other thread has taken it by now
         deadline = time.monotonic() + 5
@@ -119,7 +119,7 @@ def test_a_signal_while_children_start_is_kept_though_another_thread_takes_it() 
 
 CHILD_MASK = """
 import multiprocessing, signal
-from pil.signal_policy import ignored_for_children
+from pil.signal_policy import blocked_for_children
 
 def report(conn):
     conn.send(sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, [])))
@@ -127,7 +127,7 @@ def report(conn):
 if __name__ == "__main__":
     context = multiprocessing.get_context("spawn")
     ours, theirs = context.Pipe()  # a pipe, not a queue: no resource tracker started yet
-    with ignored_for_children():  # the first spawn of a fresh interpreter
+    with blocked_for_children():  # the first spawn of a fresh interpreter
         child = context.Process(target=report, args=(theirs,))
         child.start()
         held = sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, []))

@@ -352,7 +352,7 @@ def test_sub_seeds_are_derived_in_one_place() -> None:
         if _calls(p, {"PhysicalBody", "VisionDetector"})
         and "vision/" not in str(p.relative_to(ROOT / "robin_sim"))
     }
-    assert builders == {"robin_sim/episode/assemble.py"}
+    assert builders == {"robin_sim/episode/physical_assembly.py"}
 
 
 def test_the_vision_detector_is_a_registry_entry_not_a_swap() -> None:
@@ -364,23 +364,23 @@ def test_the_vision_detector_is_a_registry_entry_not_a_swap() -> None:
         parse_run_spec(params={"detector": CAMERAS})  # refused at the edge, once
     spec = parse_run_spec(params={"detector": CAMERAS}, world="physical")
     assert spec.detector.model == CAMERAS  # kept as given: no swap for 'exact'
-    source = (ROOT / "robin_sim" / "episode" / "assemble.py").read_text()
+    source = (ROOT / "robin_sim" / "episode" / "physical_assembly.py").read_text()
     assert "CAMERAS as VISION" in source and "VISION: vision_factory(" in source
     assert not (ROOT / "robin_sim" / "episode" / "reading.py").exists()
 
 
 def test_the_public_api_imports_lazily() -> None:
-    """``from robin_sim import PhysicalWorld, run_episode, RunSpec, assemble`` works; importing
-    the packages alone pulls in neither MuJoCo nor the run assembly."""
+    """``from robin_sim import PhysicalWorld, run_episode, RunSpec, assemble_physical`` works;
+    importing the packages alone pulls in neither MuJoCo nor the run assembly."""
     import subprocess
     import sys
 
     code = (
         "import sys, pil, robin_sim\n"
         "assert 'mujoco' not in sys.modules and 'pil.task.assemble' not in sys.modules\n"
-        "from robin_sim import PhysicalWorld, RunSpec, assemble, run_episode\n"
+        "from robin_sim import PhysicalWorld, RunSpec, assemble_physical, run_episode\n"
         "import pil\n"
-        "assert pil.RunSpec is RunSpec and callable(assemble) and callable(run_episode)\n"
+        "assert pil.RunSpec is RunSpec and callable(assemble_physical) and callable(run_episode)\n"
         "assert set(robin_sim.__all__) <= set(dir(robin_sim)) and 'mujoco' in sys.modules\n"
         "print(PhysicalWorld.__name__)\n"
     )

@@ -1,7 +1,7 @@
 """One function builds every run: :func:`assemble` (learner, person, detector, world).
 
 The study, a sweep's run, the physical episode and a live session all get their pieces here
-(``robin_sim.assemble`` adds the physical world, the person's body and the eye cameras'
+(``robin_sim.assemble_physical`` adds the physical world, the person's body and the eye cameras'
 detector, then calls this). A system pre-trained (c1-c4, :mod:`pil.task.systems`) starts
 from the table of a learner-only training run (:func:`training`); the sub-seeds come from
 :attr:`pil.task.spec.RunSpec.seeds`. The detector is found in a registry (:data:`DETECTORS`):
@@ -163,7 +163,7 @@ def assemble(
     """The ``phase`` run of ``spec``: by default its test run, its system's learner (its agent,
     pre-trained for c1-c4, its own parameters applied), the scripted person (with ``body`` in
     a physical world), the detector of ``detectors`` and ``world`` (default: the symbolic
-    world; a physical one is ``robin_sim.assemble``'s); ``phase="train"``: the pre-training
+    world; a physical one is ``robin_sim.assemble_physical``'s); ``phase="train"``: the pre-training
     run (a PIL learner with correction, the spec as it is, on the training tables).
 
     ``cache`` (a dict) lets a study reuse what the systems of one repetition share (training
@@ -175,7 +175,7 @@ def assemble(
     """
     if world is None:
         if spec.world != SYMBOLIC:
-            raise RobinPilError(f"a {spec.world} run is assembled by robin_sim.assemble")
+            raise RobinPilError(f"a {spec.world} run is assembled by robin_sim.assemble_physical")
         world = SymbolicWorld()
     if phase not in PHASES:
         raise InvalidChoiceError("phase", phase, PHASES)

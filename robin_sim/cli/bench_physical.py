@@ -2,10 +2,11 @@
 
 :func:`run_physical_track` is a :data:`pil.bench.run.Runner`: one run of an entrant on the
 ``physical`` track. The episode of the track's scenario is assembled as ``robin-pil episode
---detector vision --no-video`` assembles it (:func:`robin_sim.episode.assemble.assemble`: the
-physical world, the person's body, the eye cameras reading every gesture and thumb), the
-entrant's agent takes the learner's place, and the step loop's records are counted as on the
-learner-only tracks (:func:`pil.bench.tracks.count`). No oracle runs here (regret is empty).
+--detector vision --no-video`` assembles it
+(:func:`robin_sim.episode.physical_assembly.assemble_physical`: the physical world, the person's
+body, the eye cameras reading every gesture and thumb), the entrant's agent takes the learner's
+place, and the step loop's records are counted as on the learner-only tracks
+(:func:`pil.bench.tracks.count`). No oracle runs here (regret is empty).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ def run_physical_track(
 ) -> dict[str, Any]:
     """One physical run of ``factory``'s agent (module docstring)."""
     from pil.task.spec import PHYSICAL, build_run_spec
-    from robin_sim.episode.assemble import assemble  # MuJoCo from here on
+    from robin_sim.episode.physical_assembly import assemble_physical  # MuJoCo from here on
 
     model = suite.conditions[condition].gestures["model"]
     spec = build_run_spec(
@@ -34,7 +35,7 @@ def run_physical_track(
         values={"detector": model},
         world=PHYSICAL,
     )
-    parts = assemble(spec)
+    parts = assemble_physical(spec)
     learner_seed = spec.seeds.phase("test").learner
     agent = as_agent(factory(learner_seed), learner_seed, "the agent factory")
     run = replace(parts, learner=agent)  # type: ignore[arg-type]

@@ -5,7 +5,7 @@ Every option is checked there, by the specs of :mod:`pil.task.params`, the camer
 (:mod:`robin_sim.vision.condition_params`) and the few video ones below, before an episode
 builds anything or writes a file; below, nothing checks a value again. The run's learner side
 is a :class:`~pil.task.spec.RunSpec` of the physical world; the scene layout is resolved when
-the world is built (:func:`robin_sim.episode.assemble.layout_of`, which refuses a layout
+the world is built (:func:`robin_sim.episode.physical_assembly.layout_of`, which refuses a layout
 without the legs and spots the person will point at). Nothing here imports MuJoCo.
 """
 

@@ -73,7 +73,7 @@ def _cell_spec(options: dict[str, Any], cache: MutableMapping[Any, Any]) -> Epis
 def check_physical(spec: EpisodeSpec) -> None:
     """What a sweep grid cannot check value by value: the scenario's layout's legs and spots;
     a sweep calls it once per distinct cell before its first run."""
-    from robin_sim.episode.assemble import layout_of  # imports MuJoCo
+    from robin_sim.episode.physical_assembly import layout_of  # imports MuJoCo
 
     layout_of(spec.run.scenario)
 

@@ -1,11 +1,11 @@
 """A physical episode: the scripted person gestures, the PIL learner decides, Robin acts in MuJoCo.
 
-The episode drives the same learner, person, detector and scenario files as the learner-only
-study (:func:`robin_sim.episode.assemble.assemble`, :func:`pil.task.runner.steps`); only the
-world differs (:class:`robin_sim.robot.world.PhysicalWorld`). With the same seed and every
+The episode drives the same learner, person, detector and scenario files as the learner-only study
+(:func:`robin_sim.episode.physical_assembly.assemble_physical`, :func:`pil.task.runner.steps`); only
+the world differs (:class:`robin_sim.robot.world.PhysicalWorld`). With the same seed and every
 action succeeding physically, its decisions equal the learner-only run's. It writes
-``episode.jsonl`` (a line per step, flushed as it happens), ``summary.json`` and, unless
-``video`` is off, ``episode.mp4``. Ctrl-C leaves a playable MP4, the log of every finished
+``episode.jsonl`` (a line per step, flushed as it happens), ``summary.json`` and, unless ``video``
+is off, ``episode.mp4``. Ctrl-C leaves a playable MP4, the log of every finished
 step and a summary marked interrupted.
 """
 
@@ -24,11 +24,11 @@ from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME, VIDEO_NAME
 from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
 from pil.task.records import StepRecord
-from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook, run_summary, vision_of
 from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec
 from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
+from robin_sim.episode.physical_assembly import assemble_physical
 from robin_sim.episode.render_checks import RenderChecks
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.episode.view import EpisodeView
@@ -53,7 +53,7 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
     """
     spec = config if isinstance(config, EpisodeSpec) else config.spec()
     video, scenario = spec.video, spec.run.scenario
-    parts = assemble(spec)  # the world of the scenario's layout, the body, learner, detector
+    parts = assemble_physical(spec)  # the scenario layout's world, the body, learner, detector
     world = parts.world
     if not isinstance(world, PhysicalWorld):
         raise EpisodeError(f"an episode runs in a physical world, got {type(world).__name__}")

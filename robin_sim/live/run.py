@@ -1,9 +1,10 @@
 """The parts of one live session, built in its physics thread like an episode's.
 
-:class:`LiveRun` builds, through the one assembly (:func:`robin_sim.episode.assemble.assemble`,
-as the episode), the world of the session's scenario, the simulated hand, the system's learner
-and the exact detector; then the participant in the scripted person's place, the picker, the
-frame stream (MP4 included), the pacer and the step log.
+:class:`LiveRun` builds, through the one assembly
+(:func:`robin_sim.episode.physical_assembly.assemble_physical`, as the episode), the world of the
+session's scenario, the simulated hand, the system's learner and the exact detector; then the
+participant in the scripted person's place, the picker, the frame stream (MP4 included), the pacer
+and the step log.
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -22,9 +23,9 @@ from pil.task.assemble import Run
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
-from robin_sim.episode.assemble import assemble
 from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
+from robin_sim.episode.physical_assembly import assemble_physical
 from robin_sim.episode.summary import EpisodeTotals
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.frames import FrameHub, FrameStream
@@ -47,7 +48,7 @@ def live_parts(
     person's place: a live session's, or a simulated participant's
     (:mod:`robin_sim.fitted.session`)."""
     spec = config.run_spec()
-    scripted = assemble(spec, tempo=LIVE)  # the world of the scenario's layout too
+    scripted = assemble_physical(spec, tempo=LIVE)  # the world of the scenario's layout too
     body = scripted.person.body
     assert isinstance(body, PhysicalBody)
     scenario = spec.scenario

@@ -35,7 +35,7 @@ import subprocess
 import sys
 
 from pil.errors import RobinPilError
-from pil.signal_policy import ignored_for_children
+from pil.signal_policy import blocked_for_children
 
 HEADLESS_BACKENDS: tuple[str, ...] = ("egl", "osmesa")
 VALID_BACKENDS: tuple[str, ...] = ("egl", "osmesa", "glfw", "glx")
@@ -60,7 +60,7 @@ def _probe(backend: str) -> str | None:
     """Try ``backend`` in a subprocess; None when it made a context, else the reason."""
     env = dict(os.environ, MUJOCO_GL=backend, PYOPENGL_PLATFORM=backend)
     try:  # deaf to a Ctrl-C or SIGTERM to the group: that is this process's to act on
-        with ignored_for_children(spawning=False):
+        with blocked_for_children(spawning=False):
             result = subprocess.run(
                 [sys.executable, "-c", _PROBE_CODE],
                 env=env,

@@ -50,7 +50,7 @@ from robin_sim.render.worker import (
     second_renderer,
     warmed_renderer,
 )
-from robin_sim.render.worker_start import ignored_for_children, start_worker
+from robin_sim.render.worker_start import blocked_for_children, start_worker
 
 
 def default_render_workers() -> int:
@@ -151,7 +151,7 @@ class RenderPool(ClosesOnExit):
                     ),
                     daemon=True,
                 )
-                with ignored_for_children():  # the worker starts deaf to Ctrl-C
+                with blocked_for_children():  # the worker starts deaf to Ctrl-C
                     process.start()
                 child.close()
                 self._processes.append(process)

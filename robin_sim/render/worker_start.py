@@ -5,7 +5,7 @@ standard library and unpickles its arguments (MuJoCo included), for a second or 
 machine. A SIGINT to the process group in that time used to raise ``KeyboardInterrupt`` inside
 those imports (the worker exited with code 1 "while starting"). A blocked signal mask survives
 ``exec``, so the pool starts each worker with both signals blocked, inside
-:func:`pil.signal_policy.ignored_for_children` (the project's one way to start a process deaf
+:func:`pil.signal_policy.blocked_for_children` (the project's one way to start a process deaf
 to both). :func:`start_worker` ignores both signals (:func:`pil.signal_policy.deaf_from_now`)
 and only then imports MuJoCo and the renderer; the main process ends the workers.
 """
@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from pil.signal_policy import deaf_from_now, ignored_for_children
+from pil.signal_policy import blocked_for_children, deaf_from_now
 
-__all__ = ["ignored_for_children", "start_worker"]
+__all__ = ["blocked_for_children", "start_worker"]
 
 
 def start_worker(*args: Any) -> None:

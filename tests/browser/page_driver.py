@@ -43,8 +43,8 @@ def leg_pixels(
 ) -> list[tuple[float, float]]:
     """Each leg's centre as a frame pixel, projected with the engine's picking camera model
     from the scene as it is laid out at the start of a session."""
-    from robin_sim.episode.assemble import layout_of
     from robin_sim.episode.config import EpisodeConfig
+    from robin_sim.episode.physical_assembly import layout_of
 
     layout = layout_of(EpisodeConfig(scenario=scenario, video=False).spec().run.scenario)
     picker = Picker(layout, width, height)

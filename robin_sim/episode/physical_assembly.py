@@ -1,6 +1,6 @@
 """The physical run: :func:`pil.task.assemble.assemble` in MuJoCo, with a body and eyes.
 
-:func:`assemble` builds the world of the scenario's layout, the person's
+:func:`assemble_physical` builds the world of the scenario's layout, the person's
 body in it (:class:`~robin_sim.person.body.PhysicalBody`, seeded by the run's sub-seeds) and
 hands them to the learner side's assembly with the detector registry extended by ``vision``
 (Robin's eye cameras, :class:`~robin_sim.vision.detector.VisionDetector`) — an entry like the
@@ -8,7 +8,7 @@ others. The world's layout is the scenario's (:func:`layout_of`). The
 episode, a physical sweep run and a live session are assembled here::
 
     spec = EpisodeConfig(scenario="one_handover", video=False).spec()
-    run = assemble(spec)                      # run.world: a PhysicalWorld
+    run = assemble_physical(spec)                      # run.world: a PhysicalWorld
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def vision_factory(conditions: VisionSettings) -> DetectorFactory:
     return make
 
 
-def assemble(
+def assemble_physical(
     spec: RunSpec | EpisodeSpec,
     *,
     world: PhysicalWorld | None = None,
