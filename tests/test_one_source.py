@@ -381,15 +381,29 @@ def test_agent_settings_are_never_written_as_numbers_beside_their_name() -> None
     assert not copies
 
 
-def test_frame_checks_are_the_episode_s_for_the_live_page_and_the_writer() -> None:
+def test_a_frame_size_is_checked_once_at_each_edge() -> None:
+    """The episode, the live page and a replay's recorded settings check a size (even, within
+    the scene's off-screen buffer) with frame_spec's check, once; the renderers, the render
+    pool, the eyes and the MP4 writer below them check nothing again (issue 26: six places)."""
     from robin_sim.episode import config as episode_config
     from robin_sim.live import config as live_config
-    from robin_sim.render import frame_spec, video
+    from robin_sim.render import frame_spec
 
     assert episode_config.check_size is frame_spec.check_size
     assert live_config.check_size is frame_spec.check_size
-    assert video.check_size is frame_spec.check_size
-    assert episode_config.FPS is frame_spec.FPS is video.FPS
+    assert episode_config.FPS is frame_spec.FPS
+    assert literal_count(r"\bcheck_size\(") == {
+        "robin_sim/render/frame_spec.py": 1,  # its definition
+        "robin_sim/episode/config.py": 2,  # --size WxH, and the API's width and height
+        "robin_sim/live/config.py": 1,
+        "robin_sim/render/state_checks.py": 1,
+    }
+    assert literal_count(r"\bcheck_frame_size\b") == {}
+    assert literal_count(r"\bFPS\.parse\(") == {
+        "robin_sim/episode/config.py": 1,
+        "robin_sim/render/state_checks.py": 1,
+    }
+    assert literal_count(r"\bmujoco\.Renderer\(") == {"robin_sim/render/renderer.py": 1}
     # the live page narrows the episode's ranges, and only their upper ends
     for live, episode in (
         (live_config.LIVE_FPS, frame_spec.FPS),

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
 
+from pil.task.layout import LayoutSection
 from pil.task.params import ASSEMBLY
 from pil.task.scenario import (
     ASSEMBLY_DEFAULTS,
@@ -151,9 +153,31 @@ def test_missing_file_is_a_scenario_error(tmp_path: Path) -> None:
         load_scenario(tmp_path / "nope.yaml")
 
 
-def test_layout_is_passed_through(tmp_path: Path) -> None:
-    path = write(tmp_path, f"types: {DEFAULT_TYPES}\nlayout:\n  legs: [[0.5, 0.1]]\n")
-    assert load_scenario(path).layout["legs"] == [[0.5, 0.1]]
+def test_layout_is_parsed_when_the_scenario_is_loaded(tmp_path: Path) -> None:
+    """The layout section is typed from the load on (issue 26: it stayed an untyped mapping
+    until the world was built): legs with their yaw in radians, defaults left as None."""
+    path = write(tmp_path, f"types: {DEFAULT_TYPES}\nlayout:\n  legs: [[0.5, 0.1, 90]]\n")
+    layout = load_scenario(path).layout
+    assert layout.legs == ((0.5, 0.1, pytest.approx(math.pi / 2)),)
+    assert (layout.spots, layout.handover, layout.bin) == (None, None, None)
+    assert load_scenario().layout == LayoutSection()
+
+
+@pytest.mark.parametrize(
+    ("section", "needle"),
+    [
+        ("legs: abc", "layout 'legs' must be a list"),
+        ("legz: []", "unknown layout key(s) ['legz']; valid keys: ['legs', 'spots'"),
+        ("legs: [[0.5, .nan]]", "leg 0 y must be a finite number"),
+        ("handover: [0.6, 0.0]", "handover must be [x, y, z]"),
+        ("spots: [{x: 0.6}]", "spot 0 needs exactly the keys ['x', 'y']"),
+    ],
+)
+def test_a_malformed_layout_is_refused_at_load(tmp_path: Path, section: str, needle: str) -> None:
+    path = write(tmp_path, f"types: {DEFAULT_TYPES}\nlayout:\n  {section}\n")
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(path)
+    assert str(path) in str(info.value) and needle in str(info.value), str(info.value)
 
 
 def test_with_changes_validates() -> None:

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
+from pil.task.layout import parse_layout
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import (
@@ -76,19 +77,21 @@ def test_bad_handover_and_leg_count() -> None:
         SceneLayout(legs=())
 
 
-def test_from_mapping_parses_lists_dicts_and_degrees() -> None:
-    layout = SceneLayout.from_mapping(
-        {
-            "legs": [[0.5, 0.1], {"x": 0.5, "y": 0.4, "yaw_deg": 90}],
-            "spots": [{"x": 0.45, "y": -0.06}],
-            "handover": [0.6, 0.0, 0.9],
-        }
+def test_a_parsed_section_parses_lists_dicts_and_degrees() -> None:
+    layout = SceneLayout.of(
+        parse_layout(
+            {
+                "legs": [[0.5, 0.1], {"x": 0.5, "y": 0.4, "yaw_deg": 90}],
+                "spots": [{"x": 0.45, "y": -0.06}],
+                "handover": [0.6, 0.0, 0.9],
+            }
+        )
     )
     assert layout.legs == ((0.5, 0.1, 0.0), (0.5, 0.4, math.pi / 2))
     assert layout.spots == ((0.45, -0.06),)
     assert layout.handover == (0.6, 0.0, 0.9)
-    assert SceneLayout.from_mapping(None) == SceneLayout()
-    assert SceneLayout.from_mapping({}).handover == DEFAULT_HANDOVER
+    assert SceneLayout.of(parse_layout(None)) == SceneLayout()
+    assert SceneLayout.of(parse_layout({})).handover == DEFAULT_HANDOVER
 
 
 @pytest.mark.parametrize(
@@ -97,16 +100,16 @@ def test_from_mapping_parses_lists_dicts_and_degrees() -> None:
         ({"legz": []}, r"unknown layout key\(s\) \['legz'\]; valid keys: \['legs', 'spots'"),
         ({"legs": "many"}, "layout 'legs' must be a list"),
         ({"legs": [[0.5]]}, r"leg 0 must be \[x, y\] or \[x, y, yaw_deg\]"),
-        ({"legs": [[0.5, "a"]]}, "leg 0 y must be a number, got 'a'"),
+        ({"legs": [[0.5, "a"]]}, "leg 0 y must be a finite number, got 'a'"),
         ({"legs": [{"x": 0.5, "yaw": 3}]}, "leg 0 needs keys x, y and optionally yaw_deg"),
         ({"spots": [[0.5, 0.1, 0.2]]}, r"spot 0 must be \[x, y\]"),
         ({"handover": [0.6, 0.0]}, r"handover must be \[x, y, z\]"),
         ([1, 2], "layout must be a mapping"),
     ],
 )
-def test_from_mapping_rejects_malformed_input(mapping: object, pattern: str) -> None:
+def test_a_malformed_section_is_refused(mapping: object, pattern: str) -> None:
     with pytest.raises(LayoutError, match=pattern):
-        SceneLayout.from_mapping(mapping)  # type: ignore[arg-type]
+        parse_layout(mapping)
 
 
 @pytest.mark.parametrize(
@@ -300,9 +303,9 @@ def test_a_leg_dropped_over_the_bin_lands_inside() -> None:
     assert np.all(np.abs(leg[:2] - [x, y]) < np.array(spec.BIN_INNER_SIZE[:2]) / 2)
 
 
-def test_bad_bin_is_refused_and_from_mapping_reads_it() -> None:
+def test_bad_bin_is_refused_and_a_section_reads_it() -> None:
     with pytest.raises(LayoutError, match=r"bin at \(0\.9, 0\.0\).*valid: x 1\.15\.\.1\.30"):
         SceneLayout(bin=(0.9, 0.0))
-    assert SceneLayout.from_mapping({"bin": [1.2, 0.1]}).bin == (1.2, 0.1)
+    assert SceneLayout.of(parse_layout({"bin": [1.2, 0.1]})).bin == (1.2, 0.1)
     with pytest.raises(LayoutError, match=r"bin must be \[x, y\]"):
-        SceneLayout.from_mapping({"bin": [1.2]})
+        parse_layout({"bin": [1.2]})

@@ -120,8 +120,9 @@ def test_an_episode_from_the_cli_to_the_world_checks_each_value_once(
     assert summary["status"] == "finished" and summary["rate"] == 0.8
     assert summary["person"]["reaction_time"] == 0.5
     given = {"rate", "seed", "scenario", "size", "fps", "camera", "discard", "reaction_time"}
-    given |= {"exploration", "render_workers", "system"}
-    # --size is two values (width and height), each checked once
+    given |= {"exploration", "render_workers", "system", "frame size"}
+    # --size is two values (width and height), each checked once, and the pair once (even,
+    # within the off-screen buffer) by check_size at the edge: no renderer checks it again
     assert parse_calls.pop("size") == 2
     # the scenario file's own assembly keys are checked once, when the file is read
     file_keys = set(ASSEMBLY)

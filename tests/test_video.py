@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
+from robin_sim.render.frame_spec import check_size, offscreen_buffer
 from robin_sim.render.video import Mp4Writer, VideoError, probe_video
 
 WIDTH, HEIGHT, FPS = 320, 240, 30
@@ -82,11 +83,14 @@ def test_killed_process_leaves_every_finished_second_playable(tmp_path: Path) ->
     assert 2 * FPS - 1 <= info["frames"] <= 100
 
 
-def test_odd_size_is_refused_with_a_suggestion(tmp_path: Path) -> None:
-    with pytest.raises(VideoError, match=r"641x480.*642x480") as info:
-        Mp4Writer(tmp_path / "odd.mp4", 641, 480)
-    assert isinstance(info.value, RobinPilError)
-    assert not (tmp_path / "odd.mp4").exists()
+def test_odd_size_is_refused_at_the_edge_with_a_suggestion() -> None:
+    """A size is checked once, where a command takes it (the writer below takes it as it is)."""
+    with pytest.raises(RobinPilError, match=r"641x480.*642x480"):
+        check_size(641, 480)
+    with pytest.raises(RobinPilError, match=r"1282x720 .* off-screen buffer 1280x720"):
+        check_size(1282, 720)
+    assert check_size(1280, 720) == (1280, 720)
+    assert offscreen_buffer() == (1280, 720)  # models/scene.xml
 
 
 def test_missing_folder_is_named(tmp_path: Path) -> None:

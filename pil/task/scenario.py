@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from pil.errors import RobinPilError
+from pil.task.layout import LayoutError, LayoutSection, parse_layout
 from pil.task.params import ASSEMBLY, ASSEMBLY_DEFAULTS, ParamError
 from pil.task.yaml_files import (
     find_shipped,
@@ -86,7 +87,7 @@ class Scenario:
     draw: str = ASSEMBLY_DEFAULTS["draw"]
     sequence: tuple[str, ...] = ()  # handover types to draw from (default: all, file order)
     spots: int = ASSEMBLY_DEFAULTS["spots"]
-    layout: Mapping[str, Any] = field(default_factory=dict, hash=False)  # for the world
+    layout: LayoutSection = field(default_factory=LayoutSection)  # parsed; the scene checks it
     name: str = "assembly"
     source: str = "<scenario>"
 
@@ -257,14 +258,15 @@ def load_scenario(path: str | Path = DEFAULT_SCENARIO) -> Scenario:
                 f"{path}: sequence: unknown handover type {name!r}; valid choices: "
                 + ", ".join(names)
             )
-    layout = raw.get("layout", {})
-    if not isinstance(layout, Mapping):
-        raise ScenarioError(f"{path}: layout: expected a mapping (passed on to the world)")
+    try:
+        layout = parse_layout(raw.get("layout"))
+    except LayoutError as error:
+        raise ScenarioError(f"{path}: {error}") from None
     text_field(raw, "description", "", str(path), ScenarioError)
     return Scenario(
         types=types,
         sequence=tuple(sequence_raw),
-        layout=dict(layout),
+        layout=layout,
         name=text_field(raw, "name", path.stem, str(path), ScenarioError),
         source=str(path),
         **_check_assembly(raw, str(path)),

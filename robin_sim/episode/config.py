@@ -21,7 +21,7 @@ from pil.task.detector import CAMERAS as VISION
 from pil.task.params import ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
-from robin_sim.render.frame_spec import FPS, SIDE, check_even, check_size
+from robin_sim.render.frame_spec import FPS, check_size
 from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings, parse_conditions
 
 VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
@@ -43,15 +43,12 @@ class EpisodeError(RobinPilError):
 
 
 def parse_size(text: str, label: str = "--size") -> tuple[int, int]:
-    """``"640x480"`` as (640, 480): two even whole numbers >= 2 (H.264 yuv420p)."""
+    """``"640x480"`` as (640, 480), checked by :func:`~robin_sim.render.frame_spec.check_size`
+    (even whole numbers >= 2 for H.264 yuv420p, within the scene's off-screen buffer)."""
     parts = text.lower().split("x") if isinstance(text, str) and len(text) <= 40 else []
     if len(parts) != 2:
         raise RobinPilError(f"{label} must look like 640x480 (WIDTHxHEIGHT), got {text!r:.80}")
-    width, height = (
-        SIDE.parse(part, f"{label} {name}")
-        for part, name in zip(parts, ("width", "height"), strict=True)
-    )
-    return check_even(width, height, label)
+    return check_size(parts[0], parts[1], label, size_label=label)
 
 
 @dataclass(frozen=True)

@@ -88,7 +88,7 @@ def layout_of(scenario: Scenario) -> SceneLayout:
     it lacks the legs and spots the person will point at."""
     from robin_sim.model.scene import SceneLayout  # imports MuJoCo
 
-    layout = SceneLayout.from_mapping(scenario.layout) if scenario.layout else SceneLayout()
+    layout = SceneLayout.of(scenario.layout)
     if scenario.spots > len(layout.spots) or scenario.legs_per_table > len(layout.legs):
         raise EpisodeError(
             f"scenario {scenario.name!r} needs {scenario.spots} table spots and "

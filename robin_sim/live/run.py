@@ -34,7 +34,6 @@ from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.quality import StreamGovernor
 from robin_sim.person.body import LIVE, PhysicalBody
-from robin_sim.render.renderer import check_frame_size
 from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
 
@@ -92,7 +91,6 @@ class LiveRun(ClosesOnExit):
         world = self.parts.world
         assert isinstance(world, PhysicalWorld)
         self.world = world
-        check_frame_size(self.world.model, config.width, config.height)
         self.body = self.participant.body
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None

@@ -8,20 +8,15 @@ editing ``models/scene.xml`` with ``mujoco.MjSpec`` (the four legs of the file a
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, fields
 
 import mujoco
 import numpy as np
 
-from pil.errors import RobinPilError
+from pil.task.layout import LayoutError, LayoutSection, LegPose, Spot
 from pil.task.params import MAX_LEGS  # a table's legs: the task's bound, for the scene too
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
-
-LegPose = tuple[float, float, float]  # x, y (m) of the leg's centre, yaw (rad) of its axis
-Spot = tuple[float, float]  # x, y (m) on the table top
 
 # Default table: the four legs lie along x in a row near the robot (x 0.44, 0.12 m apart) and
 # the four spots for "location" in a second row further out (x 0.68), each spot's row half-way
@@ -57,15 +52,10 @@ LEG_COLORS: tuple[tuple[float, float, float, float], ...] = (
 )
 # What a participant calls each of LEG_COLORS (same order).
 LEG_COLOUR_NAMES = ("red", "green", "blue", "yellow", "purple", "teal", "pink", "brown")
-_LAYOUT_KEYS = ("legs", "spots", "handover", "bin")
 _REACH_TEXT = (
     "the left arm's reach: x 0.40-0.55 m for y -0.10..0.55 m, narrowing to y 0.10..0.55 m at "
     "x 0.70 m (robot_spec.LEFT_REACH_POLYGON)"
 )
-
-
-class LayoutError(RobinPilError):
-    """A scene layout that puts a leg, spot or handover where the robot cannot work."""
 
 
 def leg_ends(pose: LegPose) -> tuple[np.ndarray, np.ndarray]:
@@ -195,72 +185,11 @@ class SceneLayout:
             )
 
     @classmethod
-    def from_mapping(cls, mapping: Mapping[str, Any] | None) -> SceneLayout:
-        """Build a layout from a scenario's ``layout`` section.
-
-        ``legs``: list of ``[x, y]``, ``[x, y, yaw_deg]`` or ``{x, y, yaw_deg}``; ``spots``: list
-        of ``[x, y]`` or ``{x, y}``; ``handover``: ``[x, y, z]``; ``bin``: ``[x, y]``. Missing
-        keys keep defaults.
-        """
-        if mapping is None:
-            return cls()
-        if not isinstance(mapping, Mapping):
-            raise LayoutError(f"layout must be a mapping with keys {_LAYOUT_KEYS}, got {mapping!r}")
-        unknown = sorted(set(mapping) - set(_LAYOUT_KEYS))
-        if unknown:
-            raise LayoutError(f"unknown layout key(s) {unknown}; valid keys: {list(_LAYOUT_KEYS)}")
-        kwargs: dict[str, Any] = {}
-        if "legs" in mapping:
-            kwargs["legs"] = tuple(_parse_leg(i, v) for i, v in enumerate(_seq(mapping, "legs")))
-        if "spots" in mapping:
-            kwargs["spots"] = tuple(
-                _parse_point(f"spot {k}", v, ("x", "y"))
-                for k, v in enumerate(_seq(mapping, "spots"))
-            )
-        if "handover" in mapping:
-            kwargs["handover"] = _parse_point("handover", mapping["handover"], ("x", "y", "z"))
-        if "bin" in mapping:
-            kwargs["bin"] = _parse_point("bin", mapping["bin"], ("x", "y"))
-        return cls(**kwargs)
-
-
-def _seq(mapping: Mapping[str, Any], key: str) -> Sequence[Any]:
-    value = mapping[key]
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence):
-        raise LayoutError(f"layout {key!r} must be a list, got {value!r}")
-    return value
-
-
-def _number(what: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise LayoutError(f"{what} must be a number, got {value!r}")
-    return float(value)
-
-
-def _parse_point(what: str, value: Any, keys: tuple[str, ...]) -> tuple[float, ...]:
-    if isinstance(value, Mapping):
-        if set(value) != set(keys):
-            raise LayoutError(f"{what} needs exactly the keys {list(keys)}, got {sorted(value)}")
-        value = [value[k] for k in keys]
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != len(keys):
-        raise LayoutError(f"{what} must be [{', '.join(keys)}], got {value!r}")
-    return tuple(_number(f"{what} {k}", v) for k, v in zip(keys, value, strict=True))
-
-
-def _parse_leg(index: int, value: Any) -> LegPose:
-    what = f"leg {index}"
-    if isinstance(value, Mapping):
-        extra = sorted(set(value) - {"x", "y", "yaw_deg"})
-        if extra or not {"x", "y"} <= set(value):
-            raise LayoutError(f"{what} needs keys x, y and optionally yaw_deg; got {sorted(value)}")
-        value = [value["x"], value["y"], value.get("yaw_deg", 0.0)]
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence):
-        value = ()
-    if len(value) not in (2, 3):
-        raise LayoutError(f"{what} must be [x, y] or [x, y, yaw_deg], got {value!r}")
-    x, y = _number(f"{what} x", value[0]), _number(f"{what} y", value[1])
-    yaw = math.radians(_number(f"{what} yaw_deg", value[2])) if len(value) == 3 else 0.0
-    return (x, y, yaw)
+    def of(cls, section: LayoutSection) -> SceneLayout:
+        """The layout of a scenario's parsed ``layout`` section (:mod:`pil.task.layout`): the
+        scene's defaults where it is silent, then checked where the robot can work."""
+        given = {f.name: getattr(section, f.name) for f in fields(section)}
+        return cls(**{key: value for key, value in given.items() if value is not None})
 
 
 def enable_sleep(model_spec: mujoco.MjSpec) -> None:

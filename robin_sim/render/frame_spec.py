@@ -1,17 +1,22 @@
 """A video's frame size and rate, and their checks: one source for every run that films.
 
-H.264 in yuv420p halves the colour resolution, so both sides must be even. The episode
-(:mod:`robin_sim.episode.config`), the live page (:mod:`robin_sim.live.config`) and the MP4
-writer (:class:`robin_sim.render.video.Mp4Writer`) check with these; the live page narrows the
-ranges (:func:`narrowed`). Nothing here imports MuJoCo or PyAV.
+H.264 in yuv420p halves the colour resolution, so both sides must be even, and a frame must fit
+the scene's off-screen buffer (:func:`offscreen_buffer`, read from the scene's MJCF). The episode
+(:mod:`robin_sim.episode.config`), the live page (:mod:`robin_sim.live.config`) and a replay's
+recorded settings (:mod:`robin_sim.render.state_checks`) check with these, once, at their edge;
+the live page narrows the ranges (:func:`narrowed`). Below the edges nothing checks a size again
+(the renderers and the MP4 writer take what they are given). Nothing here imports MuJoCo or PyAV.
 """
 
 from __future__ import annotations
 
+import functools
+import xml.etree.ElementTree as ElementTree
 from dataclasses import replace
 
 from pil.errors import RobinPilError
 from pil.task.params import ParamSpec
+from robin_sim.model.names import SCENE_XML
 
 FPS = ParamSpec("fps", "int", 30, "video frame rate", 1, 240)
 SIDE = ParamSpec("size", "int", 640, "video width or height in pixels", 2, 1_000_000)
@@ -32,9 +37,38 @@ def check_even(width: int, height: int, label: str = "video size") -> tuple[int,
     return width, height
 
 
+@functools.cache
+def offscreen_buffer() -> tuple[int, int]:
+    """The scene's off-screen buffer (width, height): its ``<visual><global offwidth
+    offheight>``, the largest frame any of its cameras renders."""
+    found = ElementTree.parse(SCENE_XML).find("visual/global")
+    if found is None:
+        raise RobinPilError(f"{SCENE_XML}: no <visual><global> element")
+    return int(found.get("offwidth", "640")), int(found.get("offheight", "480"))
+
+
+def check_fits(width: int, height: int, buffer: tuple[int, int], what: str = "frame") -> None:
+    """Refuse a ``width`` x ``height`` frame larger than the off-screen ``buffer``."""
+    buffer_w, buffer_h = buffer
+    if width > buffer_w or height > buffer_h:
+        raise RobinPilError(
+            f"{what} {width}x{height} is larger than the model's off-screen buffer "
+            f"{buffer_w}x{buffer_h}; render at most {buffer_w}x{buffer_h} or raise "
+            '<visual><global offwidth="..." offheight="..."/></visual> in the scene'
+        )
+
+
 def check_size(
-    width: object, height: object, what: str = "video", side: ParamSpec = SIDE
+    width: object,
+    height: object,
+    what: str = "video",
+    side: ParamSpec = SIDE,
+    size_label: str | None = None,
 ) -> tuple[int, int]:
-    """Both sides parsed by ``side`` (named "WHAT width" / "WHAT height"), then even."""
+    """Both sides parsed by ``side`` (named "WHAT width" / "WHAT height"), even, and within
+    the scene's off-screen buffer (the pair named ``size_label``, default "WHAT size")."""
     w, h = (side.parse(v, f"{what} {n}") for v, n in ((width, "width"), (height, "height")))
-    return check_even(w, h, f"{what} size")
+    label = f"{what} size" if size_label is None else size_label
+    check_even(w, h, label)
+    check_fits(w, h, offscreen_buffer(), label)
+    return w, h

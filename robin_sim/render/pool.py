@@ -35,7 +35,7 @@ from pil.cpus import cpu_count
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
-from robin_sim.render.renderer import FrameRenderer, camera_id, check_frame_size
+from robin_sim.render.renderer import FrameRenderer, camera_id
 from robin_sim.render.worker import (
     FRAME_TIMEOUT_S,
     START_TIMEOUT_S,
@@ -109,9 +109,8 @@ class RenderPool(ClosesOnExit):
         self.workers = workers
         self.max_in_flight = workers * in_flight_per_worker
         self._finish = finish
-        self._model = build_model(layout)  # validates camera and size before any process starts
+        self._model = build_model(layout)  # validates the camera before any process starts
         self._data = mujoco.MjData(self._model)
-        check_frame_size(self._model, width, height)
         camera_id(self._model, camera)
         self._local: FrameRenderer | None = None
         self._local_second: FrameRenderer | None = None

@@ -25,6 +25,7 @@ import numpy as np
 from pil.errors import InvalidChoiceError, RobinPilError
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model.names import DEFAULT_CAMERA
+from robin_sim.render.frame_spec import check_fits
 
 
 class RenderError(RobinPilError):
@@ -51,18 +52,20 @@ def camera_id(model: mujoco.MjModel, camera: str) -> int:
     return index
 
 
-def check_frame_size(model: mujoco.MjModel, width: int, height: int) -> None:
-    """Raise :class:`RenderError` if ``width`` x ``height`` does not fit the off-screen buffer."""
-    if width < 1 or height < 1:
-        raise RenderError(f"frame size must be positive, got {width}x{height}")
-    buffer_w = int(model.vis.global_.offwidth)
-    buffer_h = int(model.vis.global_.offheight)
-    if width > buffer_w or height > buffer_h:
-        raise RenderError(
-            f"frame {width}x{height} is larger than the model's off-screen buffer "
-            f"{buffer_w}x{buffer_h}; render at most {buffer_w}x{buffer_h} or raise "
-            '<visual><global offwidth="..." offheight="..."/></visual> in the scene'
-        )
+def open_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
+    """MuJoCo's renderer of ``width`` x ``height`` frames; MuJoCo's own refusal of a frame
+    larger than the model's off-screen buffer becomes one :class:`RenderError` naming both
+    (the commands check their sizes at their edge:
+    :func:`robin_sim.render.frame_spec.check_size`)."""
+    try:
+        return mujoco.Renderer(model, height, width)
+    except ValueError as error:
+        buffer = (int(model.vis.global_.offwidth), int(model.vis.global_.offheight))
+        try:
+            check_fits(width, height, buffer)
+        except RobinPilError as too_large:
+            raise RenderError(str(too_large)) from None
+        raise RenderError(f"cannot render {width}x{height} frames: {error}") from None
 
 
 class FrameRenderer(ClosesOnExit):
@@ -82,13 +85,12 @@ class FrameRenderer(ClosesOnExit):
         shadows: bool = True,
         reflections: bool = True,
     ) -> None:
-        check_frame_size(model, width, height)
         self.camera = camera
         self.camera_id = camera_id(model, camera)
         self.width = width
         self.height = height
         self.shadows = shadows
-        self._renderer: mujoco.Renderer | None = mujoco.Renderer(model, height, width)
+        self._renderer: mujoco.Renderer | None = open_renderer(model, width, height)
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = reflections
 
@@ -174,10 +176,9 @@ class CloseUpRenderer(ClosesOnExit):
     """
 
     def __init__(self, model: mujoco.MjModel, width: int = 320, height: int = 240) -> None:
-        check_frame_size(model, width, height)
         self.model = model
         self.width, self.height = width, height
-        self._renderer: mujoco.Renderer | None = mujoco.Renderer(model, height, width)
+        self._renderer: mujoco.Renderer | None = open_renderer(model, width, height)
         self._option = mujoco.MjvOption()
         self._option.geomgroup[:] = 1  # collision and visual geoms: each maps to its body
         self._option.sitegroup[:] = 0  # sites are markers, not matter

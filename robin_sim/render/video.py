@@ -23,7 +23,6 @@ from av.container import OutputContainer
 
 from pil.errors import RobinPilError, naming
 from robin_sim.closing import ClosesOnExit
-from robin_sim.render.frame_spec import FPS, check_size
 from robin_sim.render.mp4_trim import trim_torn_tail
 
 CODEC: Final = "libx264"  # a literal: PyAV's types then know the stream is video
@@ -53,11 +52,6 @@ class Mp4Writer(ClosesOnExit):
         crf: int = 23,
         preset: str = "veryfast",
     ) -> None:
-        try:  # the checks every run that films makes (robin_sim.render.frame_spec)
-            width, height = check_size(width, height)
-            fps = FPS.parse(fps, "video frame rate")
-        except RobinPilError as error:
-            raise VideoError(str(error)) from None
         self.path = Path(path)
         if not self.path.parent.is_dir():
             raise VideoError(f"folder {str(self.path.parent)!r} of video {str(path)!r} not found")

@@ -19,7 +19,7 @@ import numpy as np
 from pil.errors import RobinPilError
 from robin_sim.closing import ClosesOnExit
 from robin_sim.model import names
-from robin_sim.render.renderer import check_frame_size
+from robin_sim.render.renderer import open_renderer
 from robin_sim.vision.condition_params import CONDITION_PARAMS
 
 FOVEAL_FOVY = 20.0  # degrees
@@ -67,11 +67,10 @@ class EyeCameras(ClosesOnExit):
     """Renders both eye cameras of ``model`` at ``size`` x ``size`` pixels."""
 
     def __init__(self, model: mujoco.MjModel, size: int = EYE_SIZE, fovy: float = FOVEAL_FOVY):
-        check_frame_size(model, size, size)
         self.model, self.size, self.fovy = model, size, fovy
         self.cameras = tuple(model.camera(c).id for c in names.HEAD_CAMERAS)
         self.focal = size / (2 * np.tan(np.radians(fovy) / 2))
-        self._renderer: mujoco.Renderer | None = mujoco.Renderer(model, size, size)
+        self._renderer: mujoco.Renderer | None = open_renderer(model, size, size)
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False
         self._option = mujoco.MjvOption()  # default groups: what a video frame shows
 

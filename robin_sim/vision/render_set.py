@@ -26,6 +26,7 @@ from robin_sim.model import names  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.person.hand_poses import Performance  # noqa: E402
+from robin_sim.render.renderer import open_renderer  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
     CHUNK,
@@ -52,7 +53,7 @@ class SampleRenderer:
         self.display = GestureDisplay(self.model)
         self.mocap = int(self.model.body_mocapid[self.model.body(names.HUMAN_MOCAP_BODY).id])
         self.eyes = EyeCameras(self.model)
-        self._truth = mujoco.Renderer(self.model, self.eyes.size, self.eyes.size)
+        self._truth = open_renderer(self.model, self.eyes.size, self.eyes.size)
 
     def render(self, spec: SampleSpec) -> tuple[list[np.ndarray | None], float]:
         """Per-eye features (None: no hand found) and the left eye's IoU with the truth."""
