@@ -88,8 +88,6 @@ SHARED_NAMES: dict[str, frozenset[str]] = {
         "RULES": ("pil/exploration.py", "pil/validity.py"),
         # each web page's own static folder
         "STATIC_DIR": ("robin_sim/live/pages.py", "robin_sim/replay/serve.py"),
-        # the step loop's Hand.OCCUPIED; the validity rules' set of hand states
-        "_OCCUPIED": ("pil/task/step_phases.py", "pil/validity.py"),
         # each task file kind's keys
         "_KEYS": (
             "pil/experiments/adaptation.py",

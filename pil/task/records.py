@@ -1,13 +1,15 @@
 """The record of one event of the step loop (:func:`pil.task.runner.steps`).
 
 An executed action, or a request to the person to repeat the gesture (``action`` None). The
-study counts records (:mod:`pil.task.counting`), an episode logs and renders them.
+study counts records (:mod:`pil.task.counting`), an episode logs and renders them. Every record
+of the loop starts from its script item (:func:`item_record`).
 """
 
 from __future__ import annotations
 
 from typing import Any, NamedTuple, Protocol
 
+from pil.task.person import ScriptStep
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture, State
 
@@ -64,6 +66,35 @@ class StepRecord(NamedTuple):
             if isinstance(value, (Gesture, Action, Feedback)):
                 out[key] = value.value
         return out
+
+
+def item_record(
+    item: ScriptStep,
+    t: int,
+    gestures: int,
+    legs: int,
+    detected: Gesture | None = None,
+    target: Target | None = None,
+) -> StepRecord:
+    """The base record of one event for script ``item``: its instruction (``item.intent``)
+    and place in the script, the counts so far (``t`` actions, ``gestures``, ``legs``
+    delivered), the gesture as ``detected`` and the ``target`` pointed at (None: no gesture
+    read, nothing pointed at)."""
+    intent = item.intent
+    return StepRecord(
+        t=t,
+        gesture_count=gestures,
+        table=intent.table,
+        handover=intent.handover,
+        handover_type=item.handover_type,
+        step=item.step,
+        true_gesture=intent.gesture,
+        detected_gesture=detected,
+        intended_action=intent.action,
+        legs_delivered=legs,
+        target=target,
+        recovery=item.recovery,
+    )
 
 
 class StepObserver(Protocol):

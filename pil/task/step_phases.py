@@ -4,7 +4,9 @@
 a step's phases: the proactive robot acting before the gesture (:meth:`StepPhases.anticipated`,
 :func:`pil.task.proactive_step.anticipate_step`), the instruction's gesture performed and read
 (:meth:`StepPhases.instruction`) and the robot's actions until the person approves
-(:meth:`StepPhases.acting`). The loop's constants and its error are here too.
+(:meth:`StepPhases.acting`); each action is one watched action
+(:func:`pil.task.watched_action.watched_action`). The loop's constants and its error are here
+too.
 """
 
 from __future__ import annotations
@@ -14,21 +16,20 @@ from dataclasses import dataclass
 
 from pil.anticipation import Anticipation
 from pil.errors import RobinPilError
-from pil.gesture_evidence import meant_gesture
 from pil.learner import Decision, Learner
-from pil.table import AssociationTable
-from pil.task.detector import GestureReader, LearnsFromFeedback
+from pil.task.detector import GestureReader
 from pil.task.person import Person, ScriptStep
-from pil.task.proactive_step import DELIVERY_FROM, anticipate_step
-from pil.task.records import StepObserver, StepRecord
+from pil.task.proactive_step import anticipate_step
+from pil.task.records import StepObserver, StepRecord, item_record
+from pil.task.watched_action import StepParts, watched_action
 from pil.task.world import World
-from pil.types import START_ACTION, START_HAND, Action, Feedback, Gesture, Hand, State, hand_after
+from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after
 
 # Random exploration has a geometric tail: 25 misses in a row at p = 3/4 happen about once a
 # study, 100 about once in 1e10 studies.
 MAX_ACTIONS_PER_GESTURE = 100
 MAX_PERFORMANCES = 1000  # times one instruction gesture may be performed before giving up
-_NOT_OK, _OPEN, _OCCUPIED = Feedback.NOT_OK, Action.OPEN, Hand.OCCUPIED
+_NOT_OK = Feedback.NOT_OK
 # The last action the state takes when physics changed the hand without an approved action: a
 # hand that lost its leg is open and empty, as at the start; one that caught a leg has closed.
 AFTER_DROP: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
@@ -81,7 +82,7 @@ class StepPhases:
         observer: StepObserver | None,
     ) -> None:
         self.learner, self.person, self.detector, self.world = learner, person, detector, world
-        self.observer = observer
+        self.parts = StepParts(learner, person, detector, world, observer)
         self.state = LoopState()
 
     def anticipated(
@@ -92,17 +93,7 @@ class StepPhases:
         unchanged and the robot unaware)."""
         state = self.state
         record = anticipate_step(
-            self.learner,
-            self.person,
-            self.detector,
-            self.world,
-            item,
-            guess,
-            state.actions + 1,
-            state.gestures,
-            state.legs,
-            state.previous,
-            self.observer,
+            self.parts, item, guess, state.actions + 1, state.gestures, state.legs, state.previous
         )
         state.actions, state.legs = record.t, record.legs_delivered
         yield record
@@ -136,19 +127,8 @@ class StepPhases:
                 )
             person.perform(intent)
             detected = self.detector.detect(true)
-            base = StepRecord(
-                t=state.actions,
-                gesture_count=state.gestures,
-                table=intent.table,
-                handover=intent.handover,
-                handover_type=item.handover_type,
-                step=item.step,
-                true_gesture=true,
-                detected_gesture=detected,
-                intended_action=intent.action,
-                legs_delivered=state.legs,
-                target=intent.target,
-                recovery=item.recovery,
+            base = item_record(
+                item, state.actions, state.gestures, state.legs, detected, intent.target
             )
             if (options.manual and detected is not true) or (
                 options.repeat_discarded and detected is None
@@ -184,7 +164,7 @@ class StepPhases:
         """The robot acts on ``decision`` and on each next choice while the person refuses;
         True when the instruction is over (approved, or the robot or the world moved on),
         False when the person performs the gesture again (out of patience)."""
-        learner, person, world, observer = self.learner, self.person, self.world, self.observer
+        learner, person, world = self.learner, self.person, self.world
         intent, state = item.intent, self.state
         learnt = base.state
         assert learnt is not None and decision.action is not None
@@ -200,47 +180,12 @@ class StepPhases:
                     "failing the wanted action"
                 )
             state.actions += 1
-            # the person watches first: a thumb is taken from the moment the action is shown
-            watcher = person.watch(intent)
-            if observer is not None:
-                observer.decided(
-                    base._replace(
-                        t=state.actions, action=action, exploited=exploited, reason=reason
-                    )
-                )
-            outcome = world.execute(action, intent.target, watcher)
-            feedback = person.judge(intent, action, outcome)
-            if observer is not None:
-                observer.answered(base._replace(t=state.actions, action=action, feedback=feedback))
-            person.show_feedback(feedback)
-            # What the robot sees of the thumb: it stopped a stopped action because it saw
-            # the thumb go down; the thumb after an action that ran to its end is read.
-            heard = _NOT_OK if outcome.interrupted else self.detector.read_feedback(feedback)
-            ok = heard is not _NOT_OK  # no feedback counts as OK (eq. 1)
-            delivered = (
-                ok and action is _OPEN and state.previous in DELIVERY_FROM and hand is _OCCUPIED
+            shown = base._replace(t=state.actions, action=action)
+            record = watched_action(
+                self.parts, intent, shown, hand, state.previous, exploited=exploited, reason=reason
             )
-            state.legs += delivered
-            record = base._replace(
-                t=state.actions,
-                action=action,
-                exploited=exploited,
-                reason=reason,
-                feedback=feedback,
-                succeeded=outcome.succeeded,
-                detail=outcome.detail,
-                delivered=delivered,
-                legs_delivered=state.legs,
-                interrupted=outcome.interrupted,
-                dropped=outcome.dropped,
-                feedback_read=heard,
-            )
-            learner.feedback(learnt, action, ok)
-            if isinstance(self.detector, LearnsFromFeedback):  # what the learner just received
-                self.detector.verdict(meant_by_table(learner, action, learnt) if ok else None, ok)
-            if observer is not None:
-                observer.received(record)
-            person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin
+            state.legs = record.legs_delivered
+            ok, feedback = record.feedback_read is not _NOT_OK, record.feedback
             yield record
             if ok:  # the robot takes the step as approved
                 state.previous, state.expected = action, hand_after(action, hand)
@@ -256,12 +201,3 @@ class StepPhases:
                 return False  # the person performs the gesture again
             action = learner.choose(learnt)
             exploited, reason = learner.last_exploited, learner.last_reason
-
-
-def meant_by_table(learner: Learner, action: Action, state: State) -> Gesture | None:
-    """The gesture an approved ``action`` means by the learner's table (None: a learner
-    without one, or no evidence yet)."""
-    table = getattr(learner, "table", None)
-    if not isinstance(table, AssociationTable):
-        return None
-    return meant_gesture(table, action, state.previous_action, state.hand)
