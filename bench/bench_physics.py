@@ -97,7 +97,7 @@ def controlled_run(
     steps = (world.sim.ticks - ticks) * world.sim.substeps
     share = (world.sim.physics_seconds - physics) / wall
     rtf = (world.time - sim_start) / wall
-    legs = np.array(world.leg_positions())
+    legs = np.array(world.legs.positions())
     return steps / wall, rtf, wall, world.sim.ik.solves - solves, share, spent, legs
 
 

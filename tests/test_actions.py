@@ -29,7 +29,7 @@ def _leg_axis(world: PhysicalWorld, leg: int) -> np.ndarray:
 
 def _object(world: PhysicalWorld, leg: int) -> MoveAction:
     goal = grasp_goal(
-        world.leg_position(leg), _leg_axis(world, leg), world.sim.commanded_site_pose(), 0.0
+        world.legs.position(leg), _leg_axis(world, leg), world.sim.commanded_site_pose(), 0.0
     )
     return MoveAction(Action.OBJECT, f"leg {leg}", goal, CLEARANCE_Z)
 
@@ -65,11 +65,11 @@ def _track_excursion(world: PhysicalWorld, value) -> list[float]:
 @pytest.mark.parametrize("leg", [0, 1, 2, 3])
 def test_grasp_lifts_and_carries_each_leg(leg: int) -> None:
     world = PhysicalWorld()
-    resting = world.leg_position(leg)
+    resting = world.legs.position(leg)
     _grasp(world, leg)
     _lift(world, 0.20)
     assert world.held_leg() == leg
-    assert world.leg_position(leg)[2] - resting[2] == pytest.approx(0.20, abs=0.01)
+    assert world.legs.position(leg)[2] - resting[2] == pytest.approx(0.20, abs=0.01)
     carried = leg_offset_in_site(world.ctx, leg)
     slip = _track_excursion(
         world, lambda w: float(np.linalg.norm(leg_offset_in_site(w.ctx, leg) - carried))
@@ -102,10 +102,10 @@ def test_open_over_spot_leaves_leg_lying_there() -> None:
     result = OpenAction(spot, tolerance=0.02, place="spot 0").run(world.ctx)
     assert result.succeeded, result.detail
     assert world.hand() is Hand.FREE
-    lying = world.leg_position(1)
+    lying = world.legs.position(1)
     assert np.linalg.norm(lying[:2] - spot[:2]) <= 0.02  # m
     assert lying[2] == pytest.approx(0.77, abs=0.003)  # on the table top
-    assert world.leg_speed(1) < 0.01  # m/s, at rest
+    assert world.legs.speed(1) < 0.01  # m/s, at rest
 
 
 def test_unreachable_target_is_refused_before_anything_moves() -> None:
@@ -124,7 +124,7 @@ def test_unreachable_target_is_refused_before_anything_moves() -> None:
 def test_a_stopped_move_goes_back_from_where_it_stopped() -> None:
     world = PhysicalWorld()
     world.sim.run(0.2)
-    arm, site, legs = world.sim.arm_q, world.sim.site_pose().translation(), world.leg_positions()
+    arm, site, legs = world.sim.arm_q, world.sim.site_pose().translation(), world.legs.positions()
     away = _track_excursion(
         world, lambda w: float(np.linalg.norm(w.sim.site_pose().translation() - site))
     )
@@ -136,7 +136,7 @@ def test_a_stopped_move_goes_back_from_where_it_stopped() -> None:
     assert away[0] > 0.03  # m: it visibly moved towards the leg
     assert np.linalg.norm(world.sim.site_pose().translation() - site) <= RETURN_LIMIT
     assert np.abs(world.sim.arm_q - arm).max() <= ARM_RETURN_LIMIT
-    assert np.abs(world.leg_positions() - legs).max() <= LEG_STILL
+    assert np.abs(world.legs.positions() - legs).max() <= LEG_STILL
     assert world.hand() is Hand.FREE
 
 
@@ -172,7 +172,7 @@ def test_a_close_stopped_at_a_leg_reopens_without_taking_it() -> None:
     move.prepare(world.ctx)
     move.run(world.ctx)
     world.sim.run(0.2)
-    fingers, legs = world.sim.data.qpos[world.sim.hand.joint_qadr], world.leg_positions()
+    fingers, legs = world.sim.data.qpos[world.sim.hand.joint_qadr], world.legs.positions()
     moved = _track_excursion(
         world,
         lambda w: float(np.abs(w.sim.data.qpos[w.sim.hand.joint_qadr] - fingers).max()),
@@ -181,7 +181,7 @@ def test_a_close_stopped_at_a_leg_reopens_without_taking_it() -> None:
     assert result.interrupted and result.undone and world.hand() is Hand.FREE
     assert moved[0] > 0.15  # rad: the fingers visibly closed part of the way
     assert np.abs(world.sim.data.qpos[world.sim.hand.joint_qadr] - fingers).max() < 0.05  # rad
-    assert np.abs(world.leg_positions() - legs).max() <= 0.005  # m
+    assert np.abs(world.legs.positions() - legs).max() <= 0.005  # m
 
 
 @pytest.mark.slow

@@ -56,7 +56,7 @@ def test_the_video_eye_view_is_the_full_detail_view_within_levels() -> None:
     world = PhysicalWorld()
     states = [FrameState.capture(world.model, world.data)]
     for leg in (2, 0):
-        world.head.attend(world.leg_position(leg), "pointed")
+        world.head.attend(world.legs.position(leg), "pointed")
         world.run(0.8)
         states.append(FrameState.capture(world.model, world.data))
     model = build_model(None)
@@ -106,7 +106,7 @@ def test_video_frames_carry_the_eye_view(tmp_path: Path, fps: int, workers: int)
 
     world = PhysicalWorld()
     body = PhysicalBody(world)
-    world.head.attend(world.leg_position(2), "pointed")
+    world.head.attend(world.legs.position(2), "pointed")
     world.run(0.8)  # the head turns to the table first
     kwargs = dict(width=WIDTH, height=HEIGHT, fps=fps, render_workers=workers)
     with_inset = VideoRecorder(world.sim, EpisodeView(), tmp_path / "eye.mp4", **kwargs)

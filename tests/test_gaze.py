@@ -53,10 +53,10 @@ def test_the_head_looks_at_each_pointed_leg_and_stays_in_its_limits() -> None:
     world, body = acted.world, acted.body
     log = HeadLog(world)
     angles = []
-    for leg in range(world.leg_count):
+    for leg in range(world.legs.count):
         body.perform(Gesture.POINTING, Target("leg", leg))  # point, hold, draw the hand back
         assert world.head.kind == "pointed"
-        angles.append(eye_angle_deg(world, world.leg_position(leg)))
+        angles.append(eye_angle_deg(world, world.legs.position(leg)))
     assert max(angles) < AIM_TOLERANCE_DEG, angles
     q, ctrl = np.array(log.q), np.array(log.ctrl)
     model = world.model
@@ -138,7 +138,7 @@ def test_the_vision_detectors_look_at_takes_the_head_over() -> None:
     from robin_sim.control.gaze import head_angles, head_qpos, look_at
 
     world = PhysicalWorld()
-    world.head.attend(world.leg_position(3), "pointed")
+    world.head.attend(world.legs.position(3), "pointed")
     world.run(0.3)  # the head is turning to leg 3
     palm = world.human.palm_centre()
     look_at(world.sim, palm)

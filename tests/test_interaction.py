@@ -40,12 +40,12 @@ def _holding_leg_in_the_air(reaction: float) -> Acted:
 def test_a_slow_person_rejecting_an_open_while_holding_sees_the_leg_drop() -> None:
     acted = _holding_leg_in_the_air(reaction=2.0)
     world = acted.world
-    high = world.leg_position(0)[2]
+    high = world.legs.position(0)[2]
     outcome = acted.act(Action.OPEN, intent("give me", "human"))  # the person wants "human"
     assert outcome.interrupted and outcome.dropped == 0
     assert world.hand() is Hand.FREE and world.held_leg() is None  # read from contacts
     world.run(1.0)
-    low = world.leg_position(0)
+    low = world.legs.position(0)
     assert high - low[2] > LIFT - 0.02  # it fell where physics took it: onto the table top
     assert low[2] == pytest.approx(spec.TABLE_TOP_Z + spec.LEG_RADIUS, abs=0.005)
     watcher = acted.body.last_watcher

@@ -39,7 +39,7 @@ def _drop_and_stop_while_rising(world: PhysicalWorld, leg: int) -> None:
 
 
 def _regrasp_and_carry(world: PhysicalWorld, leg: int) -> None:
-    assert world.graspable_where_it_lies(leg), world.leg_position(leg)
+    assert world.legs.graspable(leg), world.legs.position(leg)
     assert world.execute(Action.OBJECT, Target("leg", leg)).succeeded
     close = world.execute(Action.CLOSE, None)
     held = world.hand()
@@ -72,7 +72,7 @@ def test_a_leg_counts_as_graspable_where_it_lies_only_if_the_close_holds_it(apar
     apart, and every close after that closed on nothing)."""
     world = PhysicalWorld(SceneLayout(legs=((0.44, 0.31, 0.0), (0.44, 0.31 + apart, 0.0))))
     world.run(0.5)
-    graspable = world.graspable_where_it_lies(0)
+    graspable = world.legs.graspable(0)
     assert world.execute(Action.OBJECT, Target("leg", 0)).succeeded
     close = world.execute(Action.CLOSE, None)
     assert graspable == close.succeeded, (apart, graspable, close.detail)

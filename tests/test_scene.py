@@ -221,7 +221,7 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
     spots = world.layout.spots
     for leg in range(4):
         spot = 3 - leg
-        before = world.leg_positions()
+        before = world.legs.positions()
         steps = [
             (Action.OBJECT, intent("pointing", "object", Target("leg", leg))),
             (Action.CLOSE, intent("grasp", "close")),
@@ -231,7 +231,7 @@ def test_robot_places_the_four_default_legs_on_the_four_spots() -> None:
         for action, wanted in steps:
             outcome = acted.act(action, wanted)
             assert outcome.succeeded, (leg, action, outcome.detail)
-        after = world.leg_positions()
+        after = world.legs.positions()
         assert np.linalg.norm(after[leg, :2] - spots[spot]) <= PLACEMENT_TOLERANCE
         assert after[leg, 2] == pytest.approx(spec.GRASP_HEIGHT, abs=2e-3)
         others = [k for k in range(4) if k != leg]

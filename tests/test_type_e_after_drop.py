@@ -61,9 +61,9 @@ def test_a_leg_grasped_under_the_handover_point_reaches_the_palm() -> None:
     acted = Acted(world)
     _drop_under_the_handover_point(world)
     handover = np.array(world.layout.handover)
-    lies = world.leg_position(LEG)
+    lies = world.legs.position(LEG)
     assert np.linalg.norm(lies[:2] - handover[:2]) <= HANDOVER_TOLERANCE, lies  # under it
-    assert world.graspable_where_it_lies(LEG)  # the person leaves it for the robot
+    assert world.legs.graspable(LEG)  # the person leaves it for the robot
 
     assert acted.act(Action.OBJECT, intent("pointing", "object", Target("leg", LEG))).succeeded
     assert acted.act(Action.CLOSE, intent("grasp", "close")).succeeded
@@ -73,7 +73,7 @@ def test_a_leg_grasped_under_the_handover_point_reaches_the_palm() -> None:
     handing = acted.act(Action.HUMAN, give)
     assert handing.succeeded and not handing.interrupted, handing.detail
     assert handing.dropped is None and world.held_leg() == LEG and world.hand() is Hand.OCCUPIED
-    centre = world.leg_position(LEG)
+    centre = world.legs.position(LEG)
     assert np.linalg.norm(centre[:2] - handover[:2]) <= HANDOVER_TOLERANCE, centre
     above = handover[2] + spec.LEG_RADIUS + DROP_GAP  # the leg held just above the palm
     assert abs(centre[2] - above) <= HEIGHT_TOLERANCE, centre
@@ -95,12 +95,12 @@ def test_the_palm_is_not_held_out_over_a_leg_in_robins_hand() -> None:
     acted.act(Action.CLOSE, intent("grasp", "close"))
     assert world.held_leg() == LEG
     handover = np.array(world.layout.handover)
-    held = world.leg_position(LEG)  # on the table, under the handover point
+    held = world.legs.position(LEG)  # on the table, under the handover point
     assert np.linalg.norm(held[:2] - handover[:2]) <= HANDOVER_TOLERANCE, held
     assert held[2] < handover[2] - 0.1, held
     acted.body.perform(intent("give me", "human").gesture, None)
     assert not world.palm_is_out()  # "human" goes to the handover point, above the leg
-    palm, leg = world.human.palm_centre(), world.leg_position(LEG)
+    palm, leg = world.human.palm_centre(), world.legs.position(LEG)
     axis = world.data.xmat[world.model.body(names.leg_body(LEG)).id].reshape(3, 3)[:, 0]
     assert abs(axis[0]) > 0.99  # the leg lies along x, as it fell
     # the palm box's footprint and the leg's: apart along x (the leg's length) or y
@@ -118,7 +118,7 @@ def test_a_leg_held_off_centre_is_handed_over() -> None:
     elsewhere", rejected at its end)."""
     world = PhysicalWorld()
     acted = Acted(world)
-    centre, axis = world.grasp_place(LEG)
+    centre, axis = world.legs.grasp_place(LEG)
     goal = grasp_goal(centre + OFF_CENTRE * axis, axis, world.sim.commanded_site_pose(), 0.0)
     reach = MoveAction(Action.OBJECT, f"leg {LEG}", goal, CLEARANCE_Z, world.speed, open_hand=True)
     assert reach.run(world.ctx).succeeded
@@ -129,7 +129,7 @@ def test_a_leg_held_off_centre_is_handed_over() -> None:
     handing = acted.act(Action.HUMAN, intent("give me", "human"))
     assert handing.succeeded and not handing.interrupted, handing.detail
     palm = acted.body.palm_goal  # where the palm was held out
-    leg = world.leg_position(LEG)
+    leg = world.legs.position(LEG)
     site = world.sim.site_pose().translation()
     assert np.linalg.norm(leg[:2] - palm[:2]) <= HANDOVER_TOLERANCE, (leg, palm)
     assert np.linalg.norm(site[:2] - palm[:2]) > PLACE_RADIUS, (site, palm)  # the hand beside

@@ -318,7 +318,7 @@ def test_robin_grasp_misses_a_leg_pushed_away_before_close() -> None:
     world = acted.world
     assert _execute(acted, Action.OBJECT, Target("leg", 0)).succeeded
     leg = world.model.body("leg0").id
-    start = world.leg_position(0)
+    start = world.legs.position(0)
     axis = world.data.xmat[leg].reshape(3, 3)[:, 0]
     # A push along the leg's axis (a 4 N force for 0.2 s, integrated by physics) slides it out
     # between the open fingers; nothing writes its position.
@@ -326,7 +326,7 @@ def test_robin_grasp_misses_a_leg_pushed_away_before_close() -> None:
     world.sim.run(0.2)
     world.data.xfrc_applied[leg, :3] = 0.0
     world.sim.run(1.0)
-    assert abs((world.leg_position(0) - start) @ axis) > 0.17  # beyond the fingers
+    assert abs((world.legs.position(0) - start) @ axis) > 0.17  # beyond the fingers
     outcome = _execute(acted, Action.CLOSE)
     assert not outcome.succeeded
     assert world.held_leg() is None
@@ -347,7 +347,7 @@ def test_robin_placement_is_at_the_spot() -> None:
     ):
         assert _execute(acted, action, target).succeeded
     spot, other = world.layout.spots[0], world.layout.spots[1]
-    assert np.linalg.norm(world.leg_position(0)[:2] - spot) < 0.02  # physics
+    assert np.linalg.norm(world.legs.position(0)[:2] - spot) < 0.02  # physics
     with CloseUpRenderer(world.model) as renderer:
         check = verify_at_spot(world.model, world.data, 0, spot, renderer=renderer)
         assert check.ok, check.detail

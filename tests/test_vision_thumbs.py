@@ -54,7 +54,7 @@ def test_a_thumb_at_the_palm_is_shown_in_robins_view_and_read() -> None:
             if i == 0:
                 assert world.execute(Action.HUMAN, None).succeeded
             assert world.palm_is_out() and body.thumb_hidden_at_palm()
-            held = world.leg_position(PALM_LEG)
+            held = world.legs.position(PALM_LEG)
             out = body.hand.pose().translation()
             body.show_feedback(feedback)
             here = body.hand.pose().translation()  # drawn back and raised into view
@@ -62,7 +62,7 @@ def test_a_thumb_at_the_palm_is_shown_in_robins_view_and_read() -> None:
             aside = out + np.array([0.0, THUMB_ASIDE, POINT_RAISE])
             assert here[1:] == pytest.approx(aside[1:], abs=TOLERANCE), here
             assert world.held_leg() == PALM_LEG
-            assert np.linalg.norm(world.leg_position(PALM_LEG) - held) < TOLERANCE
+            assert np.linalg.norm(world.legs.position(PALM_LEG) - held) < TOLERANCE
             right = _read(detector, feedback)
             assert right >= RIGHT, f"{feedback.value} after human: {right}/{TRIES} read right"
         body.perform(Gesture.RELEASE, None)  # slid under the held leg

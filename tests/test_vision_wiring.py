@@ -64,7 +64,7 @@ def test_the_pointing_hand_is_seen_above_every_leg_and_spot() -> None:
     targets = [Target("leg", k) for k in range(4)] + [Target("spot", k) for k in range(4)]
     try:
         for target in targets:
-            where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+            where = target_point(target, world.layout, world.legs.position, world.legs.nearest)
             body.perform(Gesture.POINTING, target)
             held = world.human.pose().translation()
             assert held[0] == pytest.approx(PERSON_CLEAR_X, abs=1e-6)  # drawn back ...

@@ -40,7 +40,7 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
     assert isinstance(world, PhysicalWorld)
     world.start_table(0)
     seen: list[tuple[Action, np.ndarray]] = []
-    world.add_result_hook(lambda r: seen.append((r.action, world.leg_position(0))))
+    world.add_result_hook(lambda r: seen.append((r.action, world.legs.position(0))))
     steps = [
         (Action.OBJECT, POINT_LEG0, Hand.FREE),
         (Action.CLOSE, GRASP, Hand.OCCUPIED),
@@ -63,7 +63,7 @@ def test_handover_type_a_with_a_rejected_action_in_the_middle() -> None:
     on_palm = seen[-1][1]  # the hook ran before the person took the leg away
     assert world.last_release is not None and world.last_release.kind == "palm"
     assert np.linalg.norm(on_palm[:2] - world.last_release.point[:2]) <= HANDOVER_TOLERANCE
-    assert _in_bin(world, world.leg_position(0))  # the person carried it off and tipped it in
+    assert _in_bin(world, world.legs.position(0))  # the person carried it off and tipped it in
     assert world.human.pose().translation() == pytest.approx(world.human.rest_pose.translation())
     assert [r.action for r in world.history] == [s[0] for s in steps]
     assert [w.number for w in world.data.warning] == [0] * len(
@@ -81,7 +81,7 @@ def test_placement_on_a_pointed_spot() -> None:
     outcome = acted.act(Action.LOCATION, _intent("pointing", "location", spot))
     assert outcome.succeeded
     assert acted.act(Action.OPEN, RELEASE).succeeded
-    lying = world.leg_position(2)
+    lying = world.legs.position(2)
     assert np.linalg.norm(lying[:2] - np.array(world.layout.spots[1])) <= PLACEMENT_TOLERANCE
     assert lying[2] == pytest.approx(0.77, abs=0.003)  # on the table top
     assert world.hand() is Hand.FREE
@@ -97,9 +97,9 @@ def test_start_table_lays_the_legs_out_again_only_with_an_empty_hand() -> None:
         world.start_table(1)
     acted.act(Action.LOCATION, _intent("pointing", "location", Target("spot", 0)))
     acted.act(Action.OPEN, RELEASE)
-    assert np.linalg.norm(world.leg_position(1)[:2] - world.layout.legs[1][:2]) > 0.1
+    assert np.linalg.norm(world.legs.position(1)[:2] - world.layout.legs[1][:2]) > 0.1
     world.start_table(1)
-    laid = world.leg_positions()
+    laid = world.legs.positions()
     expected = np.array([[x, y, 0.77] for x, y, _ in world.layout.legs])
     assert np.abs(laid - expected).max() < 0.002  # m
     assert world.hand() is Hand.FREE
@@ -109,7 +109,7 @@ def test_bad_targets_name_the_valid_choices() -> None:
     world = PhysicalWorld()
     before = world.data.qpos.tobytes()
     with pytest.raises(
-        RobinPilError, match=rf"leg 9 does not exist; valid: 0\.\.{world.leg_count - 1}"
+        RobinPilError, match=rf"leg 9 does not exist; valid: 0\.\.{world.legs.count - 1}"
     ):
         world.execute(Action.OBJECT, Target("leg", 9))
     last = len(world.layout.spots) - 1
@@ -141,8 +141,8 @@ def test_person_points_at_a_leg_and_rests_again() -> None:
     took = acted.body.point_at(Target("leg", 2))
     assert took > 0.5 and world.time == pytest.approx(took, abs=0.02)
     hand = world.human.pose().translation()
-    assert np.linalg.norm(hand[:2] - world.leg_position(2)[:2]) < 0.15  # m, right above it
-    assert hand[2] > world.leg_position(2)[2] + 0.1
+    assert np.linalg.norm(hand[:2] - world.legs.position(2)[:2]) < 0.15  # m, right above it
+    assert hand[2] > world.legs.position(2)[2] + 0.1
     acted.body.rest()
     assert world.human.pose().translation() == pytest.approx(rest, abs=1e-9)
 
@@ -164,17 +164,17 @@ def test_a_whole_table_four_handovers_in_a_row() -> None:
             assert outcome.succeeded, (leg, action, outcome.detail)
         assert world.last_result.measurements["release_error_m"] <= HANDOVER_TOLERANCE
         assert world.hand() is Hand.FREE
-        waiting = world.leg_positions()[leg + 1 :]  # legs still on the table stay put
+        waiting = world.legs.positions()[leg + 1 :]  # legs still on the table stay put
         expected = np.array([[x, y, 0.77] for x, y, _ in world.layout.legs[leg + 1 :]])
         assert len(waiting) == 0 or np.abs(waiting - expected).max() < 0.005  # m
     assert world.delivered == [0, 1, 2, 3]
-    assert all(_in_bin(world, p) for p in world.leg_positions())
+    assert all(_in_bin(world, p) for p in world.legs.positions())
 
 
 def test_object_without_a_pointed_target_goes_to_the_nearest_leg() -> None:
     world = PhysicalWorld()
     site = world.sim.site_pose().translation()
-    nearest = int(np.argmin(np.linalg.norm(world.leg_positions() - site, axis=1)))
+    nearest = int(np.argmin(np.linalg.norm(world.legs.positions() - site, axis=1)))
     outcome = world.execute(Action.OBJECT, None)  # nobody watching: it runs to its end
     assert outcome.succeeded and outcome.detail == f"reached leg {nearest}"
 
@@ -215,7 +215,7 @@ def test_open_over_the_palm_needs_the_palm_under_the_leg() -> None:
     here = world.human.pose().translation()  # the person points away: back, down, then over
     away = [
         pose(here + np.array([0.15, 0.0, -0.06])),
-        pose(world.leg_position(1) + np.array([0.12, 0.0, 0.16])),
+        pose(world.legs.position(1) + np.array([0.12, 0.0, 0.16])),
     ]
     world.run(world.human.follow(away, world.time))
     assert world.held_leg() == 0

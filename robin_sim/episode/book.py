@@ -92,7 +92,7 @@ def _log_entry(
     entry = record.to_dict()
     entry["hand_physics"] = physical.value
     entry["sim_time"] = round(world.time, 4)
-    entry["leg_positions"] = [[round(float(v), 4) for v in p] for p in world.leg_positions()]
+    entry["leg_positions"] = [[round(float(v), 4) for v in p] for p in world.legs.positions()]
     entry["palm_position"] = [round(float(v), 4) for v in world.human.palm_centre()]
     if check is not None:
         entry["render_check"] = check

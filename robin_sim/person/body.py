@@ -184,7 +184,7 @@ class PhysicalBody:
     def recover(self, leg: int) -> bool:
         """Leave a dropped leg for the robot if it can grasp it where it lies; else put it back
         on the table at its place (True: a person intervention)."""
-        if self.world.graspable_where_it_lies(leg):
+        if self.world.legs.graspable(leg):
             return False
         self._move(self.hand.rest(self.world.time))
         self.world.put_leg_back(leg)
@@ -196,7 +196,7 @@ class PhysicalBody:
 
         A palm held out for a handover draws back and down first, clear of a held leg."""
         world = self.world
-        where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+        where = target_point(target, world.layout, world.legs.position, world.legs.nearest)
         world.head.attend(where, "pointed")  # the robot looks where the person points
         speed = self.tempo.hand_speed
         return self._move(self.hand.point_at(where, world.time, world.palm_is_out(), speed))
@@ -209,8 +209,8 @@ class PhysicalBody:
         """A leg that lies on the palm, free of the robot's hand (seen from positions)."""
         palm = self.hand.palm_centre()
         held = self.world.held_leg()
-        for leg in range(self.world.leg_count):
-            centre = self.world.leg_position(leg)
+        for leg in range(self.world.legs.count):
+            centre = self.world.legs.position(leg)
             near = np.linalg.norm(centre[:2] - palm[:2]) <= HANDOVER_TOLERANCE
             if leg != held and near and 0.0 < centre[2] - palm[2] <= 2 * spec.LEG_RADIUS:
                 return leg
@@ -221,7 +221,7 @@ class PhysicalBody:
         held = self.world.held_leg()
         if held is None or self.world.palm_is_out():
             return False
-        centre = self.world.leg_position(held)
+        centre = self.world.legs.position(held)
         above = centre[2] > self.palm_goal[2]  # a leg held lower has no palm slid under it
         return bool(above and np.linalg.norm(centre[:2] - self.palm_goal[:2]) <= HANDOVER_TOLERANCE)
 
@@ -233,11 +233,11 @@ class PhysicalBody:
         held = self.world.held_leg()
         if held is None:
             return False
-        centre = self.world.leg_position(held)
+        centre = self.world.legs.position(held)
         if centre[2] >= palm_centre[2]:
             return False
         half = self.world.model.geom(names.HUMAN_PALM_GEOM).size[:2]  # the hand unturned
-        points = axis_points(centre, self.world.leg_axis(held))
+        points = axis_points(centre, self.world.legs.axis(held))
         return reaches_into(points, palm_centre, np.array([1.0, 0.0]), (half[0], half[1]))
 
     def _move(self, duration: float, settle: float | None = None) -> float:

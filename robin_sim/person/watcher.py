@@ -114,7 +114,7 @@ class PhysicalWatcher:
         """What the person follows to the place: the centre of the leg the hand carries (the
         robot brings it there, wherever the fingers hold it), else the hand's grasp site."""
         if self._carried is not None:
-            return self.world.leg_position(self._carried)
+            return self.world.legs.position(self._carried)
         return self._site.copy()
 
     def _goal(self) -> np.ndarray | None:
@@ -123,7 +123,7 @@ class PhysicalWatcher:
             palm = world.human.palm_centre() if world.palm_is_out() else world.layout.handover
             return np.asarray(palm, float)
         if action in (Action.OBJECT, Action.LOCATION) and target is not None:
-            return target_point(target, world.layout, world.leg_position, world.nearest_leg)
+            return target_point(target, world.layout, world.legs.position, world.legs.nearest)
         return None
 
     def _mismatch(self) -> str:

@@ -30,6 +30,7 @@ from robin_sim.robot.actions import (
     RobotAction,
     leg_offset_in_site,
 )
+from robin_sim.robot.table_legs import TableLegs
 from robin_sim.robot.targets import (
     check_leg,
     grasp_goal,
@@ -72,13 +73,10 @@ class PlanningScene(Protocol):
     human: HumanHand
     ctx: Context
     speed: float
-    leg_count: int
+    legs: TableLegs
 
-    def leg_position(self, leg: int) -> np.ndarray: ...
     def held_leg(self) -> int | None: ...
     def palm_is_out(self) -> bool: ...
-    def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]: ...
-    def nearest_leg(self) -> int: ...
 
 
 def make_action(
@@ -98,13 +96,15 @@ def make_action(
     held = world.held_leg()
     if action is Action.OBJECT:
         if target is not None and target.kind != "leg":  # a spot: keep the wrist's yaw
-            where = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+            where = target_point(target, world.layout, world.legs.position, world.legs.nearest)
             axis, name = current.rotation().as_matrix()[:, 1], "the pointed spot"
         else:
             leg = (
-                world.nearest_leg() if target is None else check_leg(target.index, world.leg_count)
+                world.legs.nearest()
+                if target is None
+                else check_leg(target.index, world.legs.count)
             )
-            (where, axis), name = world.grasp_place(leg), f"leg {leg}"
+            (where, axis), name = world.legs.grasp_place(leg), f"leg {leg}"
         height = 0.0 if held is None else FREE_HAND_ABOVE
         goal = grasp_goal(where, axis, current, height)
         to_grasp = held is None and name != "the pointed spot"
@@ -116,7 +116,7 @@ def make_action(
     else:
         near = world.sim.site_pose().translation()
         if target is not None and target.kind == "leg":
-            near = target_point(target, world.layout, world.leg_position, world.nearest_leg)
+            near = target_point(target, world.layout, world.legs.position, world.legs.nearest)
         surface = location_surface(target, world.layout, near)
         name = "the pointed spot"
     goal = _release_goal(world, surface, held, current)

@@ -3,7 +3,9 @@
 Targets map to the scene: ``Target("leg", k)`` is leg ``k`` (grasped where physics has it now),
 ``Target("spot", k)`` is the layout's table spot ``k``; "human" goes to the person's palm, held
 out (where the robot sees it; the layout's handover point when it is not out). The hand state is
-read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag.
+read from contacts (:mod:`robin_sim.control.hand_state`), never kept as a flag; where each leg
+lies, whether it can be grasped there and laying it out are the legs' own
+(:attr:`PhysicalWorld.legs`, :class:`robin_sim.robot.table_legs.TableLegs`).
 
 The world holds the person's mocap hand as a part of the scene (:attr:`PhysicalWorld.human`) but
 never moves it: the person's body (:mod:`robin_sim.person.body`) does. An "open" after "human"
@@ -23,7 +25,6 @@ from collections.abc import Callable
 from typing import Literal
 
 import mink
-import mujoco
 import numpy as np
 
 from pil.errors import RobinPilError
@@ -46,7 +47,8 @@ from robin_sim.robot.contacts import PersonContacts
 from robin_sim.robot.head import HeadController
 from robin_sim.robot.motion import never
 from robin_sim.robot.planning import CLEARANCE_Z, PALM_OUT_RADIUS, ReleasePlace, make_action
-from robin_sim.robot.targets import fingers_blocked, reach_text
+from robin_sim.robot.table_legs import TableLegs
+from robin_sim.robot.targets import reach_text
 
 REST_RISE_Z = 1.0  # m: an empty hand going home rises to at least this height first
 
@@ -79,15 +81,7 @@ class PhysicalWorld:
         self.head = HeadController(self.sim, self._gaze_sources())  # gaze: head joints only
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)
         self.speed = speed
-        self.leg_count = len(self.layout.legs)
-        self._leg_qadr = [
-            self.model.jnt_qposadr[self.model.joint(names.leg_joint(k)).id]
-            for k in range(self.leg_count)
-        ]
-        self._leg_dofadr = [
-            self.model.jnt_dofadr[self.model.joint(names.leg_joint(k)).id]
-            for k in range(self.leg_count)
-        ]
+        self.legs = TableLegs(self.sim, self.layout)  # where physics has each leg
         self._home_pose = self.sim.commanded_site_pose()
         self.release: ReleasePlace | None = None  # where an open would let the held leg go
         self.last_release: ReleasePlace | None = None  # where the last "open" let a leg go
@@ -96,7 +90,7 @@ class PhysicalWorld:
         self.history: list[ActionResult] = []
         self.delivered: list[int] = []
         self.ctx = Context(
-            self.sim, self.hand, self.held_leg, self.leg_position, self.leg_speed, reach_text()
+            self.sim, self.hand, self.held_leg, self.legs.position, self.legs.speed, reach_text()
         )
 
     # --- what the world shows ------------------------------------------------------------------
@@ -112,19 +106,6 @@ class PhysicalWorld:
     def held_leg(self) -> int | None:
         """Index of the leg in the hand, if any (from contacts)."""
         return self.sensor.grasped_leg(self.data)
-
-    def leg_position(self, leg: int) -> np.ndarray:
-        """Centre of leg ``leg``, m (world frame)."""
-        return self.data.xpos[self.model.body(names.leg_body(leg)).id].copy()
-
-    def leg_positions(self) -> np.ndarray:
-        """Centres of all legs, shape (legs, 3)."""
-        return np.array([self.leg_position(k) for k in range(self.leg_count)])
-
-    def leg_speed(self, leg: int) -> float:
-        """Linear speed of leg ``leg``'s centre, m/s."""
-        adr = self._leg_dofadr[leg]
-        return float(np.linalg.norm(self.data.qvel[adr : adr + 3]))
 
     def add_result_hook(self, hook: Callable[[ActionResult], None]) -> Callable[[], None]:
         """Call ``hook(result)`` right after each action that succeeded and was let stand,
@@ -193,8 +174,8 @@ class PhysicalWorld:
             self.sim.commanded_site_pose(), self._home_pose, CLEARANCE_Z, self.speed
         )
         self.sim.execute(self.sim.plan(path))
-        for k in range(self.leg_count):  # a scene change between tables
-            self._lay(k)
+        for k in range(self.legs.count):  # a scene change between tables
+            self.legs.lay(k)
         self.release = None
         self.sim.run(0.3)
 
@@ -214,58 +195,19 @@ class PhysicalWorld:
         over_palm = release is not None and release.kind == "palm"
         self.head.attend_to("palm" if action is Action.HUMAN or over_palm else "robot hand")
 
-    # --- helpers -------------------------------------------------------------------------------
-    def _lay(self, leg: int) -> None:
-        """Put leg ``leg`` at rest at its layout pose (scene changes only, never in an action)."""
-        x, y, yaw = self.layout.legs[leg]
-        z = spec.TABLE_TOP_Z + spec.LEG_RADIUS
-        q, v = self._leg_qadr[leg], self._leg_dofadr[leg]
-        self.data.qpos[q : q + 7] = [x, y, z, np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
-        self.data.qvel[v : v + 6] = 0.0
-        mujoco.mj_forward(self.model, self.data)
-
+    # --- the person's side ----------------------------------------------------------------------
     def palm_is_out(self) -> bool:
         """True when the person's palm is held out at the handover point."""
         handover = np.array(self.layout.handover)
         return bool(np.linalg.norm(self.human.palm_centre() - handover) <= PALM_OUT_RADIUS)
-
-    def _on_table(self, leg: int) -> bool:
-        return abs(self.leg_position(leg)[2] - spec.GRASP_HEIGHT) < 0.01
-
-    def leg_axis(self, leg: int) -> np.ndarray:
-        """Unit vector along leg ``leg``'s axis (world frame, measured)."""
-        return self.data.xmat[self.model.body(names.leg_body(leg)).id].reshape(3, 3)[:, 0].copy()
-
-    def graspable_where_it_lies(self, leg: int) -> bool:
-        """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest, and no other
-        leg lies where the open fingers come down around it (:func:`fingers_blocked`)."""
-        centre, axis = self.leg_position(leg), self.leg_axis(leg)
-        flat = abs(float(axis[2])) < 0.1  # within about 6 degrees of horizontal
-        resting = self.leg_speed(leg) < 0.01
-        others = [(self.leg_position(k), self.leg_axis(k)) for k in range(self.leg_count)]
-        free = not fingers_blocked(centre, axis, others[:leg] + others[leg + 1 :])
-        return self._on_table(leg) and flat and resting and spec.in_left_reach(*centre[:2]) and free
 
     def put_leg_back(self, leg: int) -> None:
         """The person puts leg ``leg`` back at its layout place on the table (a person
         intervention: the only scene change besides laying out a table)."""
         if self.held_leg() == leg:
             raise RobinPilError(f"leg {leg} is in the robot's hand; it cannot be put back")
-        self._lay(leg)
+        self.legs.lay(leg)
         self.sim.run(0.3)
-
-    def grasp_place(self, leg: int) -> tuple[np.ndarray, np.ndarray]:
-        """Centre and axis of ``leg`` where it lies; off the table: its layout place."""
-        if self._on_table(leg):
-            return self.leg_position(leg), self.leg_axis(leg)
-        x, y, yaw = self.layout.legs[leg]
-        return np.array([x, y, spec.GRASP_HEIGHT]), np.array([np.cos(yaw), np.sin(yaw), 0.0])
-
-    def nearest_leg(self) -> int:
-        """The leg on the table nearest the hand (any leg's layout place if none is left)."""
-        pool = [k for k in range(self.leg_count) if self._on_table(k)] or range(self.leg_count)
-        site = self.sim.site_pose().translation()
-        return min(pool, key=lambda k: float(np.linalg.norm(self.grasp_place(k)[0] - site)))
 
     def _after(
         self,

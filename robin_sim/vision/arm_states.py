@@ -77,4 +77,4 @@ def on_table(world: PhysicalWorld, target: Target) -> bool:
     and not in the robot's hand (a delivered leg is in the bin)."""
     if target.kind == "spot":
         return True
-    return world.held_leg() != target.index and world.graspable_where_it_lies(target.index)
+    return world.held_leg() != target.index and world.legs.graspable(target.index)

@@ -62,7 +62,7 @@ def test_frames_arrive_and_a_click_points_the_hand_at_the_leg(browser, live_serv
     legs = leg_pixels("one_handover")
     x, y = legs[0]
     click_frame_pixel(page, x, y)
-    leg = served.conductor.session.body.world.leg_position(0)
+    leg = served.conductor.session.body.world.legs.position(0)
     goal = np.asarray(leg, float) + POINT_OFFSET
     page.wait_for_function(
         "() => window.robinLive.status.phase !== 'waiting_for_gesture'", timeout=20_000
