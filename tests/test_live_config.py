@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from pil.errors import RobinPilError
+from pil.task.seeds import block_seed
 from robin_sim.live.config import LiveConfig
 from robin_sim.live.files import session_folder
 from robin_sim.live.session import LiveSession
@@ -60,7 +61,7 @@ def test_session_names_never_reuse_a_folder(tmp_path: Path) -> None:
 def test_the_scenario_file_is_loaded_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """checked() loads the scenario and builds the learner side; checking again (the
     conductor, the session) and run_spec() reuse it; a changed scenario is loaded anew."""
-    import pil.task.spec as spec_module
+    import robin_sim.live.config as spec_module
 
     loads: list[object] = []
     real = spec_module.load_scenario
@@ -77,3 +78,18 @@ def test_the_scenario_file_is_loaded_once(monkeypatch: pytest.MonkeyPatch) -> No
     assert spec.scenario.sequence == ("B", "A") and spec.seed == 0 and len(loads) == 1
     assert replace(config, scenario="one_handover", handover_types=None).checked().run_spec()
     assert len(loads) == 2
+
+
+def test_a_block_changes_only_a_blocks_fields_of_a_checked_config() -> None:
+    """for_block is for a checked config, and only for the block's own fields (the shared
+    options were checked once): anything else is refused naming the valid fields."""
+    with pytest.raises(RobinPilError, match="call checked\\(\\) first"):
+        LiveConfig().for_block(block=1)
+    checked = LiveConfig(study_seed=4, participant="P03").checked()
+    assert checked.seed == block_seed(4, "P03", 0)  # derived, as the command line's --seed
+    block = checked.for_block(block=2, system="c1")
+    assert block.is_checked and (block.seed, block.system) == (block_seed(4, "P03", 2), "c1")
+    with pytest.raises(RobinPilError, match=r"not \['speed'\]; valid: block, block_actions"):
+        checked.for_block(speed=3.0)
+    with pytest.raises(RobinPilError, match="system"):
+        checked.for_block(system="nope")

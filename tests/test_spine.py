@@ -18,7 +18,7 @@ import pytest
 from pil.task.assemble import assemble, script_of
 from pil.task.param_spec import ParamSpec
 from pil.task.params import ASSEMBLY, PARAMS
-from pil.task.seeds import sub_seeds
+from pil.task.seeds import block_seed, sub_seeds
 from pil.task.spec import (
     DetectorSettings,
     LearnerSettings,
@@ -258,14 +258,38 @@ def test_a_live_session_checks_each_value_once(
     (config,) = conductor.configs
     assert conductor.sessions[0].config is config and config.speed == 2.0
     assert (config.participant, config.system, config.max_attempts) == ("P07", "c1", 5)
-    # the study seed: once as --seed at the command line, once as the config's study_seed;
-    # the session's own seed (derived from it) once
-    assert parse_calls.pop("seed") == 3, parse_calls
+    # the study seed once, by the config (the command line passes --seed as text); the
+    # session's own seed is derived from it (pil.task.seeds), not parsed again
+    assert parse_calls.pop("seed") == 1, parse_calls
+    assert (config.study_seed, config.seed) == (3, block_seed(3, "P07", 0))
     assert parse_calls.pop("size") == 2, parse_calls  # the frame's width and height, once each
     file_keys = dict.fromkeys(ASSEMBLY, 1)  # the scenario file's keys, read once
     own = ["participant", "session", "system", "frame size", "fps", "speed", "feedback_window"]
     own += ["render_workers", "stream_level", "max_attempts", "max_step_seconds"]
     assert parse_calls == Counter({**file_keys, **dict.fromkeys(own, 1)}), parse_calls
+
+
+def test_a_protocols_blocks_check_the_shared_options_once(
+    parse_calls: Counter[str], tmp_path: Path
+) -> None:
+    """``live --protocol``: the options every block shares (speed, frame, fps, the study seed,
+    the watchdog's limits) are checked once, before the protocol file is read; each block
+    checks only its own values (its condition, its session folder), its seed derived."""
+    from robin_sim.cli.live import session_configs
+    from robin_sim.cli.main import build_parser
+
+    argv = ["live", "--participant", "P02", "--protocol", "reactive_vs_proactive"]
+    argv += ["--speed", "2", "--seed", "7", "--no-video", "--out", str(tmp_path)]
+    configs = session_configs(build_parser("live").parse_args(argv))
+    assert len(configs) == 4 and all(c.is_checked for c in configs)
+    assert [c.seed for c in configs] == [block_seed(7, "P02", k) for k in range(4)]
+    for shared in ("seed", "fps", "frame size"):
+        assert parse_calls[shared] == 1, (shared, parse_calls)
+    assert parse_calls["size"] == 2, parse_calls  # width and height, once each
+    assert parse_calls["system"] == 1 + len(configs), parse_calls  # --system, then each block's
+    # the scenario files: the default (the options' own) and the protocol's, each read once,
+    # and the protocol's once more by the protocol loader (checking its blocks' types)
+    assert all(parse_calls[key] <= 3 for key in ASSEMBLY), parse_calls
 
 
 @pytest.mark.slow

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -141,14 +140,13 @@ def parse_grace(text: str) -> float:
 
 
 def session_configs(args: argparse.Namespace) -> list[Any]:
-    """The run's checked sessions: one, or one per protocol block of the participant."""
-    from pil.task.params import SEED
-    from pil.task.seeds import block_seed
+    """The run's checked sessions: one, or one per protocol block of the participant. The
+    options are checked once (:meth:`LiveConfig.checked`); each block only checks its own
+    values (:meth:`LiveConfig.for_block`), its seed derived from ``--seed``."""
     from robin_sim.live.files import block_folder
     from robin_sim.live.session import LiveConfig
 
     session = parse_session(getattr(args, "session", None))
-    study_seed = SEED.parse(getattr(args, "seed", "0"), "--seed")
     attempts: Any = getattr(args, "max_attempts", "10")
     step_seconds: Any = getattr(args, "max_step_seconds", "120")
     base = LiveConfig(
@@ -156,27 +154,29 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         system=args.system,
         scenario=args.scenario,
         out_root=args.out,
+        session=session,
         speed=args.speed,  # text: checked once, by the session's config
         video=not args.no_video,
         webcam=bool(getattr(args, "webcam", False)),
         calibrate=not getattr(args, "no_calibration", False),
-        seed=block_seed(study_seed, str(args.participant), 0),
-        study_seed=study_seed,
+        study_seed=args.seed,  # text, as --speed; the block seeds derive from it
         max_attempts=attempts,  # text, as --speed
         max_step_seconds=step_seconds,
-    )  # checked once, as each session's config (below)
+    )
     if getattr(args, "no_calibration", False) and not base.webcam:
         raise RobinPilError("--no-calibration is for --webcam sessions; add --webcam or drop it")
+    base = base.checked()  # the options as given, once (before a protocol file is read)
     if args.protocol is None:
-        return [replace(base, session=session).checked()]
+        return [base]
     from robin_sim.live.protocol import load_protocol
 
-    base.checked()  # the options as given, before the protocol file is read
     protocol = load_protocol(args.protocol)
     scenario = args.scenario if args.scenario is not None else protocol.scenario
-    return [
-        replace(
-            base,
+    configs, previous = [], base
+    for block in protocol.blocks_for(base.participant):
+        # each block from the one before: every block sets the same fields, and the scenario
+        # file the first block read is read no more
+        previous = previous.for_block(
             system=block.condition,
             scenario=scenario,
             handover_types=tuple(block.handover_types),
@@ -184,12 +184,10 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
             protocol=str(args.protocol),
             instructions=block.instructions,
             session=block_folder(session, block.index, block.condition),
-            seed=study_seed
-            if protocol.seeds == "shared"
-            else block_seed(study_seed, base.participant, block.index),
-        ).checked()
-        for block in protocol.blocks_for(base.participant)
-    ]
+            seed=base.study_seed if protocol.seeds == "shared" else None,  # None: derived
+        )
+        configs.append(previous)
+    return configs
 
 
 def parse_session(text: str | None) -> str | None:

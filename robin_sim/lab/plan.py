@@ -42,13 +42,12 @@ def participant_configs(
         protocol=study.protocol_ref,  # as the study file names it: relative to the folder
         study_seed=study.seed,
         inactivity_seconds=limits.inactivity,
-    )
+    ).checked()  # the options the participant's sessions share, checked once
     configs = []
     practice = study.practice
     if practice is not None:
         configs.append(
-            replace(
-                common,
+            common.for_block(
                 system=practice.system or order[0],
                 handover_types=practice.types,
                 block=None,
@@ -58,21 +57,20 @@ def participant_configs(
                 practice=True,
                 block_seconds=practice.limits.seconds,
                 block_actions=practice.limits.actions,
-            ).checked()
+            )
         )
     for block in protocol.blocks_in(order):
         shared = protocol.seeds == "shared"
         configs.append(
-            replace(
-                common,
+            common.for_block(
                 system=block.condition,
                 handover_types=tuple(block.handover_types),
                 block=block.index,
                 instructions=block.instructions,
                 session=block_folder(None, block.index, block.condition),
-                seed=study.seed if shared else block_seed(study.seed, participant, block.index),
+                seed=study.seed if shared else None,  # None: derived from the study's seed
                 block_seconds=limits.seconds,
                 block_actions=limits.actions,
-            ).checked()
+            )
         )
     return configs

@@ -17,7 +17,8 @@ from typing import Any
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.step_memory import STEP_MEMORY
 from pil.task.params import SEED
-from pil.task.scenario import Scenario
+from pil.task.scenario import Scenario, load_scenario
+from pil.task.seeds import block_seed
 from pil.task.spec import PHYSICAL, RunSpec, build_run_spec
 from pil.task.systems import check_system
 from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly, as the episode
@@ -33,6 +34,21 @@ LIVE_FPS = narrowed(FPS, 60)
 SPEEDS = (0.1, 10.0)  # sim seconds per wall second
 FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
 EXACT_RATE = 1.0  # the detector reads every click and button as what it is
+ScenarioFile = tuple[Any, Scenario]  # a scenario file as read: the name it was read by, and it
+# what each block of a protocol or a study sets itself (LiveConfig.for_block); the rest is shared
+BLOCK_FIELDS = frozenset(
+    {"system", "scenario", "handover_types", "block", "protocol", "instructions", "session"}
+    | {"seed", "practice", "block_seconds", "block_actions"}
+)
+BOOLEANS = (
+    "eye_inset",
+    "video",
+    "eye_worker",
+    "reflections",
+    "webcam",
+    "calibrate",
+    "adaptive_stream",
+)
 
 
 @dataclass(frozen=True)
@@ -52,8 +68,10 @@ class LiveConfig:
     video: bool = True
     speed: float = 1.0  # sim seconds per wall second
     feedback_window: float = 4.0  # s of sim time to wait for a thumb after an action
-    seed: int = 0  # the session's own seed (from the CLI: pil.task.seeds.block_seed)
-    study_seed: int | None = None  # the study seed it was derived from (None: given as is)
+    # the session's own seed; None: derived from the study seed, the participant and the block
+    # (pil.task.seeds.block_seed), or 0 without a study seed
+    seed: int | None = None
+    study_seed: int | None = None  # the study's seed (None: the session's seed is given as is)
     block: int | None = None
     protocol: str | None = None
     instructions: str = ""
@@ -78,8 +96,11 @@ class LiveConfig:
     block_seconds: float | None = None
     block_actions: int | None = None
     inactivity_seconds: float | None = None
-    # set by checked(): the learner side (its scenario loaded once) and what it was built from
-    resolved: tuple[Any, RunSpec] | None = field(default=None, compare=False, repr=False)
+    # set by checked(): what the learner side was built from, the learner side, and the
+    # scenario file as read (its name, the scenario): each file is read once
+    resolved: tuple[Any, RunSpec, ScenarioFile] | None = field(
+        default=None, compare=False, repr=False
+    )
     # True on what checked() returns (not copied by dataclasses.replace: a changed copy is
     # checked again), so that the layers below the edge take a checked config as it is
     is_checked: bool = field(default=False, init=False, compare=False, repr=False)
@@ -89,45 +110,78 @@ class LiveConfig:
         :meth:`checked` returned is returned as it is, checked once."""
         if self.is_checked:
             return self
-        done = self._checked()
-        object.__setattr__(done, "is_checked", True)
-        return done
+        return self._options_checked()._block_checked()
 
-    def _checked(self) -> LiveConfig:
+    def for_block(self, **changes: Any) -> LiveConfig:
+        """A checked config's copy for one block of a protocol or study: only ``changes``
+        (fields of :data:`BLOCK_FIELDS`) and what depends on them are checked, the options
+        this config shares with its other blocks were checked once, here. With a study seed
+        the block's seed is derived from it (participant and block) unless ``seed`` is given."""
+        if not self.is_checked:
+            raise RobinPilError("for_block is for a checked LiveConfig; call checked() first")
+        unknown = sorted(set(changes) - BLOCK_FIELDS)
+        if unknown:
+            raise RobinPilError(
+                f"for_block changes a block's fields only, not {unknown}; "
+                f"valid: {', '.join(sorted(BLOCK_FIELDS))}"
+            )
+        if self.study_seed is not None:
+            changes.setdefault("seed", None)  # derived for this block unless given
+        return replace(self, **changes)._block_checked()
+
+    def _options_checked(self) -> LiveConfig:
+        """The options a study's blocks share, checked (the block's own: :meth:`_block_checked`)."""
         _name(self.participant, "participant")
-        if self.session is not None:
-            _name(self.session, "session")
-        check_system(self.system)
         width, height = check_size(self.width, self.height, "frame", LIVE_SIDE)
         fps = LIVE_FPS.parse(self.fps, "fps")
         if not isinstance(self.out_root, str | Path) or not str(self.out_root).strip():
             raise RobinPilError(f"out_root must be a folder path, got {self.out_root!r:.60}")
+        for name in BOOLEANS:
+            if not isinstance(getattr(self, name), bool):
+                raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        study = self.study_seed
+        study_seed = None if study is None else SEED.parse(study, "study_seed (--seed)")
+        if self.step_memory not in STEP_MEMORY:
+            raise InvalidChoiceError("step_memory", self.step_memory, STEP_MEMORY)
+        limits = WatchdogLimits(self.max_attempts, self.max_step_seconds).checked()
+        return replace(
+            self,
+            width=width,
+            height=height,
+            fps=float(fps),
+            speed=_number(self.speed, "speed", *SPEEDS),
+            feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
+            study_seed=study_seed,
+            out_root=Path(self.out_root),
+            render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            stream_level=_whole(self.stream_level, "stream_level", 0, len(LEVELS) - 1),
+            max_attempts=limits.attempts,
+            max_step_seconds=limits.seconds,
+        )
+
+    def _block_checked(self) -> LiveConfig:
+        """The block's own values checked (its seed derived from the study seed when not
+        given), the learner side built; marked checked."""
+        if self.session is not None:
+            _name(self.session, "session")
+        check_system(self.system)
         if self.block is not None:
             _whole(self.block, "block", 0, 10_000)
         for name in ("protocol", "instructions"):
             value = getattr(self, name)
             if value is not None and not isinstance(value, str):
                 raise RobinPilError(f"{name} must be text, got {type(value).__name__}")
-        for name in (
-            "eye_inset",
-            "video",
-            "eye_worker",
-            "reflections",
-            "webcam",
-            "calibrate",
-            "adaptive_stream",
-            "practice",
-        ):
-            if not isinstance(getattr(self, name), bool):
-                raise RobinPilError(f"{name} must be true or false, got {getattr(self, name)!r}")
-        seed = SEED.parse(self.seed, "seed")
-        if self.study_seed is not None:
-            SEED.parse(self.study_seed, "study_seed")
-        if self.step_memory not in STEP_MEMORY:
-            raise InvalidChoiceError("step_memory", self.step_memory, STEP_MEMORY)
-        limits = WatchdogLimits(self.max_attempts, self.max_step_seconds).checked()
+        if not isinstance(self.practice, bool):
+            raise RobinPilError(f"practice must be true or false, got {self.practice!r}")
+        if self.seed is not None:
+            seed = SEED.parse(self.seed, "seed")
+        elif self.study_seed is None:
+            seed = 0
+        else:  # derived, not given: pil.task.seeds is the one place seeds are drawn from
+            seed = block_seed(self.study_seed, self.participant, self.block or 0)
         caps = self.limits.checked("LiveConfig")
-        spec = self._spec(seed)
+        file = self._scenario_file()
+        spec = self._spec(seed, file)
         scenario = spec.scenario
         types = self.handover_types
         if types is not None:
@@ -138,25 +192,17 @@ class LiveConfig:
                 )
             for name in types:
                 scenario.type_named(str(name))  # names the valid types
-        return replace(
+        done = replace(
             self,
-            width=width,
-            height=height,
-            fps=float(fps),
-            speed=_number(self.speed, "speed", *SPEEDS),
-            feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
             seed=seed,
-            out_root=Path(self.out_root),
             handover_types=None if types is None else tuple(str(t) for t in types),
-            render_workers=_whole(self.render_workers, "render_workers", 0, 8),
-            stream_level=_whole(self.stream_level, "stream_level", 0, len(LEVELS) - 1),
-            max_attempts=limits.attempts,
-            max_step_seconds=limits.seconds,
             block_seconds=caps.seconds,
             block_actions=caps.actions,
             inactivity_seconds=caps.inactivity,
-            resolved=(self._source(seed), spec),
+            resolved=(self._source(seed), spec, file),
         )
+        object.__setattr__(done, "is_checked", True)
+        return done
 
     def _source(self, seed: int) -> tuple[Any, ...]:
         """What the learner side is built from (a config changed since: built again)."""
@@ -164,9 +210,17 @@ class LiveConfig:
         types = None if types is None else tuple(types)
         return (self.system, seed, self.scenario, types, self.step_memory)
 
-    def _spec(self, seed: int) -> RunSpec:
+    def _scenario_file(self) -> ScenarioFile:
+        """The scenario file as read, with the name it was read by: the one :meth:`checked`
+        read if the name is unchanged (a protocol's blocks read their file once), else read."""
+        if self.resolved is not None and self.resolved[2][0] == self.scenario:
+            return self.resolved[2]
+        name = self.scenario
+        return (name, load_scenario() if name is None else load_scenario(name))
+
+    def _spec(self, seed: int, file: ScenarioFile | None = None) -> RunSpec:
         """The learner side: the one built by :meth:`checked` if it still fits, else built
-        (the scenario file loaded here, once per config)."""
+        from the scenario ``file`` (default: :meth:`_scenario_file`)."""
         if self.resolved is not None and self.resolved[0] == self._source(seed):
             return self.resolved[1]
         values: dict[str, Any] = {"step_memory": self.step_memory}
@@ -176,7 +230,7 @@ class LiveConfig:
             system=self.system,
             rate=EXACT_RATE,
             seed=seed,
-            scenario=self.scenario,
+            scenario=(file or self._scenario_file())[1],  # the values above change a copy
             values=values,
             world=PHYSICAL,
         )
@@ -190,6 +244,7 @@ class LiveConfig:
         """The session's learner side (of a :meth:`checked` config: built there, its scenario
         loaded once): its system and seed, the block's scenario, the exact detector at rate 1,
         the parameters' defaults, in the physical world."""
+        assert self.seed is not None, "run_spec is for a checked LiveConfig"
         return self._spec(self.seed)
 
     @property
