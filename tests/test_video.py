@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from pil.errors import RobinPilError
-from robin_sim.render.frame_spec import check_size, offscreen_buffer
+from robin_sim.model.scene_file import offscreen_buffer
+from robin_sim.render.frame_spec import check_size
 from robin_sim.render.video import Mp4Writer, VideoError, probe_video
 
 WIDTH, HEIGHT, FPS = 320, 240, 30

@@ -16,7 +16,6 @@ from robin_sim.vision.classifier import CLASSES, GestureModel, ModelFileError, l
 from robin_sim.vision.dataset import (
     CHUNK,
     HANDOVER_HAND,
-    HANDOVER_PALM,
     SPLITS,
     chunk_path,
     sample_spec,
@@ -112,8 +111,18 @@ def test_the_handover_place_puts_the_palm_where_the_person_holds_it_out() -> Non
     data.mocap_pos[mocap] = HANDOVER_HAND
     mujoco.mj_kinematics(model, data)
     np.testing.assert_allclose(data.site(names.HUMAN_PALM_SITE).xpos, DEFAULT_HANDOVER, atol=1e-9)
-    np.testing.assert_allclose(HANDOVER_PALM, DEFAULT_HANDOVER)
     assert PALM_JITTER < 0.02  # the data set's spread (sd 2 cm) covers the person's
+
+
+def test_the_data_sets_places_are_the_scenes() -> None:
+    """The data set draws hands where the scene has its legs and spots (one source: the
+    layout's defaults), with the values the shipped model's data were drawn with."""
+    from robin_sim.vision.dataset import PLACES
+
+    legs = [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
+    spots = [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
+    np.testing.assert_allclose(PLACES, legs + spots, atol=1e-12)
+    np.testing.assert_allclose(HANDOVER_HAND, [0.63, 0.0, 0.868], atol=1e-12)
 
 
 def test_a_factor_level_fixes_one_field_of_every_sample() -> None:

@@ -1,7 +1,7 @@
 """A video's frame size and rate, and their checks: one source for every run that films.
 
 H.264 in yuv420p halves the colour resolution, so both sides must be even, and a frame must fit
-the scene's off-screen buffer (:func:`offscreen_buffer`, read from the scene's MJCF). The episode
+the scene's off-screen buffer (:func:`robin_sim.model.scene_file.offscreen_buffer`). The episode
 (:mod:`robin_sim.episode.config`), the live page (:mod:`robin_sim.live.config`) and a replay's
 recorded settings (:mod:`robin_sim.render.state_checks`) check with these, once, at their edge;
 the live page narrows the ranges (:func:`narrowed`). Below the edges nothing checks a size again
@@ -10,13 +10,11 @@ the live page narrows the ranges (:func:`narrowed`). Below the edges nothing che
 
 from __future__ import annotations
 
-import functools
-import xml.etree.ElementTree as ElementTree
 from dataclasses import replace
 
 from pil.errors import RobinPilError
 from pil.task.params import ParamSpec
-from robin_sim.model.names import SCENE_XML
+from robin_sim.model.scene_file import offscreen_buffer
 
 FPS = ParamSpec("fps", "int", 30, "video frame rate", 1, 240)
 SIDE = ParamSpec("size", "int", 640, "video width or height in pixels", 2, 1_000_000)
@@ -35,16 +33,6 @@ def check_even(width: int, height: int, label: str = "video size") -> tuple[int,
             f"use e.g. {width + width % 2}x{height + height % 2}"
         )
     return width, height
-
-
-@functools.cache
-def offscreen_buffer() -> tuple[int, int]:
-    """The scene's off-screen buffer (width, height): its ``<visual><global offwidth
-    offheight>``, the largest frame any of its cameras renders."""
-    found = ElementTree.parse(SCENE_XML).find("visual/global")
-    if found is None:
-        raise RobinPilError(f"{SCENE_XML}: no <visual><global> element")
-    return int(found.get("offwidth", "640")), int(found.get("offheight", "480"))
 
 
 def check_fits(width: int, height: int, buffer: tuple[int, int], what: str = "frame") -> None:

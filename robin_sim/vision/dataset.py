@@ -29,7 +29,10 @@ from pathlib import Path
 import numpy as np
 
 from pil.errors import RobinPilError
-from robin_sim.model import robot_spec
+from robin_sim.model import names, robot_spec
+from robin_sim.model.scene import DEFAULT_HANDOVER, DEFAULT_LEGS, DEFAULT_SPOTS
+from robin_sim.model.scene_file import site_offset
+from robin_sim.person.body import PERSON_CLEAR_X, POINT_RAISE
 from robin_sim.vision.classifier import CLASSES
 
 CHUNK = 48  # samples per chunk
@@ -73,20 +76,19 @@ SPLITS: dict[str, Ranges] = {
     ),
 }
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}
-# Where gestures are made: above a leg or a spot (the pointing hand's place: the layout's legs
-# and spots plus the hand's pointing offset), or anywhere in the person's working box.
+# Where gestures are made: above a leg or a spot of the default layout (the pointing hand's
+# place: these plus the hand's pointing offset), or anywhere in the person's working box. A leg's
+# place is its centre; a spot's is drawn 1 cm lower (SPOT_PLACE_DROP), as the shipped gesture
+# model's data always had it.
+SPOT_PLACE_DROP = 0.01  # m
 PLACES = np.array(
-    [[0.44, y, 0.77] for y in (0.19, 0.31, 0.43, 0.55)]
-    + [[0.68, y, 0.76] for y in (0.13, 0.25, 0.37, 0.49)]
+    [[x, y, robot_spec.GRASP_HEIGHT] for x, y, _ in DEFAULT_LEGS]
+    + [[x, y, robot_spec.GRASP_HEIGHT - SPOT_PLACE_DROP] for x, y in DEFAULT_SPOTS]
 )
-# the pointing hand drawn back and raised (robin_sim.person.body: PERSON_CLEAR_X, POINT_RAISE)
-DRAWN_BACK_X, DRAWN_BACK_RAISE = 0.95, 0.20
 # The hand (mocap position) with its palm held out at the handover point: the scene's
 # DEFAULT_HANDOVER (palm surface centre) less the palm site's offset in the hand frame
-# (models/scene.xml, human_palm_site); tests/test_vision_train.py checks both against the model.
-HANDOVER_PALM = np.array([0.60, 0.0, robot_spec.HANDOVER_HEIGHT])
-PALM_SITE = np.array([-0.03, 0.0, 0.012])
-HANDOVER_HAND = HANDOVER_PALM - PALM_SITE
+# (models/scene.xml, human_palm_site); tests/test_vision_train.py checks it against the model.
+HANDOVER_HAND = np.array(DEFAULT_HANDOVER) - site_offset(names.HUMAN_PALM_SITE)
 BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.12]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 
@@ -131,7 +133,7 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
         place = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET
-        back = np.array([DRAWN_BACK_X, place[1], place[2] + DRAWN_BACK_RAISE])
+        back = np.array([PERSON_CLEAR_X, place[1], place[2] + POINT_RAISE])  # drawn back, raised
         hand = back + rng.normal(0, 0.02, 3)
     elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
         hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
