@@ -439,3 +439,12 @@ def test_one_rate_check() -> None:
     """A detection rate is checked by the RATE spec only: no other function checks one."""
     assert literal_count(r"def check_rate\b") == {}
     assert literal_count(r"\bcheck_rate\(") == {}
+
+
+def test_a_physical_run_is_assembled_in_one_place() -> None:
+    """The world, the person's body and Robin's eyes are built by assemble_physical only: the
+    episode, sweeps, the live session and the palm check all go through it (issue 26:
+    vision/palm_check.py built its own)."""
+    home = "robin_sim/episode/physical_assembly.py"
+    for built in (r"\bPhysicalWorld\(", r"\bPhysicalBody\(", r"\bVisionDetector\("):
+        assert literal_count(built) == {home: 1}, built

@@ -29,11 +29,15 @@ if TYPE_CHECKING:
     from robin_sim.model.scene import SceneLayout
     from robin_sim.person.body import Tempo
     from robin_sim.robot.world import PhysicalWorld
+    from robin_sim.vision.classifier import GestureModel
 
 
-def vision_factory(conditions: VisionSettings) -> DetectorFactory:
+def vision_factory(
+    conditions: VisionSettings, gesture_model: GestureModel | None = None
+) -> DetectorFactory:
     """The registry entry ``vision``: Robin's eye cameras under ``conditions``, reading the
-    person's hand shown by their body (seeded by the phase's detector sub-seed)."""
+    person's hand shown by their body (seeded by the phase's detector sub-seed) with
+    ``gesture_model`` (None: the shipped one)."""
 
     def make(context: DetectorContext) -> GestureReader:
         from robin_sim.person.body import PhysicalBody
@@ -53,6 +57,7 @@ def vision_factory(conditions: VisionSettings) -> DetectorFactory:
             pose_jitter=conditions.pose_jitter,
             adapt=conditions.adapt,
             discarded_thumb=conditions.discarded_thumb,
+            gesture_model=gesture_model,
         )
 
     return make
@@ -64,11 +69,13 @@ def assemble_physical(
     world: PhysicalWorld | None = None,
     cache: MutableMapping[Any, Any] | None = None,
     tempo: Tempo | None = None,
+    gesture_model: GestureModel | None = None,
 ) -> Run:
     """The run of ``spec``: a learner-only one as :func:`pil.task.assemble.assemble`; a
     physical one in ``world`` (default: a new world of the scenario's layout) with the person's
     body and, for ``detector=vision``, the eye cameras (default conditions for a bare
-    :class:`RunSpec`); ``tempo``: how fast the body signs (default: the scripted person's)."""
+    :class:`RunSpec`, read with ``gesture_model``, default the shipped one); ``tempo``: how
+    fast the body signs (default: the scripted person's)."""
     conditions = spec.conditions if isinstance(spec, EpisodeSpec) else None
     run_spec = spec.run if isinstance(spec, EpisodeSpec) else spec
     if run_spec.world != PHYSICAL:
@@ -79,7 +86,8 @@ def assemble_physical(
     if world is None:
         world = PhysicalWorld(layout_of(run_spec.scenario))
     body = PhysicalBody(world, seed=run_spec.seeds.body, tempo=tempo or SCRIPTED)
-    detectors = {**DETECTORS, VISION: vision_factory(conditions or parse_conditions({}))}
+    eyes = vision_factory(conditions or parse_conditions({}), gesture_model)
+    detectors = {**DETECTORS, VISION: eyes}
     return assemble_learner(run_spec, world=world, body=body, detectors=detectors, cache=cache)
 
 

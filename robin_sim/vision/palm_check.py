@@ -6,12 +6,16 @@ whatever its arm is doing. :func:`palm_readings` walks a world through the arm s
 :func:`robin_sim.vision.arm_states.arm_states` (real actions run by physics), and in each of
 ``states`` has the person hold the palm out and Robin read it ``tries`` times (a new
 performance each time: pose jitter, size, skin tone), in context as an episode reads an
-instruction gesture. Used by ``bench/bench_palm_view.py`` and ``tests/test_vision_view.py``.
+instruction gesture: world, body and eyes are assembled as an episode's
+(:func:`robin_sim.episode.physical_assembly.assemble_physical`, seeded by ``seed``). Used by
+``bench/bench_palm_view.py`` and ``tests/test_vision_view.py``.
 """
 
 from __future__ import annotations
 
+from pil.task.spec import PHYSICAL, parse_run_spec
 from pil.types import Gesture
+from robin_sim.episode.physical_assembly import assemble_physical
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 from robin_sim.vision.arm_states import arm_states
@@ -32,11 +36,15 @@ def palm_readings(
     """Per arm state, what Robin read each of ``tries`` times the palm was held out (a gesture
     class of the four, or ``"discarded"``); the person's hand rests again afterwards unless a
     leg is held over the palm."""
-    world = PhysicalWorld()
-    body = PhysicalBody(world)
-    detector = VisionDetector(
-        world.sim, display=body.display, seed=seed, gesture_model=gesture_model
-    )
+    spec = parse_run_spec(seed=seed, params={"detector": "vision"}, world=PHYSICAL)
+    run = assemble_physical(spec, gesture_model=gesture_model)  # as an episode is assembled
+    world, body, detector = run.world, run.person.body, run.detector
+    if not (
+        isinstance(world, PhysicalWorld)
+        and isinstance(body, PhysicalBody)
+        and isinstance(detector, VisionDetector)
+    ):
+        raise TypeError(f"a vision run's parts, got {world!r}, {body!r}, {detector!r}")
     reads: dict[str, list[str]] = {}
     try:
         for state in arm_states(world, body):
