@@ -2,7 +2,7 @@
 
 Run: ``python bench/bench_palm_view.py [--tries 6] [--model FILE ...]``. The arm is brought by
 real actions to each state it is in when the person may ask for a leg
-(:mod:`robin_sim.vision.palm_check`: home, closed on a leg, holding it over the palm, holding
+(:mod:`robin_sim.episode.palm_check`: home, closed on a leg, holding it over the palm, holding
 a leg over a spot); there the person holds the palm out at the handover point and Robin reads
 it ``--tries`` times (a new performance each time), in context as in an episode. Prints per
 model and state the readings that were "give me" and what the others were. Default model: the
@@ -22,8 +22,8 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
+from robin_sim.episode.palm_check import PALM_STATES, palm_readings  # noqa: E402
 from robin_sim.vision.classifier import GestureModel, shipped_path  # noqa: E402
-from robin_sim.vision.palm_check import PALM_STATES, palm_readings  # noqa: E402
 
 
 def main() -> None:

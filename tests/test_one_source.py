@@ -444,7 +444,7 @@ def test_one_rate_check() -> None:
 def test_a_physical_run_is_assembled_in_one_place() -> None:
     """The world, the person's body and Robin's eyes are built by assemble_physical only: the
     episode, sweeps, the live session and the palm check all go through it (issue 26:
-    vision/palm_check.py built its own)."""
+    the palm check built its own)."""
     home = "robin_sim/episode/physical_assembly.py"
     for built in (r"\bPhysicalWorld\(", r"\bPhysicalBody\(", r"\bVisionDetector\("):
         assert literal_count(built) == {home: 1}, built

@@ -102,7 +102,7 @@ def test_the_give_me_palm_at_the_handover_point_is_read_as_give_me() -> None:
     """The palm held out at the handover point, with the arm at home, closed on a leg, holding
     it over the palm and holding a leg over a spot: Robin reads "give me" (a model trained
     without the handover place read it as "pointing" in 1-3 of 6 readings per state)."""
-    from robin_sim.vision.palm_check import PALM_STATES, palm_readings
+    from robin_sim.episode.palm_check import PALM_STATES, palm_readings
 
     reads = palm_readings(tries=PALM_TRIES)
     assert set(reads) == set(PALM_STATES)

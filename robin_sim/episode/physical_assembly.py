@@ -86,8 +86,8 @@ def assemble_physical(
     if world is None:
         world = PhysicalWorld(layout_of(run_spec.scenario))
     body = PhysicalBody(world, seed=run_spec.seeds.body, tempo=tempo or SCRIPTED)
-    eyes = vision_factory(conditions or parse_conditions({}), gesture_model)
-    detectors = {**DETECTORS, VISION: eyes}
+    settings = conditions or parse_conditions({})
+    detectors = {**DETECTORS, VISION: vision_factory(settings, gesture_model)}
     return assemble_learner(run_spec, world=world, body=body, detectors=detectors, cache=cache)
 
 

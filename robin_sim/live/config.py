@@ -27,8 +27,8 @@ from robin_sim.live.quality import LEVELS
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
-# the episode's frame checks, narrowed for a stream: at most 1920 px a side (the scene's
-# off-screen buffer is checked when the scene is built) and 60 frames per second
+# the episode's frame checks, narrowed for a stream: at most 1920 px a side and 60 frames per
+# second (and, as every frame, within the scene's off-screen buffer: check_size)
 LIVE_SIDE = narrowed(SIDE, 1920)
 LIVE_FPS = narrowed(FPS, 60)
 SPEEDS = (0.1, 10.0)  # sim seconds per wall second
