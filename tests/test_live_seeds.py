@@ -60,3 +60,10 @@ def test_an_unknown_seeding_is_refused_naming_the_choices(tmp_path: Path) -> Non
         load_protocol(bad)
     with pytest.raises(Exception, match="--seed"):
         configs("--seed", "-1")
+
+
+def test_a_session_without_a_participant_is_seeded_as_the_one_it_records() -> None:
+    """No --participant: the session records P01, and its seed derives from P01 (it derived
+    from the text "None" before)."""
+    (config,) = configs("--seed", "7")
+    assert config.participant == "P01" and config.seed == block_seed(7, "P01", 0)

@@ -79,3 +79,7 @@ def in_left_reach(x: float, y: float) -> bool:
 # The pointing hand: toward the person and above the pointed place, low enough that its
 # fingertips stay a few centimetres below the robot's open fingers at home.
 POINT_OFFSET: tuple[float, float, float] = (0.14, 0.0, 0.13)  # m
+PERSON_CLEAR_X = 0.95  # m: the pointing hand draws back this far, out of the robot's way
+# m the drawn-back pointing hand is then raised: held up into Robin's view, above its own left
+# upper arm, which hides a hand held lower above the left spots and legs from both eyes
+POINT_RAISE = 0.20

@@ -41,6 +41,7 @@ from pil.types import Feedback, Gesture
 from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
+from robin_sim.model.robot_spec import PERSON_CLEAR_X, POINT_RAISE  # read at each pointing
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
 from robin_sim.robot.planning import HANDOVER_TOLERANCE, PALM_OUT_RADIUS
@@ -49,10 +50,6 @@ from robin_sim.robot.world import PhysicalWorld
 
 GESTURE_HOLD = 0.5  # s the person holds a gesture before the robot reacts
 FEEDBACK_HOLD = 0.4  # s the thumb stays up or down
-PERSON_CLEAR_X = 0.95  # m: the pointing hand draws back this far, out of the robot's way
-# m the drawn-back pointing hand is then raised: held up into Robin's view, above its own left
-# upper arm, which hides a hand held lower above the left spots and legs from both eyes
-POINT_RAISE = 0.20
 # m, largest offset (per axis) of the held-out palm from the handover point: within what the
 # robot counts as a palm held out there.
 PALM_JITTER = PALM_OUT_RADIUS / 2

@@ -32,7 +32,6 @@ from pil.errors import RobinPilError
 from robin_sim.model import names, robot_spec
 from robin_sim.model.scene import DEFAULT_HANDOVER, DEFAULT_LEGS, DEFAULT_SPOTS
 from robin_sim.model.scene_file import site_offset
-from robin_sim.person.body import PERSON_CLEAR_X, POINT_RAISE
 from robin_sim.vision.classifier import CLASSES
 
 CHUNK = 48  # samples per chunk
@@ -133,7 +132,9 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
         place = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET
-        back = np.array([PERSON_CLEAR_X, place[1], place[2] + POINT_RAISE])  # drawn back, raised
+        back = np.array(
+            [robot_spec.PERSON_CLEAR_X, place[1], place[2] + robot_spec.POINT_RAISE]
+        )  # drawn back, raised
         hand = back + rng.normal(0, 0.02, 3)
     elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
         hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
