@@ -1,14 +1,16 @@
-"""Tests of robin_sim.person.hand_poses: distinct pose shapes and varied performances."""
+"""Tests of robin_sim.figure.hand_poses: distinct pose shapes and varied performances."""
 
 from __future__ import annotations
 
 import mujoco
 import numpy as np
 
+from robin_sim.figure.hand_poses import SHAPES, Performance, part_segments, skin_colour
 from robin_sim.model import names
 from robin_sim.model.scene import build_model
 from robin_sim.person.gestures import GestureDisplay
-from robin_sim.person.hand_poses import SHAPES, Performance, part_segments, skin_colour
+
+HAND = names.PERSON_HAND_FINGERS
 
 
 def _tip(pose: str, part: str, performance: Performance | None = None) -> np.ndarray:
@@ -45,19 +47,18 @@ def test_performances_vary_the_shape_and_the_same_seed_repeats_it() -> None:
     assert not np.allclose(skin_colour(0.0), skin_colour(4.0))
 
 
-def test_display_shapes_scene_geoms_and_physics_is_untouched() -> None:
+def test_display_forms_the_articulated_hand_and_physics_is_untouched() -> None:
     model = build_model()
     data = mujoco.MjData(model)
     before = model.body_mass.copy(), model.geom_contype.copy()
-    display = GestureDisplay(model)
-    assert display.shaper is not None
-    performance = Performance(size=1.1, skin=3.0)
-    display.show("thumb_up", performance)
-    mujoco.mj_forward(model, data)
-    thumb = model.geom(names.human_vis_geom("thumb_up", "thumb")).id
-    hand = model.body(names.HUMAN_MOCAP_BODY).id
-    local = data.geom_xpos[thumb] - data.xpos[hand]
-    assert local[2] > 0.02  # the thumb capsule's centre is above the hand's origin
-    np.testing.assert_allclose(model.geom_rgba[thumb, :3], skin_colour(3.0))
+    display = GestureDisplay(model, data)
+    assert display.shaper is None and display.hand is not None
+    display.show("thumb_up", Performance(skin=3.0))
+    mujoco.mj_kinematics(model, data)
+    tips = {f: data.site(names.person_fingertip_site("r", f)).xpos[2] for f in HAND}
+    # the thumb up: its tip at least 3 cm above every fingertip of the fist
+    assert all(tips["thumb"] > tips[f] + 0.03 for f in HAND[1:]), tips
+    hand = display.geoms("thumb_up")
+    np.testing.assert_allclose(model.geom_rgba[list(hand), :3], [skin_colour(3.0)] * len(hand))
     assert np.all(model.body_mass == before[0]) and np.all(model.geom_contype == before[1])
     assert set(SHAPES) == set(names.HUMAN_VIS_POSES)

@@ -97,7 +97,6 @@ def _scene_names() -> list[tuple[mujoco.mjtObj, str]]:
         (obj.mjOBJ_GEOM, names.TABLE_TOP_GEOM),
         (obj.mjOBJ_GEOM, names.FLOOR_GEOM),
         (obj.mjOBJ_BODY, names.HUMAN_MOCAP_BODY),
-        (obj.mjOBJ_BODY, names.HUMAN_FOREARM_BODY),
         (obj.mjOBJ_GEOM, names.HUMAN_PALM_GEOM),
         (obj.mjOBJ_SITE, names.HUMAN_PALM_SITE),
         (obj.mjOBJ_KEY, names.HOME_KEY),
@@ -123,8 +122,19 @@ def _scene_names() -> list[tuple[mujoco.mjtObj, str]]:
             (obj.mjOBJ_JOINT, names.leg_joint(i)),
             (obj.mjOBJ_GEOM, names.leg_geom(i)),
         ]
-    for pose in names.HUMAN_VIS_POSES:
-        want += [(obj.mjOBJ_GEOM, names.human_vis_geom(pose, p)) for p in names.HUMAN_VIS_PARTS]
+    for side in ("r", "l"):
+        person = (*names.person_hand_joints(side), *names.person_arm_joints(side))
+        want += [(obj.mjOBJ_JOINT, j) for j in person]
+        want += [(obj.mjOBJ_BODY, names.person_hand_body(side))]
+        want += [(obj.mjOBJ_BODY, b) for b in names.person_arm_bodies(side)]
+        want += [(obj.mjOBJ_SITE, names.person_wrist_site(side))]
+        want += [(obj.mjOBJ_SITE, names.person_wrist_point(side))]
+        for finger in names.PERSON_HAND_FINGERS:
+            want += [(obj.mjOBJ_SITE, names.person_fingertip_site(side, finger))]
+            want += [(obj.mjOBJ_BODY, b) for b in names.person_finger_bodies(side, finger)]
+    want += [(obj.mjOBJ_JOINT, j) for j in (*names.TORSO_JOINTS, *names.NECK_JOINTS)]
+    want += [(obj.mjOBJ_JOINT, names.HUMAN_HAND_TURN), (obj.mjOBJ_SITE, names.PERSON_EYES_SITE)]
+    want += [(obj.mjOBJ_BODY, names.PERSON_TORSO_BODY), (obj.mjOBJ_BODY, names.PERSON_HEAD_BODY)]
     want += [
         (obj.mjOBJ_BODY, names.HUMAN_PALM_BODY),
         (obj.mjOBJ_JOINT, names.HUMAN_PALM_JOINT),
@@ -151,13 +161,19 @@ def test_bench_has_left_hand_names_and_slides() -> None:
     assert mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, names.grasp_site("l")) >= 0
 
 
-def test_gesture_visuals_only_neutral_shown_and_never_collide() -> None:
+def test_the_articulated_person_never_collides_and_the_palm_does() -> None:
     model = _load("scene")
-    for pose in names.HUMAN_VIS_POSES:
-        for part in names.HUMAN_VIS_PARTS:
-            geom = model.geom(names.human_vis_geom(pose, part))
-            assert geom.contype[0] == 0 and geom.conaffinity[0] == 0
-            assert geom.rgba[3] == (1.0 if pose == "neutral" else 0.0)
+    palm = model.body(names.HUMAN_PALM_BODY).id
+    for root in (names.PERSON_BODY, names.HUMAN_MOCAP_BODY):
+        top = model.body(root).id
+        for g in range(model.ngeom):
+            body = int(model.geom_bodyid[g])
+            while body not in (0, top):
+                body = int(model.body_parentid[body])
+            if body == top:
+                assert model.geom_contype[g] == 0 and model.geom_conaffinity[g] == 0
+    assert model.geom(names.HUMAN_PALM_GEOM).bodyid[0] == palm
+    assert model.geom(names.HUMAN_PALM_GEOM).contype[0] != 0
 
 
 @pytest.mark.parametrize("side", names.SIDES)

@@ -40,7 +40,7 @@ def rollout(layout: SceneLayout | None, frames: int) -> tuple[mujoco.MjModel, li
     model = build_model(layout)
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
-    display = GestureDisplay(model)
+    display = GestureDisplay(model, data)
     arm = [model.actuator(a).id for a in names.arm_actuators(names.ACTIVE_SIDE)]
     steps_per_frame = round(1 / 30 / model.opt.timestep)
     states = []
@@ -119,14 +119,16 @@ def test_frames_come_back_in_order_and_equal_direct_renders(
 @pytest.mark.timeout(120)
 def test_gesture_pose_change_shows_in_worker_frames() -> None:
     model, states = rollout(None, 1)
-    display = GestureDisplay(model)
+    data = mujoco.MjData(model)
+    data.qpos[:] = states[0].qpos
+    display = GestureDisplay(model, data)  # the articulated hand: the pose is in qpos
     with RenderPool(None, WIDTH, HEIGHT, "side", workers=1) as pool:
         for pose in ("neutral", "thumb_up", "neutral"):
             display.show(pose)
             pool.submit(
                 FrameState(
                     states[0].time,
-                    states[0].qpos,
+                    data.qpos.copy(),
                     states[0].mocap_pos,
                     states[0].mocap_quat,
                     model.geom_rgba.copy(),

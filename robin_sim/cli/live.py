@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.task.detector import EXACT
 from robin_sim.cli.options import parse_port
 from robin_sim.live.limits import RECONNECT_GRACE_S, RECONNECT_GRACES, WatchdogLimits
 
@@ -108,6 +109,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "frame leaves it); clicks and keys still work (docs/webcam.md)",
     )
     parser.add_argument(
+        "--detector",
+        default=EXACT,
+        help="exact (default): gestures as clicked, keyed or decided from the landmarks; "
+        "vision (needs --webcam): Robin reads the gestures with its own eye cameras from the "
+        "simulated hand that the participant's landmarks drive (docs/webcam.md)",
+    )
+    parser.add_argument(
         "--no-calibration",
         action="store_true",
         help="with --webcam: skip asking for each gesture once at the start (the hand's shape "
@@ -159,6 +167,7 @@ def session_configs(args: argparse.Namespace) -> list[Any]:
         video=not args.no_video,
         webcam=bool(getattr(args, "webcam", False)),
         calibrate=not getattr(args, "no_calibration", False),
+        detector=str(getattr(args, "detector", EXACT)),
         study_seed=args.seed,  # text, as --speed; the block seeds derive from it
         max_attempts=attempts,  # text, as --speed
         max_step_seconds=step_seconds,

@@ -156,6 +156,7 @@ class Simulator:
         self._plan_tick = 0
         self._controllers: list[TickCallback] = []
         self._observers: list[TickCallback] = []
+        self._view_hooks: list[Callable[[], None]] = []  # before a render reads the state
         self.ticks = 0
         self.physics_seconds = 0.0  # wall time spent in mj_step (for benchmarks; not simulated)
 
@@ -197,6 +198,19 @@ class Simulator:
         """Call ``callback(sim)`` at every tick after physics; returns a function removing it."""
         self._observers.append(callback)
         return lambda: self._observers.remove(callback)
+
+    def add_view_hook(self, callback: Callable[[], None]) -> Callable[[], None]:
+        """Call ``callback()`` whenever a render is about to read the state
+        (:meth:`prepare_view`): for what only pictures show (the articulated person's body,
+        which no physics touches); returns a function removing it."""
+        self._view_hooks.append(callback)
+        return lambda: self._view_hooks.remove(callback)
+
+    def prepare_view(self) -> None:
+        """Bring what only renders show up to date (every :meth:`add_view_hook` callback); a
+        caller that captures or renders the state calls it first."""
+        for callback in self._view_hooks:
+            callback()
 
     # --- arm motion ---------------------------------------------------------------------------
     def plan(self, path: CartesianPath, settle: float = 0.4) -> JointPlan:

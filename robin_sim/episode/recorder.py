@@ -147,6 +147,7 @@ class VideoRecorder(ClosesOnExit):
         """Hand the state now to the pool, standing for ``due`` video frames."""
         spots = spot_pixels(sim.model, sim.data, self._camera, self._spots, self._size)
         info = replace(self.view.info, sim_time=sim.time, spots=spots)
+        sim.prepare_view()  # the person's body follows its hand (robin_sim.figure.posture)
         state = FrameState.capture(sim.model, sim.data)
         reading = None
         if self.readings is not None and self.eye_size is not None:

@@ -16,6 +16,7 @@ from typing import Any
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.step_memory import STEP_MEMORY
+from pil.task.detector import CAMERAS, EXACT
 from pil.task.params import SEED
 from pil.task.scenario import Scenario, load_scenario
 from pil.task.seeds import block_seed
@@ -33,6 +34,7 @@ LIVE_SIDE = narrowed(SIDE, 1920)
 LIVE_FPS = narrowed(FPS, 60)
 SPEEDS = (0.1, 10.0)  # sim seconds per wall second
 FEEDBACK_WINDOWS = (0.5, 60.0)  # s of sim time
+LIVE_DETECTORS = (EXACT, CAMERAS)  # what reads the participant's gestures
 EXACT_RATE = 1.0  # the detector reads every click and button as what it is
 ScenarioFile = tuple[Any, Scenario]  # a scenario file as read: the name it was read by, and it
 # what each block of a protocol or a study sets itself (LiveConfig.for_block); the rest is shared
@@ -84,6 +86,9 @@ class LiveConfig:
     stream_level: int = 0
     webcam: bool = False  # the participant's hand read from the page's camera (docs/webcam.md)
     calibrate: bool = True  # with the webcam: ask for each gesture once at the start
+    # CAMERAS: Robin reads the participant's gestures with its eye cameras from the person's
+    # hand the webcam's landmarks drive (robin_sim.live.eye_watch); EXACT: as given
+    detector: str = EXACT
     # The within-step memory (pil.step_memory): on, an action the participant refused in a
     # step is not tried again in it until all five were (a person should not refuse twice).
     step_memory: str = "on"
@@ -143,6 +148,14 @@ class LiveConfig:
         study_seed = None if study is None else SEED.parse(study, "study_seed (--seed)")
         if self.step_memory not in STEP_MEMORY:
             raise InvalidChoiceError("step_memory", self.step_memory, STEP_MEMORY)
+        if self.detector not in LIVE_DETECTORS:
+            raise InvalidChoiceError("detector", self.detector, LIVE_DETECTORS)
+        if self.detector == CAMERAS and not self.webcam:
+            raise RobinPilError(
+                "--detector vision reads the participant's gestures with Robin's eye cameras "
+                "from the simulated hand that the webcam drives: add --webcam, or drop "
+                "--detector vision (clicks and keys are read exactly)"
+            )
         limits = WatchdogLimits(self.max_attempts, self.max_step_seconds).checked()
         return replace(
             self,

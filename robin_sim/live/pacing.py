@@ -62,6 +62,7 @@ class Pacer:
             quality = None if governor is None else governor.quality
             if quality is None or self._owed >= quality.stride:
                 inset = quality is None or quality.inset
+                sim.prepare_view()
                 self.stream.capture(sim.model, sim.data, self._owed, inset=inset)
                 self._owed = 0
         ahead = self._wall0 + (sim.time - self._sim0) / self.speed - self._clock()
@@ -89,6 +90,7 @@ class Pacer:
     def close(self) -> None:
         """Stop pacing (idempotent); frames still owed are rendered now (the MP4's length)."""
         if self._owed and self.stream is not None:
+            self.sim.prepare_view()
             self.stream.capture(self.sim.model, self.sim.data, self._owed, inset=False)
             self._owed = 0
         if self._remove is not None:

@@ -43,7 +43,9 @@ PLAIN_PARTS = (
     ("arm", "Robin's arm"),
     ("wall", "the wall"),
 )
-VISIBLE_GROUPS = np.array([1, 1, 1, 0, 0, 0], np.uint8)  # the renderer's default geom groups
+# the renderer's default geom groups less group 1, the articulated person's (the participant's
+# own stand-in): a click goes through the person's arm to the leg or spot behind it
+VISIBLE_GROUPS = np.array([1, 0, 1, 0, 0, 0], np.uint8)
 
 
 class Picker:

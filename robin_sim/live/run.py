@@ -4,7 +4,9 @@
 (:func:`robin_sim.episode.physical_assembly.assemble_physical`, as the episode), the world of the
 session's scenario, the simulated hand, the system's learner and the exact detector; then the
 participant in the scripted person's place, the picker, the frame stream (MP4 included), the pacer
-and the step log.
+and the step log; with ``--webcam`` the mirror that lets the
+participant's landmarks drive the person's hand (:mod:`.mirror`), and with ``--detector vision``
+Robin's eyes on that hand (:mod:`.eye_watch`).
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -16,10 +18,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from pil.errors import RobinPilError
+
 # the session's step log (an episode's is episode.jsonl), as the study's exports read it
 from pil.experiments.sessions_load import SESSION_LOG_NAME as LOG_NAME
 from pil.file_names import VIDEO_NAME  # the same file name as an episode's
 from pil.task.assemble import Run
+from pil.task.detector import CAMERAS
 from pil.types import Action, Hand
 from robin_sim.closing import ClosesOnExit
 from robin_sim.control.simulator import Simulator
@@ -27,8 +32,11 @@ from robin_sim.episode.book import StepBook
 from robin_sim.episode.log import StepLog
 from robin_sim.episode.physical_assembly import assemble_physical
 from robin_sim.episode.summary import EpisodeTotals
+from robin_sim.figure.articulated import has_articulated_hand
 from robin_sim.live.config import LiveConfig
+from robin_sim.live.eye_watch import EyeWatch
 from robin_sim.live.frames import FrameHub, FrameStream
+from robin_sim.live.mirror import HandMirror
 from robin_sim.live.pacing import Pacer
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
@@ -92,6 +100,21 @@ class LiveRun(ClosesOnExit):
         assert isinstance(world, PhysicalWorld)
         self.world = world
         self.body = self.participant.body
+        # --webcam: the participant's landmarks drive the person's hand (robin_sim.live.mirror)
+        self.mirror: HandMirror | None = None
+        if config.webcam and has_articulated_hand(self.world.model):
+            self.mirror = HandMirror(self.world.model, self.world.data)
+            self.world.sim.add_controller(self.mirror.tick)  # after the hand's own blends
+        # --detector vision: Robin's eyes read the mirrored hand (robin_sim.live.eye_watch)
+        self.eyes: EyeWatch | None = None
+        if config.detector == CAMERAS:
+            if self.mirror is None:
+                raise RobinPilError(
+                    "--detector vision needs the articulated person's hand in the scene"
+                )
+            self.eyes = EyeWatch(self.world.model, self.world.data, self.mirror, self.spec.seed)
+            self.eyes.participant = self.participant
+            self.world.sim.add_controller(self.eyes.tick)  # after the mirror
         self.totals = EpisodeTotals(timeout_s=self.spec.person.handover_timeout)
         self.stream: FrameStream | None = None
         self.pacer: Pacer | None = None
@@ -140,6 +163,8 @@ class LiveRun(ClosesOnExit):
 
     def close(self) -> None:
         """Stop pacing, finish the stream and the MP4, close the log (idempotent)."""
+        if self.eyes is not None:
+            self.eyes.close()
         try:
             if self.pacer is not None:
                 self.pacer.close()

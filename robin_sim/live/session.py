@@ -24,6 +24,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from pil.errors import RobinPilError
+from pil.task.detector import CAMERAS
 from pil.task.records import StepRecord
 from pil.task.runner import steps
 from robin_sim.live.acting import apply_input, apply_reading
@@ -35,6 +36,7 @@ from robin_sim.live.frames import Frame, FrameHub
 from robin_sim.live.holds import Holds
 from robin_sim.live.inputs import LiveInput, LiveInputError, parse_input
 from robin_sim.live.limits import BlockLimits
+from robin_sim.live.mirror import HandMirror
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.run import LiveRun, pacing_figures
@@ -88,7 +90,12 @@ class LiveSession:
         self.log_tail: deque[dict[str, Any]] = deque(maxlen=LOG_TAIL)  # the newest steps
         # --webcam: the participant's hand read from the tracker's landmarks (None: off)
         self.webcam = (
-            Webcam(self.config.width, self.config.height, calibrate=self.config.calibrate)
+            Webcam(
+                self.config.width,
+                self.config.height,
+                calibrate=self.config.calibrate,
+                eyes_read=self.config.detector == CAMERAS,
+            )
             if self.config.webcam
             else None
         )
@@ -147,6 +154,13 @@ class LiveSession:
         (``body.hand``) and the world (``body.world``), to read physics, not to drive it."""
         participant = self._participant
         return None if participant is None else participant.body
+
+    @property
+    def mirror(self) -> HandMirror | None:
+        """What drives the person's hand from the webcam's readings (None: no webcam, or the
+        scene not built yet); its ``errors_mm`` say how closely the fingertips follow."""
+        run = self._run_parts
+        return None if run is None else run.mirror
 
     @property
     def picker(self) -> Picker | None:
@@ -259,6 +273,9 @@ class LiveSession:
         except LiveInputError as problem:
             self.record_input(item.as_dict(), str(problem))
             raise
+        run = self._run_parts
+        if run is not None and run.mirror is not None and item.hand is not None:
+            run.mirror.take(item.hand)  # applied on the physics thread at the next tick
         self.record_input(item.as_dict(), "", reading=reading)
 
     def _act(self, item: LiveInput) -> None:
@@ -350,6 +367,8 @@ class LiveSession:
             if run is not None:
                 run.close()  # the MP4 is complete from here on
             vision = None if self.webcam is None else self.webcam.summary()
+            if vision is not None and run is not None and run.eyes is not None:
+                vision["eyes"] = run.eyes.summary()  # what Robin's eyes read of the hand
             limits = None if self.caps is None else self.caps.status()
             self._summary = files.save(status, error, run, vision=vision, limits=limits)
             self.done.set()

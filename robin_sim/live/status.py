@@ -135,7 +135,9 @@ class LiveStatus:
             phase, message = participant.phase, participant.message
         if phase != "robot_acting":
             doing, action = "", None
-        elif not doing:
+        elif participant is not None and not participant.judging:
+            action = None  # its thumb is taken (or it is being taken back): nothing to judge
+        if phase == "robot_acting" and not doing:
             doing = "watching you" if participant is not None else "setting up"
         world = None if participant is None else participant.body.world
         return {

@@ -43,9 +43,14 @@ INSTRUCTIONS = {
 class Webcam:
     """The webcam channel of one session (see the module doc)."""
 
-    def __init__(self, width: int, height: int, *, calibrate: bool = True) -> None:
+    def __init__(
+        self, width: int, height: int, *, calibrate: bool = True, eyes_read: bool = False
+    ) -> None:
         self.reader = HandReader(width, height)
         self.calibrate = calibrate
+        # --detector vision: Robin's eyes read give me, grasp and release from the mirrored
+        # hand (robin_sim.live.eye_watch); the landmarks' decision of them is not acted on
+        self.eyes_read = eyes_read
         self._lock = threading.Lock()
         self._recent: deque[float] = deque()
         self.last: HandReading | None = None
@@ -105,6 +110,8 @@ class Webcam:
             return
         if participant.phase not in ("waiting_for_gesture", "waiting_for_thumb"):
             return
+        if self.eyes_read and decided != POINTING_SIGN:
+            return  # Robin's eyes read it from the mirrored hand
         if decided == POINTING_SIGN:
             assert reading.cursor is not None
             x, y = reading.cursor

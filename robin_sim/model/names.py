@@ -95,7 +95,6 @@ DEFAULT_CAMERA = "front"
 
 PERSON_BODY = "human"  # the person standing across the table
 HUMAN_MOCAP_BODY = "human_hand"  # mocap: the person's right hand (palm up for "give me")
-HUMAN_FOREARM_BODY = "human_forearm"
 HUMAN_PALM_GEOM = "human_palm"
 HUMAN_PALM_SITE = "human_palm_site"
 
@@ -165,3 +164,71 @@ BIN_GEOMS: tuple[str, ...] = (
     "bin_wall_left",
     "bin_wall_right",
 )
+
+
+# --- the articulated person (models/person/person.xml) -------------------------------------
+# The person's own sides: "r" is their right (+y, the hand that gestures and takes the legs),
+# "l" their left. Every person name starts with ``human_``; Robin's own start with ``l_``/``r_``.
+PERSON_XML = MODELS_DIR / "person" / "person.xml"
+PERSON_HAND_FINGERS: tuple[str, ...] = ("thumb", "index", "middle", "ring", "little")
+FINGER_JOINT_KINDS: tuple[str, ...] = ("spread", "mcp", "pip", "dip")  # index .. little
+THUMB_JOINT_KINDS: tuple[str, ...] = ("cmc_abduct", "cmc_flex", "mcp", "ip")
+TORSO_JOINTS: tuple[str, ...] = ("human_step", "human_waist_turn", "human_waist_lean")
+NECK_JOINTS: tuple[str, ...] = ("human_neck_yaw", "human_neck_pitch")
+PERSON_ARM_KINDS: tuple[str, ...] = (
+    "shoulder_flex",
+    "shoulder_abduct",
+    "shoulder_rot",
+    "elbow",
+    "forearm_roll",
+    "wrist_flex",
+    "wrist_dev",
+)
+PERSON_TORSO_BODY = "human_torso"  # the waist's turn and lean move it (the legs stay)
+PERSON_HEAD_BODY = "human_head"
+HUMAN_HAND_TURN = "human_r_hand_turn"  # ball joint: the right hand's turn in the mocap frame
+PERSON_EYES_SITE = "human_eyes"
+
+
+def person_hand_joints(side: Side) -> tuple[str, ...]:
+    """The 20 joints of one of the person's hands: thumb (CMC two axes, MCP, IP), then per
+    finger index .. little (spread, MCP, PIP, DIP); the order of a hand pose's values."""
+    out = [f"human_{side}_thumb_{kind}" for kind in THUMB_JOINT_KINDS]
+    for finger in PERSON_HAND_FINGERS[1:]:
+        out += [f"human_{side}_{finger}_{kind}" for kind in FINGER_JOINT_KINDS]
+    return tuple(out)
+
+
+def person_arm_joints(side: Side) -> tuple[str, ...]:
+    """The seven joints of one of the person's arms, shoulder to wrist."""
+    return tuple(f"human_{side}_{kind}" for kind in PERSON_ARM_KINDS)
+
+
+def person_hand_body(side: Side) -> str:
+    """Root body (palm) of one of the person's hands."""
+    return f"human_{side}_hand"
+
+
+def person_fingertip_site(side: Side, finger: str) -> str:
+    """Site at the tip of one of the person's fingers (:data:`PERSON_HAND_FINGERS`)."""
+    return f"human_{side}_{finger}_tip"
+
+
+def person_wrist_site(side: Side) -> str:
+    """Site at the end of the person's forearm (the arm's wrist)."""
+    return f"human_{side}_wrist_site"
+
+
+def person_wrist_point(side: Side) -> str:
+    """Site on the person's hand where the forearm meets it (landmark 0 of a hand)."""
+    return f"human_{side}_wrist_point"
+
+
+def person_finger_bodies(side: Side, finger: str) -> tuple[str, str, str]:
+    """Bodies of one of the person's fingers, knuckle to tip: ``human_r_index_1`` .. ``_3``."""
+    return (f"human_{side}_{finger}_1", f"human_{side}_{finger}_2", f"human_{side}_{finger}_3")
+
+
+def person_arm_bodies(side: Side) -> tuple[str, str, str]:
+    """One of the person's arms: upper arm, forearm and wrist bodies."""
+    return (f"human_{side}_upper_arm", f"human_{side}_forearm", f"human_{side}_wrist")

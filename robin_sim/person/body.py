@@ -39,6 +39,7 @@ import numpy as np
 from pil.task.world import Intent, Target
 from pil.types import Feedback, Gesture
 from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
+from robin_sim.figure.hand_poses import DEFAULT_SKIN, Performance
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.robot_spec import PERSON_CLEAR_X, POINT_RAISE  # read at each pointing
@@ -61,6 +62,8 @@ HIDES_PALM = 0.15
 # to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
 # thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
 THUMB_ASIDE = -0.15
+FORM_TIME = (0.25, 0.45)  # s the hand takes to form a pose (drawn per sign)
+SIGN_STREAM = 29  # second seed word of the random stream of how signs are made
 
 
 @dataclass(frozen=True)
@@ -101,8 +104,13 @@ class PhysicalBody:
         self.world = world
         self.tempo = tempo
         self.hand = world.human
-        self.display = GestureDisplay(world.model)
+        self.display = GestureDisplay(world.model, world.data)
+        if world.posture is not None:  # the hand's blends into poses play out at each tick
+            world.posture.hand = self.display.hand
         self._rng = np.random.default_rng(seed)
+        # how each sign is made (finger variation, wrist turn, timing): its own stream, so the
+        # palm's places stay those of the seed
+        self._signs = np.random.default_rng([seed, SIGN_STREAM])
         self.palm_goal = np.array(world.layout.handover, float)  # where the palm was held out
         self.last_watcher: PhysicalWatcher | None = None
         self.performed_at: list[float] = []  # sim time each performance of a gesture began
@@ -115,7 +123,7 @@ class PhysicalBody:
     def perform(self, gesture: Gesture, target: Target | None) -> None:
         """Show ``gesture`` (see the module doc) and hold it so that it can be seen."""
         self.performed_at.append(self.world.time)
-        self.display.show(gesture)
+        self._show(gesture)
         if gesture is not Gesture.POINTING or target is None:
             self.world.head.attend_to("person hand")  # the robot watches the gesturing hand
         tempo, now, speed = self.tempo, self.world.time, self.tempo.hand_speed
@@ -160,7 +168,7 @@ class PhysicalBody:
             self._move(
                 self.hand.withdraw(PERSON_CLEAR_X, self.world.time, POINT_RAISE, speed, aside)
             )
-        self.display.show(feedback)
+        self._show(feedback)
         self.world.run(self.tempo.feedback_hold)
 
     def thumb_hidden_at_palm(self) -> bool:
@@ -236,6 +244,12 @@ class PhysicalBody:
         half = self.world.model.geom(names.HUMAN_PALM_GEOM).size[:2]  # the hand unturned
         points = axis_points(centre, self.world.legs.axis(held))
         return reaches_into(points, palm_centre, np.array([1.0, 0.0]), (half[0], half[1]))
+
+    def _show(self, sign: Gesture | Feedback) -> None:
+        """Move the hand into ``sign``'s pose: a seeded performance (the fingers, the wrist's
+        turn) over a seeded time (:data:`FORM_TIME`); the skin stays the person's."""
+        performance = Performance.draw(self._signs, skin_range=(DEFAULT_SKIN, DEFAULT_SKIN))
+        self.display.show(sign, performance, blend=float(self._signs.uniform(*FORM_TIME)))
 
     def _move(self, duration: float, settle: float | None = None) -> float:
         """Let a started hand motion play out (physics runs); returns the time it took."""

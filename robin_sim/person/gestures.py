@@ -6,9 +6,13 @@ pose, named ``human_vis_<pose>_<part>`` (:func:`robin_sim.model.names.human_vis_
 geoms their visible alpha in ``model.geom_rgba`` and every other pose's geoms alpha 0, which
 MuJoCo does not draw. Only colours change, so physics is unaffected.
 
-In the project's scene (six part geoms per pose) the display also gives each pose its shape
-(:mod:`robin_sim.person.hand_poses`) so that the poses are told apart at a glance, and
-``show(sign, performance)`` varies one performance (pose jitter, hand size, skin tone).
+A model with six part geoms per pose gets each pose's shape from
+:mod:`robin_sim.figure.hand_poses`, and ``show(sign, performance)`` varies one performance
+(pose jitter, hand size, skin tone). The project's scene holds the articulated person instead
+(``models/person/person.xml``): there the display forms each pose with the hand's joints
+(:class:`robin_sim.figure.articulated.ArticulatedHand`, poses from real hands), given the
+scene's ``data``; ``show(..., blend=s)`` moves the hand into the pose over ``s`` seconds, played
+out by :meth:`GestureDisplay.update` at each control tick.
 """
 
 from __future__ import annotations
@@ -18,9 +22,10 @@ import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import SIGN_OF, Feedback, Gesture
+from robin_sim.figure.articulated import ArticulatedHand, has_articulated_hand
+from robin_sim.figure.hand_poses import HandShaper, Performance
 from robin_sim.model import names
 from robin_sim.model.names import HUMAN_VIS_PREFIX  # what every pose geom's name starts with
-from robin_sim.person.hand_poses import HandShaper, Performance
 
 NEUTRAL_POSE = "neutral"
 POSES: tuple[str, ...] = names.HUMAN_VIS_POSES  # neutral and the six signs (pil.types)
@@ -62,8 +67,20 @@ class GestureDisplay:
     loaded, or 1 where the model hides it (alpha 0). The pose starts as ``neutral``.
     """
 
-    def __init__(self, model: mujoco.MjModel) -> None:
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData | None = None) -> None:
         self._model = model
+        self.hand: ArticulatedHand | None = None
+        self.shaper: HandShaper | None = None
+        self.pose = NEUTRAL_POSE
+        if has_articulated_hand(model):
+            if data is None:
+                raise RobinPilError(
+                    "the articulated person's hand poses are joint positions: "
+                    "GestureDisplay(model, data) needs the scene's data"
+                )
+            self.hand = ArticulatedHand(model, data)
+            self.show(NEUTRAL_POSE)
+            return
         self._geoms: dict[str, np.ndarray] = {pose: np.zeros(0, int) for pose in POSES}
         groups: dict[str, list[int]] = {pose: [] for pose in POSES}
         for geom_id in range(model.ngeom):
@@ -97,22 +114,36 @@ class GestureDisplay:
         self.shaper = HandShaper(model) if HandShaper.fits(model) else None
         if self.shaper is not None:
             self.shaper.shape_all()
-        self.pose = NEUTRAL_POSE
         self.show(NEUTRAL_POSE)
 
     def geoms(self, pose: str) -> tuple[int, ...]:
-        """Geom ids of ``pose``."""
+        """Geom ids of ``pose`` (the articulated hand: every geom of the hand)."""
+        if self.hand is not None:
+            pose_for(pose)
+            return tuple(self.hand.hand_geoms.tolist())
         return tuple(self._geoms[pose_for(pose)].tolist())
 
+    def update(self, now: float) -> None:
+        """Play out a blend into a pose at simulated time ``now`` (articulated hand only)."""
+        if self.hand is not None:
+            self.hand.update(now)
+
     def show(
-        self, sign: Gesture | Feedback | str | None, performance: Performance | None = None
+        self,
+        sign: Gesture | Feedback | str | None,
+        performance: Performance | None = None,
+        blend: float = 0.0,
     ) -> str:
         """Show the pose for ``sign`` (see :func:`pose_for`), hide the others; return the pose.
 
         ``performance`` (scene models only) shapes this showing of the pose; without it the
-        pose has its plain shape.
+        pose has its plain shape. ``blend`` (articulated hand): seconds to move into it.
         """
         pose = pose_for(sign)
+        if self.hand is not None:
+            self.hand.show(pose, performance, blend)
+            self.pose = pose
+            return pose
         if self.shaper is not None:
             self.shaper.shape(pose, performance)
         for other, ids in self._geoms.items():

@@ -49,7 +49,7 @@ class FrameState:
     mocap_quat: np.ndarray
     geom_rgba: np.ndarray  # (ngeom, 4); the gesture display changes alphas at run time
     # (ngeom, 3), (ngeom, 4), (ngeom, 3): the person's hand poses are shaped at run time
-    # (robin_sim.person.hand_poses), so a worker's freshly built model needs them too
+    # (robin_sim.figure.hand_poses), so a worker's freshly built model needs them too
     geom_pos: np.ndarray | None = None
     geom_quat: np.ndarray | None = None
     geom_size: np.ndarray | None = None

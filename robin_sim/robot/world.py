@@ -25,6 +25,7 @@ from collections.abc import Callable
 from typing import Literal
 
 import mink
+import mujoco
 import numpy as np
 
 from pil.errors import RobinPilError
@@ -34,6 +35,8 @@ from robin_sim.control.hand_state import HandSensor
 from robin_sim.control.human_hand import HumanHand
 from robin_sim.control.simulator import HandTargets, Simulator
 from robin_sim.control.trajectory import DEFAULT_SPEED, lift_traverse_descend, through
+from robin_sim.figure.articulated import has_articulated_hand
+from robin_sim.figure.posture import Posture
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.scene import SceneLayout, build_spec
@@ -77,6 +80,15 @@ class PhysicalWorld:
         self.data = self.sim.data
         self.human = HumanHand(self.model, self.data)
         self.human.attach(self.sim)
+        # the articulated person (kinematic, no contacts): the hand's blends into poses play out
+        # at every tick; the body follows the hand whenever a render looks (a view hook)
+        self.posture = Posture(self.model, self.data) if has_articulated_hand(self.model) else None
+        if self.posture is not None:
+            posture = self.posture
+            self.sim.add_controller(lambda s: posture.tick(s.time + s.control_dt))
+            self.sim.add_view_hook(lambda: posture.update(self.sim.time))
+            posture.update()
+            mujoco.mj_kinematics(self.model, self.data)
         self.person_contacts = PersonContacts(self.sim)
         self.head = HeadController(self.sim, self._gaze_sources())  # gaze: head joints only
         self.sensor = HandSensor(self.model, names.ACTIVE_SIDE)

@@ -24,15 +24,16 @@ from collections import Counter
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.types import SIGN_OF, Feedback, Gesture
 from robin_sim.control.gaze import look_at
 from robin_sim.control.simulator import Simulator
+from robin_sim.figure.hand_poses import Performance
 from robin_sim.model import names
 from robin_sim.person.gestures import GestureDisplay, pose_for
-from robin_sim.person.hand_poses import Performance
 from robin_sim.vision.adapting import AdaptedModel, FeedbackLabels
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, ModelFileError, load_shipped
 from robin_sim.vision.condition_params import CONDITION_PARAMS
@@ -182,6 +183,8 @@ class VisionDetector:
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
         look_at(self.sim, target)
         target = data.site(names.HUMAN_PALM_SITE).xpos.copy()
+        self.sim.prepare_view()  # the person's arm and body follow the hand before the eyes look
+        mujoco.mj_kinematics(self.sim.model, data)
         views, depths = see(self.eyes, data, target, self.condition, self.rng)
         reading = read_views(self.adapted or self.gesture_model, views, depths)
         self.last_reading, self.last_view = reading, views[0].rgb

@@ -22,10 +22,11 @@ ensure_gl_backend()
 
 import mujoco  # noqa: E402
 
+from robin_sim.figure.hand_poses import Performance  # noqa: E402
+from robin_sim.figure.posture import Posture  # noqa: E402
 from robin_sim.model import names  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
-from robin_sim.person.hand_poses import Performance  # noqa: E402
 from robin_sim.render.renderer import open_renderer  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
@@ -50,7 +51,8 @@ class SampleRenderer:
         self.data = mujoco.MjData(self.model)
         mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key(names.HOME_KEY).id)
         mujoco.mj_forward(self.model, self.data)
-        self.display = GestureDisplay(self.model)
+        self.display = GestureDisplay(self.model, self.data)
+        self.posture = Posture(self.model, self.data)
         self.mocap = int(self.model.body_mocapid[self.model.body(names.HUMAN_MOCAP_BODY).id])
         self.eyes = EyeCameras(self.model)
         self._truth = open_renderer(self.model, self.eyes.size, self.eyes.size)
@@ -62,6 +64,7 @@ class SampleRenderer:
         performance = Performance.draw(rng, jitter=spec.jitter, skin_range=(spec.skin, spec.skin))
         self.data.mocap_pos[self.mocap] = spec.held_at
         self.display.show(pose, performance)
+        self.posture.update()  # the arm and body follow the hand
         mujoco.mj_kinematics(self.model, self.data)
         target = self.data.site(names.HUMAN_PALM_SITE).xpos + spec.aim_error
         condition = EyeCondition(

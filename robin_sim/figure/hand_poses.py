@@ -52,6 +52,7 @@ SKIN_TONES = np.array(
     ]
 )
 DEFAULT_SKIN = 1.0  # index on SKIN_TONES: the scene's skin colour
+FINGER_DRAWS = 20  # the articulated hand's joints (names.person_hand_joints)
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +104,9 @@ class Performance:
     wrist: tuple[float, float, float] = (0.0, 0.0, 0.0)  # rotation vector (rad), body frame
     size: float = 1.0  # hand size scale
     skin: float = DEFAULT_SKIN  # index on SKIN_TONES (fractional: between two tones)
+    # articulated hand: per joint, in units of the pose library's spread of real hands'
+    # frames (robin_sim.figure.articulated); empty: none
+    fingers: tuple[float, ...] = ()
 
     @classmethod
     def draw(
@@ -121,6 +125,7 @@ class Performance:
             wrist=tuple(rng.normal(0.0, 0.12 * jitter, 3).tolist()),
             size=float(rng.uniform(*size_range)),
             skin=float(rng.uniform(*skin_range)),
+            fingers=tuple(rng.normal(0.0, jitter, FINGER_DRAWS).tolist()),
         )
 
 

@@ -1,0 +1,90 @@
+"""What the articulated person costs the physics: ``mj_step`` with and without its bodies.
+
+Run: ``python bench/bench_person_physics.py [--repeats 5] [--steps 3000]``. Pinned to one
+core. Prints the median steps/s of raw ``mj_step`` (the robot at home, legs on the table) of:
+
+1. the scene as shipped (the articulated person: 62 joint DoFs, kinematic, no contacts);
+2. the same scene with the person's articulated bodies removed (the body, arms and both
+   hands; the mocap hand and the welded collision palm stay): the baseline, measured in the
+   same run, which the capsule person of before matched (no person DoFs);
+3. the shipped scene with the person's pose solved and written at every control tick (50 Hz,
+   :class:`robin_sim.figure.posture.Posture`, the hand moving so every tick solves); in an
+   episode it is solved only when a frame is rendered (a view hook), at most at video rate.
+
+and the ratios to the baseline.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+import mujoco
+import numpy as np
+import smoke  # bench/smoke.py: --smoke
+
+from robin_sim.figure.articulated import ArticulatedHand
+from robin_sim.figure.posture import Posture
+from robin_sim.model import names
+from robin_sim.model.scene import build_spec
+
+CONTROL_EVERY = 10  # steps of 2 ms per control tick (50 Hz)
+
+
+def without_person() -> mujoco.MjModel:
+    """The scene less the articulated person's bodies (see the module doc)."""
+    spec = build_spec()
+    for name in (names.PERSON_BODY, names.person_hand_body("r")):
+        spec.delete(spec.body(name))
+    return spec.compile()
+
+
+def steps_per_second(model: mujoco.MjModel, steps: int, posture: bool) -> float:
+    """``mj_step`` rate from the home keyframe; ``posture``: solve the person every tick."""
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
+    person = None
+    if posture:
+        ArticulatedHand(model, data).show("give_me")
+        person = Posture(model, data)
+    mocap = int(model.body(names.HUMAN_MOCAP_BODY).mocapid[0])
+    start_pos = data.mocap_pos[mocap].copy()
+    start = time.perf_counter()
+    for k in range(steps):
+        if person is not None and k % CONTROL_EVERY == 0:
+            data.mocap_pos[mocap] = start_pos + np.array([-0.3 * k / steps, 0.0, 0.0])
+            person.update()
+        mujoco.mj_step(model, data)
+    return steps / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--steps", type=int, default=3000)
+    args = smoke.parse_args(parser, repeats=1, steps=100)
+    if hasattr(os, "sched_setaffinity"):
+        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
+    shipped, baseline = build_spec().compile(), without_person()
+    cases = {
+        "scene as shipped (articulated person)": (shipped, False),
+        "without the person's articulated bodies (baseline)": (baseline, False),
+        "as shipped, the person solved every control tick": (shipped, True),
+    }
+    rates = {name: [] for name in cases}
+    for _ in range(args.repeats):  # interleaved: a load change hits every case alike
+        for name, (model, posture) in cases.items():
+            rates[name].append(steps_per_second(model, args.steps, posture))
+    base = statistics.median(rates["without the person's articulated bodies (baseline)"])
+    print(f"nv: shipped {shipped.nv}, baseline {baseline.nv}; {args.repeats} runs of {args.steps}")
+    print("| case | steps/s (median) | ratio to baseline |")
+    print("|---|---|---|")
+    for name, values in rates.items():
+        rate = statistics.median(values)
+        print(f"| {name} | {rate:.0f} | {rate / base:.2f} |")
+
+
+if __name__ == "__main__":
+    main()

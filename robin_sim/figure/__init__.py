@@ -1,0 +1,5 @@
+"""The person's kinematic figure, below the robot and the person's behaviour: the capsule hand's
+signs (``hand_poses``), the articulated hand's joint poses (``articulated``) from the pose library
+of real hands (``pose_library``, ``data/hand_poses.json``), 21 landmarks to joint angles
+(``retarget``) and the body that follows the hand (``posture``). It imports the model's names
+only, so the world, the person, the eyes and the live mirror can all use it."""

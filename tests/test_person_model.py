@@ -1,0 +1,126 @@
+"""The articulated person (models/person/person.xml): joints, limits, rest pose, reach, looks."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from robin_sim.figure.articulated import ArticulatedHand
+from robin_sim.figure.posture import Posture
+from robin_sim.model import names
+from robin_sim.model import robot_spec as spec
+from robin_sim.model.scene import LEG_COLORS, SceneLayout, build_model
+
+HINGE = mujoco.mjtJoint.mjJNT_HINGE
+
+
+@pytest.fixture(scope="module")
+def scene() -> tuple[mujoco.MjModel, mujoco.MjData]:
+    model = build_model()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
+    return model, data
+
+
+def _subtree(model: mujoco.MjModel, root: str) -> list[int]:
+    top = model.body(root).id
+    out = []
+    for g in range(model.ngeom):
+        b = int(model.geom_bodyid[g])
+        while b not in (0, top):
+            b = int(model.body_parentid[b])
+        if b == top:
+            out.append(g)
+    return out
+
+
+def test_each_hand_has_the_21_landmark_skeleton_with_limited_joints(scene) -> None:
+    model, _ = scene
+    for side in ("r", "l"):
+        joints = names.person_hand_joints(side)
+        assert len(joints) == 20  # >= 15: three per finger (and a spread), the thumb 4
+        for name in joints:
+            j = model.joint(name)
+            assert j.type[0] == HINGE and j.limited[0]
+            low, high = j.range
+            assert low < 0.0 <= high and high - low > 0.5, name  # the straight hand is inside
+        # the thumb's base: two joints in one body, about different axes
+        base = model.body(names.person_finger_bodies(side, "thumb")[0]).id
+        axes = [model.jnt_axis[j] for j in range(model.njnt) if model.jnt_bodyid[j] == base]
+        assert len(axes) == 2 and abs(float(np.dot(*axes))) < 0.1
+        # 21 landmarks: the wrist point, and per finger three bodies (knuckles) and a tip
+        assert model.site(names.person_wrist_point(side)).id >= 0
+        for finger in names.PERSON_HAND_FINGERS:
+            assert all(model.body(b).id >= 0 for b in names.person_finger_bodies(side, finger))
+            assert model.site(names.person_fingertip_site(side, finger)).id >= 0
+
+
+def test_arms_head_and_torso_joints_are_limited(scene) -> None:
+    model, _ = scene
+    for name in (
+        *names.person_arm_joints("r"),
+        *names.person_arm_joints("l"),
+        *names.NECK_JOINTS,
+        *names.TORSO_JOINTS,
+    ):
+        j = model.joint(name)
+        assert j.limited[0] and j.range[0] < j.range[1], name
+        assert j.range[0] <= 0.0 <= j.range[1], name  # zero: standing upright, arms hanging
+
+
+def test_no_segment_touches_the_table_or_bin_at_rest(scene) -> None:
+    model, data = scene
+    posture = Posture(model, data)
+    ArticulatedHand(model, data).show("neutral")
+    posture.update()
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_collision(model, data)
+    assert posture.gap < 1e-3 and all(
+        abs(data.joint(j).qpos[0]) < 1e-5 for j in names.TORSO_JOINTS
+    )  # at rest the person stands upright where the file puts them
+    person = _subtree(model, names.PERSON_BODY) + _subtree(model, names.HUMAN_MOCAP_BODY)
+    fixed = _subtree(model, names.TABLE_BODY) + _subtree(model, names.BIN_BODY)
+    fromto = np.zeros(6)
+    closest = min(
+        mujoco.mj_geomDistance(model, data, p, t, 1.0, fromto) for p in person for t in fixed
+    )
+    assert closest > 0.01, f"a person segment comes within {closest:.3f} m of the table or bin"
+
+
+def test_the_arm_meets_the_hand_where_the_person_gestures(scene) -> None:
+    """The forearm's end lies on the hand's wrist (2 mm) at the handover point and above every
+    default leg and spot, and the hand faces within 25 degrees of what the wrist can do."""
+    model, data = scene
+    layout = SceneLayout()
+    hand, posture = ArticulatedHand(model, data), Posture(model, data)
+    mocap = model.body(names.HUMAN_MOCAP_BODY).mocapid[0]
+    places = [("give_me", np.array(layout.handover) - model.site(names.HUMAN_PALM_SITE).pos)]
+    offset = np.array(spec.POINT_OFFSET)
+    z_leg, z_spot = spec.TABLE_TOP_Z + spec.LEG_RADIUS, spec.TABLE_TOP_Z
+    places += [("pointing", np.array([x, y, z_leg]) + offset) for x, y, _ in layout.legs]
+    places += [("pointing", np.array([x, y, z_spot]) + offset) for x, y in layout.spots]
+    for pose, at in places:
+        data.mocap_pos[mocap] = at
+        hand.show(pose)
+        posture.update()
+        mujoco.mj_kinematics(model, data)
+        arm = data.site(names.person_wrist_site("r")).xpos
+        wrist = data.site(names.person_wrist_point("r")).xpos
+        assert np.linalg.norm(arm - wrist) < 2e-3, (pose, at)
+        assert posture.wrist_error < np.radians(25), (pose, at, posture.wrist_error)
+
+
+def test_clothes_look_like_no_leg(scene) -> None:
+    """Every garment (and hair, eyes, shoes) is at least 0.2 (RGB distance) from every leg
+    colour; the skin geoms take the vision code's tones (``skin`` 0-4) at run time."""
+    model, _ = scene
+    legs = np.array(LEG_COLORS)[:, :3]
+    worn = [g for g in _subtree(model, names.PERSON_BODY) if model.geom_matid[g] >= 0]
+    assert len(worn) >= 10
+    for g in worn:
+        rgb = model.mat_rgba[model.geom_matid[g], :3]
+        assert np.min(np.linalg.norm(legs - rgb, axis=1)) > 0.2, (g, rgb)
+    skin = ArticulatedHand(model, mujoco.MjData(model)).skin_geoms
+    # two hands of 17 geoms, the neck, the face, two wrists
+    assert len(skin) == 38 and not set(skin.tolist()) & set(worn)
