@@ -5,8 +5,9 @@ is kept behind a lock, as the participant's inbox keeps messages) and, on the ph
 at the next control tick (:meth:`HandMirror.tick`, a controller of the simulator), retargets it
 onto the articulated person's right hand: the 20 joint angles from
 :meth:`~robin_sim.figure.retarget.Retargeter.fit`, the hand's turn (the ball joint in the mocap
-frame) from the landmarks' palm frame (:func:`steady_palm_frame`) seen as Robin sees the
-person: the webcam looks at the participant as Robin faces the person (image right is the
+frame) from the landmarks' palm frame (:func:`~robin_sim.figure.retarget.steady_palm_frame`)
+seen as Robin sees the person: the webcam looks at the participant as Robin faces the person
+(image right is the
 world's -y, image down -z, depth +x: :data:`CAMERA_TO_WORLD`). The arm and body follow the
 turned hand when a render looks (:class:`~robin_sim.figure.posture.Posture`). The fit is written at
 every tick until the next reading (the scripted body's own pose blends are overridden while the
@@ -37,7 +38,7 @@ import numpy as np
 
 from robin_sim.control.simulator import Simulator
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN
-from robin_sim.figure.retarget import FINGER_POINTS, Retargeter, metric, palm_frame
+from robin_sim.figure.retarget import FINGER_POINTS, Retargeter, metric, steady_palm_frame
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.model import names
 
@@ -45,24 +46,6 @@ from robin_sim.model import names
 CAMERA_TO_WORLD = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
 LEFT_HAND = "Right"  # the tracker's handedness of a real left hand in the camera's frames
 KEPT_ERRORS = 1000  # fingertip errors kept (the newest)
-
-
-def steady_palm_frame(p: np.ndarray) -> np.ndarray:
-    """The retargeter's palm frame (:func:`~robin_sim.figure.retarget.palm_frame`) with its turn
-    about the palm normal faded as the middle finger curls: that turn follows the middle
-    finger's first bone in the palm plane, whose direction a curled finger no longer gives
-    (it turned a thumb-up fist's frame half round). Open fingers keep it whole."""
-    frame = palm_frame(p)
-    x = -_unit(p[9] - p[0])
-    across = p[5] - p[17]
-    y = _unit(across - np.dot(across, x) * x)
-    base = np.column_stack([x, y, np.cross(x, y)])
-    middle = base.T @ (p[10] - p[9])
-    flat = float(np.hypot(middle[0], middle[1]) / max(float(np.linalg.norm(middle)), 1e-12))
-    turn = base.T @ frame  # the palm frame's turn in the knuckle frame (about z)
-    angle = float(np.arctan2(turn[1, 0], turn[0, 0])) * flat**2
-    c, s = np.cos(angle), np.sin(angle)
-    return base @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def _unit(v: np.ndarray) -> np.ndarray:

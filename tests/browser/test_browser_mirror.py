@@ -24,14 +24,15 @@ from webcam_rig import HANDS, camera_browser, write_y4m
 
 pytestmark = [pytest.mark.slow, pytest.mark.timeout(600)]
 # looks after the give me, one per reading applied (the tracker reads about one frame a
-# second); measured: 2 of 4 read thumb up (and 8 of 14 in tests/test_live_mirror.py), so six
-# looks all missing it would be a change, not chance (about 1 in 60 were they independent)
+# second); with the refined fit Robin's eyes read the stored thumb-up readings as a thumb up in
+# 25 of 27 looks at rest (bench/bench_mirror_eyes.py; 3 of 27 with the closed-form fit alone)
 READINGS = 6
+THUMBS_READ = 4  # of the six looks at least: most of them
 WAIT_S = 240.0  # s at most for them on a busy machine
 # mm, the mean fingertip error of one reading against the landmarks scaled to the model's hand:
 # the bound of the worst thumb-up reading in tests/test_live_mirror.py (the same tracker read
 # the same frames in chromium to make the stored readings)
-WORST_MM = 85.0
+WORST_MM = 45.0
 FOLLOW_MM = 1.0  # the scene's fingertips against the fit's own pose
 
 
@@ -84,4 +85,5 @@ def test_the_camera_thumb_drives_the_hand_robin_looks_at(tmp_path: Path, live_se
     assert errors.max() <= WORST_MM and follow.max() <= FOLLOW_MM, (errors, follow)
     threshold = run.eyes.gesture_model.threshold
     assert len(looks) >= READINGS, looks
-    assert any(look.label == "thumb_up" and look.confidence >= threshold for look in looks), looks
+    thumbs = [look for look in looks if look.label == "thumb_up" and look.confidence >= threshold]
+    assert len(thumbs) >= THUMBS_READ, looks

@@ -7,7 +7,7 @@ vendored MediaPipe Hands tracker's readings of the Apache-2.0 footage made by
     python tests/data/hands/make_poses.py
 
 writes ``robin_sim/figure/data/hand_poses.json``. Each frame's 21 landmarks are retargeted
-onto the model's right hand in closed form (:mod:`robin_sim.figure.retarget`); which side the
+onto the model's right hand (:mod:`robin_sim.figure.retarget`: closed form, refined); which side the
 tracker saw is decided per frame by where the fingertips lie (curled fingers are on the palm
 side: the tracker's handedness label follows the selfie convention). A pose from footage is
 the per-joint median over its frames, its ``sd`` the per-joint spread over those frames
@@ -97,7 +97,10 @@ def main() -> None:
             "the vendored MediaPipe Hands tracker's readings (tests/data/hands/landmarks.npz) "
             "of google-ai-edge/mediapipe-samples footage (commit ece8a1f9), Apache-2.0"
         ),
-        "fit": "closed form: angles between landmark bone vectors (robin_sim.figure.retarget)",
+        "fit": (
+            "closed form, refined by least squares on the bone directions "
+            "(robin_sim.figure.retarget)"
+        ),
         "joints": [j.removeprefix(r) for j in joints],
         "mean_abs_difference_rad": checks,
         "poses": {
