@@ -3,30 +3,37 @@
 Run (from a checkout whose scene holds the hand to measure, with that hand's model):
 
     python bench/bench_vision_hands.py --hand articulated --seeds 0,1,2 --samples 336 \\
-        --out out/vision_hands/articulated --results bench/results/vision_hands/articulated.csv
+        --baseline bench/results/vision_hands/capsule.csv --out out/vision_hands
+
+(``python bench/regenerate.py --only vision_hands`` runs it into ``bench/results``.)
 
 Renders ``--samples`` samples of the held-out split (light never trained on; every skin tone,
 pose jitter 0-2.5, the four kinds of place) per seed, or reuses chunks already in ``--out``
-(``--chunks SEED=DIR`` reuses a training run's held-out chunks of that seed), reads them with
-``--model`` (default: the shipped one) as an episode would (both eyes fused, discarded below
-the threshold) and writes one row per sample: the class shown, whether it was read right
+(``--chunks SEED=DIR`` reuses a training run's held-out chunks of that seed; rendered ones are
+kept in ``--out``'s ``chunks``), reads them with ``--model`` (default: the shipped one) as an
+episode would (both eyes fused, discarded below the threshold) and writes ``HAND.csv`` into
+``--out``, one row per sample: the class shown, whether it was read right
 (seven classes; a discard or no hand counts as wrong) and the levels of what it was drawn
 with: its place (above a leg or spot, drawn back and raised, at the handover point, in
 the working box), its light (dim 0.35-0.55 or bright 1.3-1.6 of the scene's light), its skin
 tone (nearest of 0-4) and its pose jitter (0-0.8, 0.8-1.6, 1.6-2.5). Written for the
-capsule-to-articulated comparison of issue 29 (``bench/vision_hands_table.py`` makes the
-docs table from two such files); it uses only interfaces both hands' code has.
+capsule-to-articulated comparison of issue 29: ``--baseline FILE`` copies the other hand's file
+(the capsule hand's, measured at ``f581bee``: this checkout's scene no longer holds that hand)
+beside it and writes their paired ``table.md`` (``bench/vision_hands_table.py``, which also
+puts it into the docs). It uses only interfaces both hands' code has.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
+import shutil
 import time
 from pathlib import Path
 
 import numpy as np
 import smoke  # bench/smoke.py: --smoke
+from vision_hands_table import table
 
 from robin_sim.vision.build import Job, run_jobs
 from robin_sim.vision.classifier import CLASSES, GestureModel, shipped_path
@@ -84,14 +91,14 @@ def main() -> None:
     parser.add_argument("--model", type=Path, default=None)
     parser.add_argument("--out", type=Path, default=Path("out/vision_hands"))
     parser.add_argument("--chunks", action="append", default=[], help="SEED=DIR to reuse")
-    parser.add_argument("--results", type=Path, default=Path("out/vision_hands.csv"))
+    parser.add_argument("--baseline", type=Path, default=None, help="the other hand's CSV")
     args = smoke.parse_args(parser, seeds="0", samples=CHUNK, workers=1)
     seeds = [int(s) for s in args.seeds.split(",")]
     reuse = {int(k): Path(v) for k, v in (c.split("=", 1) for c in args.chunks)}
     model = GestureModel.load(args.model or shipped_path())
     rows: list[dict[str, object]] = []
     for seed in seeds:
-        folder = reuse.get(seed, args.out / f"seed{seed}")
+        folder = reuse.get(seed, args.out / "chunks" / f"seed{seed}")
         jobs = [
             Job("heldout", k)
             for k in range(chunks_for(args.samples))
@@ -101,13 +108,21 @@ def main() -> None:
         run_jobs(jobs, folder, seed, args.workers)
         print(f"seed {seed}: {len(jobs) * CHUNK} rendered in {time.perf_counter() - started:.0f} s")
         rows += [{"hand": args.hand, **row} for row in measure(folder, seed, args.samples, model)]
-    args.results.parent.mkdir(parents=True, exist_ok=True)
-    with args.results.open("w", newline="") as handle:
+    args.out.mkdir(parents=True, exist_ok=True)
+    results = args.out / f"{args.hand}.csv"
+    with results.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, FIELDS)
         writer.writeheader()
         writer.writerows(rows)
     right = sum(int(r["right"]) for r in rows)
-    print(f"wrote {args.results}: {right} of {len(rows)} read right")
+    print(f"wrote {results}: {right} of {len(rows)} read right")
+    if args.baseline is not None:
+        other = args.out / args.baseline.name
+        if other.resolve() != args.baseline.resolve():
+            shutil.copyfile(args.baseline, other)
+        pair = sorted([other, results], key=lambda p: p.name != "capsule.csv")
+        (args.out / "table.md").write_text("\n".join(table(*pair)) + "\n")
+        print(f"wrote {args.out / 'table.md'}")
 
 
 if __name__ == "__main__":

@@ -45,6 +45,14 @@ class Recipe:
 
     def argv(self, out: Path) -> list[str]:
         """The command line with ``--out``."""
+        if self.command[0] == "bench":  # a script of this folder
+            return [
+                sys.executable,
+                str(ROOT / "bench" / self.command[1]),
+                *self.command[2:],
+                "--out",
+                str(out),
+            ]
         base = ROBIN if self.command[0] == "robin-pil" else PYTHON
         return [*base, *self.command[1:], "--out", str(out)]
 
@@ -93,6 +101,19 @@ RECIPES: tuple[Recipe, ...] = (
             "--no-progress",
         ),
         False,
+    ),
+    Recipe(
+        "vision_hands",  # the capsule hand's half was measured at f581bee and is carried over
+        (
+            "bench",
+            "bench_vision_hands.py",
+            "--hand",
+            "articulated",
+            "--baseline",
+            str(RESULTS / "vision_hands" / "capsule.csv"),
+        ),
+        False,
+        drop=("chunks",),  # the rendered samples: a cache
     ),
     Recipe(
         "vision_whole_range",
