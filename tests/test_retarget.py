@@ -15,7 +15,7 @@ from robin_sim.model.scene import build_model
 # degrees: median over the footage's frames and a finger's three bones of the angle between a
 # bone's direction (palm frame) in the landmarks and in the model posed with the fitted angles
 MEDIAN_BOUND = 12.0  # measured refined: thumb 1.7, index 9.3, middle 9.4, ring 7.1, little 7.4
-GUESS_WORSE = 15.0  # the closed-form guess alone: thumb 1.5, index 21, middle 21, ring 20, little 26
+GUESS_WORSE = 15.0  # the guess alone: thumb 1.5, index 21, middle 21, ring 20, little 26
 
 
 @pytest.fixture(scope="module")

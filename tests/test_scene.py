@@ -292,9 +292,7 @@ def test_bin_clears_the_table_and_the_person() -> None:
     _, _, depth = spec.BIN_INNER_SIZE
     assert depth + spec.BIN_WALL < spec.TABLE_TOP_Z - 0.4
     person = model.body("human").id  # the person's body tree (its hand is the mocap's)
-    body = [
-        g for g in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[g]), person)
-    ]
+    body = [g for g in range(model.ngeom) if _in_subtree(model, int(model.geom_bodyid[g]), person)]
     assert len(body) > 20
     for name in names.BIN_GEOMS:
         low, high = _box(model, data, model.geom(name).id)
