@@ -2,6 +2,8 @@
 
 The benches measure; these runs only show that they work (a bench that crashes cannot
 re-measure the README's figures). A new ``bench/bench_*.py`` is picked up here by its name.
+Marked ``bench_smoke``: the suite's addopts leave them out; ``pytest -n 2 -m bench_smoke`` runs
+them (``.ci/run`` does, after the README's test command).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.bench_smoke]  # run by: pytest -n 2 -m bench_smoke
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
 SCRIPTS = sorted(BENCH.glob("bench_*.py"))

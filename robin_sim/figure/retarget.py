@@ -183,7 +183,6 @@ class Retargeter:
             guess,
             bounds=(self.low, self.high),
             jac=lambda angles: self._jacobian(residuals, angles),
-            tr_solver="exact",
             max_nfev=REFINE_EVALUATIONS,
             x_scale=1.0,
         )
