@@ -50,18 +50,17 @@ def footage_messages(sequence: str) -> list[dict]:
     ]
 
 
-def test_the_footage_drives_the_persons_fingertips(tmp_path: Path) -> None:
-    config = LiveConfig(
-        scenario="one_handover",
-        out_root=tmp_path,
-        session="m1",
-        speed=3.0,
-        fps=5,
-        webcam=True,
-        calibrate=False,
-        video=False,
-        eye_inset=False,
+def webcam_config(tmp_path: Path, session: str, **changes: object) -> LiveConfig:
+    """A one-handover ``--webcam`` session without calibration, video or eye inset."""
+    base: dict[str, object] = dict(
+        scenario="one_handover", out_root=tmp_path, session=session, speed=3.0, fps=5
     )
+    base.update(webcam=True, calibrate=False, video=False, eye_inset=False)
+    return LiveConfig(**{**base, **changes})  # type: ignore[arg-type]
+
+
+def test_the_footage_drives_the_persons_fingertips(tmp_path: Path) -> None:
+    config = webcam_config(tmp_path, "m1")
     session = LiveSession(config)
     driver = Driver(session)
     session.start()
@@ -113,21 +112,9 @@ def test_robins_eyes_read_the_mirrored_hand(tmp_path: Path) -> None:
     landmarks' own give me is not acted on; the eyes' give me is the participant's gesture.
 
     The palm is read as give me (bench/bench_mirror_eyes.py: 31 of 32 readings, the hand at
-    rest) and offered as the participant's gesture. The curled hands are not read reliably
-    (thumb up 3 of 27 there; docs/webcam.md): the thumb-up looks are recorded, not asserted."""
-    config = LiveConfig(
-        scenario="one_handover",
-        out_root=tmp_path,
-        session="v1",
-        speed=1.0,
-        fps=5,
-        webcam=True,
-        calibrate=False,
-        video=False,
-        eye_inset=False,
-        detector="vision",
-        feedback_window=30.0,
-    )
+    rest) and offered as the participant's gesture (the thumb up, read 25 of 27 there, is
+    asserted by the Chromium test)."""
+    config = webcam_config(tmp_path, "v1", speed=1.0, detector="vision", feedback_window=30.0)
     session = LiveSession(config)
     driver = Driver(session)
     session.start()

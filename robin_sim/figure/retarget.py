@@ -67,6 +67,26 @@ def metric(points: np.ndarray, aspect: float, mirror: bool) -> np.ndarray:
     return p
 
 
+def _turned(frame: np.ndarray, angle: float) -> np.ndarray:
+    """``frame`` turned by ``angle`` (rad) about its own z axis."""
+    c, s = np.cos(angle), np.sin(angle)
+    return frame @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _knuckle_frame(p: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The frame from the wrist to the middle knuckle (-x) and the little to the index knuckle
+    (y), the middle finger's first bone's turn from -x about its normal, and how flat that bone
+    lies in the palm plane (1: in it, 0: along the normal)."""
+    x = -_unit(p[9] - p[0])
+    across = p[5] - p[17]
+    y = _unit(across - np.dot(across, x) * x)
+    frame = np.column_stack([x, y, np.cross(x, y)])
+    middle = frame.T @ (p[10] - p[9])
+    planar = float(np.hypot(middle[0], middle[1]))
+    turn = float(np.arctan2(-middle[1], -middle[0])) if planar > 1e-9 else 0.0
+    return frame, turn, planar / max(float(np.linalg.norm(middle)), 1e-12)
+
+
 def palm_frame(p: np.ndarray) -> np.ndarray:
     """Columns x (towards the wrist), y (towards the thumb), z (palm normal) of a right hand.
 
@@ -74,14 +94,8 @@ def palm_frame(p: np.ndarray) -> np.ndarray:
     (across), then turned about the normal so that -x follows the middle finger's first bone
     in the palm plane: the tracker's wrist point is off the middle finger's line, and the
     model's straight fingers point along -x."""
-    x = -_unit(p[9] - p[0])
-    across = p[5] - p[17]
-    y = _unit(across - np.dot(across, x) * x)
-    frame = np.column_stack([x, y, np.cross(x, y)])
-    middle = frame.T @ (p[10] - p[9])
-    turn = float(np.arctan2(middle[1], -middle[0])) if np.hypot(*middle[:2]) > 1e-9 else 0.0
-    c, s = np.cos(turn), np.sin(turn)
-    return frame @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    frame, turn, _ = _knuckle_frame(p)
+    return _turned(frame, turn)
 
 
 def steady_palm_frame(p: np.ndarray) -> np.ndarray:
@@ -89,17 +103,8 @@ def steady_palm_frame(p: np.ndarray) -> np.ndarray:
     that turn follows the middle finger's first bone in the palm plane, whose direction a curled
     finger no longer gives (it turned a thumb-up fist's frame half round). Open fingers keep it
     whole. The hand frame both the fit and the live mirror use."""
-    frame = palm_frame(p)
-    x = -_unit(p[9] - p[0])
-    across = p[5] - p[17]
-    y = _unit(across - np.dot(across, x) * x)
-    base = np.column_stack([x, y, np.cross(x, y)])
-    middle = base.T @ (p[10] - p[9])
-    flat = float(np.hypot(middle[0], middle[1]) / max(float(np.linalg.norm(middle)), 1e-12))
-    turn = base.T @ frame  # the palm frame's turn in the knuckle frame (about z)
-    angle = float(np.arctan2(turn[1, 0], turn[0, 0])) * flat**2
-    c, s = np.cos(angle), np.sin(angle)
-    return base @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    frame, turn, flat = _knuckle_frame(p)
+    return _turned(frame, turn * flat**2)
 
 
 def landmark_bones(p: np.ndarray, frame: np.ndarray) -> np.ndarray:
@@ -167,11 +172,18 @@ class Retargeter:
     ) -> np.ndarray:
         """Joint angles (rad, in the order of :attr:`joints`, within the limits): the closed-form
         guess, refined by least squares on the bone directions unless ``refine`` is off."""
+        return self.fit_in_frame(points, aspect, mirror, refine)[0]
+
+    def fit_in_frame(
+        self, points: np.ndarray, aspect: float = 16 / 9, mirror: bool = False, refine: bool = True
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`fit`'s angles with the metric landmarks and the hand frame they were fitted
+        in (:func:`metric`, :func:`steady_palm_frame`), for a caller that poses the hand."""
         p = metric(points, aspect, mirror)
         frame = steady_palm_frame(p)
         guess = np.clip(self.guess(p, frame), self.low, self.high)
         if not refine:
-            return guess
+            return guess, p, frame
         want = landmark_bones(p, frame)
         weight = np.array([1.0, 1.0, DEPTH_WEIGHT])  # camera axes: image x, y, depth
 
@@ -186,7 +198,7 @@ class Retargeter:
             max_nfev=REFINE_EVALUATIONS,
             x_scale=1.0,
         )
-        return np.clip(solved.x, self.low, self.high)
+        return np.clip(solved.x, self.low, self.high), p, frame
 
     def guess(self, p: np.ndarray, frame: np.ndarray) -> np.ndarray:
         """The closed-form joint angles of metric landmarks ``p`` in the hand frame ``frame``

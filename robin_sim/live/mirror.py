@@ -38,7 +38,7 @@ import numpy as np
 
 from robin_sim.control.simulator import Simulator
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN
-from robin_sim.figure.retarget import FINGER_POINTS, Retargeter, metric, steady_palm_frame
+from robin_sim.figure.retarget import FINGER_POINTS, Retargeter
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.model import names
 
@@ -135,12 +135,10 @@ class HandMirror:
         frame) and the hand's wanted rotation in the world, of ``hand``."""
         assert hand.points is not None
         mirror = hand.handedness == LEFT_HAND
-        angles = np.clip(self.retargeter.fit(hand.points, hand.aspect, mirror), self.low, self.high)
-        p = metric(hand.points, hand.aspect, mirror)
-        # the retargeter's palm frame is the model's hand frame (its angles are read in it): the
-        # hand is turned so that it lies in the world as the landmarks' (steadied) palm frame
-        # does (a left hand: its mirror image, as a self-view shows it)
-        frame = steady_palm_frame(p)
+        # the hand is turned so that it lies in the world as the fit's palm frame does (the
+        # frame the angles were read in; a left hand: its mirror image, as a self-view shows it)
+        fitted, p, frame = self.retargeter.fit_in_frame(hand.points, hand.aspect, mirror)
+        angles = np.clip(fitted, self.low, self.high)
         world = CAMERA_TO_WORLD @ frame
         turn = _mat(self.data.mocap_quat[self.mocap]).T @ world
         quat = np.zeros(4)
