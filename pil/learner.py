@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD, Anticipation
@@ -32,7 +32,13 @@ from pil.table import (
 )
 from pil.table_io import load_table, save_table
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
-from pil.validity import ALL_STATES, broken_rules, is_valid
+from pil.validity import (
+    ALL_STATES,
+    GROUNDED_ACTION,
+    REACHABLE_CONTEXTS,
+    broken_rules,
+    is_valid,
+)
 
 # "none": eq. 2 (counts only grow); "halve": ours, a not-OK halves the refused action's count
 ADAPTATIONS: dict[str, str] = {
@@ -129,6 +135,8 @@ class Learner:
         self._memory = StepMemory(step_memory)  # actions tried (refused) in this step
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
         self._last_ok = START  # id of the last approved state; START at the task start
+        self._last_approved = -1  # index of the action approved there (-1: none yet)
+        self.taken_back = 0  # approvals taken back because the world contradicted them
         self.last_exploited = False
         self.last_reason = ""
 
@@ -147,7 +155,7 @@ class Learner:
         """The robot is back at its start pose: forget the step and the previous OK state."""
         self._memory.clear()
         self._last_rejected.clear()
-        self._last_ok = START
+        self._last_ok, self._last_approved = START, -1
 
     @property
     def step_memory(self) -> bool:
@@ -186,7 +194,7 @@ class Learner:
             self.table.follow_id(self._last_ok, sid)
             self._memory.clear()
             self._last_rejected.clear()
-            self._last_ok = sid
+            self._last_ok, self._last_approved = sid, index
         else:
             self.table.reject_id(sid, index)
             if self._halve:  # ours, outside eq. 2: a refusal halves the refused count
@@ -195,6 +203,24 @@ class Learner:
                     self.table.forget_id(sid, index, row[index] - row[index] // 2)
             self._memory.refuse(sid, index)
             self._last_rejected[sid] = index
+
+    def regrounded(self, previous: Action, expected: Hand, hand: Hand) -> None:
+        """The loop re-grounded the robot's state in its hand (:mod:`pil.task.grounding`).
+
+        When the last approved action itself left a context no right approval reaches (an
+        empty hand approved at the person, a full one at a leg), that approval was wrong: its
+        count is taken back and the action is recorded as refused there. A hand that physics
+        changed after a right approval (a drop) takes nothing back. With right thumbs it never
+        happens, so the paper's learner is unchanged there.
+        """
+        if self._last_approved < 0 or (previous, expected) in REACHABLE_CONTEXTS:
+            return
+        if ACTIONS[self._last_approved] is not previous:
+            return  # the approval was not the one that left this context
+        self.table.forget_id(self._last_ok, self._last_approved)
+        self.table.reject_id(self._last_ok, self._last_approved)
+        self._last_approved = -1
+        self.taken_back += 1
 
     # -- the proactive robot (ours) -----------------------------------------------------------
     def anticipate(self, previous_action: Action, hand: Hand) -> Anticipation | None:
@@ -283,6 +309,13 @@ class Learner:
         if not self.correction:
             reason = f"{why}; no correction (manual repetition)"
             return Decision(None, detected_state, None, False, False, reason)
+        if not _SAME_CONTEXT[(previous_action, hand)]:
+            # no right approval reaches this context: one was wrong (pil.task.grounding)
+            note = f"<{previous_action.value}, {hand.value}> unreachable, re-grounded"
+            previous_action = GROUNDED_ACTION[hand]
+            if detected_state is not None:
+                grounded = self.decide(detected_state.gesture, previous_action, hand)
+                return replace(grounded, reason=f"{note}; {grounded.reason}")
         corrected = self._correct(previous_action, hand, self._last_ok)
         if corrected is None:
             reason = f"{why}; nothing to correct from (repeat)"

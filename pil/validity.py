@@ -32,7 +32,16 @@ grasp away from a leg      grasp    open, close, human,     any
 * grasp away from a leg: grasping needs the hand at a leg, i.e. the previous action object.
 
 "grasp while occupied" is implied by the last two rules but comes first so that the reason
-given is the paper's. Twelve of the 40 states are valid: with a free hand <pointing, open>,
+given is the paper's.
+
+The four context rules (occupied after open, free after close, free at human or location,
+occupied at object) are **assumptions**: they hold only while every approval was right. A wrong
+action let stand (silence, a missed, late or misread thumb, a participant who lets a wrong move
+stand) or a leg that physics took away reaches such a context all the same. Such a context is
+evidence that an approval was wrong, not a wall: :mod:`pil.task.grounding` then re-grounds the
+robot's last action in its hand's real state (:data:`REACHABLE_CONTEXTS` holds the others).
+
+Twelve of the 40 states are valid: with a free hand <pointing, open>,
 <pointing, object> and <grasp, object>; with an occupied hand pointing, give me or release
 after close, human or location. Every state of Table I is among them, and the misdetection of
 Table I, t = 21, <grasp, human, occupied>, is invalid.
@@ -139,6 +148,13 @@ _BROKEN: dict[State, tuple[Rule, ...]] = {
     s: tuple(rule for rule in RULES if rule.matches(s)) for s in ALL_STATES
 }
 VALID_STATES: tuple[State, ...] = tuple(s for s in ALL_STATES if not _BROKEN[s])
+# The contexts <previous action, hand> some valid state has: those right approvals reach.
+REACHABLE_CONTEXTS: frozenset[tuple[Action, Hand]] = frozenset(
+    (s.previous_action, s.hand) for s in VALID_STATES
+)
+# The last action a state takes when the approved one does not fit the hand (a drop, or a
+# wrong approval): an empty hand is open, as at the start; a full one has closed on its leg.
+GROUNDED_ACTION: dict[Hand, Action] = {Hand.FREE: Action.OPEN, Hand.OCCUPIED: Action.CLOSE}
 
 
 def broken_rules(state: State | str) -> tuple[Rule, ...]:

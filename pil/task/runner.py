@@ -29,10 +29,11 @@ from typing import Any
 from pil.learner import Learner
 from pil.task.counting import RunStats
 from pil.task.detector import GestureReader
+from pil.task.grounding import AFTER_DROP
 from pil.task.person import Person, ScriptedPerson
 from pil.task.records import StepObserver, StepRecord
 from pil.task.step_phases import (
-    AFTER_DROP,
+    ASK_AFTER_REPEATS,
     MAX_ACTIONS_PER_GESTURE,
     MAX_PERFORMANCES,
     RunnerError,
@@ -43,6 +44,7 @@ from pil.task.world import World
 
 __all__ = [
     "AFTER_DROP",
+    "ASK_AFTER_REPEATS",
     "MAX_ACTIONS_PER_GESTURE",
     "MAX_PERFORMANCES",
     "RunnerError",
@@ -62,6 +64,7 @@ def steps(
     manual: bool = False,
     repeat_discarded: bool = False,
     max_actions_per_gesture: int = MAX_ACTIONS_PER_GESTURE,
+    ask_after: int = ASK_AFTER_REPEATS,
     observer: StepObserver | None = None,
 ) -> Iterator[StepRecord]:
     """Run ``person``'s script to the end, yielding a record per action or repeat request.
@@ -70,11 +73,14 @@ def steps(
     detector reads it, the learner decides; per action the robot acts, the person judges it and
     shows the thumb, and only then the learner receives the feedback; then the person does what
     follows the thumb (e.g. carries a delivered leg away) and the record is yielded.
-    ``observer`` is told of each decision, answer and received feedback (before that carry:
-    a live session logs the step there, so ending during the carry loses nothing).
+    A robot whose state no right approval reaches re-grounds it in its hand
+    (:mod:`pil.task.grounding`); after ``ask_after`` repeat requests in a row it proposes an
+    action instead of asking again (:mod:`pil.task.asking`). ``observer`` is told of each
+    decision, answer and received feedback (before that carry: a live session logs the step
+    there, so ending during the carry loses nothing).
     """
     loop = StepPhases(learner, person, detector, world, observer)
-    options = StepOptions(manual, repeat_discarded, max_actions_per_gesture)
+    options = StepOptions(manual, repeat_discarded, max_actions_per_gesture, ask_after)
     laid: set[int] = set()
     anticipate = getattr(learner, "anticipate", None)  # the baselines of pil.agents have none
     while (item := person.next_step(world.hand())) is not None:
@@ -86,7 +92,8 @@ def steps(
         hand = world.hand()
         state = loop.state
         guess = None
-        if state.approved and anticipate and hand is state.expected:
+        regrounded = loop.grounded(hand)  # a drop or a wrong approval: no anticipation
+        if state.approved and anticipate and not regrounded:
             guess = anticipate(state.previous, hand)
         state.approved = False
         if guess is not None and not (yield from loop.anticipated(item, guess, hand)):
