@@ -136,6 +136,7 @@ class Learner:
         self._last_rejected: dict[int, int] = {}  # state id -> action just rejected, this step
         self._last_ok = START  # id of the last approved state; START at the task start
         self._last_approved = -1  # index of the action approved there (-1: none yet)
+        self._ok_before = START  # the last approved state before that one
         self.taken_back = 0  # approvals taken back because the world contradicted them
         self.last_exploited = False
         self.last_reason = ""
@@ -155,7 +156,7 @@ class Learner:
         """The robot is back at its start pose: forget the step and the previous OK state."""
         self._memory.clear()
         self._last_rejected.clear()
-        self._last_ok, self._last_approved = START, -1
+        self._last_ok, self._last_approved, self._ok_before = START, -1, START
 
     @property
     def step_memory(self) -> bool:
@@ -194,7 +195,7 @@ class Learner:
             self.table.follow_id(self._last_ok, sid)
             self._memory.clear()
             self._last_rejected.clear()
-            self._last_ok, self._last_approved = sid, index
+            self._ok_before, self._last_ok, self._last_approved = self._last_ok, sid, index
         else:
             self.table.reject_id(sid, index)
             if self._halve:  # ours, outside eq. 2: a refusal halves the refused count
@@ -215,8 +216,23 @@ class Learner:
         """
         if self._last_approved < 0 or (previous, expected) in REACHABLE_CONTEXTS:
             return
-        if ACTIONS[self._last_approved] is not previous:
-            return  # the approval was not the one that left this context
+        if ACTIONS[self._last_approved] is previous:  # that approval left this context
+            self._withdraw()
+
+    def take_back(self) -> tuple[State, Action] | None:
+        """The person says the last approved action was wrong ("that was wrong"): its count
+        is taken back, it counts as refused in its state, and the approved state before it is
+        the last OK one again. The state and action taken back (None: nothing to take back,
+        e.g. twice in a row or before any approval)."""
+        if self._last_approved < 0:
+            return None
+        taken = ALL_STATES[self._last_ok], ACTIONS[self._last_approved]
+        self._withdraw()
+        self._last_ok = self._ok_before
+        return taken
+
+    def _withdraw(self) -> None:
+        """Take back the last approval (count and refusal; eq. 2 only ever adds)."""
         self.table.forget_id(self._last_ok, self._last_approved)
         self.table.reject_id(self._last_ok, self._last_approved)
         self._last_approved = -1

@@ -63,8 +63,15 @@ class LoopState:
     actions: int = 0
     legs: int = 0
     approved: bool = False  # the last action was approved: the robot may anticipate the next
+    before: tuple[Action, Hand] | None = None  # previous and expected before the last approval
     repeats: int = 0  # repeat requests in a row since a gesture was last read and acted on
     asks: int = 0  # actions proposed for unreadable gestures since then
+
+    def approve(self, action: Action, hand: Hand) -> None:
+        """The robot takes ``action``, done with ``hand``, as approved."""
+        self.before = self.previous, self.expected
+        self.previous, self.expected = action, hand_after(action, hand)
+        self.approved = True
 
     def ground(self, hand: Hand) -> str:
         """Ground the last action in ``hand``, the world's (:func:`pil.task.grounding.ground`);
@@ -113,8 +120,7 @@ class StepPhases:
         state.actions, state.legs = record.t, record.legs_delivered
         yield record
         if record.feedback_read is not _NOT_OK:  # the robot takes it as approved
-            state.previous, state.expected = guess.action, hand_after(guess.action, hand)
-            state.approved = True
+            state.approve(guess.action, hand)
         if record.feedback is not _NOT_OK:  # and the person lets it stand
             self.person.completed(item, guess.action)
             return False
@@ -136,6 +142,25 @@ class StepPhases:
             if listener is not None:
                 listener(before, expected, hand)
         return why
+
+    def take_back(self) -> str:
+        """The person says the last approved action was wrong: the learner takes its approval
+        back (``take_back``, where it has one) and the robot's state is the one before it,
+        grounded in the hand the world reports now. What was taken back ("" when nothing
+        was: no approval since the last take-back)."""
+        state = self.state
+        if state.before is None:
+            return ""
+        withdraw = getattr(self.learner, "take_back", None)
+        taken = withdraw() if withdraw is not None else None
+        undone = state.previous
+        state.previous, state.expected = state.before
+        state.before, state.approved = None, False
+        self.grounded(self.world.hand())
+        what = f"{undone.value} taken back"
+        if taken is not None:
+            what += f" (its approval in {taken[0].key()} withdrawn)"
+        return what
 
     def instruction(self, item: ScriptStep, options: StepOptions) -> Iterator[StepRecord]:
         """The instruction's gesture, performed and read until the robot acts on it and the
@@ -225,8 +250,7 @@ class StepPhases:
             ok, feedback = record.feedback_read is not _NOT_OK, record.feedback
             yield record
             if ok:  # the robot takes the step as approved
-                state.previous, state.expected = action, hand_after(action, hand)
-                state.approved = True
+                state.approve(action, hand)
             if feedback is not _NOT_OK:  # the person does: on to their next instruction
                 person.completed(item, action)
                 return True
