@@ -1,4 +1,4 @@
-"""The robot's state grounded in its hand: no context that right approvals cannot reach stalls it."""
+"""The robot's state grounded in its hand: a context right approvals cannot reach stalls nothing."""
 
 from __future__ import annotations
 
