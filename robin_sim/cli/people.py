@@ -13,7 +13,6 @@ people fitted to recorded live sessions (:mod:`robin_sim.cli.people_fit`).
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError
@@ -94,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
         run_people_study,
         write_people,
     )
-    from pil.experiments.rep_journal import RepJournal
+    from pil.experiments.rep_journal import RepJournal, report_journal
     from pil.outdir import claimed_out_dir
 
     rates, systems = run_options(args, PEOPLE_SYSTEMS, only=PEOPLE_SYSTEMS)
@@ -137,12 +136,7 @@ def run(args: argparse.Namespace) -> int:
                 runs_per_seed=len(rates) * len(systems) * args.reps,
             )
         journal = RepJournal(args.out, journal_settings(people, systems, rates, args.seed))
-        if journal.count():
-            print(
-                f"robin-pil people: resuming: {journal.count()} finished repetitions kept in "
-                f"{journal.path}",
-                file=sys.stderr,
-            )
+        report_journal("people", journal)
         with progress_bar(len(rates) * len(systems) * args.reps, "people", args) as bar:
             rows = run_people_study(
                 people, systems, rates, args.reps, args.seed, progress=bar.update, journal=journal

@@ -113,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the study and write its outputs; bad input raises a RobinPilError (exit code 2)."""
     from tqdm import tqdm
 
-    from pil.experiments.rep_journal import RepJournal
+    from pil.experiments.rep_journal import RepJournal, report_journal
     from pil.experiments.study import (
         DETECTOR_RATES,
         StudyConfig,
@@ -175,12 +175,7 @@ def run(args: argparse.Namespace) -> int:
             )
             return 0
         journal = RepJournal(args.out, journal_settings(config))  # finished reps: kept
-        if journal.count():
-            print(
-                f"robin-pil study: resuming: {journal.count()} finished repetitions kept in "
-                f"{journal.path}",
-                file=sys.stderr,
-            )
+        report_journal("study", journal)
         with tqdm(
             total=config.runs(), desc="study", unit="run", file=sys.stderr, disable=args.no_progress
         ) as bar:
