@@ -78,6 +78,31 @@ RECIPES: tuple[Recipe, ...] = (
         drop=("chunks",),  # the rendered samples: a cache, 11 MB
     ),
     Recipe(
+        "vision_dim_episodes",  # issue 38: a dim, noisy room finishes instead of an error
+        (
+            "robin-pil",
+            "sweep",
+            "--kind",
+            "physical",
+            "--systems",
+            "pil",
+            "--detector",
+            "vision",
+            "--param",
+            "lighting=0.15",
+            "--param",
+            "camera_noise=40",
+            "--reps",
+            "10",
+            "--tables",
+            "1",
+            "--workers",
+            "2",
+            "--no-progress",
+        ),
+        False,
+    ),
+    Recipe(
         "appearance",
         ("robin-pil", "people", "--appearance", "--reps", "10", "--no-progress"),
         False,
