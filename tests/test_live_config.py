@@ -34,7 +34,7 @@ from robin_sim.live.session import LiveSession
         ({"seed": -3}, "seed"),
         ({"block": -1}, "block must be a whole number from 0"),
         ({"video": "yes"}, "video must be true or false"),
-        ({"render_workers": 99}, "render_workers must be a whole number from 0 to 8"),
+        ({"render_workers": 99}, "render_workers must be a whole number from 0 to 64"),
     ],
 )
 def test_bad_options_are_refused_before_anything_is_built(

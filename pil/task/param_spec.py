@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.numbers import is_decimal_text, is_whole_text
 from pil.task.detector import (
     CAMERAS,
     MEASURED_PREFIX,
@@ -143,18 +144,12 @@ def _to_int(spec: ParamSpec, value: Any) -> Any:
         return _BAD
     if isinstance(value, str):
         text = value.strip()
-        if len(text) > 40:
-            return _BAD
-        try:
+        if is_whole_text(text):
             number = int(text)
-        except ValueError:
-            try:
-                real = float(text)
-            except ValueError:
-                return _BAD
-            if not math.isfinite(real) or not real.is_integer():
-                return _BAD
-            number = int(real)
+        elif is_decimal_text(text) and float(text).is_integer():  # "10.0", "1e3"
+            number = int(float(text))
+        else:  # "1_0", other scripts' digits, "inf": not a number the user typed
+            return _BAD
     elif isinstance(value, int) or (
         isinstance(value, float) and math.isfinite(value) and value.is_integer()
     ):
@@ -168,8 +163,8 @@ def _to_int(spec: ParamSpec, value: Any) -> Any:
 def _to_float(spec: ParamSpec, value: Any) -> Any:
     if isinstance(value, bool):
         return _BAD
-    if isinstance(value, str) and len(value) > 40:
-        return _BAD
+    if isinstance(value, str) and not is_decimal_text(value):
+        return _BAD  # "1_0", other scripts' digits, "nan", "inf": not a number the user typed
     try:
         number = float(value)
     except (TypeError, ValueError):

@@ -10,8 +10,26 @@ from typing import Any
 
 from pil.errors import RobinPilError, quote
 from pil.experiments.paper import PAPER_REPS
+from pil.numbers import parse_decimal, parse_whole
 
 RATES_LABEL = "--rates: each detection rate (comma separated)"  # names a bad one
+
+
+def whole_number(text: str) -> int:
+    """An option's whole number in ASCII digits (argparse's ``type``: ``"1_0"`` or ``"٣"``
+    are refused with exit code 2, not read as 10 and 3)."""
+    try:
+        return parse_whole(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def decimal_number(text: str) -> float:
+    """An option's number in ASCII (argparse's ``type``; see :mod:`pil.numbers`)."""
+    try:
+        return parse_decimal(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def parse_rates(text: str) -> tuple[float, ...]:
@@ -69,14 +87,16 @@ def add_run_options(
     parser.add_argument("--rates", default=rates, help="detection rates (default: %(default)s)")
     parser.add_argument(
         "--reps",
-        type=int,
+        type=whole_number,
         default=None if reps_help else PAPER_REPS,
         help=reps_help or "repetitions (default: %(default)s)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="master seed (default: %(default)s)")
+    parser.add_argument(
+        "--seed", type=whole_number, default=0, help="master seed (default: %(default)s)"
+    )
     parser.add_argument(
         "--seeds",
-        type=int,
+        type=whole_number,
         default=1,
         help="independent studies, master seeds SEED .. SEED+K-1, each in OUT/seed_<n>/, their "
         "comparisons over seeds in OUT/seeds.md and OUT/seeds_tests.csv; a finished seed "

@@ -18,7 +18,7 @@ from pathlib import Path
 from pil.errors import RobinPilError
 from pil.experiments.paper import PAPER_REPS
 from robin_sim.cli import people_fit
-from robin_sim.cli.options import add_run_options, progress_bar, run_options
+from robin_sim.cli.options import add_run_options, progress_bar, run_options, whole_number
 from robin_sim.cli.people_fit import MAX_WORKERS
 
 DEFAULT_OUT = Path("out/people")
@@ -51,14 +51,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--workers",
-        type=int,
+        type=whole_number,
         default=2,
         help="with --appearance or --from-sessions: episodes or sessions run at once (0: in "
         "this process) (default: 2)",
     )
     parser.add_argument(
         "--tables",
-        type=int,
+        type=whole_number,
         default=None,
         help="test tables, taken in turns (default: the scenario's, 10); with --appearance "
         "the tables of each run (default: the file's, 3)",

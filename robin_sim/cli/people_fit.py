@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
+from robin_sim.cli.options import whole_number
 
 MAX_WORKERS = 16  # --workers of robin-pil people (both of its physical modes)
 DEFAULT_SESSIONS = 20
@@ -44,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sessions-per-person",
-        type=int,
+        type=whole_number,
         default=DEFAULT_SESSIONS,
         metavar="K",
         help=f"with --from-sessions: simulated sessions of each fitted person, 1 to "

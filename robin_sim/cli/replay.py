@@ -13,6 +13,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from robin_sim.cli.options import decimal_number
+
 REPLAY_NAME = "replay.mp4"
 
 
@@ -39,12 +41,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--port", default="8001", help="--serve: the port (0: any free one)")
     parser.add_argument(
-        "--speed", type=float, default=1.0, help="--viewer: playback speed x real time (default 1)"
+        "--speed",
+        type=decimal_number,
+        default=1.0,
+        help="--viewer: playback speed x real time (default 1)",
     )
     parser.add_argument(
         "--from",
         dest="start",
-        type=float,
+        type=decimal_number,
         default=0.0,
         metavar="SECONDS",
         help="start this many simulated seconds into the run (default 0)",
@@ -52,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--to",
         dest="end",
-        type=float,
+        type=decimal_number,
         default=None,
         metavar="SECONDS",
         help="stop this many simulated seconds into the run (default: the end)",
@@ -74,8 +79,8 @@ def run(args: argparse.Namespace) -> int:
     """Check DIR and the output, then replay."""
     from robin_sim.replay.folder import ReplayError, output_file, states_file
 
+    workers = _workers(args.render_workers)  # the options first: no folder is read for them
     path = states_file(args.dir)
-    workers = _workers(args.render_workers)
     if not args.speed > 0 or args.speed > 100:
         raise ReplayError(f"--speed must be a number in (0, 100], got {args.speed!r}")
     if not args.start >= 0 or (args.end is not None and not args.end >= args.start):
@@ -120,15 +125,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _workers(text: str) -> int:
-    from robin_sim.replay.folder import ReplayError
+    """``--render-workers`` checked by the one bound (:mod:`robin_sim.render.worker_count`)."""
+    from robin_sim.render.worker_count import RENDER_WORKERS
 
-    try:
-        workers = int(text)
-    except ValueError:
-        workers = -1
-    if not 0 <= workers <= 16:
-        raise ReplayError(f"--render-workers must be a whole number from 0 to 16, got {text!r}")
-    return workers
+    workers = RENDER_WORKERS.parse(text, "--render-workers")
+    return 0 if workers is None else int(workers)
 
 
 def load_states_between(path: Path, start: float, end: float | None) -> Any:

@@ -21,7 +21,7 @@ from pil.experiments.paper import PAPER_REPS
 from pil.exploration import DEFAULT_RULE, RULES
 from pil.step_memory import DEFAULT_STEP_MEMORY, STEP_MEMORY
 from pil.task.detector import EXACT
-from robin_sim.cli.options import RATES_LABEL, add_progress_switch, systems_help
+from robin_sim.cli.options import RATES_LABEL, add_progress_switch, systems_help, whole_number
 
 DEFAULT_OUT = Path("out/study")
 
@@ -50,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--reps",
-        type=int,
+        type=whole_number,
         default=PAPER_REPS,
         help="repetitions per rate and system (default: %(default)s)",
     )

@@ -16,7 +16,7 @@ import sys
 from pathlib import Path
 
 from pil.file_names import MEASURED_NAME
-from robin_sim.cli.options import add_progress_switch
+from robin_sim.cli.options import add_progress_switch, whole_number
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,15 +25,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument(
         "--samples",
-        type=int,
+        type=whole_number,
         default=DEFAULT_SAMPLES,
         help="training samples (held-out: a third as many) (default: %(default)s)",
     )
-    parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
+    parser.add_argument("--seed", type=whole_number, default=0, help="seed (default: %(default)s)")
     parser.add_argument("--out", type=Path, default=Path("out/gestures"), help="output folder")
     parser.add_argument(
         "--workers",
-        type=int,
+        type=whole_number,
         default=None,
         help="render processes, at most the CPU count (default: 2, or the CPU count if less)",
     )

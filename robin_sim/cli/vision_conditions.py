@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from pil.errors import RobinPilError
-from robin_sim.cli.options import add_progress_switch
+from robin_sim.cli.options import add_progress_switch, whole_number
 
 
 def _numbers(text: str, what: str, low: float, high: float) -> tuple[float, ...]:
@@ -30,10 +30,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """The command's options."""
     parser.add_argument("--lighting", default="1,0.5,0.25,0.12", help="light scales (1 = scene)")
     parser.add_argument("--noise", default="0,12,24", help="pixel noise sds, 8-bit units")
-    parser.add_argument("--samples", type=int, default=336, help="samples per condition")
-    parser.add_argument("--reps", type=int, default=10, help="study repetitions per point")
-    parser.add_argument("--seed", type=int, default=0, help="seed (default: %(default)s)")
-    parser.add_argument("--workers", type=int, default=2, help="render processes")
+    parser.add_argument("--samples", type=whole_number, default=336, help="samples per condition")
+    parser.add_argument("--reps", type=whole_number, default=10, help="study repetitions per point")
+    parser.add_argument("--seed", type=whole_number, default=0, help="seed (default: %(default)s)")
+    parser.add_argument("--workers", type=whole_number, default=2, help="render processes")
     parser.add_argument(
         "--out", type=Path, default=Path("out/vision_conditions"), help="output folder"
     )

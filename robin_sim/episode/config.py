@@ -22,20 +22,11 @@ from pil.task.params import ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
 from robin_sim.render.frame_spec import FPS, check_size
+from robin_sim.render.worker_count import RENDER_WORKERS
 from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings, parse_conditions
 
 VIDEO_CAMERAS: tuple[str, ...] = (*SCENE_CAMERAS, *HEAD_CAMERAS)
 CAMERA = ParamSpec("camera", "choice", "front", "the camera filmed", choices=VIDEO_CAMERAS)
-RENDER_WORKERS = ParamSpec(
-    "render_workers",
-    "int",
-    None,
-    "render processes (0: in this process)",
-    0,
-    64,
-    optional=True,
-    empty="2, or 0 on one CPU",
-)
 
 
 class EpisodeError(RobinPilError):

@@ -26,6 +26,7 @@ from robin_sim.episode.config import DEFAULT_TABLES  # one table of the assembly
 from robin_sim.live.limits import BlockLimits, WatchdogLimits, from_text
 from robin_sim.live.quality import LEVELS
 from robin_sim.render.frame_spec import FPS, SIDE, check_size, narrowed
+from robin_sim.render.worker_count import MAX_RENDER_WORKERS
 
 NAME_PATTERN = re.compile(r"[A-Za-z0-9_-]{1,32}")
 # the episode's frame checks, narrowed for a stream: at most 1920 px a side and 60 frames per
@@ -166,7 +167,7 @@ class LiveConfig:
             feedback_window=_number(self.feedback_window, "feedback_window", *FEEDBACK_WINDOWS),
             study_seed=study_seed,
             out_root=Path(self.out_root),
-            render_workers=_whole(self.render_workers, "render_workers", 0, 8),
+            render_workers=_whole(self.render_workers, "render_workers", 0, MAX_RENDER_WORKERS),
             stream_level=_whole(self.stream_level, "stream_level", 0, len(LEVELS) - 1),
             max_attempts=limits.attempts,
             max_step_seconds=limits.seconds,
