@@ -95,7 +95,7 @@ class RepJournal:
                 return True
             rep, seed, rows = record.get("rep"), record.get("seed"), record.get("rows")
             if _is_rep(rep, seed, rows):
-                self._done[rep] = (seed, rows)
+                self._done[int(rep)] = (int(seed), list(rows))
             else:
                 self.dropped += 1
         return False

@@ -200,13 +200,13 @@ class StepPhases:
             elif state.repeats + 1 >= options.ask_after:
                 decision = ask_unreadable(self.learner, decision, state.previous, hand, state.asks)
                 state.asks += 1
-            if decision.state is None or decision.action is None:
-                state.repeats += 1
-                steps.again = _joined(grounded, decision.reason)
-                yield base._replace(reason=steps.again)
-                continue
             if grounded:
                 decision = replace(decision, reason=_joined(grounded, decision.reason))
+            if decision.state is None or decision.action is None:
+                state.repeats += 1
+                steps.again = decision.reason
+                yield base._replace(reason=steps.again)
+                continue
             base = base._replace(
                 corrected_gesture=decision.state.gesture if decision.corrected else None,
                 state=decision.state,
