@@ -93,9 +93,11 @@ class RepJournal:
                 continue
             if record.get("key") != self.key:
                 return True
-            rep, seed, rows = record.get("rep"), record.get("seed"), record.get("rows")
+            rep: Any = record.get("rep")
+            seed: Any = record.get("seed")
+            rows: Any = record.get("rows")
             if _is_rep(rep, seed, rows):
-                self._done[int(rep)] = (int(seed), list(rows))
+                self._done[rep] = (seed, rows)
             else:
                 self.dropped += 1
         return False
