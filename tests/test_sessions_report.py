@@ -406,3 +406,13 @@ def test_scenarios_are_split_and_one_value_shows_n_without_sd(tmp_path: Path) ->
     assert "## scenario `one_handover`, protocol `reactive_vs_proactive`" in report
     assert "| pil | 1 | 1 | 16.00 (n = 1) |" in report and "± 0.00" not in report
     assert "10.00" not in report
+
+
+def test_a_summary_with_nan_anywhere_is_refused_by_name(tmp_path: Path) -> None:
+    """Issue 39: ``"rate": NaN`` in a session's summary passed (the field is not a measure)."""
+    from pil.experiments.sessions_load import SessionsError, _read_summary
+
+    path = tmp_path / "summary.json"
+    path.write_text('{"status": "finished", "rate": NaN}', encoding="utf-8")
+    with pytest.raises(SessionsError, match=r"summary\.json: not a JSON summary"):
+        _read_summary(path)

@@ -48,7 +48,43 @@ def load_rows(path: str | Path) -> list[dict[str, str]]:
         raise ReportError(f"{path}: not a readable CSV ({error})") from None
     if not rows:
         raise ReportError(f"{path}: no result rows")
+    check_row_shapes(rows, path)
     return rows
+
+
+def check_row_shapes(rows: Sequence[Mapping[Any, Any]], source: object) -> None:
+    """Raise naming the row when a CSV row has more cells than the header (csv keeps them
+    under the key None) or fewer (a row cut short: its last columns are None)."""
+    width = len([key for key in rows[0] if key is not None])
+    for number_, row in enumerate(rows, 2):  # line 1 is the header
+        if None in row:
+            extra = len(row[None])
+            raise ReportError(
+                f"{source}: line {number_} has {width + extra} cells, the header {width}; "
+                "each run is one row of the header's columns"
+            )
+        missing = [key for key, value in row.items() if value is None]
+        if missing:
+            raise ReportError(
+                f"{source}: line {number_} has {width - len(missing)} of the header's {width} "
+                f"cells (no {missing[0]!r}: a row cut short?); remove or complete it"
+            )
+
+
+COUNT_METRICS: frozenset[str] = frozenset(
+    {"total_gestures", "total_actions", "gestures", "actions", "physical_failures"}
+)  # counts of a run: whole numbers >= 0
+
+
+def count(value: Any, column: str) -> int:
+    """A count column's value (:data:`COUNT_METRICS`): a whole number >= 0, else raises
+    naming the column and the value."""
+    real = number(value, column)
+    if real < 0 or not real.is_integer():
+        raise ReportError(
+            f"column {column!r} holds {quote(value)}; a run's {column} is a whole number >= 0"
+        )
+    return int(real)
 
 
 RUN_ID_COLUMNS: tuple[str, ...] = ("system", "rate", "rep", "seed")  # named in the message

@@ -80,9 +80,11 @@ def write_report(
     from pil.atomic import write_text_atomic
     from pil.experiments.figures import plot_metric
     from pil.experiments.report import (
+        COUNT_METRICS,
         ReportError,
         check_columns,
         check_unique_runs,
+        count,
         load_rows,
         number,
         summary_markdown,
@@ -119,7 +121,7 @@ def write_report(
     numeric = [*metrics, *(["rate"] if "rate" in axes else [])]
     for row in rows:  # every number checked before anything is written
         for column in numeric:
-            number(row[column], column)
+            (count if column in COUNT_METRICS else number)(row[column], column)
     check_out_dir(out)
 
     lines = [

@@ -168,7 +168,7 @@ def _read_summary(path: Path) -> Mapping[str, Any]:
     except UnreadableFileError as error:
         raise SessionsError(str(error)) from None
     try:
-        summary = parse_json(text)
+        summary = parse_json(text, finite=True)  # NaN or an infinity anywhere: corrupt
     except ValueError as error:  # bad JSON, a key twice, 5000 levels deep
         at = re.search(r" at line \d+", str(error))
         raise SessionsError(

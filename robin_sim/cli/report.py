@@ -66,7 +66,14 @@ def run(args: argparse.Namespace) -> int:
         )
     metrics = None if args.metrics is None else [m.strip() for m in args.metrics.split(",")]
     baseline = BASELINE if args.baseline is None else args.baseline
-    systems = sorted({str(row.get("system")) for row in load_rows(args.results)})
+    rows = load_rows(args.results)
+    if "system" not in rows[0]:  # e.g. /etc/passwd: one column, no run in it
+        raise ReportError(
+            f"{args.results}: not a results CSV: no 'system' column (its header: "
+            f"{', '.join(str(c) for c in list(rows[0])[:6])[:120]}); give a sweep's "
+            "results.csv or a study's runs.csv"
+        )
+    systems = sorted({str(row.get("system")) for row in rows})
     if baseline not in systems:  # asked for by name: an unknown one is an error
         raise InvalidChoiceError("baseline system", baseline, systems)
     out = args.out if args.out is not None else args.results.parent / "report"
