@@ -23,7 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Write the exports and the archive; list them."""
     from robin_sim.cli.help_format import package_version
-    from robin_sim.lab.archive import write_archive
+    from robin_sim.lab.archive import archive_digest, write_archive
     from robin_sim.lab.exports import write_exports
     from robin_sim.lab.study_file import load_study
 
@@ -31,5 +31,7 @@ def run(args: argparse.Namespace) -> int:
     for path in write_exports(study):
         print(path)
     if not args.no_archive:
-        print(write_archive(study, package_version()))
+        archive = write_archive(study, package_version())
+        print(f"archive SHA-256 {archive_digest(archive)} (keep it apart from the archive):")
+        print(archive)
     return 0

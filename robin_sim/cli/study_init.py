@@ -29,6 +29,8 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.lab.template import init_study
 
     study = init_study(args.dir, args.protocol, args.design)
-    print(f"robin-pil study-init: wrote {study.source} (design {study.design})")
-    print(f"next: edit it, then robin-pil live --study {args.dir}")
+    protocol = Path(study.protocol.source)
+    wrote = [str(study.source)] + ([str(protocol)] if protocol.parent == study.folder else [])
+    print(f"robin-pil study-init: wrote {' and '.join(wrote)} (design {study.design})")
+    print(f"next: edit them, then robin-pil live --study {args.dir}")
     return 0

@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check each archive (all of them, before a mismatch is reported); say what each holds."""
-    from robin_sim.lab.archive import ArchiveError, verify_archive
+    from robin_sim.lab.archive import ArchiveError, archive_digest, verify_archive
 
     problems = []
     for archive in args.archives:
@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
         print(
             f"robin-pil study-verify: {archive}: {len(body['files'])} files match the "
             f"manifest (study {body['study']}, robin-pil {body['robin_pil']['version']}, "
-            f"commit {commit})"
+            f"commit {commit}); archive SHA-256 {archive_digest(archive)}"
         )
     if problems:
         raise ArchiveError("; ".join(problems))
