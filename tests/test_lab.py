@@ -4,6 +4,7 @@ assignment, and the study's analysis against scipy and statsmodels."""
 from __future__ import annotations
 
 import json
+import re
 import threading
 from collections import Counter
 from pathlib import Path
@@ -163,8 +164,11 @@ def test_ids_are_never_reused_and_the_lock_gives_each_one_once(tmp_path) -> None
     for thread in threads:
         thread.join()
     assert sorted(ids) == ["S01", "S02", "S03", "S04", "S05", "S06"]
-    with pytest.raises(RegistryError, match="'S04' was given already \\(assigned"):
+    with pytest.raises(RegistryError, match="'S04' was given already as 'S04' \\(assigned"):
         prepare(folder, "S04", base)
+    for written in ("s04", "S4", "S004", "s0004"):  # one participant number, one id
+        with pytest.raises(RegistryError, match="was given already as 'S04'"):
+            prepare(folder, written, base)
     run = prepare(folder, "lab-7", base)
     assert (
         run.configs[0].out_root == folder / "sessions"
@@ -196,3 +200,29 @@ def test_a_participants_sessions_are_planned_with_their_seeds_and_limits(tmp_pat
     assert [b.session for b in blocks] == [f"block{k + 1}-{s}" for k, s in enumerate(run.order)]
     assert [b.seed for b in blocks] == [block_seed(9, "P01", k) for k in range(3)]
     assert {b.block_actions for b in blocks} == {40} and not any(b.practice for b in blocks)
+
+
+def test_a_participant_is_withdrawn_once_and_keeps_the_first_reason(
+    tmp_path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Issue 39: a second study-withdraw replaced the reason with 'not given' and a new time;
+    the refusal of a withdrawn id showed its end time, not its withdrawal time."""
+    from robin_sim.cli.main import main
+    from robin_sim.lab.registry import Registry
+
+    folder = study_in(tmp_path, "id_prefix: S\n")
+    base = LiveConfig(video=False)
+    prepare(folder, None, base)
+    ended = "2020-01-01T00:00:00+00:00"  # a session that ended long before the withdrawal
+    Registry(folder, "x").update("S01", status="completed", ended_utc=ended)
+    assert main(["study-withdraw", str(folder), "s1", "--reason", "felt unwell"]) == 0
+    entry = Registry(folder, "x").entry("S01")
+    assert (entry["status"], entry["reason"]) == ("withdrawn", "felt unwell")
+    assert main(["study-withdraw", str(folder), "S01"]) == 2
+    assert "withdrawn already" in capsys.readouterr().err
+    again = Registry(folder, "x").entry("S01")
+    assert again == entry  # the first reason and time stand
+    since = re.escape(f"withdrawn since {entry['withdrawn_utc']}")
+    with pytest.raises(RegistryError, match=since):
+        prepare(folder, "S01", base)
+    assert entry["withdrawn_utc"] != ended

@@ -29,26 +29,32 @@ def run(args: argparse.Namespace) -> int:
     import shutil
 
     from robin_sim.lab.plan import sessions_dir
-    from robin_sim.lab.registry import Registry, utc_now
+    from robin_sim.lab.registry import Registry, RegistryError, since, utc_now
     from robin_sim.lab.study_file import load_study
     from robin_sim.lab.study_log import StudyLog
 
     study = load_study(args.dir)
     registry = Registry(study.folder, study.name)
-    before = registry.entry(args.participant)  # names the ids when it is not there
+    before = registry.entry(study.canonical_id(args.participant))  # names the ids if absent
+    participant = before["id"]
+    if before["status"] == "withdrawn":  # the first withdrawal's reason and time stand
+        raise RegistryError(
+            f"{participant} was withdrawn already (since {since(before)}, reason: "
+            f"{before.get('reason') or 'not given'}); nothing changed"
+        )
     reason = str(args.reason).strip()[:300]
     registry.update(
-        args.participant, status="withdrawn", reason=reason or "not given", withdrawn_utc=utc_now()
+        participant, status="withdrawn", reason=reason or "not given", withdrawn_utc=utc_now()
     )
-    folder = sessions_dir(study) / args.participant
+    folder = sessions_dir(study) / participant
     deleted = bool(args.delete_data) and folder.exists()
     if deleted:
         shutil.rmtree(folder)
     StudyLog(study.folder).write(
-        args.participant, "withdrawn", reason=reason, was=before["status"], deleted=deleted
+        participant, "withdrawn", reason=reason, was=before["status"], deleted=deleted
     )
     print(
-        f"robin-pil study-withdraw: {args.participant} withdrawn (was {before['status']})"
+        f"robin-pil study-withdraw: {participant} withdrawn (was {before['status']})"
         + ("; their session folder was deleted" if deleted else "; data kept, never analysed")
     )
     return 0

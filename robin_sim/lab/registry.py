@@ -75,9 +75,10 @@ class Registry:
         return people
 
     def entry(self, participant: str) -> dict[str, Any]:
-        """``participant``'s entry; :class:`RegistryError` naming the ids if it has none."""
+        """``participant``'s entry (ids compare as :func:`same_id`); :class:`RegistryError`
+        naming the ids if it has none."""
         for entry in self.entries():
-            if entry["id"] == participant:
+            if same_id(entry["id"], participant):
                 return entry
         ids = ", ".join(e["id"] for e in self.entries()) or "none yet"
         raise RegistryError(f"participant {quote(participant)} is not in the registry; ids: {ids}")
@@ -105,20 +106,33 @@ class Registry:
             )
         with self.changing() as entries:
             for entry in entries:
-                if entry["id"] == participant:
+                if same_id(entry["id"], participant):
                     entry.update(fields)
                     return dict(entry)
         raise RegistryError(f"participant {quote(participant)} is not in the registry")
 
 
+def same_id(one: str, other: str) -> bool:
+    """Whether two ids name the same participant: equal but for case (on a case-insensitive
+    file system ``sessions/p01`` is ``sessions/P01``)."""
+    return one.casefold() == other.casefold()
+
+
+def since(entry: dict[str, Any]) -> str:
+    """When ``entry`` took its status: withdrawn, ended or assigned."""
+    if entry.get("status") == "withdrawn" and entry.get("withdrawn_utc"):
+        return str(entry["withdrawn_utc"])
+    return str(entry.get("ended_utc") or entry.get("assigned_utc"))
+
+
 def check_new(entries: list[dict[str, Any]], participant: str, next_id: str) -> None:
-    """Refuse an id that is in the registry already (ids are never reused)."""
+    """Refuse an id that is in the registry already, but for case (ids are never reused)."""
     for entry in entries:
-        if entry["id"] == participant:
+        if same_id(entry["id"], participant):
             raise RegistryError(
-                f"participant id {quote(participant)} was given already ({entry['status']} "
-                f"since {entry.get('ended_utc') or entry.get('assigned_utc')}); an id is never "
-                f"reused: leave out --participant for the next one ({next_id})"
+                f"participant id {quote(participant)} was given already as "
+                f"{quote(entry['id'])} ({entry['status']} since {since(entry)}); an id is "
+                f"never reused: leave out --participant for the next one ({next_id})"
             )
 
 

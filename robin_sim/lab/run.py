@@ -92,7 +92,7 @@ def prepare(folder: Path, participant: str | None, base: LiveConfig) -> StudyRun
     log = StudyLog(study.folder)
     with registry.changing() as entries:
         next_id = study.participant_id(next_number(entries, study.id_prefix))
-        chosen = next_id if participant is None else _checked_id(participant)
+        chosen = next_id if participant is None else study.canonical_id(_checked_id(participant))
         check_new(entries, chosen, next_id)
         folder_of = sessions_dir(study) / chosen
         if folder_of.exists():

@@ -116,6 +116,16 @@ class Study:
         """The id of the ``number``-th participant (1-based): P01, P02, ..."""
         return f"{self.id_prefix}{number:02d}"
 
+    def canonical_id(self, given: str) -> str:
+        """The one id of a participant however its number is written: ``p01``, ``P1`` and
+        ``P001`` are ``P01`` (the prefix in any case, the number in ASCII digits); an id of
+        another form is kept as given."""
+        prefix, rest = given[: len(self.id_prefix)], given[len(self.id_prefix) :]
+        digits = rest.isascii() and rest.isdigit()
+        if prefix.casefold() == self.id_prefix.casefold() and digits and int(rest) > 0:
+            return self.participant_id(int(rest))
+        return given
+
 
 def load_study(folder: str | Path) -> Study:
     """Read and check ``folder``'s study file; :class:`StudyError` if anything is wrong."""
