@@ -13,6 +13,7 @@ live eye view, and a frame rendered alone (scrubbing) gets its own eye view.
 
 from __future__ import annotations
 
+import os
 import time
 from collections import deque
 from collections.abc import Iterator
@@ -155,18 +156,28 @@ def replayed_frames(recorded: RecordedStates, workers: int = 0) -> Iterator[tupl
             yield pixels, int(recorded.copies[done])
 
 
+def partial_path(out: Path) -> Path:
+    """Where a replay is written until it is complete: ``replay.mp4.part`` beside ``out``
+    (an interrupted replay leaves it, playable up to its last second; the final name appears
+    only for a complete video, so a rerun is never refused)."""
+    return out.with_name(out.name + ".part")
+
+
 def replay_to_mp4(recorded: RecordedStates, out: Path, workers: int = 0) -> ReplayResult:
-    """Write ``recorded``'s frames, re-rendered, to the MP4 ``out``."""
+    """Write ``recorded``'s frames, re-rendered, to the MP4 ``out`` (through
+    :func:`partial_path`, renamed to ``out`` when every frame is written)."""
     started = time.perf_counter()
     meta = recorded.meta
     width, height = meta["size"]
     rendered = written = 0
-    with Mp4Writer(out, width, height, int(meta["fps"])) as writer:
+    partial = partial_path(out)
+    with Mp4Writer(partial, width, height, int(meta["fps"])) as writer:
         for pixels, copies in replayed_frames(recorded, workers):
             for _ in range(copies):
                 writer.write(pixels)
             rendered += 1
             written += copies
+    os.replace(partial, out)
     exact = (None, INSET_LABEL, HELD_EYE)  # what the replay draws as the run did
     approximate = sum(1 for o in recorded.overlays if o and o.get("eye") not in exact)
     return ReplayResult(
