@@ -61,7 +61,8 @@ def test_one_handover_writes_a_decodable_video_log_and_summary(tmp_path: Path, c
     assert summary["status"] == "finished"
     assert summary["legs_delivered"] == 1 and summary["legs_to_person"] == 1
     assert summary["physical_failures"] == 0
-    with av.open(str(tmp_path / "episode.mp4")) as container:
+    assert summary["video"]["path"] == "episode.mp4"  # relative to the run's folder
+    with av.open(str(tmp_path / summary["video"]["path"])) as container:
         stream = container.streams.video[0]
         assert stream.codec_context.name == "h264"
         frames = [frame.to_ndarray(format="rgb24") for frame in container.decode(stream)]

@@ -199,7 +199,8 @@ def test_thumb_down_interrupts_a_move_and_stop_mid_move_saves_a_playable_video(
     assert session.stop("failed") == summary  # idempotent: the first status stands
     inputs = [json.loads(line) for line in (out / "inputs.jsonl").read_text().splitlines()]
     assert [i["accepted"] for i in inputs] == [True, True, False, True, False]
-    with av.open(str(out / "episode.mp4")) as video:
+    assert summary["video"]["path"] == "episode.mp4"  # relative: the same on every machine
+    with av.open(str(out / summary["video"]["path"])) as video:
         decoded = [f.to_ndarray(format="rgb24") for f in video.decode(video=0)]
     assert len(decoded) == summary["video"]["frames"] > 10
     assert float(decoded[-1].std()) > 20.0

@@ -14,7 +14,6 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import ExitStack
-from pathlib import Path
 from typing import Any
 
 from tqdm import tqdm
@@ -170,7 +169,7 @@ def _summary(
     if recorder is not None:
         timing, video = recorder.timing, spec.video
         summary["video"] = {
-            "path": str(Path(spec.out) / VIDEO_NAME),
+            "path": VIDEO_NAME,  # relative to the run's folder, as every path of a summary
             "camera": video.camera,
             "size": [video.width, video.height],
             "fps": video.fps,

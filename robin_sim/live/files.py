@@ -12,6 +12,7 @@ experimenter's timestamped notes; the step log and the MP4 are written by
 from __future__ import annotations
 
 import json
+import os
 import threading
 import time
 from collections import deque
@@ -200,7 +201,8 @@ class SessionFiles:
         stream = None if run is None else run.stream
         if stream is not None and stream.writer is not None:
             summary["video"] = {
-                "path": str(stream.writer.path),
+                # relative to the session folder: the same on every machine, and in an archive
+                "path": os.path.relpath(stream.writer.path, self.out_dir),
                 "fps": int(config.fps),
                 "size": [config.width, config.height],
                 "frames": stream.stats.video_frames,
