@@ -99,13 +99,14 @@ META = {
 }
 
 
-def recorded_run(folder: Path, frames: int = 6) -> Path:
-    """A states file of ``frames`` states of the scene, the robot's first joint turning."""
+def recorded_run(folder: Path, frames: int = 6, spacing: float = 0.1) -> Path:
+    """A states file of ``frames`` states of the scene, ``spacing`` s apart (0.1: every frame
+    at 10 fps; more: a lowered stream's sparse states), the robot's first joint turning."""
     model = build_model()
     data = mujoco.MjData(model)
     log = StateLog(folder / STATES_NAME, META)
     for k in range(frames):
-        data.time = 0.1 * k
+        data.time = spacing * k
         data.qpos[:] = model.qpos0
         data.qpos[model.jnt_qposadr[1]] += 0.25 * k  # a visible motion
         mujoco.mj_forward(model, data)
@@ -116,14 +117,17 @@ def recorded_run(folder: Path, frames: int = 6) -> Path:
 
 
 @contextmanager
-def serving(path: Path) -> Iterator[int]:
-    """Serve ``path``'s replay page on a free loopback port; the port."""
+def serving(path: Path, annotations: dict | None = None) -> Iterator[int]:
+    """Serve ``path``'s replay page (with ``annotations``' steps and markers) on a free
+    loopback port; the port."""
     recorded = load_states(path)
     sock = bind("127.0.0.1", 0)
     loop = asyncio.new_event_loop()
     stop = asyncio.Event()
     thread = threading.Thread(
-        target=loop.run_until_complete, args=(serve_replay(recorded, sock, stop),), daemon=True
+        target=loop.run_until_complete,
+        args=(serve_replay(recorded, sock, stop, annotations),),
+        daemon=True,
     )
     thread.start()
     try:

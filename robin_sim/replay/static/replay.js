@@ -14,13 +14,15 @@
   timeline.max = String(meta.frames - 1);
   const duration = Math.max(meta.times[meta.frames - 1], 1e-9);
 
-  // The first frame at or after ``time`` seconds (the last one past the end).
+  // The recorded frame nearest ``time`` seconds (a lowered live stream records fewer frames,
+  // so the nearest may be seconds away: the page then says how far).
   function frameAt(time) {
     let low = 0, high = meta.frames - 1;
     while (low < high) {
       const mid = (low + high) >> 1;
       if (meta.times[mid] < time - 1e-6) low = mid + 1; else high = mid;
     }
+    if (low > 0 && time - meta.times[low - 1] < meta.times[low] - time) low -= 1;
     return low;
   }
 
@@ -40,7 +42,15 @@
       return false;
     }
     state.step = step;
-    $("shown-step").textContent = `step ${step} at ${found.time.toFixed(2)} s`;
+    const shown = meta.times[frameAt(found.time)];
+    const off = shown - found.time;
+    let text = `step ${step} at ${found.time.toFixed(2)} s`;
+    if (Math.abs(off) > 0.5 / meta.fps) {
+      const side = off > 0 ? "later" : "earlier";
+      text += ` (no frame recorded then: the nearest, ${shown.toFixed(2)} s, is ` +
+        `${Math.abs(off).toFixed(2)} s ${side})`;
+    }
+    $("shown-step").textContent = text;
     jumpTo(found.time);
     return true;
   }
