@@ -32,6 +32,8 @@ LIMITS: dict[str, int] = {
     "log": 2_000_000_000,  # log.jsonl, events.jsonl, inputs.jsonl, a sweep's journal
     "results": 2_000_000_000,  # a results CSV read whole: millions of runs
     "states": 4_000_000_000,  # states.npz (its members are checked on their own)
+    "arrays": 2_000_000_000,  # a gesture model or a rendered data set's chunk (.npz)
+    "video": 64_000_000_000,  # an MP4 the command wrote (its boxes are read, never all of it)
 }
 MAX_DEPTH = 64  # JSON nesting: the project's files are at most a few levels deep
 
@@ -53,6 +55,16 @@ def open_regular(path: str | os.PathLike[str]) -> Iterator[BinaryIO]:
         os.close(handle)
         raise IsADirectoryError(errno.EISDIR, "not a regular file", str(path))
     with os.fdopen(handle, "rb") as reader:
+        yield reader
+
+
+@contextmanager
+def open_bounded(path: str | os.PathLike[str], kind: str) -> Iterator[BinaryIO]:
+    """``path`` opened as :func:`open_regular` does, refused (:class:`FileTooLargeError`)
+    when larger than ``kind``'s limit: for files read in parts (an archive, an ``.npz``)."""
+    with open_regular(path) as reader:
+        if os.fstat(reader.fileno()).st_size > LIMITS[kind]:
+            raise FileTooLargeError(f"larger than {LIMITS[kind]:,} bytes")
         yield reader
 
 

@@ -11,6 +11,7 @@ that range. A recorded session is compared with the simulated sessions run in it
 from __future__ import annotations
 
 import csv
+import io
 import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -20,6 +21,8 @@ import numpy as np
 from scipy import stats
 
 from pil.experiments.people_observed import COMPARED_MEASURES
+from pil.experiments.report import ReportError, number_or_nan
+from pil.regular_files import UnreadableFileError, read_kind_text
 
 COMPARISON_COLUMNS = (
     "participant",
@@ -235,18 +238,22 @@ def summary_table(rows: Sequence[Mapping[str, Any]]) -> str:
 
 
 def read_comparison(path: Path) -> list[dict[str, Any]]:
-    """``comparison.csv`` read back with its numbers as numbers."""
+    """``comparison.csv`` read back (through the guarded reader) with its numbers as numbers;
+    a cell that is not a finite number raises naming the file and the column."""
     rows = []
-    with path.open(encoding="utf-8", newline="") as handle:
-        for raw in csv.DictReader(handle):
-            row: dict[str, Any] = dict(raw)
-            for key in COMPARISON_COLUMNS[3:]:
-                value = row.get(key)
-                if value in (None, ""):
-                    row[key] = None
-                elif key == "inside":
-                    row[key] = value == "True"
-                else:
-                    row[key] = float(value)
-            rows.append(row)
+    text = read_kind_text(path, "results", "the comparison")
+    for raw in csv.DictReader(io.StringIO(text, newline="")):
+        row: dict[str, Any] = dict(raw)
+        for key in COMPARISON_COLUMNS[3:]:
+            value = row.get(key)
+            if value in (None, ""):
+                row[key] = None
+            elif key == "inside":
+                row[key] = value == "True"
+            else:
+                try:
+                    row[key] = number_or_nan(value, key)
+                except ReportError as error:
+                    raise UnreadableFileError(f"{path}: {error}") from None
+        rows.append(row)
     return rows

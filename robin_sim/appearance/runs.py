@@ -25,6 +25,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME
+from pil.regular_files import UnreadableFileError, read_json_file, read_jsonl_file
 from pil.task.feedback_audit import confusion_columns
 from pil.worker_pool import SpawnPool
 from robin_sim.appearance.people import AppearancePeople, Looks
@@ -119,9 +120,8 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
         raise
     except Exception as problem:  # the run failed: recorded, the study goes on
         error = str(problem)
-        summary = json.loads((folder / SUMMARY_NAME).read_text())
-    log_path = folder / EPISODE_LOG_NAME
-    log = [json.loads(line) for line in log_path.read_text().splitlines() if line.strip()]
+        summary = read_json_file(folder / SUMMARY_NAME, "summary", "the run's summary")
+    log = read_jsonl_file(folder / EPISODE_LOG_NAME, "log", "the run's step log")
     vision = summary.get("vision") or {}
     row = {
         "person": run.person.name,
@@ -158,9 +158,11 @@ def run_one(run: AppearanceRun, out: Path) -> dict[str, Any]:
 def finished(out: Path, run: AppearanceRun) -> dict[str, Any] | None:
     """The result of ``run`` when its file is whole, else None (it runs again)."""
     path = out / RUNS_DIR / f"{run.run_id}.json"
+    if not path.is_file():
+        return None
     try:
-        result = json.loads(path.read_text())
-    except (OSError, ValueError):
+        result = read_json_file(path, "summary", "a finished run", finite=True)
+    except UnreadableFileError:  # cut short or damaged: it runs again
         return None
     if not isinstance(result, dict) or not isinstance(result.get("row"), dict):
         return None

@@ -13,11 +13,11 @@ people), ``simulated/<P>/sim<k>/`` (the simulated sessions' files), ``recorded.c
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError
+from pil.regular_files import read_json_file
 from robin_sim.cli.options import whole_number
 
 MAX_WORKERS = 16  # --workers of robin-pil people (both of its physical modes)
@@ -126,7 +126,8 @@ def run(args: argparse.Namespace) -> int:
             compare.figure(recorded, simulated, out / "comparison.png"),
         ]
         fitted = [
-            json.loads((out / "people" / f"{p.participant}.json").read_text()) for p in people
+            read_json_file(out / "people" / f"{p.participant}.json", "settings", "a fitted person")
+            for p in people
         ]
         ended: dict[str, dict[str, int]] = {}
         for row in simulated:

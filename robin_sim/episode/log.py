@@ -13,6 +13,7 @@ from typing import Any
 
 from pil.atomic import write_text_reserved
 from pil.errors import naming
+from pil.regular_files import read_jsonl_file
 from robin_sim.closing import ClosesOnExit
 
 
@@ -68,6 +69,5 @@ def write_json_atomic(path: Path, data: Mapping[str, Any], reserve: int = 0) -> 
 
 
 def read_step_log(path: Path) -> list[dict[str, Any]]:
-    """Read a step log back (for tests and analysis)."""
-    with Path(path).open(encoding="utf-8") as file:
-        return [json.loads(line) for line in file if line.strip()]
+    """Read a step log back (for tests and analysis), through the guarded reader."""
+    return read_jsonl_file(Path(path), "log", "the step log")

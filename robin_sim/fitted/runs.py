@@ -13,7 +13,6 @@ Ctrl-C and SIGTERM to the command and dies with it), or run in this process with
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 from collections.abc import Callable, Sequence
@@ -26,6 +25,7 @@ from pil.experiments.people_fit import FittedPerson
 from pil.experiments.people_observed import observe, session_measures
 from pil.experiments.people_sources import read_json, read_session
 from pil.experiments.sessions_load import SUMMARY_NAME
+from pil.regular_files import UnreadableFileError, read_json_file
 from pil.task.seeds import block_seed
 from pil.worker_pool import SpawnPool
 from robin_sim.fitted.session import SessionSetting, simulate
@@ -67,8 +67,8 @@ def measured(run: SimRun, out: Path) -> dict[str, Any] | None:
     if not path.is_file():
         return None
     try:
-        summary = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        summary = read_json_file(path, "summary", "the session's summary")
+    except UnreadableFileError:  # cut short or damaged: the session runs again
         return None
     if not isinstance(summary, dict) or (summary.get("live") or {}).get("seed") != run.seed:
         return None

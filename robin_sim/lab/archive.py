@@ -51,8 +51,10 @@ def sha256(data: bytes) -> str:
 
 
 def file_hash(path: Path) -> str:
+    """The SHA-256 of a regular file, read in chunks (a FIFO or a device found in the study
+    folder is refused, not read)."""
     digest = hashlib.sha256()
-    with Path(path).open("rb") as file:
+    with open_regular(path) as file:
         for chunk in iter(lambda: file.read(1 << 20), b""):
             digest.update(chunk)
     return digest.hexdigest()

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError, quote
+from pil.regular_files import UnreadableFileError, read_kind_text
 from robin_sim.lab.study_file import DESIGNS, STUDY_NAME, Study, StudyError, load_study
 from robin_sim.live.protocol import find_protocol, load_protocol
 
@@ -105,10 +106,10 @@ def init_study(folder: Path, protocol: str | None, design: str) -> Study:
         systems, ref = [c.system for c in loaded.conditions], protocol
         if Path(protocol).is_file():  # a file of the lab's: copied, so the folder holds it
             ref = PROTOCOL_NAME
-            copies[PROTOCOL_NAME] = Path(protocol).read_text(encoding="utf-8")
+            copies[PROTOCOL_NAME] = _read(Path(protocol), "the protocol")
             scenario = loaded.scenario
             if scenario is not None and Path(scenario).is_file():
-                copies[Path(scenario).name] = Path(scenario).read_text(encoding="utf-8")
+                copies[Path(scenario).name] = _read(Path(scenario), "the scenario")
     groups = ""
     if design == "between":
         groups = "".join(
@@ -138,3 +139,11 @@ def init_study(folder: Path, protocol: str | None, design: str) -> Study:
         if made:
             folder.rmdir()
         raise
+
+
+def _read(path: Path, what: str) -> str:
+    """A lab's file to copy into the study folder, through the guarded reader."""
+    try:
+        return read_kind_text(path, "settings", what)
+    except UnreadableFileError as error:
+        raise StudyError(str(error)) from None

@@ -12,6 +12,8 @@ import os
 import struct
 from pathlib import Path
 
+from pil.regular_files import open_regular
+
 HEADER = 8  # a box's 32-bit size and 4-character type
 LARGE = 16  # ... plus a 64-bit size when the 32-bit one is 1
 
@@ -22,7 +24,7 @@ def whole_boxes_end(path: str | os.PathLike[str]) -> int:
     size = os.path.getsize(path)
     offset = kept = 0
     last_type = b""
-    with open(path, "rb") as handle:
+    with open_regular(path) as handle:
         while offset + HEADER <= size:
             handle.seek(offset)
             head = handle.read(LARGE)

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from pil.errors import RobinPilError
+from pil.regular_files import open_bounded
 from robin_sim.model.names import HUMAN_VIS_POSES
 
 NO_GESTURE = "no_gesture"
@@ -77,7 +78,7 @@ class GestureModel:
     def load(cls, path: Path | str) -> GestureModel:
         """Read a model written by :meth:`save`; a bad file raises :class:`ModelFileError`."""
         try:
-            with np.load(path, allow_pickle=False) as z:
+            with open_bounded(path, "arrays") as handle, np.load(handle, allow_pickle=False) as z:
                 if int(z["format"]) != FORMAT or tuple(z["classes"].tolist()) != CLASSES:
                     raise ModelFileError(
                         f"gesture model {path}: format {int(z['format'])} or classes "

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from pil.errors import RobinPilError
+from pil.regular_files import open_bounded
 from robin_sim.model import names, robot_spec
 from robin_sim.model.scene import DEFAULT_HANDOVER, DEFAULT_LEGS, DEFAULT_SPOTS
 from robin_sim.model.scene_file import site_offset
@@ -179,7 +180,7 @@ def read_chunk(path: Path, seed: int | None = None) -> dict[str, np.ndarray]:
     """Every array of a chunk file; :class:`ChunkError` when it is damaged, lacks a key or
     (``seed`` given) was drawn from another seed."""
     try:
-        with np.load(path, allow_pickle=False) as z:
+        with open_bounded(path, "arrays") as handle, np.load(handle, allow_pickle=False) as z:
             arrays = {key: z[key] for key in CHUNK_KEYS}
     except _DAMAGED as error:
         raise ChunkError(
