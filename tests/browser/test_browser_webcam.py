@@ -22,13 +22,15 @@ from robin_sim.live.hands.reader import THRESHOLD
 
 # slow: the tracker reads about one frame a second on 2 busy cores; each test waits on readings
 # (bounded), so the whole test may take many minutes under load
-pytestmark = [pytest.mark.slow, pytest.mark.timeout(1500)]
-READ_TIMEOUT_S = 420  # generous: a busy 2-core machine reads a frame every few seconds
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(2400)]
+READ_TIMEOUT_S = 900  # a bound, not a measure: a busy 2-core machine reads a frame in 1-33 s
 SCENARIO = "one_handover"
 
 
 def session_options() -> dict[str, Any]:
-    # real time and the longest feedback window: the thumb is read however slow the tracker is;
+    # a quarter of real time and the longest feedback window (60 s simulated: 240 s of wall
+    # time) so that the thumb is read however slow the tracker is (issue 39: under a load of
+    # 5-13 it read once in 33 s, and at real time the window closed before a reading);
     # seed 3: the learner's first try for a pointing at a leg is `object`, a move with a
     # feedback window after it (seed 0 tries `close`, which closes on nothing and ends at once
     # with no window, so silence approves it and the next pointings get `close` again)
@@ -37,7 +39,7 @@ def session_options() -> dict[str, Any]:
         "scenario": SCENARIO,
         "webcam": True,
         "calibrate": False,
-        "speed": 1.0,
+        "speed": 0.25,
         "feedback_window": 60.0,
         "video": False,
     }
