@@ -230,7 +230,8 @@
     if (!note) return;
     note.textContent = done || !stream || !stream.lowered ? ""
       : `The computer is busy: Robin's image comes at ${stream.fps} frames a second` +
-        (stream.inset ? "." : ", without its eye view. Robin itself runs as usual.");
+        (stream.inset ? "" : ", without its eye view") +
+        ". Robin may also move more slowly than usual.";
   }
 
   // A ring around what was clicked last, in frame pixels scaled to the shown canvas.
