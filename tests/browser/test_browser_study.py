@@ -141,7 +141,7 @@ def check_ids_are_never_reused(folder: Path, capsys) -> None:
         RegistryError, match="never reused: leave out --participant for the next one \\(P05\\)"
     ):
         prepare(folder, "P03", fast_base(SPEED, False))
-    with pytest.raises(RegistryError, match="'P02' was given already \\(declined"):
+    with pytest.raises(RegistryError, match="'P02' was given already as 'P02' \\(declined"):
         prepare(folder, "P02", fast_base(SPEED, False))
     capsys.readouterr()
     command = ["live", "--study", str(folder), "--participant", "P01", "--no-browser"]
