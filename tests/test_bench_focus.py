@@ -251,3 +251,16 @@ def test_missed_alone_is_silence_alone_to_the_robot():
                 for c in ("silence-10", "missed-10")
             ]
             assert rows[0] == rows[1]
+
+
+def test_the_dose_track_is_shown_per_component_with_d80_as_its_zero():
+    from pil.bench.leaderboard_focus import dose_levels, marks
+
+    suite = load_suite()
+    levels = dose_levels(suite.track_conditions("thumb-noise"))
+    assert set(levels) == {"silence", "late", "misread"}
+    for component, found in levels.items():
+        assert found == [(0, "d80"), *((p, f"{component}-{p}") for p in (2, 5, 10, 20))]
+    assert dose_levels(suite.track_conditions("assembly")) == {}  # not a dose-response
+    assert marks({"failed": 2.0, "stalled": 1.0}) == " (2✗ 1⏸)"
+    assert marks({"failed": 0.0, "stalled": math.nan}) == ""

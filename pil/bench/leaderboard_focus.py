@@ -67,9 +67,13 @@ def dose_tables(
     """One table per component: agents as rows, its levels (0 %: the base) as columns."""
     out: list[str] = []
     for component, levels in dose.items():
-        header = ["agent", *(f"{component} {pct} % ({name})" for pct, name in levels)]
+        header = [
+            "agent",
+            *(f"{pct} %" + (f" ({name})" if not pct else "") for pct, name in levels),
+        ]
         rows = [[a, *(cell(a, name) for _pct, name in levels)] for a in agents]
-        out += ["", f"**{component}** alone:", "", markdown_table(header, rows)]
+        named = ", ".join(f"`{name}`" for pct, name in levels if pct)
+        out += ["", f"**{component}** alone ({named}):", "", markdown_table(header, rows)]
     return out[1:]
 
 
