@@ -101,6 +101,7 @@ def test_em_never_lowers_the_evidence_and_acts_within_the_step(events, epsilon):
         assert all(b >= a - 1e-9 for a, b in itertools.pairwise(steps))
         assert agent.weights.sum() == pytest.approx(1.0) and (agent.weights >= 0).all()
     state: State = ALL_STATES[events[-1][0]]
+    agent.restart()  # a new step: the history's refusals are not this step's
     refused = set()
     for _ in range(len(ACTIONS) - 1):  # within a step a refused action is not tried again
         action = agent.choose(state)

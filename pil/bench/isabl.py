@@ -38,10 +38,13 @@ from pil.agents.base import FeedbackAgent
 from pil.table import N_STATES, AssociationTable
 from pil.types import ACTIONS, Action, Feedback, State
 
-_N = len(ACTIONS)
-KINDS: tuple[Feedback, ...] = (Feedback.OK, Feedback.NOT_OK, Feedback.NONE)  # count columns
-EPSILON = 0.05  # the default error rate (tuned on dev in the bench)
-LEVELS = 10  # strategy grid: the centres of a 10 x 10 partition of [0, 1]^2
+FEEDBACK_KINDS: tuple[Feedback, ...] = (
+    Feedback.OK,
+    Feedback.NOT_OK,
+    Feedback.NONE,
+)  # count columns
+ERROR_RATE = 0.05  # the default error rate (tuned on dev in the bench)
+STRATEGY_LEVELS = 10  # strategy grid: the centres of a 10 x 10 partition of [0, 1]^2
 MAX_ROUNDS = 50  # EM rounds at most (it stops as soon as the policy is stable)
 
 
@@ -66,8 +69,8 @@ class ISablAgent(FeedbackAgent):
         self,
         seed: int = 0,
         *,
-        epsilon: float = EPSILON,
-        levels: int = LEVELS,
+        epsilon: float = ERROR_RATE,
+        levels: int = STRATEGY_LEVELS,
         table: AssociationTable | None = None,
     ) -> None:
         super().__init__(seed, table=table)
@@ -81,10 +84,12 @@ class ISablAgent(FeedbackAgent):
             ]
         )  # (strategies, right/wrong, kind)
         self._log_right, self._log_wrong = np.log(probs[:, 0, :]), np.log(probs[:, 1, :])
-        self.counts = np.zeros((N_STATES, _N, len(KINDS)))  # feedback per (state, action, kind)
+        self.counts = np.zeros(
+            (N_STATES, len(ACTIONS), len(FEEDBACK_KINDS))
+        )  # feedback per (state, action, kind)
         self.weights = np.full(len(centres) ** 2, 1.0 / len(centres) ** 2)  # P(strategy | h)
         self.policy = np.full(N_STATES, -1)  # lambda(s) as an action index (-1: no feedback)
-        self.scores = np.zeros((N_STATES, _N))  # expected log-likelihood of lambda(s) = a
+        self.scores = np.zeros((N_STATES, len(ACTIONS)))  # expected log-likelihood of lambda(s) = a
         self.rounds = 0  # EM rounds of the last fit
         self.evidence: list[float] = []  # log P(h | lambda_i) after each E-step of the last fit
         self._heard: Feedback | None = None
@@ -106,7 +111,7 @@ class ISablAgent(FeedbackAgent):
         super().feedback(state, action, ok)
 
     def _learn(self, sid: int, index: int, reward: float) -> None:
-        self.counts[sid, index, KINDS.index(self._kind)] += 1
+        self.counts[sid, index, FEEDBACK_KINDS.index(self._kind)] += 1
         self.fit()
 
     # -- EM ---------------------------------------------------------------------------------

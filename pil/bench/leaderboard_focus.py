@@ -17,9 +17,9 @@ from typing import Any
 
 from pil.bench.suite import Suite
 from pil.experiments.report import markdown_table
+from pil.experiments.stats import PAIRED_T
 
 DOSE_NAME = re.compile(r"^([a-z]+)-(\d+)$")  # silence-5: component silence at 5 %
-PAIRED_T = "paired t"
 
 
 def number_text(value: float | None, spec: str = ".1f") -> str:
