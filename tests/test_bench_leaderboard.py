@@ -98,3 +98,41 @@ def test_a_family_s_holm_p_is_recomputed_from_the_journal(runs):
         assert len(family) == len(suite.anchors) * len(suite.track(track).conditions) - (
             len(suite.track(track).conditions) if entrant in suite.anchors else 0
         )
+
+
+def test_the_focus_family_and_noninferiority_recompute_from_the_journal(runs):
+    """tests.csv's focus rows and noninferiority.csv are the journal's runs with every failed
+    run at the cap (the track's cap x its scripted gestures): nothing dropped."""
+    from scipy.stats import ttest_rel
+
+    suite = load_suite()
+    focus, test = suite.focus, suite.noninferiority
+    assert focus is not None and test is not None
+
+    def values(agent: str, track: str, condition: str) -> dict[int, float]:
+        return {
+            int(r["seed"]): suite.cap_of(track) * float(r["scripted"])
+            if r["failed"]
+            else float(r["actions"])
+            for r in runs
+            if r["agent"] == agent and r["track"] == track and r["condition"] == condition
+        }
+
+    rows = [t for t in _table("tests.csv") if t["family"] == "focus" and t["test"] == "paired t"]
+    assert len(rows) == focus.size and {int(t["family_size"]) for t in rows} == {focus.size}
+    for t in rows[:: max(1, len(rows) // 8)]:
+        a = values(focus.entrant, t["track"], t["condition"])
+        b = values(t["anchor"], t["track"], t["condition"])
+        assert int(t["n"]) == len(a) == len(b) and int(t["dropped"]) == 0
+        diffs = [a[s] - b[s] for s in sorted(a)]
+        assert float(t["mean_diff"]) == pytest.approx(statistics.fmean(diffs), rel=1e-5)
+        if len(set(diffs)) > 1:
+            p = float(ttest_rel([a[s] for s in sorted(a)], [b[s] for s in sorted(a)]).pvalue)
+            assert float(t["p"]) == pytest.approx(p, rel=1e-4)
+    found = {r["condition"]: r for r in _table("noninferiority.csv")}
+    assert set(found) == {*test.conditions, "all"}
+    for condition in test.conditions:
+        a = values(test.entrant, test.track, condition)
+        b = values(test.anchor, test.track, condition)
+        mean = statistics.fmean(a[s] - b[s] for s in a)
+        assert float(found[condition]["mean_diff"]) == pytest.approx(mean, rel=1e-5)

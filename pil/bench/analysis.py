@@ -27,15 +27,18 @@ from pil.bench.suite import Suite
 from pil.experiments.stats import CONFIDENCE, paired
 
 ORACLE = "oracle"
+ANCHORS = "anchors"  # the ``family`` of an entrant's comparisons with the anchors
 BENCH_TEST_COLUMNS = (
     "track",
     "entrant",
     "anchor",
     "condition",
     "measure",
+    "family",  # anchors: the entrant's family with the anchors; focus: analysis.focus
     "test",
     "n",
-    "dropped",
+    "dropped",  # seeds left out because a run failed (anchors' family)
+    "at_cap",  # failed runs counted at the cap instead (focus family)
     "mean_diff",
     "ci_low",
     "ci_high",
@@ -84,7 +87,9 @@ def comparisons(
                         "anchor": anchor,
                         "condition": condition,
                         "measure": metric,
+                        "family": ANCHORS,
                         "dropped": dropped,
+                        "at_cap": 0,
                         **result,
                     }
                 )
@@ -214,6 +219,7 @@ def summaries(
                 "condition": condition,
                 "runs": len(mine),
                 "failed": sum(bool(r["failed"]) for r in mine),
+                "stalled": sum(bool(r.get("stalled")) for r in mine),
                 "mean": mean,
                 "ci_low": low,
                 "ci_high": high,

@@ -36,6 +36,7 @@ from pil.bench.agents import (
     RandomAgent,
     ThompsonAgent,
 )
+from pil.bench.isabl import ISablAgent
 from pil.errors import RobinPilError, quote
 from pil.learner import Learner
 from pil.types import ACTIONS, GESTURES, Hand
@@ -61,6 +62,7 @@ REFERENCE: dict[str, Callable[[int, Mapping[str, Any]], Any]] = {
     "thompson": lambda seed, params: ThompsonAgent(seed, **params),
     "coach": lambda seed, params: CoachAgent(seed, **params),
     "policy-shaping": lambda seed, params: PolicyShapingAgent(seed, **params),
+    "isabl": lambda seed, params: ISablAgent(seed, **params),
 }
 
 

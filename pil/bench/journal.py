@@ -1,11 +1,12 @@
 """Where a benchmark run keeps its results: a journal of runs, stamped, resumable.
 
-``OUT/stamp.json`` says what the folder holds (suite version and file hash, seed block, quick
-or not, the git commit of the code that started it, and of any that resumed it:
-``resumed_at``); ``OUT/runs.jsonl`` has one JSON line per finished run,
-appended and flushed as each ends, so an interrupted run loses only the runs under way and the
-same command resumes it (finished keys are skipped). A folder of another suite, block or mode
-is refused before anything runs.
+``OUT/stamp.json`` says what the folder holds (suite version, the suite's hash over its file
+and its conditions' files, each condition file's hash, seed block, quick or not, the git
+commit of the code that started it, and of any that resumed it: ``resumed_at``);
+``OUT/runs.jsonl`` has one JSON line per finished run, appended and flushed as each ends, so an
+interrupted run loses only the runs under way and the same command resumes it (finished keys
+are skipped). A folder of another suite (its file or a file its conditions read), block or
+mode is refused before anything runs, naming what changed.
 """
 
 from __future__ import annotations
@@ -49,9 +50,11 @@ class Journal:
             self.stamp.update(commit=commit, resumed_at=later)  # who made the first runs
             for name in _SAME:
                 if found.get(name) != self.stamp[name]:
+                    why = suite.stale(found) if name == "suite_sha256" else ""
                     raise SuiteError(
                         f"{self.out} holds runs with {name} {found.get(name)!r}, not "
-                        f"{self.stamp[name]!r}; give a new --out folder"
+                        f"{self.stamp[name]!r}{f' ({why})' if why else ''}; give a new --out "
+                        "folder"
                     )
         self.rows = read_runs(self.out)
         self.done = {key_of(r) for r in self.rows}

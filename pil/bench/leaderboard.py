@@ -15,24 +15,23 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from pil.bench.analysis import ANCHORS
 from pil.bench.journal import Journal, read_runs
+from pil.bench.leaderboard_focus import (
+    dose_levels,
+    dose_tables,
+    focus_section,
+    marks,
+    number_text,
+    p_text,
+)
 from pil.bench.results import read_table
 from pil.bench.suite import Suite
 from pil.experiments.report import markdown_table
 from pil.experiments.stats import CONSTANT_NOTE, NO_DIFFERENCE_NOTE
 
+_f, _p = number_text, p_text  # a cell's number, a cell's p
 NO_SPREAD = (CONSTANT_NOTE, NO_DIFFERENCE_NOTE)  # stats.paired's notes: nothing to test
-
-
-def _f(value: float, spec: str = ".1f") -> str:
-    return "–" if value is None or math.isnan(value) else format(value, spec)
-
-
-def _p(value: float) -> str:
-    if math.isnan(value):
-        return "–"
-    star = " *" if value < 0.05 else ""
-    return (f"{value:.2g}" if value >= 0.001 else "<0.001") + star
 
 
 def row_line(suite: Suite, found: Mapping[str, list[dict]], track: str, agent: str) -> str:
@@ -41,9 +40,11 @@ def row_line(suite: Suite, found: Mapping[str, list[dict]], track: str, agent: s
     cells = [f"{track:<14} {agent:<24}"]
     for s in found["summary"]:
         if s["track"] == track and s["agent"] == agent:
-            fails = f" ({s['failed']} failed)" if s["failed"] else ""
+            said = [f"{s['failed']} failed"] if s["failed"] else []
+            said += [f"{s['stalled']} stalled"] if s.get("stalled") else []
+            tail = f" ({', '.join(said)})" if said else ""
             cells.append(
-                f"{s['condition']} {_f(s['mean'])} [{_f(s['ci_low'])}, {_f(s['ci_high'])}]{fails}"
+                f"{s['condition']} {_f(s['mean'])} [{_f(s['ci_low'])}, {_f(s['ci_high'])}]{tail}"
             )
     anchor = suite.equivalence_anchor
     diffs = [
@@ -53,6 +54,7 @@ def row_line(suite: Suite, found: Mapping[str, list[dict]], track: str, agent: s
         and t["entrant"] == agent
         and t["anchor"] == anchor
         and t["test"] == "paired t"
+        and t.get("family", ANCHORS) == ANCHORS
     ]
     if diffs:
         cells.append(
@@ -66,6 +68,7 @@ def row_line(suite: Suite, found: Mapping[str, list[dict]], track: str, agent: s
 
 
 REFERENCE_FOLDER = "bench/results/leaderboard"
+TABLES = ("summary", "tests", "equivalence", "noninferiority")
 
 
 def render(
@@ -77,7 +80,9 @@ def render(
     """The Markdown page of the results folder ``out``, named ``source`` on the page."""
     out = Path(out)
     stamp = Journal.read_stamp(out) or {}
-    found = {name: read_table(out / f"{name}.csv") for name in ("summary", "tests", "equivalence")}
+    found = {
+        n: read_table(out / f"{n}.csv") if (out / f"{n}.csv").is_file() else [] for n in TABLES
+    }
     tuned = _tuned(out)
     seeds = sorted({int(r["seed"]) for r in read_runs(out)})
     parts = [
@@ -92,8 +97,13 @@ def render(
         "",
         f"Cells: mean robot actions to finish [95 % CI over seeds]; `(k✗)`: k runs failed "
         f"(past the cap of {suite.cap:g} x the scripted gestures, or a gesture that never got "
-        "an approved action) and are left out of the mean. Lower is better.",
+        "an approved action) and are left out of the mean; `(k⏸)`: k runs stalled (the robot "
+        f"did not act for {suite.stall_after} gestures of the person in a row; a stalled run "
+        "may still finish). Lower is better.",
     ]
+    stale = suite.stale(stamp)
+    if stale:
+        parts[2:2] = [f"**Stale**: {stale}; regenerate with `robin-pil bench --leaderboard`.", ""]
     if tuned:
         parts += [
             "",
@@ -107,6 +117,7 @@ def render(
         ]
     for track in dict.fromkeys(str(r["track"]) for r in found["summary"]):
         parts += _track_section(suite, found, track)
+    parts += focus_section(suite, found)
     return "\n".join(parts) + "\n"
 
 
@@ -129,10 +140,10 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
         s = by.get((agent, condition))
         if s is None:
             return ""
-        fails = f" ({int(s['failed'])}✗)" if s["failed"] else ""
-        return f"{_f(s['mean'])} [{_f(s['ci_low'])}, {_f(s['ci_high'])}]{fails}"
+        return f"{_f(s['mean'])} [{_f(s['ci_low'])}, {_f(s['ci_high'])}]{marks(s)}"
 
     body = [[a, *(cell(a, c) for c in conditions)] for a in agents]
+    dose = dose_levels(conditions)
     extra = [
         k for k in ("recovery", "savings") if any(not math.isnan(s.get(k, math.nan)) for s in mine)
     ]
@@ -140,11 +151,13 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
     for a in agents:
         rows = [s for s in mine if s["agent"] == a]
         runs, failed = int(sum(s["runs"] for s in rows)), int(sum(s["failed"] for s in rows))
+        stalled = int(sum(_zero(s.get("stalled")) for s in rows))
         line = [
             a,
             _f(_mean(s["regret"] for s in rows)),
             _f(_mean(s["curve_area"] for s in rows)),
             f"{failed}/{runs}",
+            f"{stalled}/{runs}",
         ]
         line += [_f(_mean(s.get(k, math.nan) for s in rows)) for k in extra]
         second.append(line)
@@ -152,7 +165,10 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
     tests = [
         t
         for t in found["tests"]
-        if t["track"] == track and t["anchor"] == anchor and t["test"] == "paired t"
+        if t["track"] == track
+        and t["anchor"] == anchor
+        and t["test"] == "paired t"
+        and t.get("family", ANCHORS) == ANCHORS
     ]
     eq = {(e["entrant"], e["condition"]): e for e in found["equivalence"] if e["track"] == track}
     third = []
@@ -187,19 +203,23 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
             f"{_p(m['mixed_p'])}"
         )
         third.append(cells)
-    return [
-        "",
-        f"## {track}: {suite.track(track).description}",
-        "",
-        markdown_table(["agent", *conditions], body),
+    head = ["", f"## {track}: {suite.track(track).description}", ""]
+    head += (
+        dose_tables(dose, agents, cell) if dose else [markdown_table(["agent", *conditions], body)]
+    )
+    head += [
         "",
         "Over all conditions: regret = actions − the oracle's on the same seed; curve area = "
-        "mean height of the per-table actions curve (the curves: `curves.csv`); failed runs"
-        + (f"; {', '.join(extra)} (means)" if extra else "")
-        + ".",
+        "mean height of the per-table actions curve (the curves: `curves.csv`); failed and "
+        "stalled runs" + (f"; {', '.join(extra)} (means)" if extra else "") + ".",
         "",
-        markdown_table(["agent", "regret", "curve area", "failed", *extra], second),
+        markdown_table(["agent", "regret", "curve area", "failed", "stalled", *extra], second),
         "",
+    ]
+    if dose:  # 17 conditions: the anchors' comparisons are in tests.csv (family anchors)
+        return [*head, f"Against {anchor} and the other anchors: `tests.csv` (family anchors)."]
+    return [
+        *head,
         f"Against {anchor} (entrant − anchor, paired by seed over complete pairs): mean "
         "difference [95 % CI], Holm-adjusted paired-t p over the entrant's declared family "
         f"(* < {suite.alpha:g}); ≡: equivalent within ±{suite.margin:g} actions by TOST. Last "
@@ -207,6 +227,11 @@ def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) ->
         "",
         markdown_table(["entrant", *conditions, "mixed model"], third),
     ]
+
+
+def _zero(value: Any) -> float:
+    """A count read back from a table (NaN or missing: 0, e.g. a track without stalls)."""
+    return 0.0 if value is None or (isinstance(value, float) and math.isnan(value)) else value
 
 
 def _mean(values: Any) -> float:

@@ -1,9 +1,11 @@
 """A results folder's tables, computed from its journal by the analysis fixed in advance.
 
 :func:`write_results` writes, beside the journal, ``summary.csv`` (per track, agent and
-condition), ``tests.csv`` (every entrant's declared family), ``equivalence.csv`` (TOST and
-the mixed model) and ``curves.csv`` (the mean actions per table of the runs that finished);
-:func:`read_table` reads one back (numbers as floats).
+condition: runs, failed, stalled, means), ``tests.csv`` (every entrant's declared family with
+the anchors, and the suite's focus family: column ``family``), ``equivalence.csv`` (TOST and
+the mixed model), ``noninferiority.csv`` (the declared one-sided test) and ``curves.csv`` (the
+mean actions per table of the runs that finished); :func:`read_table` reads one back (numbers
+as floats).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from typing import Any
 
 from pil.atomic import write_text_atomic
 from pil.bench.analysis import BENCH_TEST_COLUMNS, comparisons, curves, equivalence, summaries
+from pil.bench.focus import NONINFERIORITY_COLUMNS, focus_comparisons, noninferiority
 from pil.bench.journal import Journal, read_runs, sorted_runs
 from pil.bench.suite import Suite
 
@@ -24,6 +27,7 @@ BENCH_SUMMARY_COLUMNS = (
     "condition",
     "runs",
     "failed",
+    "stalled",
     "mean",
     "ci_low",
     "ci_high",
@@ -85,11 +89,14 @@ def analyse(
         for agent in dict.fromkeys(str(r["agent"]) for r in rows if r["track"] == track):
             out["tests"] += comparisons(suite, rows, track, agent, quick)
             out["equivalence"] += equivalence(suite, rows, track, agent, quick)
+    out["tests"] += [{c: r[c] for c in BENCH_TEST_COLUMNS} for r in focus_comparisons(suite, rows)]
+    out["noninferiority"] = noninferiority(suite, rows)
     return out
 
 
 def write_results(suite: Suite, out: str | Path) -> list[Path]:
-    """``summary.csv``, ``tests.csv`` and ``equivalence.csv`` from the folder's journal."""
+    """``summary.csv``, ``tests.csv``, ``equivalence.csv``, ``noninferiority.csv`` and
+    ``curves.csv`` from the folder's journal."""
     out = Path(out)
     stamp = Journal.read_stamp(out) or {}
     rows = read_runs(out)
@@ -109,6 +116,9 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
         write_text_atomic(out / "tests.csv", csv_text(found["tests"], BENCH_TEST_COLUMNS)),
         write_text_atomic(
             out / "equivalence.csv", csv_text(found["equivalence"], BENCH_EQUIVALENCE_COLUMNS)
+        ),
+        write_text_atomic(
+            out / "noninferiority.csv", csv_text(found["noninferiority"], NONINFERIORITY_COLUMNS)
         ),
     ]
 
@@ -145,4 +155,6 @@ _TEXT = (
     "test",
     "note",
     "mixed_note",
+    "family",
+    "noninferior",
 )

@@ -9,13 +9,15 @@ block's run seeds; :meth:`Suite.stamp` what every results file carries (version,
 
 from __future__ import annotations
 
-import hashlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pil.errors import RobinPilError, quote
+from pil.bench.declared import Focus, NonInferiority, parse_declared
+from pil.bench.fingerprint import condition_files, fingerprint, staleness
+from pil.bench.suite_fields import Axis, SuiteError, count, mapping, number, parse_axes
+from pil.errors import quote
 from pil.task.yaml_files import read_small_text, read_yaml_mapping, reject_unknown
 
 SUITE_FILE = Path(__file__).with_name("suite.yaml")
@@ -23,7 +25,7 @@ BLOCKS: tuple[str, ...] = ("dev", "eval")
 TRACK_KINDS: tuple[str, ...] = ("assembly", "meaning-change", "transfer", "two-people", "physical")
 GESTURE_MODELS: tuple[str, ...] = ("independent", "measured", "markov", "vision")
 FEEDBACK_KEYS: tuple[str, ...] = ("silence", "misread", "missed", "late", "measured")
-_TOP = ("version", "name", "seeds", "cap", "tracks", "conditions", "agents", "tuning")
+_TOP = ("version", "name", "seeds", "cap", "stalled", "tracks", "conditions", "agents", "tuning")
 _TOP_ALL = (*_TOP, "metrics", "analysis", "quick_conditions")
 _TRACK_KEYS = (
     "description",
@@ -38,10 +40,6 @@ _TRACK_KEYS = (
     "conditions",
     "cap",
 )
-
-
-class SuiteError(RobinPilError):
-    """A suite file that cannot be used (or a request it does not allow)."""
 
 
 @dataclass(frozen=True)
@@ -68,16 +66,6 @@ class Condition:
 
 
 @dataclass(frozen=True)
-class Axis:
-    """One tuned parameter: its grid, its hard bounds and how to extend it."""
-
-    name: str
-    values: tuple[float, ...]
-    bounds: tuple[float, float]
-    scale: str
-
-
-@dataclass(frozen=True)
 class Suite:
     """The whole suite file, checked (see the module docstring)."""
 
@@ -88,6 +76,7 @@ class Suite:
     quick_count: int
     quick_conditions: tuple[str, ...]
     cap: float
+    stall_after: int  # K: a run is stalled after K gestures in a row without an action
     tracks: Mapping[str, Track]
     conditions: Mapping[str, Condition]
     agents: tuple[str, ...]
@@ -100,8 +89,11 @@ class Suite:
     alpha: float
     margin: float
     equivalence_anchor: str
+    focus: Focus | None
+    noninferiority: NonInferiority | None
     path: Path
-    sha256: str
+    sha256: str  # the suite file and every file its conditions read (:mod:`.fingerprint`)
+    inputs: Mapping[str, str]  # each condition file (as the suite names it) -> its sha256
 
     def seeds(self, block: str, quick: bool = False) -> list[int]:
         """The run seeds of ``block`` (``dev`` or ``eval``); ``quick``: the first few."""
@@ -112,9 +104,18 @@ class Suite:
         seeds = rep_seeds(self.masters[block], self.counts[block])
         return seeds[: self.quick_count] if quick else seeds
 
-    def stamp(self) -> dict[str, str]:
-        """What every results file carries: the suite's version and its file's hash."""
-        return {"suite_version": self.version, "suite_sha256": self.sha256}
+    def stamp(self) -> dict[str, Any]:
+        """What every results file carries: the suite's version, its hash (the file and its
+        conditions' files) and each condition file's own hash."""
+        return {
+            "suite_version": self.version,
+            "suite_sha256": self.sha256,
+            "suite_inputs": dict(self.inputs),
+        }
+
+    def stale(self, stamp: Mapping[str, Any]) -> str:
+        """Why results stamped ``stamp`` are stale for this suite ("" if they are not)."""
+        return staleness(stamp, self.sha256, self.inputs)
 
     def track(self, name: str) -> Track:
         """The track ``name`` (an unknown one names the valid choices)."""
@@ -141,48 +142,29 @@ class Suite:
         return tuple(n for n, t in self.tracks.items() if not t.slow)
 
 
-def _number(value: Any, where: str, low: float, high: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not low <= value <= high:
-        raise SuiteError(f"{where}: expected a number from {low:g} to {high:g}, got {quote(value)}")
-    return float(value)
-
-
-def _count(value: Any, where: str, low: int = 1) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < low:
-        raise SuiteError(f"{where}: expected a whole number >= {low}, got {quote(value)}")
-    return value
-
-
-def _mapping(raw: Mapping[str, Any], key: str, where: str) -> Mapping[str, Any]:
-    value = raw.get(key)
-    if not isinstance(value, Mapping) or not value:
-        raise SuiteError(f"{where}: {key}: expected a mapping")
-    return value
-
-
 def _condition(name: str, raw: Any, base: Path) -> Condition:
     where = f"conditions.{name}"
     if not isinstance(raw, Mapping):
         raise SuiteError(f"{where}: expected a mapping with gestures (and feedback)")
     reject_unknown(raw, ("gestures", "feedback"), where, SuiteError)
-    gestures = dict(_mapping(raw, "gestures", where))
+    gestures = dict(mapping(raw, "gestures", where))
     model = gestures.get("model")
     if model not in GESTURE_MODELS:
         raise SuiteError(
             f"{where}.gestures.model: {quote(model)}; valid choices: " + ", ".join(GESTURE_MODELS)
         )
     if model == "independent":
-        gestures["rate"] = _number(gestures.get("rate"), f"{where}.gestures.rate", 0.0, 1.0)
+        gestures["rate"] = number(gestures.get("rate"), f"{where}.gestures.rate", 0.0, 1.0)
     elif model == "measured":
         gestures["file"] = str((base / str(gestures.get("file"))).resolve())
     elif model == "markov":
         for key in ("good", "bad", "enter_bad", "leave_bad"):
-            gestures[key] = _number(gestures.get(key), f"{where}.gestures.{key}", 0.0, 1.0)
+            gestures[key] = number(gestures.get(key), f"{where}.gestures.{key}", 0.0, 1.0)
     feedback = dict(raw.get("feedback") or {})
     reject_unknown(feedback, FEEDBACK_KEYS, f"{where}.feedback", SuiteError)
     for key in ("silence", "misread", "missed", "late"):
         if key in feedback:
-            feedback[key] = _number(feedback[key], f"{where}.feedback.{key}", 0.0, 1.0)
+            feedback[key] = number(feedback[key], f"{where}.feedback.{key}", 0.0, 1.0)
     if "measured" in feedback:
         feedback["measured"] = str((base / str(feedback["measured"])).resolve())
     return Condition(name, gestures, feedback)
@@ -197,7 +179,7 @@ def _track(name: str, raw: Any, conditions: Mapping[str, Condition]) -> Track:
     kind = raw.get("kind")
     if kind not in TRACK_KINDS:
         raise SuiteError(f"{where}.kind: {quote(kind)}; valid choices: " + ", ".join(TRACK_KINDS))
-    quick = {k: _count(v, f"{where}.quick.{k}") for k, v in (raw.get("quick") or {}).items()}
+    quick = {k: count(v, f"{where}.quick.{k}") for k, v in (raw.get("quick") or {}).items()}
     learner_only = tuple(c for c, v in conditions.items() if v.gestures["model"] != "vision")
     chosen = tuple(raw.get("conditions") or learner_only)
     for c in chosen:
@@ -214,35 +196,8 @@ def _track(name: str, raw: Any, conditions: Mapping[str, Condition]) -> Track:
         quick,
         chosen,
         bool(raw.get("slow")),
-        None if cap is None else _number(cap, f"{where}.cap", 1.0, 1000.0),
+        None if cap is None else number(cap, f"{where}.cap", 1.0, 1000.0),
     )
-
-
-def _axes(agent: str, raw: Any) -> tuple[Axis, ...]:
-    where = f"tuning.grids.{agent}"
-    if not isinstance(raw, Mapping) or not raw:
-        raise SuiteError(f"{where}: expected parameter: {{values, bounds, scale}}")
-    axes = []
-    for name, spec in raw.items():
-        at = f"{where}.{name}"
-        if not isinstance(spec, Mapping):
-            raise SuiteError(f"{at}: expected values, bounds and scale")
-        reject_unknown(spec, ("values", "bounds", "scale"), at, SuiteError)
-        bounds = spec.get("bounds")
-        if not isinstance(bounds, Sequence) or len(bounds) != 2:
-            raise SuiteError(f"{at}.bounds: expected [low, high]")
-        low, high = (_number(b, f"{at}.bounds", -1e9, 1e9) for b in bounds)
-        values = spec.get("values")
-        if not isinstance(values, Sequence) or len(values) < 2:
-            raise SuiteError(f"{at}.values: expected at least two numbers")
-        grid = tuple(sorted(_number(v, f"{at}.values", low, high) for v in values))
-        scale = spec.get("scale")
-        if scale not in ("log", "linear"):
-            raise SuiteError(f"{at}.scale: {quote(scale)}; valid choices: log, linear")
-        if scale == "log" and low < 0:
-            raise SuiteError(f"{at}: a log axis needs bounds >= 0")
-        axes.append(Axis(str(name), grid, (low, high), str(scale)))
-    return tuple(axes)
 
 
 def load_suite(path: str | Path = SUITE_FILE) -> Suite:
@@ -254,17 +209,17 @@ def load_suite(path: str | Path = SUITE_FILE) -> Suite:
         if key not in raw:
             raise SuiteError(f"{path}: missing {key!r}")
     base = path.resolve().parent
-    seeds = _mapping(raw, "seeds", "seeds")
+    seeds = mapping(raw, "seeds", "seeds")
     masters, counts = {}, {}
     for block in BLOCKS:
         spec = seeds.get(block)
         if not isinstance(spec, Mapping):
             raise SuiteError(f"seeds.{block}: expected {{master, count}}")
-        masters[block] = _count(spec.get("master"), f"seeds.{block}.master", 0)
-        counts[block] = _count(spec.get("count"), f"seeds.{block}.count", 2)
-    conditions = {n: _condition(n, c, base) for n, c in _mapping(raw, "conditions", "").items()}
-    tracks = {n: _track(n, t, conditions) for n, t in _mapping(raw, "tracks", "").items()}
-    tuning = _mapping(raw, "tuning", "")
+        masters[block] = count(spec.get("master"), f"seeds.{block}.master", 0)
+        counts[block] = count(spec.get("count"), f"seeds.{block}.count", 2)
+    conditions = {n: _condition(n, c, base) for n, c in mapping(raw, "conditions", "").items()}
+    tracks = {n: _track(n, t, conditions) for n, t in mapping(raw, "tracks", "").items()}
+    tuning = mapping(raw, "tuning", "")
     analysis = raw.get("analysis") or {}
     equivalence = analysis.get("equivalence") or {}
     agents = tuple(str(a) for a in raw.get("agents") or ())
@@ -272,28 +227,44 @@ def load_suite(path: str | Path = SUITE_FILE) -> Suite:
     for name in (*anchors, equivalence.get("anchor", anchors[0] if anchors else "")):
         if name not in agents:
             raise SuiteError(f"analysis: anchor {quote(name)} is not one of the agents")
+
+    def conditions_of(track: str) -> tuple[str, ...]:
+        if track not in tracks:
+            raise SuiteError(f"analysis: unknown track {quote(track)}; valid: " + ", ".join(tracks))
+        return tracks[track].conditions
+
+    focus, noninferiority = parse_declared(analysis, agents, conditions_of, SuiteError)
+    sha256, inputs = fingerprint(
+        read_small_text(path), base, condition_files(raw["conditions"]), SuiteError
+    )
     suite = Suite(
         version=str(raw["version"]),
         name=str(raw["name"]),
         masters=masters,
         counts=counts,
-        quick_count=_count(seeds.get("quick", 3), "seeds.quick", 2),
+        quick_count=count(seeds.get("quick", 3), "seeds.quick", 2),
         quick_conditions=tuple(str(c) for c in raw.get("quick_conditions") or conditions),
-        cap=_number(raw["cap"], "cap", 1.0, 1000.0),
+        cap=number(raw["cap"], "cap", 1.0, 1000.0),
+        stall_after=count(raw["stalled"], "stalled"),
         tracks=tracks,
         conditions=conditions,
         agents=agents,
         tuning_track=str(tuning.get("track")),
         tuning_conditions=tuple(str(c) for c in tuning.get("conditions") or ()),
-        extend=_count(tuning.get("extend", 4), "tuning.extend", 0),
-        grids={str(a): _axes(str(a), g) for a, g in _mapping(tuning, "grids", "tuning").items()},
+        extend=count(tuning.get("extend", 4), "tuning.extend", 0),
+        grids={
+            str(a): parse_axes(str(a), g) for a, g in mapping(tuning, "grids", "tuning").items()
+        },
         primary=str((raw.get("metrics") or {}).get("primary", "actions")),
         anchors=anchors,
-        alpha=_number(analysis.get("alpha", 0.05), "analysis.alpha", 0.0, 1.0),
-        margin=_number(equivalence.get("margin", 5.0), "analysis.equivalence.margin", 0.0, 1e6),
+        alpha=number(analysis.get("alpha", 0.05), "analysis.alpha", 0.0, 1.0),
+        margin=number(equivalence.get("margin", 5.0), "analysis.equivalence.margin", 0.0, 1e6),
         equivalence_anchor=str(equivalence.get("anchor", anchors[0] if anchors else "")),
+        focus=focus,
+        noninferiority=noninferiority,
         path=path,
-        sha256=hashlib.sha256(read_small_text(path).encode("utf-8")).hexdigest(),
+        sha256=sha256,
+        inputs=inputs,
     )
     for c in suite.quick_conditions:
         if c not in conditions:

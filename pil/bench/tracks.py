@@ -16,31 +16,29 @@ person's, so every agent faces the same script and readings on a seed (common ra
 
 A run stops as failed when a gesture never gets an approved action or the actions pass
 ``cap`` x the scripted gestures (or the gestures do: a robot that keeps asking for a
-repeat). :func:`run_track` returns a flat row (the journal's).
+repeat); apart from that it is *stalled* when the robot did not act for the suite's
+``stalled`` (K) gestures in a row (:mod:`pil.bench.counting`). :func:`run_track` returns a
+flat row (the journal's).
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
 from typing import Any
 
+from pil.bench.counting import Played, count, curve_area, curve_of, recovery
 from pil.bench.entrants import Factory, as_agent
-from pil.bench.noise import make_reader
+from pil.bench.noise import ThumbTap, make_reader
 from pil.bench.suite import Suite, Track
 from pil.task.person import ScriptedPerson, ScriptStep, plan_script
-from pil.task.records import StepRecord
-from pil.task.runner import RunnerError, steps
+from pil.task.runner import steps
 from pil.task.scenario import load_scenario, states_along
 from pil.task.seeds import sub_seeds
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, State, hand_after
 
-
-class _CappedError(Exception):
-    """The run passed its cap of actions."""
+__all__ = ["TableWorld", "count", "curve_area", "curve_of", "play", "run_track"]
 
 
 class TableWorld(SymbolicWorld):
@@ -85,19 +83,6 @@ def table_mappings(script: Sequence[ScriptStep]) -> dict[int, dict[State, Action
     return out
 
 
-@dataclass
-class Played:
-    """What one script cost: totals, per-table actions, and the records' key facts."""
-
-    actions: int = 0
-    gestures: int = 0
-    rejected: int = 0
-    failed: str = ""
-    per_table: dict[int, int] = field(default_factory=dict)
-    # (table, handover, step, gesture, first action of the instruction approved?) per action
-    events: list[tuple[int, int, int, str, bool, int]] = field(default_factory=list)
-
-
 def play(
     agent: Any,
     script: Sequence[ScriptStep],
@@ -105,9 +90,15 @@ def play(
     person_seed: int,
     cap: float,
     people: int = 1,
+    stall_after: int | None = None,
 ) -> Played:
-    """Run ``agent`` through ``script`` with ``reader``; stop (failed) past the cap."""
+    """Run ``agent`` through ``script`` with ``reader``; stop (failed) past the cap; a wait of
+    ``stall_after`` gestures without an action marks it stalled. An agent that tells silence
+    from a thumb up (``heard``) is handed each thumb as read (:class:`ThumbTap`)."""
     mappings = table_mappings(script)
+    hear = getattr(agent, "heard", None)
+    if callable(hear):
+        reader = ThumbTap(reader, hear)
 
     def on_table(table: int) -> None:
         if hasattr(agent, "set_mapping"):
@@ -117,75 +108,7 @@ def play(
 
     person = ScriptedPerson(script, person_seed)
     records = steps(agent, person, reader, TableWorld(on_table, reader))
-    return count(records, cap * len(script))
-
-
-def count(records: Iterable[StepRecord], limit: float) -> Played:
-    """What a run's records cost; stop (failed) when actions or gestures pass ``limit``."""
-    out = Played()
-    seen: set[tuple[int, int, bool]] = set()
-    try:
-        for record in records:
-            out.gestures = record.gesture_count
-            if record.gesture_count > limit:
-                raise _CappedError
-            if record.action is None:
-                continue
-            out.actions = record.t
-            out.per_table[record.table] = out.per_table.get(record.table, 0) + 1
-            out.rejected += record.feedback is Feedback.NOT_OK
-            key = (record.handover, record.step, record.recovery)
-            first = key not in seen
-            seen.add(key)
-            ok = record.feedback is not Feedback.NOT_OK
-            out.events.append(
-                (
-                    record.table,
-                    record.handover,
-                    record.step,
-                    record.true_gesture.value,
-                    first and ok,
-                    record.t,
-                )
-            )
-            if record.t > limit:
-                raise _CappedError
-    except _CappedError:
-        out.failed = f"passed the cap of {limit:g} actions or gestures"
-    except RunnerError as error:
-        out.failed = str(error)
-    return out
-
-
-def curve_of(played: Played, tables: int) -> list[int]:
-    """Actions per table (0 for a table the run never reached)."""
-    return [played.per_table.get(k, 0) for k in range(tables)]
-
-
-def curve_area(curve: Sequence[float]) -> float:
-    """The trapezoid area under the per-table actions curve over the unit interval (its mean
-    height, in actions per table, whatever the number of tables)."""
-    if len(curve) < 2:
-        return float(curve[0]) if curve else math.nan
-    return sum((a + b) / 2 for a, b in itertools.pairwise(curve)) / (len(curve) - 1)
-
-
-def recovery(played: Played, from_table: int, gesture: str, criterion: int) -> float:
-    """Actions from the change until ``criterion`` instructions with ``gesture`` in a row had
-    their first action approved (NaN: never)."""
-    start, streak, seen = None, 0, set()
-    for table, handover, step, true, first_ok, t in played.events:
-        if table < from_table:
-            continue
-        if start is None:
-            start = t - 1
-        if true != gesture or (handover, step) in seen:
-            continue
-        seen.add((handover, step))
-        streak = streak + 1 if first_ok else 0
-        if streak >= criterion:
-            return float(t - start)
-    return math.nan
+    return count(records, cap * len(script), stall_after)
 
 
 def _scripts(track: Track, quick: bool, draw: int) -> dict[str, Any]:
@@ -246,7 +169,8 @@ def run_track(
     agent = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
     reader = make_reader(spec, seeds.detector, len(script))
     cap = suite.cap_of(track.name)
-    played = play(agent, script, reader, seeds.person, cap, parts.get("people", 1))
+    stall = suite.stall_after
+    played = play(agent, script, reader, seeds.person, cap, parts.get("people", 1), stall)
     tables = 1 + max((i.intent.table for i in script), default=0)
     curve = curve_of(played, tables)
     row: dict[str, Any] = {
@@ -256,6 +180,8 @@ def run_track(
         "curve": curve,
         "curve_area": curve_area(curve),
         "failed": played.failed,
+        "stalled": played.stalled,
+        "longest_wait": played.longest_wait,
         "scripted": len(script),
     }
     if track.kind == "meaning-change":
@@ -267,13 +193,24 @@ def run_track(
         if hasattr(agent, "restart"):
             agent.restart()  # back at the start pose; what it learnt stays
         after = play(
-            agent, second, make_reader(spec, seeds.detector, len(second)), seeds.person, cap
+            agent,
+            second,
+            make_reader(spec, seeds.detector, len(second)),
+            seeds.person,
+            cap,
+            stall_after=stall,
         )
         fresh = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
         scratch = play(
-            fresh, second, make_reader(spec, seeds.detector, len(second)), seeds.person, cap
+            fresh,
+            second,
+            make_reader(spec, seeds.detector, len(second)),
+            seeds.person,
+            cap,
+            stall_after=stall,
         )
         failed = played.failed or after.failed or scratch.failed
+        every = (played, after, scratch)
         row.update(
             first_actions=played.actions,
             actions=after.actions,
@@ -283,6 +220,8 @@ def run_track(
             scripted=len(second),
             savings=scratch.actions - after.actions,
             failed=failed,
+            stalled=any(p.stalled for p in every),
+            longest_wait=max(p.longest_wait for p in every),
         )
     if row["failed"]:
         for key in ("actions", "gestures", "rejected", "curve_area", "recovery", "savings"):
