@@ -64,7 +64,9 @@ class Decision:
     """What the learner decided for one detected gesture.
 
     ``state`` is the state acted on (the corrected one after a correction), ``action`` None
-    means no action: the person has to repeat the gesture.
+    means no action: the person has to repeat the gesture. ``confirm``: the robot is unsure
+    and asks the person for an explicit thumb on this action (silence is no answer); the
+    paper's learner never asks (:mod:`pil.robust` does).
     """
 
     state: State | None
@@ -73,6 +75,7 @@ class Decision:
     corrected: bool
     exploited: bool
     reason: str
+    confirm: bool = False
 
 
 def _id_of_parts(gesture: Gesture | str, previous_action: Action | str, hand: Hand | str) -> int:
