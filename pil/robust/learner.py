@@ -34,11 +34,12 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from pil.anticipation import DEFAULT_MIN_COUNT, DEFAULT_THRESHOLD
 from pil.learner import Decision, Learner
 from pil.robust.asking import Answers
 from pil.robust.beliefs import Beliefs
 from pil.robust.readings import Readings
-from pil.table import START, AssociationTable, action_index, state_id
+from pil.table import N_STATES, START, AssociationTable, action_index, state_id
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
 
 SHARE = 0.7  # prior: the chance that a state means what its gesture-and-hand group does
@@ -67,6 +68,9 @@ class RobustLearner(Learner):
     ``split`` (credit by the likely state, on), ``correct_above`` (:data:`CORRECT_ABOVE`),
     ``decay`` (:data:`DECAY`), ``cap`` (:data:`CAP`), ``ask`` (on) and ``ask_below``
     (:data:`ASK_BELOW`). ``seed`` seeds the tie breaks: same seed and calls, same decisions.
+    ``table``, ``correction``, ``proactive*`` and ``step_memory`` are :class:`Learner`'s; a
+    given table (a pre-trained or loaded one) is also taken as evidence: each approval as an
+    OK, each recorded refusal as one not-OK (the table keeps no silences).
     """
 
     STEP_MEMORY_OWN = True  # never repeat an action refused in this step (until all five were)
@@ -85,9 +89,20 @@ class RobustLearner(Learner):
         cap: float = CAP,
         ask: bool = True,
         ask_below: float = ASK_BELOW,
+        proactive: bool = False,
+        proactive_threshold: float = DEFAULT_THRESHOLD,
+        proactive_min_count: int = DEFAULT_MIN_COUNT,
         step_memory: bool = STEP_MEMORY_OWN,
     ) -> None:
-        super().__init__(seed, table=table, correction=correction, step_memory=step_memory)
+        super().__init__(
+            seed,
+            table=table,
+            correction=correction,
+            proactive=proactive,
+            proactive_threshold=proactive_threshold,
+            proactive_min_count=proactive_min_count,
+            step_memory=step_memory,
+        )
         self.beliefs = Beliefs(share, cap)
         self.readings = Readings(misread, split)
         self.answers = Answers()
@@ -100,6 +115,20 @@ class RobustLearner(Learner):
         self._corrected = -1  # the corrected state acted on in this step (-1: none)
         self._weighed: tuple[int, dict[int, float]] = (-1, {})  # the last choice's states
         self._credited: dict[int, float] = {}  # the states the last approval was credited to
+        self._absorb(self.table)
+
+    def _absorb(self, table: AssociationTable) -> None:
+        """Take a given table's approvals and refusals as evidence (class docstring)."""
+        if table.is_empty() and not table.rejected_states():
+            return
+        for sid in range(N_STATES):
+            row, refused = table.row(sid), table.rejected_mask(sid)
+            for index in range(len(ACTIONS)):
+                if row is not None and row[index]:
+                    self.beliefs.add(sid, index, Feedback.OK, row[index])
+                if refused >> index & 1:
+                    self.beliefs.add(sid, index, Feedback.NOT_OK)
+        self.beliefs.refit()
 
     # -- choosing -------------------------------------------------------------------------
     def _choose(self, sid: int) -> Action:

@@ -26,12 +26,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
-from pil.learner import _SAME_CONTEXT, _VALID
+from pil.learner import SAME_CONTEXT, VALID_BY_ID
 from pil.validity import ALL_STATES
 
 PRIOR_WEIGHT = 10.0  # the prior misread rate counts as this many approved readings
 OTHER_GESTURES = 3  # a misread gesture is one of the other three
-MIN_SHARE = 1e-3  # shares below this are dropped from a credit
+MIN_CREDIT = 1e-3  # shares below this are dropped from a credit
 
 
 class Readings:
@@ -51,8 +51,8 @@ class Readings:
         ``followers`` are the transition counts from the last approved state, ``read`` False
         for a corrected state (the reading says nothing). An invalid ``sid`` is itself."""
         state = ALL_STATES[sid]
-        context = _SAME_CONTEXT[(state.previous_action, state.hand)]
-        if not _VALID[sid] or sid not in context:
+        context = SAME_CONTEXT[(state.previous_action, state.hand)]
+        if not VALID_BY_ID[sid] or sid not in context:
             return {sid: 1.0}
         m = self.misread
         weights: dict[int, float] = {}
@@ -83,7 +83,7 @@ class Readings:
         total = sum(shares.values())
         if total <= 0.0:
             return {sid: 1.0}
-        credit = {other: s / total for other, s in shares.items() if s / total > MIN_SHARE}
+        credit = {other: s / total for other, s in shares.items() if s / total > MIN_CREDIT}
         if approved:
             self.expected[0] += 1.0 - credit.get(sid, 0.0)
             self.expected[1] += 1.0

@@ -205,11 +205,11 @@ class StepPhases:
                 steps.again = _joined(grounded, decision.reason)
                 yield base._replace(reason=steps.again)
                 continue
+            acted = decision.state
             if grounded:
                 decision = replace(decision, reason=_joined(grounded, decision.reason))
             base = base._replace(
-                corrected_gesture=decision.state.gesture if decision.corrected else None,
-                state=decision.state,
+                corrected_gesture=acted.gesture if decision.corrected else None, state=acted
             )
             if (yield from self.acting(item, base, decision, hand, steps, options)):
                 return  # approved, or the person re-plans
