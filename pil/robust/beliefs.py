@@ -70,8 +70,14 @@ class Beliefs:
 
     # -- evidence -----------------------------------------------------------------------
     def add(self, sid: int, index: int, heard: Feedback, amount: float = 1.0) -> None:
-        """``heard`` after action ``index`` in state ``sid`` (``amount`` < 1: a share)."""
-        self._heard[sid][index][HEARD_INDEX[heard]] += amount
+        """``heard`` after action ``index`` in state ``sid`` (``amount`` < 1: a share); what
+        was heard about the action is scaled back to the cap when it passes it (a saturating
+        tally: agreeing signals past the cap are not stored)."""
+        cell = self._heard[sid][index]
+        cell[HEARD_INDEX[heard]] += amount
+        raw = self._raw(cell)
+        if abs(raw) > self.cap:
+            self._scale_cell(cell, self.cap / abs(raw))
         self._evidence[sid] = self._score(sid)
 
     def contradict(self, sid: int, index: int, amount: float = 1.0) -> None:
@@ -82,17 +88,23 @@ class Beliefs:
     def scale(self, sid: int, index: int, factor: float) -> None:
         """Scale what was heard about action ``index`` in ``sid`` by ``factor`` (a mistaken
         association decays)."""
-        cell = self._heard[sid][index]
-        for i, n in enumerate(cell):
-            cell[i] = n * factor
+        self._scale_cell(self._heard[sid][index], factor)
         if self._evidence[sid] is not None:
             self._evidence[sid] = self._score(sid)
 
+    @staticmethod
+    def _scale_cell(cell: list[float], factor: float) -> None:
+        for i, n in enumerate(cell):
+            cell[i] = n * factor
+
+    def _raw(self, cell: list[float]) -> float:
+        """The evidence of what was heard about one action (the weighed sum)."""
+        return sum(n * w for n, w in zip(cell, self._weights, strict=True))
+
     def _score(self, sid: int) -> list[float]:
-        w, cap = self._weights, self.cap  # what was heard is bounded; a contradiction is not
+        cap = self.cap  # what was heard is bounded (the teacher model may re-weigh it)
         return [
-            max(-cap, min(cap, sum(n * w[i] for i, n in enumerate(cell))))
-            + AGAINST_WEIGHT * against
+            max(-cap, min(cap, self._raw(cell))) + AGAINST_WEIGHT * against
             for cell, against in zip(self._heard[sid], self._against[sid], strict=True)
         ]
 
