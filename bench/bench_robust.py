@@ -17,6 +17,8 @@ noise of the ``teacher`` condition alone (``silence only``, ``misread only``, ``
   ``pil-robust`` the actions on which it asked for a thumb);
 * ``summary.csv``: per agent and condition the runs, failed runs, mean actions of the
   finished runs with their 95 % t interval, mean gestures and asks;
+* ``tracks.csv``: as ``summary.csv`` for ``pil-robust`` and tuned TAMER on the benchmark's
+  other learner-only tracks (meaning change, transfer, two people) under their conditions;
 * ``tests.csv``: the comparisons issue 38 declares, each family Holm-adjusted: ``beats``
   (pil-robust against each reference agent under ``eyes`` and ``teacher``, paired t by seed),
   ``no worse`` (against ``pil-paper`` with right thumbs at d = 0.4-1.0: the one-sided paired
@@ -56,6 +58,7 @@ RIGHT_THUMBS = ("d40", "d60", "d80", "d100")
 NOISY = ("eyes", "teacher")
 ALONE = "only"  # "silence only": one component of the teacher condition's thumbs
 MARGIN = 5.0  # actions: "no worse than pil-paper"
+OTHER_TRACKS = ("meaning-change", "transfer", "two-people")  # pil-robust and tuned TAMER only
 
 
 def with_components(suite: Suite) -> Suite:
@@ -85,13 +88,20 @@ class Built:
         return self.last
 
 
-def run_all(suite: Suite, conditions: Sequence[str], seeds: Sequence[int], tuned: Path):
-    """Every (agent, condition, seed) run: the journal's row plus the asks."""
-    track = suite.track("assembly")
+def run_all(
+    suite: Suite,
+    conditions: Sequence[str],
+    seeds: Sequence[int],
+    tuned: Path,
+    track_name: str = "assembly",
+    agents: Sequence[str] = AGENTS,
+):
+    """Every (agent, condition, seed) run on the track: the journal's row plus the asks."""
+    track = suite.track(track_name)
     made = factories(tuned)
     rows = []
     for condition in conditions:
-        for agent in AGENTS:
+        for agent in agents:
             for seed in seeds:
                 built = Built(made[agent])
                 row = run_track(suite, track, condition, seed, built, False)
@@ -152,11 +162,11 @@ def tests(rows, cap: float, seeds) -> list[dict[str, Any]]:
     return out + found
 
 
-def summary(rows, conditions) -> list[dict[str, Any]]:
+def summary(rows, conditions, agents: Sequence[str] = AGENTS) -> list[dict[str, Any]]:
     """Per agent and condition: runs, failed, mean actions (finished runs) and interval."""
     out = []
     for condition in conditions:
-        for agent in AGENTS:
+        for agent in agents:
             mine = [r for r in rows if r["agent"] == agent and r["condition"] == condition]
             done = [r for r in mine if not r["failed"]]
             mean, low, high = (
@@ -232,6 +242,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         "p_holm",
     )
     write(args.out / "tests.csv", found, columns)
+    other = []
+    for name in OTHER_TRACKS:
+        track = suite.track(name)
+        ran = run_all(suite, track.conditions, seeds, args.tuned, name, (ROBUST, "tamer"))
+        other += [{"track": name, **r} for r in summary(ran, track.conditions, (ROBUST, "tamer"))]
+    write(args.out / "tracks.csv", other, ["track", *list(table[0])])
     for row in table:
         if row["agent"] == ROBUST:
             what = f"{row['mean']} actions, {row['failed']} failed, {row['asked']} asks"
