@@ -175,10 +175,8 @@ def test_what_silence_means_is_learnt_from_the_teacher(teacher: Teacher, meaning
 
 def test_the_teachers_consistency_is_estimated() -> None:
     """Policy Shaping's C: a teacher whose thumbs are flipped 20 % of the time is estimated
-    near 0.8, a consistent one above 0.93. (Fails with fixed likelihoods: 0.9 for both.) The
-    credit is the reading's here (``split`` off): with it on, some flipped thumbs are taken
-    for misread gestures instead (C about 0.86 for the same teacher)."""
-    sloppy, careful = RobustLearner(0, split=False), RobustLearner(0, split=False)
+    near 0.8, a consistent one above 0.93. (Fails with fixed likelihoods: 0.9 for both.)"""
+    sloppy, careful = RobustLearner(0), RobustLearner(0)
     teach(sloppy, flips(0.2), rounds=30, seed=1)
     teach(careful, flips(0.0), rounds=30, seed=1)
     assert abs(sloppy.beliefs.teacher.likelihoods.consistency - 0.8) < 0.05
@@ -236,14 +234,14 @@ def test_a_refused_trusted_association_decays_and_evidence_is_bounded() -> None:
 
 
 @pytest.mark.parametrize(
-    ("decay", "cap", "within"), [(DECAY, CAP, 1), (1.0, CAP, 2), (DECAY, 1e9, 4), (1.0, 1e9, 15)]
+    ("decay", "cap", "within"), [(DECAY, CAP, 1), (1.0, CAP, 2), (DECAY, 1e9, 4), (1.0, 1e9, 8)]
 )
 def test_a_changed_meaning_is_taken_up_within_a_few_instructions(
     decay: float, cap: float, within: int
 ) -> None:
     """After 20 approvals of human for give me, the person means location: with decay and
     the cap the robot exploits location after one instruction; with the cap alone after two,
-    with the decay alone after four, with neither after 15 (measured; each part counts)."""
+    with the decay alone after four, with neither after eight (measured; each part counts)."""
     learner = RobustLearner(0, decay=decay, cap=cap)
     state = State(Gesture.GIVE_ME, Action.CLOSE, Hand.OCCUPIED)
     for _ in range(20):

@@ -16,10 +16,9 @@ feedback and to choose, designed from the literature on learning from human feed
   contexts (what makes TAMER's linear features fast, as a back-off).
 * **Misread gestures** (:mod:`pil.robust.readings`): what the person wants is a mixture over
   the context's states, weighed by the learnt transitions (the correction's P(s' | s_{t-1}))
-  and a learnt misread rate; after a refusal, what the context's other gestures mean comes
-  before a random action, and a signal is credited to the state it is most likely about. A
-  corrected gesture is acted on only when more probably right than not (``correct_above``);
-  otherwise the robot asks for the gesture again.
+  and a misread rate (``misread``); after a refusal, what the context's other gestures mean
+  comes before a random action. A corrected gesture is acted on only when more probably
+  right than not (``correct_above``); otherwise the robot asks for the gesture again.
 * **Take-back and decay**: an approval the world contradicts (:meth:`Learner.regrounded`) or
   the person takes back (:meth:`Learner.take_back`) counts against the action; a trusted
   association that is refused loses ``decay`` of its evidence, and no evidence grows beyond
@@ -42,8 +41,8 @@ from pil.robust.readings import Readings
 from pil.table import N_STATES, START, AssociationTable, action_index, state_id
 from pil.types import ACTIONS, Action, Feedback, Gesture, Hand, State
 
-SHARE = 0.7  # prior: the chance that a state means what its gesture-and-hand group does
-MISREAD = 0.1  # the misread rate's prior (then learnt)
+SHARE = 0.9  # prior: the chance that a state means what its gesture-and-hand group does
+MISREAD = 0.1  # the chance that a valid reading is another gesture of the context
 CORRECT_ABOVE = 0.5  # act on a corrected gesture only when more probably right than not
 DECAY = 0.7  # a refused trusted association keeps this share of its evidence
 CAP = 6.0  # no action's evidence in a state beyond this (odds of e^6, about 400 to 1)
@@ -65,7 +64,7 @@ class RobustLearner(Learner):
     """PIL with weighed feedback, shared evidence, take-back, decay and asking (module doc).
 
     The knobs and their defaults: ``share`` (:data:`SHARE`), ``misread`` (:data:`MISREAD`),
-    ``split`` (credit by the likely state, on), ``correct_above`` (:data:`CORRECT_ABOVE`),
+    ``correct_above`` (:data:`CORRECT_ABOVE`),
     ``decay`` (:data:`DECAY`), ``cap`` (:data:`CAP`), ``ask`` (on) and ``ask_below``
     (:data:`ASK_BELOW`). ``seed`` seeds the tie breaks: same seed and calls, same decisions.
     ``table``, ``correction``, ``proactive*`` and ``step_memory`` are :class:`Learner`'s; a
@@ -83,7 +82,6 @@ class RobustLearner(Learner):
         correction: bool = True,
         share: float = SHARE,
         misread: float = MISREAD,
-        split: bool = True,
         correct_above: float = CORRECT_ABOVE,
         decay: float = DECAY,
         cap: float = CAP,
@@ -104,7 +102,7 @@ class RobustLearner(Learner):
             step_memory=step_memory,
         )
         self.beliefs = Beliefs(share, cap)
-        self.readings = Readings(misread, split)
+        self.readings = Readings(misread)
         self.answers = Answers()
         self.correct_above, self.decay = float(correct_above), float(decay)
         self.ask, self.ask_below = bool(ask), float(ask_below)
@@ -113,8 +111,6 @@ class RobustLearner(Learner):
         self.asked = 0  # actions on which the robot asked for a thumb
         self._repairing = False  # choosing for a corrected state: the reading says nothing
         self._corrected = -1  # the corrected state acted on in this step (-1: none)
-        self._weighed: tuple[int, dict[int, float]] = (-1, {})  # the last choice's states
-        self._credited: dict[int, float] = {}  # the states the last approval was credited to
         self._absorb(self.table)
 
     def _absorb(self, table: AssociationTable) -> None:
@@ -135,7 +131,6 @@ class RobustLearner(Learner):
         _refused, allowed = self._memory.masks(sid)
         read = not self._repairing and sid != self._corrected
         weights = self.readings.weigh(sid, self.table.followers(self._last_ok), read)
-        self._weighed = sid, weights
         wanted = self.beliefs.mixed(weights)
         candidates = [i for i in range(len(ACTIONS)) if allowed >> i & 1]
         top = max(wanted[i] for i in candidates)
@@ -193,32 +188,21 @@ class RobustLearner(Learner):
         approved = heard is not Feedback.NOT_OK
         if not approved and self.beliefs.posterior(sid)[index] >= EXPLOIT_AT:
             self.beliefs.scale(sid, index, self.decay)  # a trusted association refused
-        chosen, weights = self._weighed
-        credit = self.readings.credit(
-            sid,
-            weights if chosen == sid else {},
-            lambda other: self.beliefs.posterior(other)[index],
-            approved,
-        )
-        for other, share in credit.items():
-            self.beliefs.add(other, index, heard, share)
+        self.beliefs.add(sid, index, heard)
         self.beliefs.refit()
         super().feedback(state, action, heard)
         if approved:
-            self._credited, self._corrected = credit, -1
+            self._corrected = -1
 
     def _withdraw(self) -> None:
-        """The last approval is taken back: the action counts as contradicted in the states
-        its approval was credited to (then as :meth:`Learner._withdraw`)."""
+        """The last approval is taken back: the action counts as contradicted in its state
+        (then as :meth:`Learner._withdraw`)."""
         if self._last_approved >= 0 and self._last_ok != START:
-            credited = self._credited or {self._last_ok: 1.0}
-            for sid, share in credited.items():
-                self.beliefs.contradict(sid, self._last_approved, share)
+            self.beliefs.contradict(self._last_ok, self._last_approved)
             self.beliefs.refit()
-        self._credited = {}
         super()._withdraw()
 
     def restart(self) -> None:
         """Back at the start pose (what was learnt stays)."""
         super().restart()
-        self._corrected, self._credited = -1, {}
+        self._corrected = -1
