@@ -66,6 +66,7 @@ RECIPES: tuple[Recipe, ...] = (
     Recipe("people_40", ("robin-pil", "people", "--tables", "40", "--no-progress"), True),
     Recipe("label_accuracy", ("python", "pil.experiments.label_accuracy"), True),
     Recipe("study_reading", ("python", "pil.experiments.study_reading"), False),
+    Recipe("robust", ("bench", "bench_robust.py"), True),  # issue 38: the robust PIL rule
     Recipe(
         "study_seeds",
         ("robin-pil", "study", "--seeds", "10", "--systems", SYSTEMS, "--no-progress"),

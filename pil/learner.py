@@ -48,11 +48,14 @@ ADAPTATIONS: dict[str, str] = {
 _ID_OF_PARTS: dict[tuple[Gesture, Action, Hand], int] = {
     (s.gesture, s.previous_action, s.hand): i for i, s in enumerate(ALL_STATES)
 }
-_VALID: tuple[bool, ...] = tuple(is_valid(s) for s in ALL_STATES)
-# Valid states grouped by (previous action, hand): the candidates of a correction.
-_SAME_CONTEXT: dict[tuple[Action, Hand], frozenset[int]] = {
+# Whether each state (by id) is valid; the valid states grouped by (previous action, hand): the
+# candidates of a correction (and of pil.robust's reading of a gesture).
+VALID_BY_ID: tuple[bool, ...] = tuple(is_valid(s) for s in ALL_STATES)
+SAME_CONTEXT: dict[tuple[Action, Hand], frozenset[int]] = {
     (a, h): frozenset(
-        i for i, s in enumerate(ALL_STATES) if _VALID[i] and (s.previous_action, s.hand) == (a, h)
+        i
+        for i, s in enumerate(ALL_STATES)
+        if VALID_BY_ID[i] and (s.previous_action, s.hand) == (a, h)
     )
     for a in ACTIONS
     for h in Hand
@@ -64,7 +67,9 @@ class Decision:
     """What the learner decided for one detected gesture.
 
     ``state`` is the state acted on (the corrected one after a correction), ``action`` None
-    means no action: the person has to repeat the gesture.
+    means no action: the person has to repeat the gesture. ``confirm``: the robot is unsure
+    and asks the person for an explicit thumb on this action (silence is no answer); the
+    paper's learner never asks (:mod:`pil.robust` does).
     """
 
     state: State | None
@@ -73,6 +78,7 @@ class Decision:
     corrected: bool
     exploited: bool
     reason: str
+    confirm: bool = False
 
 
 def _id_of_parts(gesture: Gesture | str, previous_action: Action | str, hand: Hand | str) -> int:
@@ -245,7 +251,7 @@ class Learner:
         ``hand``."""
         if not self.proactive:
             return None
-        candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
+        candidates = SAME_CONTEXT.get((previous_action, hand), frozenset())
         return _anticipate(
             self.table,
             self._last_ok,
@@ -267,7 +273,7 @@ class Learner:
 
     def _correct(self, previous_action: Action, hand: Hand, source: int) -> State | None:
         followers = self.table.followers(source)
-        candidates = _SAME_CONTEXT.get((previous_action, hand), frozenset())
+        candidates = SAME_CONTEXT.get((previous_action, hand), frozenset())
         top = 0
         tops: list[int] = []
         for sid in sorted(followers):  # a fixed order, whatever order the counts came in
@@ -295,7 +301,7 @@ class Learner:
                 action = self._choose(sid)
                 reason = f"explore (nothing learnt yet); {self.last_reason}"
                 return Decision(detected_state, detected_state, action, False, False, reason)
-            if _VALID[sid]:
+            if VALID_BY_ID[sid]:
                 action = self._choose(sid)
                 return Decision(
                     detected_state,
@@ -325,7 +331,7 @@ class Learner:
         if not self.correction:
             reason = f"{why}; no correction (manual repetition)"
             return Decision(None, detected_state, None, False, False, reason)
-        if not _SAME_CONTEXT[(previous_action, hand)]:
+        if not SAME_CONTEXT[(previous_action, hand)]:
             # no right approval reaches this context: one was wrong (pil.task.grounding)
             note = f"<{previous_action.value}, {hand.value}> unreachable, re-grounded"
             previous_action = GROUNDED_ACTION[hand]

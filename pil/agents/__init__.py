@@ -1,9 +1,11 @@
 """Agents that learn gesture -> action associations, behind one protocol.
 
 :class:`Agent` is what the step loop (:func:`pil.task.runner.steps`), the study and the
-environment use. :class:`pil.learner.Learner` (PIL) implements it; :mod:`pil.agents.bandit` and
-:mod:`pil.agents.tamer` are baselines over the same states. :data:`AGENTS` maps a name to a
-factory ``(seed, table, settings) -> Agent``; add an entry to make a new agent selectable. The
+environment use. :class:`pil.learner.Learner` (PIL) implements it, and so does its robust
+rule :class:`pil.robust.RobustLearner`; :mod:`pil.agents.bandit` and :mod:`pil.agents.tamer`
+are baselines over the same states. :data:`AGENTS` maps a name to a factory
+``(seed, table, settings) -> Agent``; add an entry to make a new agent selectable. The PIL
+agent's rule is the run parameter ``learner`` (:data:`PIL_LEARNERS`). The
 settings are typed and checked (:class:`AgentSettings`, e.g. a run spec's
 ``pil.task.spec.LearnerSettings``): a factory reads them as they are, re-defaults nothing.
 """
@@ -17,13 +19,23 @@ from pil.agents.bandit import BanditAgent
 from pil.agents.base import Agent, FeedbackAgent
 from pil.agents.tamer import TamerAgent
 from pil.learner import Learner
+from pil.robust import RobustLearner
 from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
+
+# The PIL rules (the run parameter ``learner``): name -> what it is.
+PIL_LEARNERS: dict[str, str] = {
+    "pil": "the paper's PIL (pil.learner.Learner; `exploration` picks its rule after a not-OK)",
+    "robust": "the robust PIL rule (pil.robust.RobustLearner, docs/learner.md)",
+}
+DEFAULT_LEARNER = "pil"
 
 
 class AgentSettings(Protocol):
     """What the agents read of a run's learner settings (typed and checked by the edge)."""
 
+    @property
+    def learner(self) -> str: ...
     @property
     def exploration(self) -> str: ...
     @property
@@ -42,6 +54,12 @@ AgentFactory = Callable[[int, AssociationTable | None, AgentSettings], Agent]
 
 
 def _pil(seed: int, table: AssociationTable | None, settings: AgentSettings) -> Agent:
+    if settings.learner == "robust":
+        return RobustLearner(
+            seed,
+            table=table,
+            step_memory=step_memory_on(settings.step_memory, RobustLearner.STEP_MEMORY_OWN),
+        )
     return Learner(
         seed,
         table=table,
@@ -74,10 +92,13 @@ AGENTS: dict[str, AgentFactory] = {"pil": _pil, "bandit": _bandit, "tamer": _tam
 
 __all__ = [
     "AGENTS",
+    "DEFAULT_LEARNER",
+    "PIL_LEARNERS",
     "Agent",
     "AgentFactory",
     "AgentSettings",
     "BanditAgent",
     "FeedbackAgent",
+    "RobustLearner",
     "TamerAgent",
 ]

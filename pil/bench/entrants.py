@@ -39,6 +39,7 @@ from pil.bench.agents import (
 from pil.bench.isabl import ISablAgent
 from pil.errors import RobinPilError, quote
 from pil.learner import Learner
+from pil.robust import RobustLearner
 from pil.types import ACTIONS, GESTURES, Hand
 
 Factory = Callable[[int], Any]
@@ -57,6 +58,7 @@ REFERENCE: dict[str, Callable[[int, Mapping[str, Any]], Any]] = {
     "oracle": lambda seed, params: OracleAgent(seed),
     "pil-paper": _pil("avoid-last"),  # Algorithm 1, lines 8-13: argmax if unique, else random
     "pil-next-best": _pil("next-best"),
+    "pil-robust": lambda seed, params: RobustLearner(seed, **params),
     "tamer": lambda seed, params: TamerAgent(seed, **params),
     "egreedy": lambda seed, params: EpsilonGreedyAgent(seed, **params),
     "thompson": lambda seed, params: ThompsonAgent(seed, **params),

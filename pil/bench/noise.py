@@ -17,6 +17,12 @@ action instead), or ``measured`` (each thumb read by the eye cameras' measured t
 a discarded thumb is silence). The thumb down that stops a wrong action passes through the
 same noise (:meth:`FeedbackChannel.read_stop`): a stop the robot does not get lets the action
 run on, taken as approved. Every draw comes from the condition's own seeded generator.
+
+When the robot asks for a thumb on an action (:meth:`FeedbackChannel.confirm_requested`, a
+robust learner's ``confirm``), the person answers and the robot waits for the answer: for that
+action's thumb ``silence`` and ``late`` do not apply (their draws are still made, so asking
+changes no other draw); ``misread``, ``missed`` and ``measured`` do (the reading can still
+fail). A stop the robot did not get is then answered after the action (drawn again).
 """
 
 from __future__ import annotations
@@ -96,6 +102,7 @@ class FeedbackChannel:
         self._rng = random.Random(seed)
         self._pending: Feedback | None = None
         self._held: Feedback | None = None
+        self._asked = False  # the robot asked for a thumb on the action now running
         self.counts = {"silenced": 0, "misread": 0, "missed": 0, "late": 0}
 
     def detect(self, gesture: Gesture) -> Gesture | None:
@@ -115,17 +122,23 @@ class FeedbackChannel:
             self._held = heard
         return heard
 
+    def confirm_requested(self) -> None:
+        """The robot asks for a thumb on the action about to run (module docstring)."""
+        self._asked = True
+
     def read_feedback(self, feedback: Feedback) -> Feedback:
         """The thumb as the robot gets it for this action."""
+        asked, self._asked = self._asked, False
         if self._held is not None:  # the stop it did not get: already drawn
             held, self._held = self._held, None
-            return held
-        return self._through(feedback)
+            if not (asked and held is Feedback.NONE):
+                return held
+        return self._through(feedback, asked)
 
-    def _through(self, feedback: Feedback) -> Feedback:
+    def _through(self, feedback: Feedback, asked: bool = False) -> Feedback:
         given = self.inner.read_feedback(feedback)
         rng = self._rng
-        if self.silence and rng.random() < self.silence:
+        if self.silence and rng.random() < self.silence and not asked:
             self.counts["silenced"] += 1
             given = Feedback.NONE
         elif self.misread and given is not Feedback.NONE and rng.random() < self.misread:
@@ -133,7 +146,7 @@ class FeedbackChannel:
             given = Feedback.OK if given is Feedback.NOT_OK else Feedback.NOT_OK
         if self._pending is not None:  # a late thumb lands on this action instead
             given, self._pending = self._pending, None
-        elif self.late and given is not Feedback.NONE and rng.random() < self.late:
+        elif self.late and given is not Feedback.NONE and rng.random() < self.late and not asked:
             self.counts["late"] += 1
             self._pending, given = given, Feedback.NONE
         if self.missed and given is not Feedback.NONE and rng.random() < self.missed:

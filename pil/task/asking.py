@@ -67,6 +67,7 @@ def ask_unreadable(
         action=action,
         corrected=True,
         exploited=False,
+        confirm=getattr(agent, "last_confirm", False),
         reason=(
             f"cannot read the gesture ({why}, asked again and again); the robot proposes "
             f"{action.value} as for {state.gesture.value}: {agent.last_reason}"

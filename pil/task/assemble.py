@@ -20,6 +20,7 @@ from typing import Any, TypeVar
 from pil.agents import AGENTS
 from pil.errors import InvalidChoiceError, RobinPilError
 from pil.learner import Learner
+from pil.robust import RobustLearner
 from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 from pil.task.counting import RunStats
@@ -259,17 +260,29 @@ def _phase(
     context = DetectorContext(spec, spec.rate, seeds.detector, max(1, len(script)), world, body)
     detector = detectors[key](context)
     settings = spec.learner
-    learner = Learner(
-        seeds.learner,
-        table=table,
-        correction=not manual,
-        exploration=settings.exploration,
-        adaptation=settings.adaptation,
-        proactive=settings.proactive,
-        proactive_threshold=settings.proactive_threshold,
-        proactive_min_count=settings.proactive_min_count,
-        step_memory=step_memory_on(settings.step_memory, Learner.STEP_MEMORY_OWN),
-    )
+    learner: Learner
+    if settings.learner == "robust":  # the robust PIL rule (pil.robust)
+        learner = RobustLearner(
+            seeds.learner,
+            table=table,
+            correction=not manual,
+            proactive=settings.proactive,
+            proactive_threshold=settings.proactive_threshold,
+            proactive_min_count=settings.proactive_min_count,
+            step_memory=step_memory_on(settings.step_memory, RobustLearner.STEP_MEMORY_OWN),
+        )
+    else:
+        learner = Learner(
+            seeds.learner,
+            table=table,
+            correction=not manual,
+            exploration=settings.exploration,
+            adaptation=settings.adaptation,
+            proactive=settings.proactive,
+            proactive_threshold=settings.proactive_threshold,
+            proactive_min_count=settings.proactive_min_count,
+            step_memory=step_memory_on(settings.step_memory, Learner.STEP_MEMORY_OWN),
+        )
     loop = LoopOptions(
         manual=manual,
         repeat_discarded=spec.detector.repeat_discarded,

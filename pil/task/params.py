@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
+from pil.agents import DEFAULT_LEARNER, PIL_LEARNERS
 from pil.agents.bandit import (
     EPSILON,
     EPSILON_DECAY,
@@ -128,17 +129,24 @@ PARAMS: dict[str, ParamSpec] = {
             1e6,
         ),
         ParamSpec(
+            "learner",
+            "choice",
+            DEFAULT_LEARNER,
+            "the PIL rule: the paper's or the robust one (docs/learner.md)",
+            choices=tuple(PIL_LEARNERS),
+        ),
+        ParamSpec(
             "exploration",
             "choice",
             DEFAULT_RULE,
-            "the learner's rule after a not-OK",
+            "the learner's rule after a not-OK (learner=pil)",
             choices=tuple(RULES),
         ),
         ParamSpec(
             "adaptation",
             "choice",
             "none",
-            "how a not-OK changes counts",
+            "how a not-OK changes counts (learner=pil)",
             choices=tuple(ADAPTATIONS),
         ),
         ParamSpec("proactive", "bool", False, "act on the likely next state before its gesture"),

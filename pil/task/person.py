@@ -17,7 +17,9 @@ person intervention), then goes on with the script.
 The person knows the correct association T_c: for every gesture of the script they want one
 action (the step's action). They approve an action exactly when it is the wanted one *and* the
 world reports that it worked; otherwise they give not-OK. With probability ``silent_ok`` they
-approve by giving no feedback at all (the learner counts that as OK, eq. 1).
+approve by giving no feedback at all (the learner counts that as OK, eq. 1), except when the
+robot asked for a thumb on the action (:meth:`~ScriptedPerson.confirm_requested`): then they
+always show one.
 
 ``patience`` (0 = off) models a person who, after that many rejected actions in a row for
 one gesture, performs the gesture again instead of waiting for the robot to find the action.
@@ -209,6 +211,7 @@ class ScriptedPerson:
         self._todo: deque[ScriptStep] = deque(self.script)
         self._legs = LegsSeen()
         self.interventions = 0  # legs the person put back on the table themselves
+        self._asked = False  # the robot asked for a thumb on the action now shown
 
     @classmethod
     def for_types(
@@ -276,11 +279,18 @@ class ScriptedPerson:
     def judge(self, intent: Intent, action: Action, outcome: Outcome) -> Feedback:
         """OK (or silence) for the wanted action when it worked, else not-OK (a stopped action
         got its thumb down already)."""
+        asked, self._asked = self._asked, False
         if outcome.interrupted or action is not intent.action or not outcome.succeeded:
             return Feedback.NOT_OK
-        if self.silent_ok and self._rng.random() < self.silent_ok:
+        # the draw is made when asked too, so asking changes no later draw
+        if self.silent_ok and self._rng.random() < self.silent_ok and not asked:
             return Feedback.NONE
         return Feedback.OK
+
+    def confirm_requested(self) -> None:
+        """The robot asks for an explicit thumb on the action it is about to show: the person
+        answers it with a thumb, never with silence (:meth:`judge`)."""
+        self._asked = True
 
     def show_feedback(self, feedback: Feedback) -> None:
         """Give the thumb ``feedback`` (visibly, with a body), before the learner receives it."""

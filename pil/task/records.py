@@ -45,6 +45,7 @@ class StepRecord(NamedTuple):
     dropped: int | None = None  # a leg that left the robot's hand during the action
     feedback_read: Feedback | None = None  # the thumb as the robot read it (what it learnt)
     proactive: bool = False  # performed before the gesture, on the learnt transitions
+    confirm: bool = False  # the robot asks for an explicit thumb on this action (pil.robust)
 
     @property
     def state_key(self) -> str | None:

@@ -37,8 +37,10 @@ DETECTOR_SPECS: dict[str, ParamSpec] = {
 
 @dataclass(frozen=True, slots=True)
 class LearnerSettings:
-    """How the learner explores, adapts, anticipates; the baselines' settings; the loop's cap."""
+    """Which PIL rule learns, how it explores, adapts, anticipates; the baselines' settings;
+    the loop's cap."""
 
+    learner: str
     exploration: str
     adaptation: str
     proactive: bool

@@ -207,9 +207,9 @@ class StepPhases:
                 steps.again = decision.reason
                 yield base._replace(reason=steps.again)
                 continue
+            acted = decision.state
             base = base._replace(
-                corrected_gesture=decision.state.gesture if decision.corrected else None,
-                state=decision.state,
+                corrected_gesture=acted.gesture if decision.corrected else None, state=acted
             )
             if (yield from self.acting(item, base, decision, hand, steps, options)):
                 return  # approved, or the person re-plans
@@ -231,6 +231,7 @@ class StepPhases:
         learnt = base.state
         assert learnt is not None and decision.action is not None
         action, exploited, reason = decision.action, decision.exploited, decision.reason
+        confirm = decision.confirm
         rejections = 0
         while True:
             steps.spent += 1
@@ -244,7 +245,14 @@ class StepPhases:
             state.actions += 1
             shown = base._replace(t=state.actions, action=action)
             record = watched_action(
-                self.parts, intent, shown, hand, state.previous, exploited=exploited, reason=reason
+                self.parts,
+                intent,
+                shown,
+                hand,
+                state.previous,
+                exploited=exploited,
+                reason=reason,
+                confirm=confirm,
             )
             state.legs = record.legs_delivered
             ok, feedback = record.feedback_read is not _NOT_OK, record.feedback
@@ -262,6 +270,7 @@ class StepPhases:
                 return False  # the person performs the gesture again
             action = learner.choose(learnt)
             exploited, reason = learner.last_exploited, learner.last_reason
+            confirm = getattr(learner, "last_confirm", False)  # a learner that may ask
 
 
 def _joined(first: str, second: str) -> str:

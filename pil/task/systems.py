@@ -10,7 +10,8 @@ run of any of them; add an entry to make a new one selectable everywhere.
 * ``c3``: pre-trained at d, manual repetition (the person repeats a misread gesture);
   ``c4``: at 100 %, manual repetition.
 * ``proactive`` (ours): ``pil`` that acts on the likely next state before its gesture
-  (:mod:`pil.anticipation`); ``pil-halve`` (ours): a not-OK halves the refused count.
+  (:mod:`pil.anticipation`); ``pil-halve`` (ours): a not-OK halves the refused count;
+  ``pil-robust`` (ours): the robust PIL rule (``learner=robust``, :mod:`pil.robust`).
 * ``bandit``, ``tamer``: the baselines of :mod:`pil.agents`, from scratch, same person, detector
   and counting (they act on the detected state as it is: no correction).
 
@@ -60,6 +61,10 @@ SYSTEM_SPECS: dict[str, SystemSpec] = {
     "pil-halve": SystemSpec(
         "PIL from scratch, a not-OK halves the refused count (ours)",
         params={"adaptation": "halve"},
+    ),
+    "pil-robust": SystemSpec(
+        "PIL's robust rule from scratch: weighed thumbs and silence, asks when unsure (ours)",
+        params={"learner": "robust"},
     ),
     "proactive": SystemSpec(
         "PIL from scratch, acting on the likely next state before its gesture (ours)",

@@ -47,6 +47,7 @@ def watched_action(
     *,
     exploited: bool,
     reason: str,
+    confirm: bool = False,
 ) -> StepRecord:
     """Execute ``shown.action`` on ``shown.target`` while the person watches; its record.
 
@@ -57,13 +58,17 @@ def watched_action(
     approved action before it (an approved open from a handing action delivers a leg,
     counted on ``shown.legs_delivered``). A reader that learns from feedback
     (:class:`LearnsFromFeedback`) is told the verdict on a gesture's action, not on a
-    proactive one (``shown.proactive``: no gesture was read).
+    proactive one (``shown.proactive``: no gesture was read). ``confirm``: the robot asks for
+    an explicit thumb on this action (the decided record says so, for a page to show); a
+    person or reader with ``confirm_requested`` is told before the action runs (:func:`ask`).
     """
     learner, person, detector = parts.learner, parts.person, parts.detector
     observer = parts.observer
     learnt, action = shown.state, shown.action
     assert learnt is not None and action is not None
-    decided = shown._replace(exploited=exploited, reason=reason)
+    decided = shown._replace(exploited=exploited, reason=reason, confirm=confirm)
+    if confirm:
+        ask(person, detector)
     watcher = person.watch(intent)  # a thumb is taken from the moment the action is shown
     if observer is not None:
         observer.decided(decided)
@@ -87,13 +92,24 @@ def watched_action(
         dropped=outcome.dropped,
         feedback_read=heard,
     )
-    learner.feedback(learnt, action, ok)
+    learner.feedback(learnt, action, heard)  # what the robot read (silence: NONE, eq. 1)
     if not shown.proactive and isinstance(detector, LearnsFromFeedback):
         detector.verdict(meant_by_table(learner, action, learnt) if ok else None, ok)
     if observer is not None:
         observer.received(record)
     person.after_feedback(feedback)  # e.g. a delivered leg carried to the bin
     return record
+
+
+def ask(*listeners: object) -> None:
+    """The robot asks for an explicit thumb on the action about to run: each listener with a
+    ``confirm_requested()`` (the scripted person, who then never stays silent; the bench's
+    :class:`pil.bench.noise.FeedbackChannel`, whose silence and late thumbs then do not apply)
+    is told. A live page reads the request from the decided record (``confirm``)."""
+    for listener in listeners:
+        told = getattr(listener, "confirm_requested", None)
+        if told is not None:
+            told()
 
 
 def meant_by_table(learner: Learner, action: Action, state: State) -> Gesture | None:
