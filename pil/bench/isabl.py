@@ -24,10 +24,9 @@ is solved state by state); the agent follows the current maximum-likelihood poli
 next-likeliest action after one refused in the step (the baselines' within-step memory), ties
 broken at random. ``epsilon`` is tuned on the dev seeds like the other references' parameters.
 
-The agent needs to tell silence from a thumb up. The step loop passes it a bool (silence counts
-as OK, eq. 1), so the bench hands it each thumb as read through :meth:`ISablAgent.heard`
-(:class:`pil.bench.tracks.ThumbTap`); given a :class:`pil.types.Feedback` it reads silence
-from that directly.
+The agent needs to tell silence from a thumb up: the step loop hands every learner the thumb
+as read (:class:`pil.types.Feedback`, silence as ``NONE``); given a bool (an API caller's
+verdict) it counts True as a thumb up.
 """
 
 from __future__ import annotations
@@ -92,22 +91,15 @@ class ISablAgent(FeedbackAgent):
         self.scores = np.zeros((N_STATES, len(ACTIONS)))  # expected log-likelihood of lambda(s) = a
         self.rounds = 0  # EM rounds of the last fit
         self.evidence: list[float] = []  # log P(h | lambda_i) after each E-step of the last fit
-        self._heard: Feedback | None = None
         self._kind = Feedback.OK
 
     # -- the feedback ---------------------------------------------------------------------
-    def heard(self, feedback: Feedback) -> None:
-        """The thumb as the robot read it for the action about to be judged (the bench's tap)."""
-        self._heard = feedback
-
     def feedback(self, state: State, action: Action | str, ok: bool | Feedback | str) -> None:
         """Count the thumb or the silence, refit, and keep the table and step memory."""
         if ok is True or ok is False:
-            heard = self._heard if self._heard in (Feedback.OK, Feedback.NONE) else Feedback.OK
-            self._kind = heard if ok else Feedback.NOT_OK
+            self._kind = Feedback.OK if ok else Feedback.NOT_OK
         else:
             self._kind = ok if isinstance(ok, Feedback) else Feedback.parse(ok)
-        self._heard = None
         super().feedback(state, action, ok)
 
     def _learn(self, sid: int, index: int, reward: float) -> None:

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import json
 import random
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -163,27 +163,6 @@ class FeedbackChannel:
                 else Feedback.NONE
             )
         return given
-
-
-class ThumbTap:
-    """A reader that hands every thumb it reads to ``hear`` before the learner gets it, for an
-    agent that tells silence from a thumb up (the step loop passes it only OK / not-OK).
-    Everything else is the inner reader's."""
-
-    def __init__(self, inner: Any, hear: Callable[[Feedback], None]) -> None:
-        self.inner = inner
-        self._hear = hear
-
-    def read_feedback(self, feedback: Feedback) -> Feedback:
-        """The inner reader's reading, told to ``hear``."""
-        heard = self.inner.read_feedback(feedback)
-        self._hear(heard)
-        return heard
-
-    def __getattr__(self, name: str) -> Any:
-        if name == "inner":  # not set yet (e.g. while being copied): no recursion
-            raise AttributeError(name)
-        return getattr(self.inner, name)
 
 
 def make_reader(condition: Any, seed: int, deck_size: int) -> GestureReader:

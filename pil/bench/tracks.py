@@ -29,7 +29,7 @@ from typing import Any
 
 from pil.bench.counting import Played, count, curve_area, curve_of, recovery
 from pil.bench.entrants import Factory, as_agent
-from pil.bench.noise import ThumbTap, make_reader
+from pil.bench.noise import make_reader
 from pil.bench.suite import Suite, Track
 from pil.task.person import ScriptedPerson, ScriptStep, plan_script
 from pil.task.runner import steps
@@ -93,12 +93,8 @@ def play(
     stall_after: int | None = None,
 ) -> Played:
     """Run ``agent`` through ``script`` with ``reader``; stop (failed) past the cap; a wait of
-    ``stall_after`` gestures without an action marks it stalled. An agent that tells silence
-    from a thumb up (``heard``) is handed each thumb as read (:class:`ThumbTap`)."""
+    ``stall_after`` gestures without an action marks it stalled."""
     mappings = table_mappings(script)
-    hear = getattr(agent, "heard", None)
-    if callable(hear):
-        reader = ThumbTap(reader, hear)
 
     def on_table(table: int) -> None:
         if hasattr(agent, "set_mapping"):
