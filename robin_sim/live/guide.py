@@ -142,8 +142,8 @@ def step_for(kind: HandoverType, done: int, previous: Action, hand: Hand) -> int
 def cannot_act(gesture: Gesture, reason: str) -> str:
     """Why the robot handed the step back, in plain words (``reason``: the learner's)."""
     name = gesture.value.replace("give me", "give-me")
-    if reason.startswith("invalid: "):
-        rule = reason.removeprefix("invalid: ").split(";", 1)[0]
+    if "invalid: " in reason:  # after the loop's own note, e.g. "re-grounded: ...; invalid: "
+        rule = reason.split("invalid: ", 1)[1].split(";", 1)[0]
         why = CANNOT.get(rule, "that gesture does not fit what Robin holds and did last")
         return f"Robin could not act on your {name} gesture: {why}."
     if "since your last gesture" in reason:

@@ -26,9 +26,9 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from pil.task.grounding import ground  # the step loop's rule: Robin's state in its hand
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
-from pil.task.runner import AFTER_DROP  # the step loop's rule after physics changed the hand
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
@@ -229,7 +229,9 @@ class LiveParticipant:
         """Whether the robot will act before the next gesture (the loop's own condition),
         unless the watchdog says it has done enough on the last gesture."""
         anticipates = self.robot_anticipates
-        if anticipates is None or not self._approved or hand is not self._expected:
+        if anticipates is None or not self._approved:
+            return False
+        if ground(self._previous, self._expected, hand)[1]:  # the loop re-grounds: no guess
             return False
         if not anticipates(self._previous, hand):
             return False
@@ -241,10 +243,10 @@ class LiveParticipant:
         return True
 
     def _context(self, hand: Hand) -> tuple[Action, Hand]:
-        """Robin's state as the step loop takes it: its last standing action and ``hand``
-        (after a drop, or an approved action that left the hand otherwise: open or close)."""
-        previous = self._previous if hand is self._expected else AFTER_DROP[hand]
-        return previous, hand
+        """Robin's state as the step loop takes it: its last standing action grounded in
+        ``hand`` (:func:`pil.task.grounding.ground`, the loop's own rule: after a drop, or a
+        wrong move let stand, an empty hand stands as after open, a full one as after close)."""
+        return ground(self._previous, self._expected, hand)[0], hand
 
     def _intended(self, gesturing: Gesturing, previous: Action, hand: Hand) -> Action:
         correct = self.correct.get(State(gesturing.gesture, previous, hand))
