@@ -250,6 +250,8 @@ def _phase(
         seeds.person,
         silent_ok=mind.silent_ok,
         patience=mind.patience,
+        take_back=mind.take_back,
+        take_back_delay=mind.take_back_delay,
         reaction_time=ReactionTime(mind.reaction_time, mind.reaction_spread),
         body=body,
     )

@@ -17,6 +17,10 @@ messages that arrived to :meth:`poll`.
 * The simulated hand (:class:`~robin_sim.person.body.PhysicalBody`) makes every act visible: it
   points at what was clicked, shapes the gesture, shows the thumb, holds out the palm and
   carries delivered legs to the bin.
+* "That was wrong" (:mod:`robin_sim.live.take_back`): while the participant's gesture is
+  awaited, a take-back asked for ends the wait; the loop asks :meth:`takes_back` at its safe
+  point, takes the approval back and tells :meth:`taken_back`, which restores the participant's
+  step: the guide asks for the instruction again.
 """
 
 from __future__ import annotations
@@ -32,18 +36,13 @@ from pil.task.records import StepRecord
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome
 from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
-from robin_sim.live.guide import cannot_act, guide, legend, step_for
+from robin_sim.live.guide import cannot_act, guide, leg_now, legend, meant_action, step_for
 from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.take_back import Stood, TakeBacks
 from robin_sim.live.thumbs import Gesturing, ThumbWatcher
 from robin_sim.live.watchdog import StepWatchdog
 from robin_sim.person.body import PhysicalBody
 
-# The action a gesture means in a state the block's types do not use (for the record only).
-_PLAIN_MEANING = {
-    Gesture.GRASP: Action.CLOSE,
-    Gesture.GIVE_ME: Action.HUMAN,
-    Gesture.RELEASE: Action.OPEN,
-}
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
 EventSink = Callable[[str, dict[str, Any]], None]
 
@@ -100,6 +99,8 @@ class LiveParticipant:
         self.watchdog = StepWatchdog(limits or WatchdogLimits(), lambda: body.world.time)
         self._tripped = ""  # why the watchdog stopped the robot in this step ("" not)
         self.on_event = on_event
+        self.take_backs = TakeBacks()  # "That was wrong" (robin_sim.live.take_back)
+        self._received: tuple[int, bool] = (0, False)  # the last step's t, and if it delivered
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -117,6 +118,10 @@ class LiveParticipant:
             elif isinstance(item, Feedback):
                 if self.judging and self.thumb is None:
                     self.thumb, self.notice = item, ""
+            elif item == "take_back":  # waits for the loop's safe point (or came too late)
+                self.notice = self.take_backs.ask(self.phase == "waiting_for_gesture")
+                if self.notice:
+                    self._event("take_back", done=False, why=self.notice)
             else:
                 self.ended = True
 
@@ -137,17 +142,7 @@ class LiveParticipant:
         (:func:`robin_sim.live.guide.guide`), with the table's legs and spots for its legend."""
         handover = min(self.legs_delivered, self.legs_total - 1)
         done = self._step if self._handover == self.legs_delivered else 0
-        legs = range(self.legs_per_table)
-        leg = next(
-            (
-                k
-                for k in (self._legs.holding, self._legs.pointed)
-                if k is not None and k not in self._delivered_legs
-            ),
-            None,
-        )
-        if leg is None:
-            leg = next((k for k in legs if k not in self._delivered_legs), 0)
+        leg = leg_now(self._legs, self._delivered_legs, self.legs_per_table)
         shown = guide(self.types[handover], done, leg, handover, self.legs_total)
         spots = len(self.body.world.layout.spots)
         return {**shown, **legend(self.legs_per_table, self._delivered_legs, spots)}
@@ -156,12 +151,14 @@ class LiveParticipant:
         """The robot starts ``record``'s action now: logged (``acts``), the moment a bench
         measures from the participant's input."""
         self.actions_started += 1
+        self.take_backs.gone()  # Robin acts again: the thumb judges this one
         action = None if record.action is None else record.action.value
         self._event("acts", t=record.t, action=action, proactive=record.proactive)
 
     def received(self, record: StepRecord) -> None:
         """The learner has ``record``: a delivered leg is off the table from now on."""
         self.verdict_pending = False
+        self._received = (record.t, record.delivered)
         if record.delivered and self._legs.holding is not None:
             self._delivered_legs.add(self._legs.holding)
 
@@ -169,6 +166,12 @@ class LiveParticipant:
         """Sim seconds left of the feedback window now open (None: none is open)."""
         until = self.window_until
         return None if until is None else max(0.0, until - self.body.world.time)
+
+    def take_back_left(self) -> float | None:
+        """Sim seconds left to take back the action that stood last (None: nothing now)."""
+        if self.phase != "waiting_for_gesture":
+            return None
+        return self.take_backs.left(self.body.world.time)
 
     @property
     def gesture_pending(self) -> bool:
@@ -211,16 +214,22 @@ class LiveParticipant:
         self.set_phase(
             "waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture."
         )
-        while self._gesture is None:
+        while self._gesture is None and not self.take_backs.asked:
             if self.ended:
                 return None
             self._tick()
+        if self.take_backs.asked:  # the loop takes it back first; a gesture made stays pending
+            step = kind.steps[min(self._step, len(kind.steps) - 1)]
+            intent = Intent(step.gesture, step.action, None, handover, table)
+            return ScriptStep(intent, kind.name, self._step, first)
         gesturing, self._gesture = self._gesture, None
+        assert gesturing is not None  # the wait ended on it
         self.watchdog.gesture()
         self._tripped = ""
         self.step_gesture, self.step_reading = gesturing.gesture, gesturing.reading
         self.step_key = (handover, self._step)
-        action = self._intended(gesturing, previous, hand)
+        state = State(gesturing.gesture, previous, hand)
+        action = self.correct.get(state) or meant_action(state, gesturing.target)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
         self.set_phase("robot_acting", "The robot reads your gesture.")
         return ScriptStep(intent, kind.name, self._step, first)
@@ -248,21 +257,31 @@ class LiveParticipant:
         wrong move let stand, an empty hand stands as after open, a full one as after close)."""
         return ground(self._previous, self._expected, hand)[0], hand
 
-    def _intended(self, gesturing: Gesturing, previous: Action, hand: Hand) -> Action:
-        correct = self.correct.get(State(gesturing.gesture, previous, hand))
-        if correct is not None:
-            return correct
-        if gesturing.gesture is Gesture.POINTING:
-            target = gesturing.target
-            leg = target is not None and target.kind == "leg"
-            return Action.OBJECT if leg and hand is Hand.FREE else Action.LOCATION
-        return _PLAIN_MEANING[gesturing.gesture]
-
     def completed(self, item: ScriptStep, action: Action) -> None:
-        """The participant let ``action`` stand for ``item``."""
+        """The participant let ``action`` stand for ``item`` (it may be taken back)."""
+        legs = LegsSeen(self._legs.holding, self._legs.pointed)
+        before = (self._previous, self._expected, self._step, legs)
         self._previous, self._step = action, self._step + 1
         self._approved, self._expected = True, hand_after(action, self._hand_before)
         self._legs.approved(action, item.intent.target)
+        t, delivered = self._received
+        self.take_backs.stood(Stood(action, t, self.body.world.time, delivered, before))
+
+    def takes_back(self, stood: bool) -> bool:
+        """The loop's safe point: True when the participant asked to take back the last
+        action that stood ("That was wrong", checked against its window when it came)."""
+        return self.take_backs.asked
+
+    def taken_back(self, what: str) -> None:
+        """The loop took the approval back (``what``; "" when none stood): the participant's
+        step is the one before it, so the guide asks for that instruction again; logged."""
+        taken, self.notice = self.take_backs.taken(what)
+        if taken is None:
+            return
+        if what:
+            self._previous, self._expected, self._step, self._legs = taken.before
+            self._approved = False
+        self._event("take_back", done=bool(what), t=taken.t, action=taken.action.value, loop=what)
 
     def start_table(self, table: int) -> None:
         """A new table's legs are laid out: the hand rests first."""
