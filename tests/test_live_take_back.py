@@ -1,5 +1,5 @@
-""""That was wrong" on the live page (issue 38, item 3): real sessions (physics, the learner,
-the files), the input sent as the page sends it.
+"""The live page's take-back, "That was wrong" (issue 38, item 3): real sessions (physics,
+the learner, the files), the input sent as the page sends it.
 
 Seed 0's first try on a click at the red leg is a close (on nothing): the participant lets it
 stand with a thumb up, then takes it back. The learner's count for that close is withdrawn
