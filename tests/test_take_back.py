@@ -130,9 +130,7 @@ def test_take_backs_at_any_rate_and_delay_never_stop_a_run(
     seed: int, chance: float, delay: int, misread: float, late: float, missed: float
 ) -> None:
     thumbs = {"misread": misread, "late": late, "missed": missed, "silence": 0.2}
-    records, person, _ = noisy_run(
-        seed, 4, thumbs=thumbs, take_back=chance, take_back_delay=delay
-    )
+    records, person, _ = noisy_run(seed, 4, thumbs=thumbs, take_back=chance, take_back_delay=delay)
     assert records[-1].handover == 3  # the script's end (a misread last OK delivers nothing)
     assert len(taken_back(records)) == person.taken_back_count
     assert [r.t for r in records if r.action is not None] == list(
