@@ -91,6 +91,51 @@ def test_the_empty_hand_move_let_stand_is_no_dead_end(tmp_path: Path, verdict: s
     after = steps[stood]
     assert after["state"] == "pointing|open|free", after  # grounded: as after open
     assert after["reason"].startswith("re-grounded"), after["reason"]
-    events = [e["event"] for e in read_jsonl(live.out_dir / "events.jsonl")]
-    assert "handed_back" not in events and "watchdog" not in events, events
+    events = read_jsonl(live.out_dir / "events.jsonl")
+    kinds = [e["event"] for e in events]
+    assert "handed_back" not in kinds and "watchdog" not in kinds, kinds
+    regrounded = [e for e in events if e["event"] == "regrounded"]  # logged as it recovers
+    assert len(regrounded) == 1 and "follows no right approval" in regrounded[0]["reason"]
     assert [s["t"] for s in steps if s["action"]] == list(range(1, len(steps) + 1))
+
+
+def test_gestures_handed_back_in_a_row_wake_the_watchdog_and_robin_proposes(
+    tmp_path: Path,
+) -> None:
+    """After an approved object (the hand empty, at the leg), release and give me are invalid
+    and nothing learnt corrects them: each is handed back. The third in a row wakes the
+    watchdog (the page says the way on); on the fourth Robin proposes an action itself."""
+    live, driver = session(tmp_path, seed=0)
+    try:
+        driver.my_turn()
+        driver.point_at_leg(0)
+        assert driver.judge("object")[-1] == "object"
+        actions = driver.my_turn()["actions"]
+        for k, name in enumerate(("release", "give_me", "release")):
+            driver.gesture(name)
+            back = driver.wait(
+                lambda s, n=k + 1: s["phase"] == "waiting_for_gesture" and s["gestures"] > n,
+                "the gesture handed back",
+            )
+        assert back["notice"].endswith(
+            "That was 3 of your gestures in a row Robin could not act on. Make the gesture the "
+            "guide asks for; if Robin cannot act on your next gesture either, it proposes an "
+            "action for your thumb."
+        ), back["notice"]
+        assert back["guide"]["instruction"].startswith("Make the grasp gesture"), back["guide"]
+        assert back["actions"] == actions  # nothing acted on
+        driver.gesture("give_me")  # the fourth: Robin proposes an action for the thumb
+        driver.wait(lambda s: s["action"] is not None, "Robin's proposal")
+        live.receive({"type": "thumb", "value": "down"})
+        driver.wait(lambda s: s["actions"] > actions, "the proposal logged")
+    finally:
+        live.stop("ended")
+    events = read_jsonl(live.out_dir / "events.jsonl")
+    backs = [e for e in events if e["event"] in ("handed_back", "watchdog")]
+    assert [e["event"] for e in backs] == ["handed_back", "handed_back", "watchdog"], backs
+    assert backs[-1]["stuck"] == "3 of your gestures in a row Robin could not act on"
+    steps = read_jsonl(live.out_dir / "log.jsonl")
+    repeats = [s for s in steps if s["action"] is None]
+    assert [s["true_gesture"] for s in repeats] == ["release", "give me", "release"], repeats
+    acted = [s for s in steps if s["action"] is not None and s["true_gesture"] == "give me"]
+    assert acted and acted[0]["reason"].startswith("cannot read the gesture"), acted

@@ -26,7 +26,7 @@ from pil.task.counting import RunStats
 from pil.task.detector import EXACT, INDEPENDENT, MEASURED_PREFIX, GestureReader, make_detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.records import StepRecord
-from pil.task.runner import StepObserver, steps
+from pil.task.runner import ASK_AFTER_REPEATS, StepObserver, steps
 from pil.task.scenario import Scenario
 from pil.task.seeds import PHASES, PhaseSeeds
 from pil.task.spec import SYMBOLIC, RunSpec
@@ -52,6 +52,7 @@ class LoopOptions:
     manual: bool  # the person repeats a misread gesture (no correction)
     repeat_discarded: bool  # a discarded gesture is repeated
     max_actions_per_gesture: int
+    ask_after: int = ASK_AFTER_REPEATS  # repeat requests in a row before the robot proposes
 
 
 @dataclass(frozen=True, slots=True)

@@ -30,17 +30,17 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from pil.task.grounding import ground  # the step loop's rule: Robin's state in its hand
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome
-from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
+from pil.types import Action, Feedback, Gesture, Hand, State
 from robin_sim.live.guide import cannot_act, guide, leg_now, legend, meant_action, step_for
 from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.robin_seen import RobinSeen
 from robin_sim.live.take_back import Stood, TakeBacks
 from robin_sim.live.thumbs import Gesturing, ThumbWatcher
-from robin_sim.live.watchdog import StepWatchdog
+from robin_sim.live.watchdog import StepWatchdog, no_way_on, way_on
 from robin_sim.person.body import PhysicalBody
 
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
@@ -76,7 +76,7 @@ class LiveParticipant:
         self.interventions = 0
         self.actions_started = 0  # robot actions begun in the session (a block's cap)
         self._gesture: Gesturing | None = None
-        self._previous = Action.OPEN  # the last action the participant approved
+        self.robin = RobinSeen()  # Robin's state as the loop takes it (robin_sim.live.robin_seen)
         self._legs = LegsSeen()
         self._delivered_legs: set[int] = set()  # of the table now laid out
         self._laid: set[int] = set()  # the tables laid out
@@ -85,9 +85,6 @@ class LiveParticipant:
         # learnt transitions make one next state likely (pil.anticipation): then the loop gets
         # the participant's next instruction at once, without waiting for a gesture.
         self.robot_anticipates = robot_anticipates
-        self._approved = False  # the last action was let stand
-        self._expected = Hand.FREE  # the hand that approved action leaves
-        self._hand_before = Hand.FREE  # the hand when the current action began
         # The participant's gesture of the step now running: the webcam learns from its verdict.
         self.step_gesture: Gesture | None = None  # None: the robot went first
         self.step_reading: int | None = None
@@ -152,6 +149,7 @@ class LiveParticipant:
         measures from the participant's input."""
         self.actions_started += 1
         self.take_backs.gone()  # Robin acts again: the thumb judges this one
+        self.watchdog.acted()
         action = None if record.action is None else record.action.value
         self._event("acts", t=record.t, action=action, proactive=record.proactive)
 
@@ -201,16 +199,19 @@ class LiveParticipant:
             self._laid.add(table)
             self.start_table(table)
             self.body.world.start_table(table)
-        first = False  # the loop has nothing left to lay out
         kind = self.types[handover]
-        previous, hand = self._context(hand)
-        self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
-        if self._robot_goes_first(hand):  # for the record: the type's next instruction
-            step = kind.steps[min(self._step, len(kind.steps) - 1)]
-            intent = Intent(step.gesture, step.action, None, handover, table)
+        regrounded = self._ground(kind, hand)
+        previous = self.robin.previous
+        # for the record, the type's next instruction: the robot goes first, or the loop
+        # takes an approval back first (a gesture made meanwhile stays pending)
+        step = kind.steps[min(self._step, len(kind.steps) - 1)]
+        planned = ScriptStep(
+            Intent(step.gesture, step.action, None, handover, table), kind.name, self._step, False
+        )
+        if self._robot_goes_first(hand, regrounded):
             self.set_phase("robot_acting", "The robot anticipates your next instruction.")
             self.step_gesture, self.step_reading = None, None
-            return ScriptStep(intent, kind.name, self._step, first)
+            return planned
         self.set_phase(
             "waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture."
         )
@@ -218,10 +219,8 @@ class LiveParticipant:
             if self.ended:
                 return None
             self._tick()
-        if self.take_backs.asked:  # the loop takes it back first; a gesture made stays pending
-            step = kind.steps[min(self._step, len(kind.steps) - 1)]
-            intent = Intent(step.gesture, step.action, None, handover, table)
-            return ScriptStep(intent, kind.name, self._step, first)
+        if self.take_backs.asked:
+            return planned
         gesturing, self._gesture = self._gesture, None
         assert gesturing is not None  # the wait ended on it
         self.watchdog.gesture()
@@ -232,17 +231,16 @@ class LiveParticipant:
         action = self.correct.get(state) or meant_action(state, gesturing.target)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
         self.set_phase("robot_acting", "The robot reads your gesture.")
-        return ScriptStep(intent, kind.name, self._step, first)
+        return ScriptStep(intent, kind.name, self._step, False)  # the table is laid out
 
-    def _robot_goes_first(self, hand: Hand) -> bool:
-        """Whether the robot will act before the next gesture (the loop's own condition),
-        unless the watchdog says it has done enough on the last gesture."""
+    def _robot_goes_first(self, hand: Hand, regrounded: str) -> bool:
+        """Whether the robot will act before the next gesture (the loop's own condition: not
+        after a re-grounding), unless the watchdog says it has done enough on the last
+        gesture."""
         anticipates = self.robot_anticipates
-        if anticipates is None or not self._approved:
+        if anticipates is None or not self.robin.approved or regrounded:
             return False
-        if ground(self._previous, self._expected, hand)[1]:  # the loop re-grounds: no guess
-            return False
-        if not anticipates(self._previous, hand):
+        if not anticipates(self.robin.previous, hand):
             return False
         tripped = self.watchdog.tripped()
         if tripped:
@@ -251,18 +249,25 @@ class LiveParticipant:
             return False
         return True
 
-    def _context(self, hand: Hand) -> tuple[Action, Hand]:
-        """Robin's state as the step loop takes it: its last standing action grounded in
-        ``hand`` (:func:`pil.task.grounding.ground`, the loop's own rule: after a drop, or a
-        wrong move let stand, an empty hand stands as after open, a full one as after close)."""
-        return ground(self._previous, self._expected, hand)[0], hand
+    def _ground(self, kind: HandoverType, hand: Hand) -> str:
+        """Robin's state grounded in ``hand`` as the loop grounds it at this safe point
+        (:class:`RobinSeen`; logged, ``regrounded``) and the guide's step in it, which the
+        watchdog checks (:func:`no_way_on`); why the state changed ("" when it did not)."""
+        why = self.robin.ground(hand)
+        if why:
+            self._event("regrounded", reason=why)
+        previous = self.robin.previous
+        self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
+        stuck = no_way_on(kind, self._step, previous, hand)  # the grounding rules it out
+        if stuck:
+            self._event("watchdog", reason=stuck)
+        return why
 
     def completed(self, item: ScriptStep, action: Action) -> None:
         """The participant let ``action`` stand for ``item`` (it may be taken back)."""
         legs = LegsSeen(self._legs.holding, self._legs.pointed)
-        before = (self._previous, self._expected, self._step, legs)
-        self._previous, self._step = action, self._step + 1
-        self._approved, self._expected = True, hand_after(action, self._hand_before)
+        before = (self.robin.approve(action), self._step, legs)
+        self._step += 1
         self._legs.approved(action, item.intent.target)
         t, delivered = self._received
         self.take_backs.stood(Stood(action, t, self.body.world.time, delivered, before))
@@ -279,8 +284,8 @@ class LiveParticipant:
         if taken is None:
             return
         if what:
-            self._previous, self._expected, self._step, self._legs = taken.before
-            self._approved = False
+            robin, self._step, self._legs = taken.before
+            self.robin.restore(robin)
         self._event("take_back", done=bool(what), t=taken.t, action=taken.action.value, loop=what)
 
     def start_table(self, table: int) -> None:
@@ -297,7 +302,7 @@ class LiveParticipant:
         self.watchdog.attempt()
         self.window_until = None
         self.thumb, self.judging = None, True
-        self._approved, self._hand_before = False, self.body.world.hand()
+        self.robin.acts(self.body.world.hand())
         self.set_phase("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
         return ThumbWatcher(self)
 
@@ -339,9 +344,11 @@ class LiveParticipant:
         it), so the step goes back to the participant with a plain message, and is logged."""
         gesture = self.step_gesture or Gesture.POINTING
         tripped, self._tripped = self._tripped, ""
+        stuck = "" if tripped else self.watchdog.hand_back()
         why = tripped or reason
-        self.notice = f"{cannot_act(gesture, why)} Make a gesture again, or another one."
-        self._event("watchdog" if tripped else "handed_back", reason=why, gesture=gesture.value)
+        self.notice = f"{cannot_act(gesture, why)} {way_on(stuck)}"
+        kind = "watchdog" if tripped or stuck else "handed_back"
+        self._event(kind, reason=why, gesture=gesture.value, **({"stuck": stuck} if stuck else {}))
         return False
 
     def _event(self, kind: str, **fields: Any) -> None:
