@@ -139,3 +139,29 @@ def test_gestures_handed_back_in_a_row_wake_the_watchdog_and_robin_proposes(
     assert [s["true_gesture"] for s in repeats] == ["release", "give me", "release"], repeats
     acted = [s for s in steps if s["action"] is not None and s["true_gesture"] == "give me"]
     assert acted and acted[0]["reason"].startswith("cannot read the gesture"), acted
+
+
+def test_a_leg_pushed_out_of_reach_is_put_back_before_the_next_turn() -> None:
+    """Found by the soak of wrong moves let stand: a leg left on the table out of Robin's reach
+    (0.785, -0.488: the soak's) made the next point at it fail the session ("out of the arm's
+    reach"). The participant's simulated hand puts such a leg back at its place (a person
+    intervention) before the turn; a delivered leg, or one within reach, stays where it is."""
+    import mujoco
+
+    from robin_sim.model import names
+    from robin_sim.model.robot_spec import GRASP_HEIGHT
+    from robin_sim.person.body import PhysicalBody
+    from robin_sim.robot.world import PhysicalWorld
+
+    world = PhysicalWorld()
+    body = PhysicalBody(world, seed=0)
+    data, model = world.sim.data, world.sim.model
+    for leg in (0, 1):
+        adr = int(model.joint(names.leg_joint(leg)).qposadr[0])
+        data.qpos[adr : adr + 3] = [0.785, -0.488 + 0.1 * leg, GRASP_HEIGHT]
+    mujoco.mj_forward(model, data)
+    assert world.legs.out_of_reach(0) and world.legs.out_of_reach(1)
+    assert body.put_back_strays(delivered={1}) == 1  # leg 1 counts as delivered: left there
+    assert not world.legs.out_of_reach(0) and world.legs.graspable(0)
+    assert world.legs.out_of_reach(1)
+    assert body.put_back_strays(delivered={1}) == 0

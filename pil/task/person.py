@@ -188,6 +188,12 @@ class Person(Protocol):
         who decides what to do next)."""
         ...
 
+    def lets_robot_go_first(self) -> bool:
+        """Asked before a proactive robot anticipates the instruction ``next_step`` returned:
+        False when the person made its gesture first (a live participant whose watchdog held
+        the robot back), so that gesture is performed, never dropped."""
+        ...
+
     def takes_back(self, stood: bool) -> bool:
         """Asked at the loop's safe point, before each instruction: True when the person says
         "that was wrong" now, of the robot's last approved action. ``stood``: the robot took
@@ -329,6 +335,10 @@ class ScriptedPerson:
 
     def performs_again(self, reason: str) -> bool:
         """Always: the scripted person repeats the instruction's gesture at once."""
+        return True
+
+    def lets_robot_go_first(self) -> bool:
+        """Always: the scripted person performs a gesture only when the robot did not act."""
         return True
 
     def takes_back(self, stood: bool) -> bool:

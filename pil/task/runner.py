@@ -100,7 +100,7 @@ def steps(
         state = loop.state
         guess = None
         regrounded = loop.grounded(hand)  # a drop or a wrong approval: no anticipation
-        if state.approved and anticipate and not regrounded:
+        if state.approved and anticipate and not regrounded and person.lets_robot_go_first():
             guess = anticipate(state.previous, hand)
         state.approved = False
         if guess is not None and not (yield from loop.anticipated(item, guess, hand)):

@@ -98,6 +98,8 @@ class LiveParticipant:
         self.on_event = on_event
         self.take_backs = TakeBacks()  # "That was wrong" (robin_sim.live.take_back)
         self._received: tuple[int, bool] = (0, False)  # the last step's t, and if it delivered
+        self._held: int | None = None  # the leg Robin held when its current action began
+        self.went_first = False  # next_step let the robot act before the gesture
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -157,8 +159,9 @@ class LiveParticipant:
         """The learner has ``record``: a delivered leg is off the table from now on."""
         self.verdict_pending = False
         self._received = (record.t, record.delivered)
-        if record.delivered and self._legs.holding is not None:
-            self._delivered_legs.add(self._legs.holding)
+        leg = self._legs.holding if self._held is None else self._held
+        if record.delivered and leg is not None:
+            self._delivered_legs.add(leg)
 
     def window_left(self) -> float | None:
         """Sim seconds left of the feedback window now open (None: none is open)."""
@@ -188,6 +191,7 @@ class LiveParticipant:
             leg = self._legs.lost()
             assert leg is not None
             self.interventions += self.body.recover(leg)
+        self.interventions += self.body.put_back_strays(self._delivered_legs)
         self.thumb = None
         handover = self.legs_delivered
         if handover != self._handover:
@@ -208,7 +212,8 @@ class LiveParticipant:
         planned = ScriptStep(
             Intent(step.gesture, step.action, None, handover, table), kind.name, self._step, False
         )
-        if self._robot_goes_first(hand, regrounded):
+        self.went_first = self._robot_goes_first(hand, regrounded)
+        if self.went_first:
             self.set_phase("robot_acting", "The robot anticipates your next instruction.")
             self.step_gesture, self.step_reading = None, None
             return planned
@@ -272,6 +277,11 @@ class LiveParticipant:
         t, delivered = self._received
         self.take_backs.stood(Stood(action, t, self.body.world.time, delivered, before))
 
+    def lets_robot_go_first(self) -> bool:
+        """Only when :meth:`next_step` let it (the loop's own condition, unless the watchdog
+        held the robot back): a gesture the participant made is always performed."""
+        return self.went_first
+
     def takes_back(self, stood: bool) -> bool:
         """The loop's safe point: True when the participant asked to take back the last
         action that stood ("That was wrong", checked against its window when it came)."""
@@ -303,6 +313,7 @@ class LiveParticipant:
         self.window_until = None
         self.thumb, self.judging = None, True
         self.robin.acts(self.body.world.hand())
+        self._held = self.body.world.held_leg()  # the leg an open now delivers, by physics
         self.set_phase("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
         return ThumbWatcher(self)
 
