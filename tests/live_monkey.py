@@ -313,6 +313,16 @@ class Audit:
         if summary.get("live", {}).get("taken_back") != len(taken):
             lost += 1
             problems.append(f"{len(taken)} take-backs, summary {summary.get('live')}")
+        asked = [e for e in inputs if e["accepted"] and e["raw"] == {"type": "take_back"}]
+        answered = [e for e in events if e["event"] == "take_back"]  # done, or too late
+        # unanswered: at most the last, when the session ended before Robin acted again
+        pending = asked[len(answered) :]
+        acted_after = pending and any(
+            e["event"] == "acts" and e["sim_time"] > pending[-1]["sim_time"] for e in events
+        )
+        if len(answered) > len(asked) or len(pending) > 1 or acted_after:
+            lost += 1
+            problems.append(f"{len(asked)} take-backs accepted, {len(answered)} answered")
         wrong = sum(
             1 for s in acted if s["feedback"] != "not ok" and s["action"] != s["intended_action"]
         )

@@ -79,3 +79,21 @@ def test_gestures_handed_back_in_a_row_wake_the_watchdog() -> None:
     watchdog.acted()  # Robin acts: the count starts again
     assert watchdog.hand_back() == ""
     assert way_on("") == "Make a gesture again, or another one."
+
+
+def test_a_second_take_back_before_the_first_is_seen_is_refused() -> None:
+    """Two "That was wrong" in one tick (seen in the soak: both accepted, one done): the page's
+    thread marks the first at once, so the second is refused, not merged."""
+    from pil.types import Action
+    from robin_sim.live.take_back import Stood, TakeBacks
+
+    backs = TakeBacks()
+    backs.stood(Stood(Action.OBJECT, 3, 10.0, False, None))
+    assert backs.refusal(11.0, your_turn=True) == ""
+    backs.request()
+    assert "no action of Robin's to take back" in backs.refusal(11.0, your_turn=True)
+    assert backs.left(11.0) is None
+    assert backs.ask(your_turn=True) == "" and backs.asked
+    taken, notice = backs.taken("object taken back")
+    assert taken is not None and taken.t == 3 and notice.startswith("Robin took back its 'object'")
+    assert backs.count == 1 and backs.last is None

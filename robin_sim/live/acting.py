@@ -49,6 +49,7 @@ def apply_input(
         why = participant.take_backs.refusal(participant.body.world.time, your_turn)
         if why:
             raise LiveInputError(why)
+        participant.take_backs.request()
         participant.offer("take_back")
     elif item.kind == "start":
         raise LiveInputError(

@@ -38,21 +38,22 @@ class TakeBacks:
     def __init__(self, window: float = TAKE_BACK_WINDOW_S) -> None:
         self.window = window
         self.last: Stood | None = None  # the action that stood last (None: none to take back)
+        self.requested = False  # accepted from the page, not yet seen by the physics thread
         self.asked = False  # a take-back waits for the loop's safe point
         self.count = 0  # approvals taken back
 
     def stood(self, stood: Stood) -> None:
         """An action stood (the one before it can no longer be taken back)."""
-        self.last, self.asked = stood, False
+        self.last, self.requested, self.asked = stood, False, False
 
     def gone(self) -> None:
         """Robin acts again: what stood before is no longer the last action to take back."""
-        self.last, self.asked = None, False
+        self.last, self.requested, self.asked = None, False, False
 
     def left(self, now: float) -> float | None:
         """Sim seconds left to take back the action that stood last (None: nothing to take)."""
         last = self.last
-        if last is None or last.delivered or self.asked:
+        if last is None or last.delivered or self.requested or self.asked:
             return None
         left = last.at + self.window - now
         return left if left > 0 else None
@@ -65,7 +66,7 @@ class TakeBacks:
                 "Robin is acting now: thumb down stops a wrong move. 'That was wrong' takes "
                 "back an action that already stood, while it is your turn."
             )
-        if last is None or self.asked:
+        if last is None or self.requested or self.asked:  # one take-back per action
             return (
                 "There is no action of Robin's to take back: 'That was wrong' takes back the "
                 "last action that stood (thumb up, or no thumb), once."
@@ -84,9 +85,15 @@ class TakeBacks:
             )
         return ""
 
+    def request(self) -> None:
+        """A take-back :meth:`refusal` accepted (from the page's thread): a second one before
+        the physics thread sees it is refused."""
+        self.requested = True
+
     def ask(self, your_turn: bool) -> str:
         """A take-back accepted by :meth:`refusal` reaches the physics thread: it waits for the
         loop's safe point; "" or, when Robin took a gesture in between, why it is too late."""
+        self.requested = False
         if your_turn and self.last is not None:
             self.asked = True
             return ""
