@@ -206,3 +206,28 @@ def test_the_study_with_proactive_is_deterministic_and_leaves_the_other_rows_alo
     section = text.split("## Proactive vs reactive PIL")[1]
     assert section.count("\n| 0.") == 3 and "\n| 1 |" in section  # one line per rate
     assert "## Proactive vs reactive PIL" not in summary_text(paper, StudyConfig(reps=3))
+
+
+class GesturesFirst(ScriptedPerson):
+    """A person who holds a proactive robot back (as a live participant whose watchdog
+    stepped in): their gesture comes first."""
+
+    def lets_robot_go_first(self) -> bool:
+        return False
+
+
+def test_a_person_who_gestures_first_is_never_overtaken() -> None:
+    """Found by the live soak: a watchdog that held the robot back let the participant make
+    the gesture, and the loop anticipated anyway and dropped it (13 actions on one gesture).
+    The loop asks the person first: the gesture is performed, every instruction gets one."""
+    scenario = load_scenario()
+    person = GesturesFirst.for_types(scenario, scenario.draw_types(12, 0), 0)
+    detector = Detector(1.0, 1, deck_size=len(person.script))
+    learner = Learner(2, proactive=True)
+    records = list(steps(learner, person, detector, SymbolicWorld()))
+    assert not [r for r in records if r.proactive]
+    assert records[-1].gesture_count == len(person.script)
+    plain = ScriptedPerson.for_types(scenario, scenario.draw_types(12, 0), 0)
+    again = Detector(1.0, 1, deck_size=len(plain.script))
+    plainly = list(steps(Learner(2, proactive=True), plain, again, SymbolicWorld()))
+    assert [r for r in plainly if r.proactive]  # the robot would have gone first

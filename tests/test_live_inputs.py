@@ -19,6 +19,7 @@ W, H = 640, 480
         (b'{"type": "gesture", "gesture": "give_me"}', LiveInput("gesture", gesture="give_me")),
         ('{"type": "thumb", "value": "down"}', LiveInput("thumb", thumb="down")),
         ('{"type": "end"}', LiveInput("end")),
+        ('{"type": "take_back"}', LiveInput("take_back")),
         ({"type": "start"}, LiveInput("start")),
     ],
 )
@@ -28,7 +29,10 @@ def test_valid_messages(raw: object, expected: LiveInput) -> None:
     assert parse_input(parsed.as_dict(), W, H) == parsed  # as the page sends it
 
 
-KINDS = "'point', 'gesture', 'thumb', 'end', 'start', 'hand', 'calibration', 'consent', 'finish'"
+KINDS = (
+    "'point', 'gesture', 'thumb', 'take_back', 'end', 'start', 'hand', 'calibration', "
+    "'consent', 'finish'"
+)
 GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
 
 
@@ -46,6 +50,7 @@ GESTURES = "valid choices: 'give_me', 'grasp', 'release'"
         ('{"type": "point", "x": 3}', "point: missing field\\(s\\) 'y'; .* takes 'x', 'y'"),
         ('{"type": "point", "x": 3, "y": 4, "z": 1}', "point: unknown field\\(s\\) 'z'"),
         ('{"type": "end", "now": 1}', "end: unknown field\\(s\\) 'now'; .* no fields besides"),
+        ('{"type": "take_back", "t": 3}', "take_back: unknown field\\(s\\) 't'"),
         ('{"type": "point", "x": "3", "y": 4}', "x must be a number of pixels in \\[0, 640\\)"),
         ('{"type": "point", "x": true, "y": 4}', "point: x must be a number"),
         ('{"type": "point", "x": 640, "y": 4}', "x = 640 lies outside .*; valid: 0 <= x < 640"),
@@ -72,6 +77,7 @@ def test_the_lists_the_page_uses() -> None:
         "point",
         "gesture",
         "thumb",
+        "take_back",
         "end",
         "start",
         "hand",

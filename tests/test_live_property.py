@@ -2,12 +2,14 @@
 
 A hypothesis state machine over the real session engine (physics, the learner, the files): its
 rules are a page's moves, at any moment and in any order (clicks on legs or anywhere, the
-gesture keys, early, late and random thumbs, idle periods, junk), chosen by hypothesis and
-shrunk to a smallest failing sequence if an invariant breaks. After every move the robot's
-turn must not have stood still for longer than any step can last; at the end
-:class:`live_monkey.Audit` checks the log against physics and the inputs: steps numbered
-1, 2, 3, ... once each, every executed action logged, no gesture performed that the
-participant did not make, no more actions on one gesture than the watchdog allows.
+gesture keys, early, late and random thumbs, wrong moves let stand, "That was wrong", idle
+periods, junk), chosen by hypothesis and shrunk to a smallest failing sequence if an invariant
+breaks. After every move the robot's turn must not have stood still for longer than any step
+can last; at the end :class:`live_monkey.Audit` checks the log against physics and the inputs:
+steps numbered 1, 2, 3, ... once each, every executed action logged, no gesture performed that
+the participant did not make, no more actions on one gesture than the watchdog allows, no
+more gestures in a row handed back than it lets go back, no gesture the guide asked for handed
+back, every take-back of a step that stood and counted in the summary.
 ``tests/live_soak.py`` runs whole sessions of the same participants (also with webcam
 readings of the real footage).
 """
@@ -77,6 +79,20 @@ class LiveParticipantMachine(RuleBasedStateMachine):
     @rule(value=st.sampled_from(["up", "down"]), then=THEN)
     def thumb(self, value: str, then: float) -> None:
         self.monkey.thumb(value)
+        self.monkey.idle(then)
+
+    @rule(then=THEN)
+    def let_a_wrong_move_stand(self, then: float) -> None:
+        self.monkey.let_wrong_stand()
+        self.monkey.idle(then)
+
+    @rule()
+    def late_thumb(self) -> None:
+        self.monkey.late_thumb()
+
+    @rule(then=THEN)
+    def that_was_wrong(self, then: float) -> None:
+        self.monkey.take_back()
         self.monkey.idle(then)
 
     @rule(seconds=st.floats(2.0, 10.0))

@@ -267,27 +267,45 @@ def test_a_value_is_written_once(pattern: str, homes: tuple[str, ...]) -> None:
 def test_the_live_page_takes_the_signs_from_python() -> None:
     """Neither webcam.js, live.js nor index.html retypes the six signs' names or labels: the
     participant's page carries them (and the gesture keys live.js sends, with their keyboard
-    shortcuts) from the Python source."""
+    shortcuts, and "That was wrong"'s label, key and window) from the Python source."""
     import html
     import json
 
     from pil.types import SIGN_NAMES, sign_label
-    from robin_sim.live.inputs import GESTURE_KEYS, GESTURE_SHORTCUTS
+    from robin_sim.live.inputs import (
+        GESTURE_KEYS,
+        GESTURE_SHORTCUTS,
+        TAKE_BACK_LABEL,
+        TAKE_BACK_SHORTCUT,
+    )
     from robin_sim.live.pages import PAGE_CONSTANTS
+    from robin_sim.live.take_back import TAKE_BACK_WINDOW_S
 
     for name in ("webcam.js", "live.js", "index.html"):
         script = (ROOT / "robin_sim" / "live" / "static" / name).read_text(encoding="utf-8")
         quoted = set(re.findall(r"[\"'`]([^\"'`\n]*)[\"'`]", script))
         assert not [n for n in SIGN_NAMES if n in quoted or sign_label(n) in quoted], (name, quoted)
+        assert not {TAKE_BACK_LABEL, TAKE_BACK_SHORTCUT} & quoted, (name, quoted)
     constants = json.loads(html.unescape(PAGE_CONSTANTS))
     assert constants == {
         "signs": {name: sign_label(name) for name in SIGN_NAMES},
         "cursor": "pointing",
         "gestures": list(GESTURE_KEYS),
         "shortcuts": GESTURE_SHORTCUTS,
+        "take_back": {
+            "label": TAKE_BACK_LABEL,
+            "key": TAKE_BACK_SHORTCUT,
+            "window_s": TAKE_BACK_WINDOW_S,
+        },
     }
     assert sorted(GESTURE_SHORTCUTS) == sorted(GESTURE_KEYS)
     assert len(set(GESTURE_SHORTCUTS.values())) == len(GESTURE_SHORTCUTS)
+    live_js = (ROOT / "robin_sim" / "live" / "static" / "live.js").read_text(encoding="utf-8")
+    fixed = re.search(r"const KEYS = \{([^}]*)\}", live_js)
+    assert fixed is not None  # the page's own keys (thumbs, End, Start): no key twice
+    own = re.findall(r"(\w+):", fixed.group(1))
+    keys = [*own, *GESTURE_SHORTCUTS.values(), TAKE_BACK_SHORTCUT]
+    assert len(keys) == len(set(keys)) and "u" in own and "e" in own, keys
     assert len(SIGN_NAMES) == 6
     page = (ROOT / "robin_sim" / "live" / "static" / "index.html").read_text(encoding="utf-8")
     assert 'data-constants="{{CONSTANTS}}"' in page

@@ -79,9 +79,7 @@ def test_damaged_lines_in_the_middle_are_dropped_and_counted(tmp_path: Path) -> 
 
 
 @pytest.mark.parametrize("kind", ["dev-zero", "fifo", "folder"])
-def test_a_journal_that_is_not_a_regular_file_is_refused_by_name(
-    tmp_path: Path, kind: str
-) -> None:
+def test_a_journal_that_is_not_a_regular_file_is_refused_by_name(tmp_path: Path, kind: str) -> None:
     path = tmp_path / JOURNAL_NAME
     if kind == "dev-zero":
         path.symlink_to("/dev/zero")

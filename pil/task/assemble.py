@@ -27,7 +27,7 @@ from pil.task.counting import RunStats
 from pil.task.detector import EXACT, INDEPENDENT, MEASURED_PREFIX, GestureReader, make_detector
 from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
 from pil.task.records import StepRecord
-from pil.task.runner import StepObserver, steps
+from pil.task.runner import ASK_AFTER_REPEATS, StepObserver, steps
 from pil.task.scenario import Scenario
 from pil.task.seeds import PHASES, PhaseSeeds
 from pil.task.spec import SYMBOLIC, RunSpec
@@ -53,6 +53,7 @@ class LoopOptions:
     manual: bool  # the person repeats a misread gesture (no correction)
     repeat_discarded: bool  # a discarded gesture is repeated
     max_actions_per_gesture: int
+    ask_after: int = ASK_AFTER_REPEATS  # repeat requests in a row before the robot proposes
 
 
 @dataclass(frozen=True, slots=True)
@@ -251,6 +252,8 @@ def _phase(
         seeds.person,
         silent_ok=mind.silent_ok,
         patience=mind.patience,
+        take_back=mind.take_back,
+        take_back_delay=mind.take_back_delay,
         reaction_time=ReactionTime(mind.reaction_time, mind.reaction_spread),
         body=body,
     )

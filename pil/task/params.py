@@ -103,6 +103,22 @@ PARAMS: dict[str, ParamSpec] = {
         ParamSpec("repeat_discarded", "bool", True, "ask for a repeat of a discarded gesture"),
         ParamSpec("silent_ok", "float", 0.0, "chance of approving by saying nothing", 0.0, 1.0),
         ParamSpec("patience", "int", 0, "rejections before a repeat (0: off)", 0, MAX_COUNT),
+        ParamSpec(
+            "take_back",
+            "float",
+            0.0,
+            "chance of taking back a wrong move the robot let stand",
+            0.0,
+            1.0,
+        ),
+        ParamSpec(
+            "take_back_delay",
+            "int",
+            0,
+            "robot actions watched before taking it back (0: before the next gesture)",
+            0,
+            MAX_COUNT,
+        ),
         ParamSpec("max_actions_per_gesture", "int", 100, "actions before giving up", 1, MAX_COUNT),
         ParamSpec(
             "reaction_time",

@@ -38,7 +38,14 @@ RunParts = Run  # the assembled pieces of a run (the name earlier code knows)
 SCENARIO_KEYS: tuple[str, ...] = tuple(ASSEMBLY)  # None (the default): the scenario file's
 DEFAULT_VALUES: dict[str, Any] = {name: spec.default for name, spec in PARAM_SPECS.items()}
 # The person's parameters (recorded in an episode's summary).
-PERSON_PARAMS: tuple[str, ...] = ("silent_ok", "patience", "reaction_time", "reaction_spread")
+PERSON_PARAMS: tuple[str, ...] = (
+    "silent_ok",
+    "patience",
+    "take_back",
+    "take_back_delay",
+    "reaction_time",
+    "reaction_spread",
+)
 
 
 def resolve_scenario(scenario: Scenario | str | Path | None, values: Mapping[str, Any]) -> Scenario:

@@ -23,6 +23,15 @@ always show one.
 
 ``patience`` (0 = off) models a person who, after that many rejected actions in a row for
 one gesture, performs the gesture again instead of waiting for the robot to find the action.
+
+``take_back`` (0 = off) models a person who says "that was wrong" when the robot let a wrong
+move stand (their thumb down missed, misread or late, so the robot took the move as approved):
+with that probability per such move, after watching ``take_back_delay`` more robot actions, at
+the loop's next safe point, before an instruction (:meth:`~ScriptedPerson.takes_back`; 0: before
+the next gesture). The robot then takes back its *last* approval
+(:meth:`pil.task.step_phases.StepPhases.take_back`): with a delay, that may be a later, right
+one, as a late thumb lands on the next action. The person's own script is unchanged (they
+never counted the wrong move as done).
 """
 
 from __future__ import annotations
@@ -181,14 +190,31 @@ class Person(Protocol):
         who decides what to do next)."""
         ...
 
+    def lets_robot_go_first(self) -> bool:
+        """Asked before a proactive robot anticipates the instruction ``next_step`` returned:
+        False when the person made its gesture first (a live participant whose watchdog held
+        the robot back), so that gesture is performed, never dropped."""
+        ...
+
+    def takes_back(self, stood: bool) -> bool:
+        """Asked at the loop's safe point, before each instruction: True when the person says
+        "that was wrong" now, of the robot's last approved action. ``stood``: the robot took
+        its last action (since it last asked) as approved."""
+        ...
+
+    def taken_back(self, what: str) -> None:
+        """The robot took its last approval back (``what`` says which; "" when none stood)."""
+        ...
+
 
 class ScriptedPerson:
     """Performs a script, watches the robot and gives feedback (own seeded RNGs).
 
     ``body``, when given, makes what the person does visible in a physical world;
     ``reaction_time`` is the mean and spread (s) of the delay between recognising an unwanted
-    action and the thumb down. ``silent_ok`` and ``patience`` are run parameters, checked once
-    where they enter (:func:`pil.task.spec.parse_run_spec`) and taken here as given.
+    action and the thumb down. ``silent_ok``, ``patience``, ``take_back`` and
+    ``take_back_delay`` are run parameters, checked once where they enter
+    (:func:`pil.task.spec.parse_run_spec`) and taken here as given.
     """
 
     def __init__(
@@ -198,6 +224,8 @@ class ScriptedPerson:
         *,
         silent_ok: float = 0.0,
         patience: int = 0,
+        take_back: float = 0.0,
+        take_back_delay: int = 0,
         reaction_time: ReactionTime | None = None,
         body: PersonBody | None = None,
     ) -> None:
@@ -205,6 +233,12 @@ class ScriptedPerson:
         self.body = body
         self.silent_ok = float(silent_ok)
         self.patience = patience
+        self.take_back, self.take_back_delay = float(take_back), take_back_delay
+        self._take_back_rng = random.Random(f"take_back:{seed}")  # apart: off draws nothing
+        self._verdict: Feedback | None = None  # the person's thumb on the last action
+        self._watched = 0  # robot actions watched
+        self._due: int | None = None  # say "that was wrong" once this many were watched
+        self.taken_back_count = 0  # approvals the robot took back when the person said so
         self.reaction_time = reaction_time or ReactionTime()
         self._rng = random.Random(seed)
         self._reaction_rng = random.Random(f"reaction:{seed}")  # apart: the study draws none
@@ -272,6 +306,7 @@ class ScriptedPerson:
 
     def watch(self, intent: Intent) -> Watcher:
         """How the person watches the robot's next action (instantly, without a body)."""
+        self._watched += 1
         if self.body is None:
             return InstantWatcher(intent)
         return self.body.watch(intent, self.reaction_time.draw(self._reaction_rng))
@@ -280,8 +315,10 @@ class ScriptedPerson:
         """OK (or silence) for the wanted action when it worked, else not-OK (a stopped action
         got its thumb down already)."""
         asked, self._asked = self._asked, False
+        self._verdict = Feedback.NOT_OK
         if outcome.interrupted or action is not intent.action or not outcome.succeeded:
             return Feedback.NOT_OK
+        self._verdict = Feedback.OK
         # the draw is made when asked too, so asking changes no later draw
         if self.silent_ok and self._rng.random() < self.silent_ok and not asked:
             return Feedback.NONE
@@ -309,3 +346,23 @@ class ScriptedPerson:
     def performs_again(self, reason: str) -> bool:
         """Always: the scripted person repeats the instruction's gesture at once."""
         return True
+
+    def lets_robot_go_first(self) -> bool:
+        """Always: the scripted person performs a gesture only when the robot did not act."""
+        return True
+
+    def takes_back(self, stood: bool) -> bool:
+        """True when the person says "that was wrong" now (see the module doc): a wrong move
+        the robot let stand (``stood`` against their thumb down) is taken back with probability
+        ``take_back``, once ``take_back_delay`` more robot actions were watched."""
+        wrong = stood and self._verdict is Feedback.NOT_OK
+        if wrong and self.take_back and self._take_back_rng.random() < self.take_back:
+            self._due = self._watched + self.take_back_delay
+        if self._due is None or self._watched < self._due:
+            return False
+        self._due = None
+        return True
+
+    def taken_back(self, what: str) -> None:
+        """The robot took an approval back: counted (the script is unchanged)."""
+        self.taken_back_count += bool(what)

@@ -75,7 +75,10 @@ def steps(
     follows the thumb (e.g. carries a delivered leg away) and the record is yielded.
     A robot whose state no right approval reaches re-grounds it in its hand
     (:mod:`pil.task.grounding`); after ``ask_after`` repeat requests in a row it proposes an
-    action instead of asking again (:mod:`pil.task.asking`). ``observer`` is told of each
+    action instead of asking again (:mod:`pil.task.asking`). Before each instruction the
+    person may say the robot's last approved action was wrong (``person.takes_back``): the loop
+    takes that approval back (:meth:`StepPhases.take_back`; the next record's ``reason`` starts
+    "taken back: ...") and asks the person for their next instruction. ``observer`` is told of each
     decision, answer and received feedback (before that carry: a live session logs the step
     there, so ending during the carry loses nothing).
     """
@@ -84,6 +87,10 @@ def steps(
     laid: set[int] = set()
     anticipate = getattr(learner, "anticipate", None)  # the baselines of pil.agents have none
     while (item := person.next_step(world.hand())) is not None:
+        # the safe point between instructions: the person may take the last approval back
+        if person.takes_back(loop.state.approved):
+            person.taken_back(loop.take_back())
+            continue  # the person's next instruction, in the state before that approval
         intent = item.intent
         if item.first_of_table and intent.table not in laid:
             laid.add(intent.table)
@@ -93,7 +100,7 @@ def steps(
         state = loop.state
         guess = None
         regrounded = loop.grounded(hand)  # a drop or a wrong approval: no anticipation
-        if state.approved and anticipate and not regrounded:
+        if state.approved and anticipate and not regrounded and person.lets_robot_go_first():
             guess = anticipate(state.previous, hand)
         state.approved = False
         if guess is not None and not (yield from loop.anticipated(item, guess, hand)):

@@ -56,10 +56,13 @@ class LearnerSettings:
 
 @dataclass(frozen=True, slots=True)
 class PersonSettings:
-    """The scripted person's mind: silence, patience, reaction, and the handover timeout."""
+    """The scripted person's mind: silence, patience, take-backs, reaction, and the handover
+    timeout."""
 
     silent_ok: float
     patience: int
+    take_back: float
+    take_back_delay: int
     reaction_time: float
     reaction_spread: float
     handover_timeout: float

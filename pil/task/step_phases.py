@@ -160,6 +160,7 @@ class StepPhases:
         what = f"{undone.value} taken back"
         if taken is not None:
             what += f" (its approval in {taken[0].key()} withdrawn)"
+        self.note = _joined(f"taken back: {what}", self.note)  # said on the next record
         return what
 
     def instruction(self, item: ScriptStep, options: StepOptions) -> Iterator[StepRecord]:

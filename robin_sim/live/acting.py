@@ -1,7 +1,9 @@
 """What a participant's message (other than a hand reading) does to a running live session.
 
 :func:`apply_input` takes one parsed :class:`~robin_sim.live.inputs.LiveInput`: ``end`` ends
-the session at the next safe moment, a thumb judges the action Robin runs or just ran, a
+the session at the next safe moment, ``take_back`` takes back the action that stood last
+(within its window, :mod:`robin_sim.live.take_back`), a thumb judges the action Robin runs or
+just ran, a
 gesture (a key, a button or a click on the scene) is offered when it is the participant's
 turn, ``calibration`` drives the webcam's calibration. Anything that fits no moment raises
 :class:`~robin_sim.live.inputs.LiveInputError` with a plain message for the page.
@@ -42,6 +44,13 @@ def apply_input(
     phase = participant.phase
     if item.kind == "end":
         participant.offer("end")
+    elif item.kind == "take_back":
+        your_turn = phase == "waiting_for_gesture"
+        why = participant.take_backs.refusal(participant.body.world.time, your_turn)
+        if why:
+            raise LiveInputError(why)
+        participant.take_backs.request()
+        participant.offer("take_back")
     elif item.kind == "start":
         raise LiveInputError(
             "start: this session runs already; 'start' leaves a protocol block's instructions"

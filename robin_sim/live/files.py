@@ -28,6 +28,7 @@ from pil.experiments.sessions_load import (  # what the report and the exports r
 )
 from robin_sim.episode.log import write_json_atomic
 from robin_sim.live.config import LiveConfig
+from robin_sim.live.take_back import TAKE_BACK_WINDOW_S
 
 if TYPE_CHECKING:
     from robin_sim.live.run import LiveRun
@@ -236,6 +237,9 @@ class SessionFiles:
             "started_utc": self.started_utc,
             "speed": config.speed,
             "feedback_window_s": config.feedback_window,
+            # "That was wrong": actions taken back, and for how long after one stood
+            "taken_back": None if run is None else run.participant.take_backs.count,
+            "take_back_window_s": TAKE_BACK_WINDOW_S,
             "latency_ms": None
             if stats is None
             else {"median": stats.latency_ms(0.5), "p95": stats.latency_ms(0.95)},

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from pil.task.person import LegsSeen
 from pil.task.scenario import HandoverType
 from pil.task.world import Target
 from pil.types import Action, Gesture, Hand, State
@@ -94,6 +95,15 @@ def guide(
     }
 
 
+def leg_now(seen: LegsSeen, delivered: set[int], legs: int) -> int:
+    """The leg the guide is about: the one Robin holds or went to (as the participant saw it),
+    else the first not yet delivered (0-based)."""
+    for leg in (seen.holding, seen.pointed):
+        if leg is not None and leg not in delivered:
+            return leg
+    return next((k for k in range(legs) if k not in delivered), 0)
+
+
 def legend(legs: int, delivered: set[int], spots: int) -> dict[str, Any]:
     """The legend's part of the guide: the table's legs by number and colour (delivered ones
     marked) and how many spots it has."""
@@ -109,6 +119,24 @@ def legend(legs: int, delivered: set[int], spots: int) -> dict[str, Any]:
         ],
         "spots": spots,
     }
+
+
+# The action a gesture means in a state the block's types do not use (for the record only).
+PLAIN_MEANING = {
+    Gesture.GRASP: Action.CLOSE,
+    Gesture.GIVE_ME: Action.HUMAN,
+    Gesture.RELEASE: Action.OPEN,
+}
+
+
+def meant_action(state: State, target: Target | None) -> Action:
+    """What the participant means by ``state``'s gesture where the block's types have no step
+    for it (for the record only): a point at a leg with an empty hand is object, another point
+    location; the other gestures their plain meaning."""
+    if state.gesture is Gesture.POINTING:
+        leg = target is not None and target.kind == "leg"
+        return Action.OBJECT if leg and state.hand is Hand.FREE else Action.LOCATION
+    return PLAIN_MEANING[state.gesture]
 
 
 # Why Robin could not act on a gesture (pil.validity's rule names), in the page's words.
@@ -142,8 +170,8 @@ def step_for(kind: HandoverType, done: int, previous: Action, hand: Hand) -> int
 def cannot_act(gesture: Gesture, reason: str) -> str:
     """Why the robot handed the step back, in plain words (``reason``: the learner's)."""
     name = gesture.value.replace("give me", "give-me")
-    if reason.startswith("invalid: "):
-        rule = reason.removeprefix("invalid: ").split(";", 1)[0]
+    if "invalid: " in reason:  # after the loop's own note, e.g. "re-grounded: ...; invalid: "
+        rule = reason.split("invalid: ", 1)[1].split(";", 1)[0]
         why = CANNOT.get(rule, "that gesture does not fit what Robin holds and did last")
         return f"Robin could not act on your {name} gesture: {why}."
     if "since your last gesture" in reason:

@@ -7,6 +7,8 @@ choices. Valid messages (the live page's contract)::
     {"type": "point", "x": 312, "y": 207}          a click at a pixel of the scene frame
     {"type": "gesture", "gesture": KEY}            KEY: GESTURE_KEYS, give_me | grasp | release
     {"type": "thumb", "value": "up"}               up | down
+    {"type": "take_back"}                          "That was wrong": take back the last action
+                                                   that stood (robin_sim.live.take_back)
     {"type": "end"}                                the participant ends the session
     {"type": "start"}                              leave a protocol block's instructions
     {"type": "hand", "landmarks": [[x, y, z] * 21] | null, "handedness": "Left" | "Right" | null,
@@ -33,6 +35,7 @@ FIELDS: dict[str, tuple[str, ...]] = {
     "point": ("x", "y"),
     "gesture": ("gesture",),
     "thumb": ("value",),
+    "take_back": (),
     "end": (),
     "start": (),
     "hand": ("landmarks", "handedness", "score", "aspect"),
@@ -53,6 +56,9 @@ GESTURE_SHORTCUTS: dict[str, str] = {
     SIGN_OF[Gesture.GRASP]: "r",
     SIGN_OF[Gesture.RELEASE]: "l",
 }
+# "That was wrong" (take_back): its button's label and key on the page (no other key uses "w")
+TAKE_BACK_LABEL = "That was wrong"
+TAKE_BACK_SHORTCUT = "w"
 CALIBRATION_ACTIONS: tuple[str, ...] = ("skip", "restart")
 CONSENT_VALUES: tuple[str, ...] = ("agree", "decline")
 SCREEN_KINDS: tuple[str, ...] = ("consent", "finish")  # a study's screens around the blocks

@@ -35,10 +35,14 @@ def from_text(value: object, kind: type) -> object:
 @dataclass(frozen=True)
 class WatchdogLimits:
     """At most ``attempts`` robot actions and ``seconds`` s of simulated time on one gesture
-    (10 is twice through the five actions; 120 s lets ten actions run with their windows)."""
+    (10 is twice through the five actions; 120 s lets ten actions run with their windows), and
+    at most ``handed_back`` of the participant's gestures in a row that Robin could not act on:
+    on the next one Robin proposes an action itself (the step loop's ``ask_after``,
+    :mod:`pil.task.asking`), so a participant is never asked again and again."""
 
     attempts: int = 10
     seconds: float = 120.0
+    handed_back: int = 3
 
     def checked(self) -> WatchdogLimits:
         """These limits, each checked (one :class:`RobinPilError` naming the valid range)."""
@@ -53,7 +57,7 @@ class WatchdogLimits:
             raise RobinPilError(f"max_step_seconds must be a number, got {seconds!r:.40}")
         if not low_s <= seconds <= high_s:  # NaN fails too
             raise RobinPilError(f"max_step_seconds must lie in [{low_s}, {high_s}], got {seconds}")
-        return WatchdogLimits(attempts, float(seconds))
+        return WatchdogLimits(attempts, float(seconds), self.handed_back)
 
 
 BLOCK_SECONDS = (1.0, 36_000.0)  # s of simulated time: the range of a block's time cap

@@ -21,12 +21,18 @@ from aiohttp import web
 from pil.types import SIGN_NAMES, sign_label
 from robin_sim.live.hands.shape import POINTING_SIGN
 from robin_sim.live.hands.vendor import TEXT_TYPES, VENDOR_DIR, VENDOR_TYPES
-from robin_sim.live.inputs import GESTURE_KEYS, GESTURE_SHORTCUTS
+from robin_sim.live.inputs import (
+    GESTURE_KEYS,
+    GESTURE_SHORTCUTS,
+    TAKE_BACK_LABEL,
+    TAKE_BACK_SHORTCUT,
+)
+from robin_sim.live.take_back import TAKE_BACK_WINDOW_S
 
 STATIC_DIR = Path(__file__).with_name("static")
 # what the participant's page takes from the Python source, not retyped (its body's
 # data-constants): the six signs' names and labels, the one that moves the cursor, the
-# gesture keys a message may name with their keyboard shortcuts
+# gesture keys a message may name with their keyboard shortcuts, and "That was wrong"'s
 PAGE_CONSTANTS = html.escape(
     json.dumps(
         {
@@ -34,6 +40,11 @@ PAGE_CONSTANTS = html.escape(
             "cursor": POINTING_SIGN,
             "gestures": list(GESTURE_KEYS),
             "shortcuts": {key: GESTURE_SHORTCUTS[key] for key in GESTURE_KEYS},
+            "take_back": {
+                "label": TAKE_BACK_LABEL,
+                "key": TAKE_BACK_SHORTCUT,
+                "window_s": TAKE_BACK_WINDOW_S,
+            },
         }
     )
 )

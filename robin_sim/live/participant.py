@@ -17,6 +17,10 @@ messages that arrived to :meth:`poll`.
 * The simulated hand (:class:`~robin_sim.person.body.PhysicalBody`) makes every act visible: it
   points at what was clicked, shapes the gesture, shows the thumb, holds out the palm and
   carries delivered legs to the bin.
+* "That was wrong" (:mod:`robin_sim.live.take_back`): while the participant's gesture is
+  awaited, a take-back asked for ends the wait; the loop asks :meth:`takes_back` at its safe
+  point, takes the approval back and tells :meth:`taken_back`, which restores the participant's
+  step: the guide asks for the instruction again.
 """
 
 from __future__ import annotations
@@ -28,22 +32,17 @@ from typing import Any
 
 from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
-from pil.task.runner import AFTER_DROP  # the step loop's rule after physics changed the hand
 from pil.task.scenario import HandoverType
 from pil.task.world import Intent, Outcome
-from pil.types import Action, Feedback, Gesture, Hand, State, hand_after
-from robin_sim.live.guide import cannot_act, guide, legend, step_for
+from pil.types import Action, Feedback, Gesture, Hand, State
+from robin_sim.live.guide import cannot_act, guide, leg_now, legend, meant_action, step_for
 from robin_sim.live.limits import WatchdogLimits
+from robin_sim.live.robin_seen import RobinSeen
+from robin_sim.live.take_back import Stood, TakeBacks
 from robin_sim.live.thumbs import Gesturing, ThumbWatcher
-from robin_sim.live.watchdog import StepWatchdog
+from robin_sim.live.watchdog import StepWatchdog, no_way_on, way_on
 from robin_sim.person.body import PhysicalBody
 
-# The action a gesture means in a state the block's types do not use (for the record only).
-_PLAIN_MEANING = {
-    Gesture.GRASP: Action.CLOSE,
-    Gesture.GIVE_ME: Action.HUMAN,
-    Gesture.RELEASE: Action.OPEN,
-}
 PHASES = ("waiting_for_gesture", "robot_acting", "waiting_for_thumb", "instructions", "done")
 EventSink = Callable[[str, dict[str, Any]], None]
 
@@ -77,7 +76,7 @@ class LiveParticipant:
         self.interventions = 0
         self.actions_started = 0  # robot actions begun in the session (a block's cap)
         self._gesture: Gesturing | None = None
-        self._previous = Action.OPEN  # the last action the participant approved
+        self.robin = RobinSeen()  # Robin's state as the loop takes it (robin_sim.live.robin_seen)
         self._legs = LegsSeen()
         self._delivered_legs: set[int] = set()  # of the table now laid out
         self._laid: set[int] = set()  # the tables laid out
@@ -86,9 +85,6 @@ class LiveParticipant:
         # learnt transitions make one next state likely (pil.anticipation): then the loop gets
         # the participant's next instruction at once, without waiting for a gesture.
         self.robot_anticipates = robot_anticipates
-        self._approved = False  # the last action was let stand
-        self._expected = Hand.FREE  # the hand that approved action leaves
-        self._hand_before = Hand.FREE  # the hand when the current action began
         # The participant's gesture of the step now running: the webcam learns from its verdict.
         self.step_gesture: Gesture | None = None  # None: the robot went first
         self.step_reading: int | None = None
@@ -100,6 +96,10 @@ class LiveParticipant:
         self.watchdog = StepWatchdog(limits or WatchdogLimits(), lambda: body.world.time)
         self._tripped = ""  # why the watchdog stopped the robot in this step ("" not)
         self.on_event = on_event
+        self.take_backs = TakeBacks()  # "That was wrong" (robin_sim.live.take_back)
+        self._received: tuple[int, bool] = (0, False)  # the last step's t, and if it delivered
+        self._held: int | None = None  # the leg Robin held when its current action began
+        self.went_first = False  # next_step let the robot act before the gesture
 
     # --- from the session (any thread, then the physics thread) ---------------------------------
     def offer(self, item: Gesturing | Feedback | str) -> None:
@@ -117,6 +117,10 @@ class LiveParticipant:
             elif isinstance(item, Feedback):
                 if self.judging and self.thumb is None:
                     self.thumb, self.notice = item, ""
+            elif item == "take_back":  # waits for the loop's safe point (or came too late)
+                self.notice = self.take_backs.ask(self.phase == "waiting_for_gesture")
+                if self.notice:
+                    self._event("take_back", done=False, why=self.notice)
             else:
                 self.ended = True
 
@@ -137,17 +141,7 @@ class LiveParticipant:
         (:func:`robin_sim.live.guide.guide`), with the table's legs and spots for its legend."""
         handover = min(self.legs_delivered, self.legs_total - 1)
         done = self._step if self._handover == self.legs_delivered else 0
-        legs = range(self.legs_per_table)
-        leg = next(
-            (
-                k
-                for k in (self._legs.holding, self._legs.pointed)
-                if k is not None and k not in self._delivered_legs
-            ),
-            None,
-        )
-        if leg is None:
-            leg = next((k for k in legs if k not in self._delivered_legs), 0)
+        leg = leg_now(self._legs, self._delivered_legs, self.legs_per_table)
         shown = guide(self.types[handover], done, leg, handover, self.legs_total)
         spots = len(self.body.world.layout.spots)
         return {**shown, **legend(self.legs_per_table, self._delivered_legs, spots)}
@@ -156,19 +150,29 @@ class LiveParticipant:
         """The robot starts ``record``'s action now: logged (``acts``), the moment a bench
         measures from the participant's input."""
         self.actions_started += 1
+        self.take_backs.gone()  # Robin acts again: the thumb judges this one
+        self.watchdog.acted()
         action = None if record.action is None else record.action.value
         self._event("acts", t=record.t, action=action, proactive=record.proactive)
 
     def received(self, record: StepRecord) -> None:
         """The learner has ``record``: a delivered leg is off the table from now on."""
         self.verdict_pending = False
-        if record.delivered and self._legs.holding is not None:
-            self._delivered_legs.add(self._legs.holding)
+        self._received = (record.t, record.delivered)
+        leg = self._legs.holding if self._held is None else self._held
+        if record.delivered and leg is not None:
+            self._delivered_legs.add(leg)
 
     def window_left(self) -> float | None:
         """Sim seconds left of the feedback window now open (None: none is open)."""
         until = self.window_until
         return None if until is None else max(0.0, until - self.body.world.time)
+
+    def take_back_left(self) -> float | None:
+        """Sim seconds left to take back the action that stood last (None: nothing now)."""
+        if self.phase != "waiting_for_gesture":
+            return None
+        return self.take_backs.left(self.body.world.time)
 
     @property
     def gesture_pending(self) -> bool:
@@ -187,6 +191,7 @@ class LiveParticipant:
             leg = self._legs.lost()
             assert leg is not None
             self.interventions += self.body.recover(leg)
+        self.interventions += self.body.put_back_strays(self._delivered_legs)
         self.thumb = None
         handover = self.legs_delivered
         if handover != self._handover:
@@ -198,40 +203,49 @@ class LiveParticipant:
             self._laid.add(table)
             self.start_table(table)
             self.body.world.start_table(table)
-        first = False  # the loop has nothing left to lay out
         kind = self.types[handover]
-        previous, hand = self._context(hand)
-        self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
-        if self._robot_goes_first(hand):  # for the record: the type's next instruction
-            step = kind.steps[min(self._step, len(kind.steps) - 1)]
-            intent = Intent(step.gesture, step.action, None, handover, table)
+        regrounded = self._ground(kind, hand)
+        previous = self.robin.previous
+        # for the record, the type's next instruction: the robot goes first, or the loop
+        # takes an approval back first (a gesture made meanwhile stays pending)
+        step = kind.steps[min(self._step, len(kind.steps) - 1)]
+        planned = ScriptStep(
+            Intent(step.gesture, step.action, None, handover, table), kind.name, self._step, False
+        )
+        self.went_first = self._robot_goes_first(hand, regrounded)
+        if self.went_first:
             self.set_phase("robot_acting", "The robot anticipates your next instruction.")
             self.step_gesture, self.step_reading = None, None
-            return ScriptStep(intent, kind.name, self._step, first)
+            return planned
         self.set_phase(
             "waiting_for_gesture", "Your turn: click a leg or a spot, or make a gesture."
         )
-        while self._gesture is None:
+        while self._gesture is None and not self.take_backs.asked:
             if self.ended:
                 return None
             self._tick()
+        if self.take_backs.asked:
+            return planned
         gesturing, self._gesture = self._gesture, None
+        assert gesturing is not None  # the wait ended on it
         self.watchdog.gesture()
         self._tripped = ""
         self.step_gesture, self.step_reading = gesturing.gesture, gesturing.reading
         self.step_key = (handover, self._step)
-        action = self._intended(gesturing, previous, hand)
+        state = State(gesturing.gesture, previous, hand)
+        action = self.correct.get(state) or meant_action(state, gesturing.target)
         intent = Intent(gesturing.gesture, action, gesturing.target, handover, table)
         self.set_phase("robot_acting", "The robot reads your gesture.")
-        return ScriptStep(intent, kind.name, self._step, first)
+        return ScriptStep(intent, kind.name, self._step, False)  # the table is laid out
 
-    def _robot_goes_first(self, hand: Hand) -> bool:
-        """Whether the robot will act before the next gesture (the loop's own condition),
-        unless the watchdog says it has done enough on the last gesture."""
+    def _robot_goes_first(self, hand: Hand, regrounded: str) -> bool:
+        """Whether the robot will act before the next gesture (the loop's own condition: not
+        after a re-grounding), unless the watchdog says it has done enough on the last
+        gesture."""
         anticipates = self.robot_anticipates
-        if anticipates is None or not self._approved or hand is not self._expected:
+        if anticipates is None or not self.robin.approved or regrounded:
             return False
-        if not anticipates(self._previous, hand):
+        if not anticipates(self.robin.previous, hand):
             return False
         tripped = self.watchdog.tripped()
         if tripped:
@@ -240,27 +254,49 @@ class LiveParticipant:
             return False
         return True
 
-    def _context(self, hand: Hand) -> tuple[Action, Hand]:
-        """Robin's state as the step loop takes it: its last standing action and ``hand``
-        (after a drop, or an approved action that left the hand otherwise: open or close)."""
-        previous = self._previous if hand is self._expected else AFTER_DROP[hand]
-        return previous, hand
-
-    def _intended(self, gesturing: Gesturing, previous: Action, hand: Hand) -> Action:
-        correct = self.correct.get(State(gesturing.gesture, previous, hand))
-        if correct is not None:
-            return correct
-        if gesturing.gesture is Gesture.POINTING:
-            target = gesturing.target
-            leg = target is not None and target.kind == "leg"
-            return Action.OBJECT if leg and hand is Hand.FREE else Action.LOCATION
-        return _PLAIN_MEANING[gesturing.gesture]
+    def _ground(self, kind: HandoverType, hand: Hand) -> str:
+        """Robin's state grounded in ``hand`` as the loop grounds it at this safe point
+        (:class:`RobinSeen`; logged, ``regrounded``) and the guide's step in it, which the
+        watchdog checks (:func:`no_way_on`); why the state changed ("" when it did not)."""
+        why = self.robin.ground(hand)
+        if why:
+            self._event("regrounded", reason=why)
+        previous = self.robin.previous
+        self._step = step_for(kind, self._step, previous, hand)  # never an invalid gesture
+        stuck = no_way_on(kind, self._step, previous, hand)  # the grounding rules it out
+        if stuck:
+            self._event("watchdog", reason=stuck)
+        return why
 
     def completed(self, item: ScriptStep, action: Action) -> None:
-        """The participant let ``action`` stand for ``item``."""
-        self._previous, self._step = action, self._step + 1
-        self._approved, self._expected = True, hand_after(action, self._hand_before)
+        """The participant let ``action`` stand for ``item`` (it may be taken back)."""
+        legs = LegsSeen(self._legs.holding, self._legs.pointed)
+        before = (self.robin.approve(action), self._step, legs)
+        self._step += 1
         self._legs.approved(action, item.intent.target)
+        t, delivered = self._received
+        self.take_backs.stood(Stood(action, t, self.body.world.time, delivered, before))
+
+    def lets_robot_go_first(self) -> bool:
+        """Only when :meth:`next_step` let it (the loop's own condition, unless the watchdog
+        held the robot back): a gesture the participant made is always performed."""
+        return self.went_first
+
+    def takes_back(self, stood: bool) -> bool:
+        """The loop's safe point: True when the participant asked to take back the last
+        action that stood ("That was wrong", checked against its window when it came)."""
+        return self.take_backs.asked
+
+    def taken_back(self, what: str) -> None:
+        """The loop took the approval back (``what``; "" when none stood): the participant's
+        step is the one before it, so the guide asks for that instruction again; logged."""
+        taken, self.notice = self.take_backs.taken(what)
+        if taken is None:
+            return
+        if what:
+            robin, self._step, self._legs = taken.before
+            self.robin.restore(robin)
+        self._event("take_back", done=bool(what), t=taken.t, action=taken.action.value, loop=what)
 
     def start_table(self, table: int) -> None:
         """A new table's legs are laid out: the hand rests first."""
@@ -276,7 +312,8 @@ class LiveParticipant:
         self.watchdog.attempt()
         self.window_until = None
         self.thumb, self.judging = None, True
-        self._approved, self._hand_before = False, self.body.world.hand()
+        self.robin.acts(self.body.world.hand())
+        self._held = self.body.world.held_leg()  # the leg an open now delivers, by physics
         self.set_phase("robot_acting", "The robot acts: thumb down stops it, thumb up approves.")
         return ThumbWatcher(self)
 
@@ -318,9 +355,11 @@ class LiveParticipant:
         it), so the step goes back to the participant with a plain message, and is logged."""
         gesture = self.step_gesture or Gesture.POINTING
         tripped, self._tripped = self._tripped, ""
+        stuck = "" if tripped else self.watchdog.hand_back()
         why = tripped or reason
-        self.notice = f"{cannot_act(gesture, why)} Make a gesture again, or another one."
-        self._event("watchdog" if tripped else "handed_back", reason=why, gesture=gesture.value)
+        self.notice = f"{cannot_act(gesture, why)} {way_on(stuck)}"
+        kind = "watchdog" if tripped or stuck else "handed_back"
+        self._event(kind, reason=why, gesture=gesture.value, **({"stuck": stuck} if stuck else {}))
         return False
 
     def _event(self, kind: str, **fields: Any) -> None:

@@ -78,8 +78,10 @@ def live_parts(
         limits=config.watchdog,
         on_event=on_event,
     )
-    # The participant in the scripted person's place (pil.task.person.Person).
-    return replace(scripted, person=participant), participant  # type: ignore[arg-type]
+    # The participant in the scripted person's place (pil.task.person.Person); after the
+    # watchdog's gestures handed back in a row, Robin proposes an action on the next one
+    loop = replace(scripted.loop, ask_after=config.watchdog.handed_back + 1)
+    return replace(scripted, person=participant, loop=loop), participant  # type: ignore[arg-type]
 
 
 class LiveRun(ClosesOnExit):

@@ -186,6 +186,9 @@ class LiveSession:
         status["practice"] = self.config.practice
         left = None if participant is None else participant.window_left()
         status["feedback_left_s"] = None if left is None else round(left, 1)
+        # "That was wrong": sim seconds left to take back the action that stood last
+        back = None if participant is None else participant.take_back_left()
+        status["take_back_left_s"] = None if back is None else round(back, 1)
         status["page_away"] = "page" in self.holds
         if self.paused and status["phase"] != "done":
             status["message"] = self.holds.message()
@@ -335,7 +338,7 @@ class LiveSession:
         assert files is not None
         status, error, run = "failed", "", None
         try:
-            run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick, files.log_event)
+            run = LiveRun(self.config, files.out_dir, self.hub, self._on_tick, self._event)
             with run:
                 self._participant, self._picker = run.participant, run.picker
                 self._pacer, self._run_parts = run.pacer, run
@@ -372,6 +375,17 @@ class LiveSession:
             limits = None if self.caps is None else self.caps.status()
             self._summary = files.save(status, error, run, vision=vision, limits=limits)
             self.done.set()
+
+    def _event(self, kind: str, fields: dict[str, Any]) -> None:
+        """What the participant did of itself, to ``events.jsonl``; a step taken back is
+        marked in the experimenter's tail of the log."""
+        files = self._files
+        if files is not None:
+            files.log_event(kind, fields)
+        if kind == "take_back" and fields.get("done"):
+            for k, entry in enumerate(self.log_tail):  # a new dict: the view may read the old
+                if entry.get("t") == fields.get("t"):
+                    self.log_tail[k] = {**entry, "taken_back": True}
 
     def book(self, run: LiveRun, record: StepRecord) -> None:
         """Log and count ``record`` (the learner has its feedback)."""

@@ -186,6 +186,18 @@ class PhysicalBody:
             bin_centre = np.array([*self.world.layout.bin, 0.0])
             self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
 
+    def put_back_strays(self, delivered: set[int]) -> int:
+        """Put back at its place every leg not ``delivered`` nor held that lies where Robin
+        cannot reach it (a live participant's wrong moves let stand can push one there, and
+        the next pointing at it would fail); the person interventions made."""
+        world = self.world
+        strays = [
+            leg
+            for leg in range(world.legs.count)
+            if leg not in delivered and leg != world.held_leg() and world.legs.out_of_reach(leg)
+        ]
+        return sum(self.recover(leg) for leg in strays)
+
     def recover(self, leg: int) -> bool:
         """Leave a dropped leg for the robot if it can grasp it where it lies; else put it back
         on the table at its place (True: a person intervention)."""

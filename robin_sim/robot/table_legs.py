@@ -55,6 +55,11 @@ class TableLegs:
         """Leg ``leg``'s centre is at the height of a leg lying on the table top."""
         return abs(self.position(leg)[2] - spec.GRASP_HEIGHT) < ON_TABLE_TOLERANCE
 
+    def out_of_reach(self, leg: int) -> bool:
+        """Leg ``leg`` lies on the table top where the arm cannot reach it (an action on it
+        would fail: e.g. pushed there by a wrong move a person let stand)."""
+        return self.on_table(leg) and not spec.in_left_reach(*self.position(leg)[:2])
+
     def graspable(self, leg: int) -> bool:
         """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest, and no other
         leg lies where the open fingers come down around it (:func:`fingers_blocked`)."""

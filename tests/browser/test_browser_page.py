@@ -233,3 +233,36 @@ def test_protocol_blocks_behind_instruction_screens(browser, tmp_path) -> None:
     assert [s["live"]["block"] for s in summaries] == [0, 1]
     assert [s["live"]["condition"] for s in summaries] == ["proactive", "pil"]
     assert summaries[0]["live"]["protocol"] == str(path)
+
+
+def test_that_was_wrong_by_key_and_button(browser, live_server) -> None:
+    """The take-back's key (W, from the page's constants) takes back the action that stood;
+    its button then, with nothing left to take back, is refused with a plain message."""
+    served = live_server(scenario="one_handover", speed=SPEED, video=False, feedback_window=1.0)
+    page = open_page(browser, served)
+    wait_status(page, "s.phase === 'waiting_for_gesture'")
+    button = page.locator("#take-back")
+    assert (
+        button.inner_text().startswith("That was wrong")
+        and button.locator("kbd").inner_text() == "W"
+    )
+    click_frame_pixel(page, *leg_pixels("one_handover")[0])
+    wait_status(page, "s.phase === 'waiting_for_thumb' || !!s.action")
+    page.keyboard.press("ArrowUp")  # the first try stands, whatever it is
+    wait_status(page, "s.phase === 'waiting_for_gesture' && s.take_back_left_s > 0")
+    page.keyboard.press("w")
+    taken = wait_status(page, "s.notice.startsWith('Robin took back its')")
+    assert taken["guide"]["step"] == 0, taken["guide"]  # the point is asked for again
+    button.click()
+    page.wait_for_function(
+        "() => document.getElementById('error').textContent.includes('no action of Robin')"
+    )
+    folder = served.conductor.session.out_dir
+    page.keyboard.press("e")  # End (the confirm dialog is accepted)
+    wait_status(page, "s.phase === 'done'")
+    served.wait_over(60)
+    inputs = [e for e in read_jsonl(folder / "inputs.jsonl") if e["raw"] == {"type": "take_back"}]
+    assert [e["accepted"] for e in inputs] == [True, False], inputs
+    events = [e for e in read_jsonl(folder / "events.jsonl") if e["event"] == "take_back"]
+    assert len(events) == 1 and events[0]["done"] is True, events
+    page.close()

@@ -82,7 +82,8 @@
       const row = document.createElement("tr");
       const target = step.target ? `${step.target.kind} ${step.target.index + 1}` : "";
       for (const cell of [step.t, (step.handover ?? 0) + 1, step.true_gesture || "",
-        step.action || "(repeat)", target, step.feedback || "", step.legs_delivered,
+        step.action || "(repeat)", target,
+        (step.feedback || "") + (step.taken_back ? " (taken back)" : ""), step.legs_delivered,
         text(step.sim_time)]) {
         const td = document.createElement("td");
         td.textContent = cell;

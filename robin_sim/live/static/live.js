@@ -174,6 +174,11 @@
     if (notice) notice.textContent = status.phase === "done" ? "" : status.notice || "";
     showGuide(done ? null : status.guide, status.phase, status.feedback_left_s);
     showClicked(status.clicked);
+    const takeBackLeft = $("take-back-left"); // seconds left to take back what stood last
+    if (takeBackLeft) {
+      takeBackLeft.textContent = status.take_back_left_s == null ? ""
+        : ` ${Math.ceil(status.take_back_left_s)} s`;
+    }
     if ((status.inputs_accepted || 0) > live.accepted) clearError(); // a valid input came
     live.accepted = status.inputs_accepted || 0;
     $("legs").textContent = status.legs_total == null ? "—"
@@ -365,6 +370,30 @@
       button.append(kbd);
       gestureButtons.append(button);
     }
+  }
+
+  // The take-back button: takes back Robin's last action that stood, within its window (the label,
+  // key and window from the Python source: inputs.TAKE_BACK_*, take_back.TAKE_BACK_WINDOW_S)
+  const TAKE_BACK = PAGE.take_back;
+  ACTIONS.take_back = () => send({ type: "take_back" });
+  KEYS[TAKE_BACK.key] = "take_back";
+  const takeBackSlot = $("take-back-button");
+  if (takeBackSlot) {
+    const button = document.createElement("button");
+    button.type = "button";
+    button.id = "take-back";
+    button.className = "take-back";
+    button.dataset.send = "take_back";
+    button.title = `Takes back Robin's last action that stood (thumb up or no thumb), for ` +
+      `${TAKE_BACK.window_s} s after it stood, while it is your turn.`;
+    button.append(`${TAKE_BACK.label} `);
+    const kbd = document.createElement("kbd");
+    kbd.textContent = TAKE_BACK.key.toUpperCase();
+    const left = document.createElement("span");
+    left.id = "take-back-left";
+    left.className = "left";
+    button.append(kbd, left);
+    takeBackSlot.append(button);
   }
 
   for (const button of document.querySelectorAll("button[data-send]")) {
