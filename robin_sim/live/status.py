@@ -28,6 +28,8 @@ DOING = {
     "open": "opening the hand",
 }
 EMPTY_HAND_TO_PERSON = "moving its empty hand to yours"  # "human" holding nothing
+# the robust rule (pil.robust) asks for an explicit thumb when it is unsure (StepRecord.confirm)
+ASKS_FOR_A_THUMB = "; Robin is unsure and asks: is this what you meant? Show a thumb"
 TURN = {"waiting_for_gesture": "participant", "waiting_for_thumb": "participant"}
 
 
@@ -72,6 +74,8 @@ class LiveStatus:
         doing = _doing(record)
         if record.proactive:
             doing += " (anticipating)"
+        if record.confirm:
+            doing += ASKS_FOR_A_THUMB
         policy = self._policy_of(record)
         with self._lock:
             self._doing, self._action = doing, action or None
