@@ -58,12 +58,22 @@ class Recipe:
 
 
 RECIPES: tuple[Recipe, ...] = (
-    Recipe("study", ("robin-pil", "study", "--systems", SYSTEMS, "--no-progress"), True),
+    Recipe(
+        "study",
+        ("robin-pil", "study", "--systems", SYSTEMS, "--no-progress"),
+        True,
+        drop=("reps.jsonl",),  # the resume journal: a cache, not a result
+    ),
     Recipe("baselines", ("robin-pil", "baselines", "--no-progress"), True),
     Recipe("adapt", ("robin-pil", "adapt", "--no-progress"), True),
     Recipe("transfer", ("robin-pil", "transfer", "--no-progress"), True),
-    Recipe("people", ("robin-pil", "people", "--no-progress"), True),
-    Recipe("people_40", ("robin-pil", "people", "--tables", "40", "--no-progress"), True),
+    Recipe("people", ("robin-pil", "people", "--no-progress"), True, drop=("reps.jsonl",)),
+    Recipe(
+        "people_40",
+        ("robin-pil", "people", "--tables", "40", "--no-progress"),
+        True,
+        drop=("reps.jsonl",),
+    ),
     Recipe("label_accuracy", ("python", "pil.experiments.label_accuracy"), True),
     Recipe("study_reading", ("python", "pil.experiments.study_reading"), False),
     Recipe("robust", ("bench", "bench_robust.py"), True),  # issue 38: the robust PIL rule
