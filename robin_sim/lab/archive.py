@@ -178,12 +178,12 @@ def verify_archive(path: Path) -> dict[str, Any]:
             problems += [f"{name}: not in the manifest" for name in sorted(extra)]
     except OSError as error:
         raise ArchiveError(
-            f"{quote(str(path))}: cannot read the archive: {error.strerror or error}; give a "
+            f"{path}: cannot read the archive: {error.strerror or error}; give a "
             ".zip written by robin-pil study-export"
         ) from None
     except zipfile.BadZipFile as error:
         raise ArchiveError(
-            f"{quote(str(path))}: not a readable study archive ({error}); give a .zip "
+            f"{path}: not a readable study archive ({error}); give a .zip "
             "written by robin-pil study-export"
         ) from None
     if problems:
