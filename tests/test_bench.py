@@ -13,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
-from pil.bench.analysis import comparisons, holm
+from pil.bench.analysis import comparisons
 from pil.bench.journal import Journal, read_runs, sorted_runs
 from pil.bench.run import Entrant, run_bench
 from pil.bench.suite import load_suite
+from pil.experiments.stats import holm
 from robin_sim.cli.main import main
 
 ENTRANT = "my_bench_agent:make"
@@ -119,10 +120,11 @@ def test_an_outside_agent_gets_rows_and_holm_p_whoever_else_ran(bench_run):
         assert _same(everyone, fewer)
         declared = len(suite.anchors) * len(suite.track_conditions(track, quick=True))
         assert {r["family_size"] for r in everyone} == {declared}
-        # Holm over exactly the declared family, per test
+        # Holm over exactly the declared family, per test (no p: counts as p = 1)
         for test in ("paired t", "wilcoxon signed-rank"):
             family = [r for r in everyone if r["test"] == test]
-            for r, adjusted in zip(family, holm([r["p"] for r in family]), strict=True):
+            adjusted_ps = holm([r["p"] for r in family], size=declared)
+            for r, adjusted in zip(family, adjusted_ps, strict=True):
                 assert r["p_holm"] == adjusted or math.isnan(adjusted)
 
 
