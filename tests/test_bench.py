@@ -98,7 +98,7 @@ def check_outside_agent_rows(bench_run):
     stamp = json.loads((out / "stamp.json").read_text())
     assert stamp["suite_version"] == suite.version and stamp["block"] == "dev"
     assert stamp["commit"] and stamp["quick"] is True
-    rows = read_runs(out)
+    rows = read_runs(out, suite)
     agents = {r["agent"] for r in rows}
     assert agents == {ENTRANT, "random", "pil-next-best", "pil-paper", "oracle"}
     conditions = sum(len(suite.track_conditions(t, quick=True)) for t in suite.quick_tracks())
@@ -112,7 +112,7 @@ def test_an_outside_agent_gets_rows_and_holm_p_whoever_else_ran(bench_run):
     check_outside_agent_rows(bench_run)
     out, _printed = bench_run
     suite = load_suite()
-    rows = read_runs(out)
+    rows = read_runs(out, suite)
     without = [r for r in rows if r["agent"] != "random"]
     for track in suite.quick_tracks():
         everyone = comparisons(suite, rows, track, ENTRANT, quick=True)
@@ -182,7 +182,7 @@ def test_an_interrupted_run_resumes_to_the_same_rows(tmp_path):
 
     with pytest.raises(KeyboardInterrupt):
         go(tmp_path / "a", stop_after=5)
-    assert len(read_runs(tmp_path / "a")) == 5
+    assert len(read_runs(tmp_path / "a", suite)) == 5
     resumed = go(tmp_path / "a")
     whole = go(tmp_path / "b")
     assert len(whole) == len(entrants) * len(conditions) * len(seeds)
@@ -209,4 +209,4 @@ def test_a_folder_another_command_writes_is_refused(tmp_path):
     entrant = [Entrant("random", "random")]
     with FolderLock(tmp_path), pytest.raises(FolderInUseError):
         run_bench(suite, entrant, ["assembly"], journal, suite.seeds("dev", True)[:1])
-    assert read_runs(tmp_path) == []
+    assert read_runs(tmp_path, suite) == []

@@ -25,7 +25,7 @@ PAGE = ROOT / "docs" / "leaderboard.md"
 
 @pytest.fixture(scope="module")
 def runs() -> list[dict]:
-    return read_runs(FOLDER)
+    return read_runs(FOLDER, load_suite())
 
 
 def _table(name: str) -> list[dict[str, str]]:
