@@ -137,16 +137,26 @@ def test_a_slow_decision_that_swallows_the_stop_is_still_stopped(tmp_path):
     _says(err, spec, f"seed {SEEDS[0]}", "0.2 s")
 
 
-def test_an_entrant_failing_in_a_worker_process_is_named(tmp_path):
+def _bench_fd(spec: str, out: Path, capfd: pytest.CaptureFixture[str], *more: str):
+    """As :func:`_bench`, reading what every process wrote to the file descriptors (the
+    workers' too)."""
+    argv = ["bench", "--agent", spec, "--track", "assembly", "--quick", "--no-progress"]
+    capfd.readouterr()
+    code = main([*argv, "--out", str(out), *more])
+    return code, capfd.readouterr().err.strip().splitlines()
+
+
+def test_an_entrant_failing_in_a_worker_process_is_named(tmp_path, capfd):
     spec = _entrant(tmp_path, select=f"if self.seed == {LEARNER[2]}:\n            return None")
-    status, err, _ = _bench(spec, tmp_path / "out", "--workers", "2")
+    status, err = _bench_fd(spec, tmp_path / "out", capfd, "--workers", "2")
     assert status == 2
-    _says(err, spec, f"seed {SEEDS[2]}", "returned None")
+    _says(err, spec, f"seed {SEEDS[2]}", "returned None")  # one line: the workers say nothing
 
 
-def test_a_slow_decision_in_a_worker_process_is_stopped(tmp_path):
+def test_a_slow_decision_in_a_worker_process_is_stopped(tmp_path, capfd):
     spec = _entrant(tmp_path, select=f"if self.seed == {LEARNER[2]}:\n            time.sleep(3600)")
-    status, err, _ = _bench(spec, tmp_path / "out", "--workers", "2", "--decision-timeout", "1")
+    argv = ("--workers", "2", "--decision-timeout", "1")
+    status, err = _bench_fd(spec, tmp_path / "out", capfd, *argv)
     assert status == 2
     _says(err, spec, f"seed {SEEDS[2]}", "1 s")
 

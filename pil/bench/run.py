@@ -62,13 +62,14 @@ def _run(
 ) -> dict[str, Any]:
     """One run's row; an external entrant's calls run under a limit of ``seconds`` each."""
     track, condition, entrant, seed, quick = task
+    factory = entrant.factory()  # an entrant that cannot be loaded says so by its spec
     if not entrant.external:
-        row = runner(suite, suite.track(track), condition, seed, entrant.factory(), quick)
+        row = runner(suite, suite.track(track), condition, seed, factory, quick)
     else:
         try:
             with TimeLimit(seconds) as limit:
-                factory = guard_factory(entrant.factory(), limit)
-                row = runner(suite, suite.track(track), condition, seed, factory, quick)
+                guarded = guard_factory(factory, limit)
+                row = runner(suite, suite.track(track), condition, seed, guarded, quick)
         except EntrantError as error:
             raise EntrantError(
                 f"--agent {entrant.name} on track {track}, condition {condition}, seed {seed}: "
@@ -147,8 +148,12 @@ def _execute(
     if workers > 1 and len(todo) > 1:
         import multiprocessing
 
+        from pil.signal_policy import blocked_for_children
+
         context = multiprocessing.get_context("fork")
-        with context.Pool(workers) as pool:
+        with blocked_for_children(spawning=False):  # no signal before _start_worker
+            pool = context.Pool(workers, initializer=_start_worker)
+        with pool:
             for row in pool.imap(work, todo, chunksize=4):
                 journal.add([row])
                 if progress is not None:
@@ -158,3 +163,17 @@ def _execute(
             journal.add([work(task)])
             if progress is not None:
                 progress(1)
+
+
+def _start_worker() -> None:
+    """A pool worker's first call: Ctrl-C is the command's to act on (ignored here), the
+    command's SIGTERM when it ends the pool ends this worker without a word, and the worker
+    ends with the command (:func:`pil.worker_pool.die_with_parent`)."""
+    import signal
+
+    from pil.worker_pool import die_with_parent
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
+    die_with_parent()
