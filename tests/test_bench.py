@@ -13,10 +13,11 @@ from pathlib import Path
 
 import pytest
 
-from pil.bench.analysis import comparisons, holm
+from pil.bench.analysis import comparisons
 from pil.bench.journal import Journal, read_runs, sorted_runs
 from pil.bench.run import Entrant, run_bench
 from pil.bench.suite import load_suite
+from pil.experiments.stats import holm
 from robin_sim.cli.main import main
 
 ENTRANT = "my_bench_agent:make"
@@ -97,7 +98,7 @@ def check_outside_agent_rows(bench_run):
     stamp = json.loads((out / "stamp.json").read_text())
     assert stamp["suite_version"] == suite.version and stamp["block"] == "dev"
     assert stamp["commit"] and stamp["quick"] is True
-    rows = read_runs(out)
+    rows = read_runs(out, suite)
     agents = {r["agent"] for r in rows}
     assert agents == {ENTRANT, "random", "pil-next-best", "pil-paper", "oracle"}
     conditions = sum(len(suite.track_conditions(t, quick=True)) for t in suite.quick_tracks())
@@ -111,7 +112,7 @@ def test_an_outside_agent_gets_rows_and_holm_p_whoever_else_ran(bench_run):
     check_outside_agent_rows(bench_run)
     out, _printed = bench_run
     suite = load_suite()
-    rows = read_runs(out)
+    rows = read_runs(out, suite)
     without = [r for r in rows if r["agent"] != "random"]
     for track in suite.quick_tracks():
         everyone = comparisons(suite, rows, track, ENTRANT, quick=True)
@@ -119,10 +120,11 @@ def test_an_outside_agent_gets_rows_and_holm_p_whoever_else_ran(bench_run):
         assert _same(everyone, fewer)
         declared = len(suite.anchors) * len(suite.track_conditions(track, quick=True))
         assert {r["family_size"] for r in everyone} == {declared}
-        # Holm over exactly the declared family, per test
+        # Holm over exactly the declared family, per test (no p: counts as p = 1)
         for test in ("paired t", "wilcoxon signed-rank"):
             family = [r for r in everyone if r["test"] == test]
-            for r, adjusted in zip(family, holm([r["p"] for r in family]), strict=True):
+            adjusted_ps = holm([r["p"] for r in family], size=declared)
+            for r, adjusted in zip(family, adjusted_ps, strict=True):
                 assert r["p_holm"] == adjusted or math.isnan(adjusted)
 
 
@@ -180,7 +182,7 @@ def test_an_interrupted_run_resumes_to_the_same_rows(tmp_path):
 
     with pytest.raises(KeyboardInterrupt):
         go(tmp_path / "a", stop_after=5)
-    assert len(read_runs(tmp_path / "a")) == 5
+    assert len(read_runs(tmp_path / "a", suite)) == 5
     resumed = go(tmp_path / "a")
     whole = go(tmp_path / "b")
     assert len(whole) == len(entrants) * len(conditions) * len(seeds)
@@ -207,4 +209,4 @@ def test_a_folder_another_command_writes_is_refused(tmp_path):
     entrant = [Entrant("random", "random")]
     with FolderLock(tmp_path), pytest.raises(FolderInUseError):
         run_bench(suite, entrant, ["assembly"], journal, suite.seeds("dev", True)[:1])
-    assert read_runs(tmp_path) == []
+    assert read_runs(tmp_path, suite) == []

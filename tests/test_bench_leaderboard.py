@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from pil.bench.analysis import holm
 from pil.bench.journal import read_runs
 from pil.bench.leaderboard import render
 from pil.bench.suite import load_suite
+from pil.experiments.stats import holm
 
 ROOT = Path(__file__).resolve().parents[1]
 FOLDER = ROOT / "bench" / "results" / "leaderboard"
@@ -25,7 +25,7 @@ PAGE = ROOT / "docs" / "leaderboard.md"
 
 @pytest.fixture(scope="module")
 def runs() -> list[dict]:
-    return read_runs(FOLDER)
+    return read_runs(FOLDER, load_suite())
 
 
 def _table(name: str) -> list[dict[str, str]]:
@@ -90,7 +90,7 @@ def test_a_family_s_holm_p_is_recomputed_from_the_journal(runs):
                 raw.append(float(ttest_rel([a[s] for s in seeds], [b[s] for s in seeds]).pvalue))
             else:
                 raw.append(math.nan)
-        for t, adjusted in zip(family, holm(raw), strict=True):
+        for t, adjusted in zip(family, holm(raw, size=len(family)), strict=True):
             if math.isnan(adjusted):
                 assert t["p_holm"] == ""
             else:

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 
 from pil.bench.agents import PolicyShapingAgent
-from pil.bench.analysis import holm
 from pil.bench.equivalence import tost_paired
 from pil.bench.mixed import agent_effect
 from pil.bench.noise import FeedbackChannel, MarkovReader
 from pil.bench.suite import Axis, SuiteError, load_suite
 from pil.bench.tuning import _extend, check_block, where_optimum
+from pil.experiments.stats import holm
 from pil.types import Feedback, Gesture
 
 

@@ -3,7 +3,9 @@
 Families are declared, not built from what ran: an entrant's family on a track is its
 comparison with each anchor of the suite (``analysis.anchors``, less itself) in each of the
 track's conditions, one family per test. Its Holm-adjusted p therefore depends on the
-entrant's and the anchors' runs only, never on which other entrants ran. Each comparison is
+entrant's and the anchors' runs only, never on which other entrants ran. Holm's multiplier is
+the declared size (``family_size``): a comparison without a p (no pairs, or every pair differs
+by the same) counts as p = 1, as in the focus family (:mod:`pil.bench.focus`). Each comparison is
 paired by seed over *complete pairs*: a seed where either run failed is dropped from that
 comparison (``dropped``), never replaced by an unpaired test. Beside it: TOST against the
 equivalence anchor with the suite's margin (:mod:`pil.bench.equivalence`), and the mixed model
@@ -24,7 +26,7 @@ from typing import Any
 from pil.bench.equivalence import tost_paired
 from pil.bench.mixed import agent_effect
 from pil.bench.suite import Suite
-from pil.experiments.stats import CONFIDENCE, paired
+from pil.experiments.stats import CONFIDENCE, holm, paired
 
 ORACLE = "oracle"
 ANCHORS = "anchors"  # the ``family`` of an entrant's comparisons with the anchors
@@ -93,10 +95,11 @@ def comparisons(
                         **result,
                     }
                 )
-    for test in suite_tests():
+    for test in suite_tests():  # the declared family: a comparison without a p counts as 1
         members = [r for r in out if r["test"] == test]
-        for r, adjusted in zip(members, holm([r["p"] for r in members]), strict=True):
-            r["p_holm"] = adjusted
+        adjusted = holm([r["p"] for r in members], size=len(members))
+        for r, p in zip(members, adjusted, strict=True):
+            r["p_holm"] = p
             r["family_size"] = len(members)
     return [{c: r[c] for c in BENCH_TEST_COLUMNS} for r in out]
 
@@ -161,18 +164,6 @@ def equivalence(
 def _complete_seeds(rows, a: str, b: str, condition: str, metric: str) -> set[int]:
     xa, xb = _by_seed(rows, a, condition, metric), _by_seed(rows, b, condition, metric)
     return {s for s in set(xa) & set(xb) if not (math.isnan(xa[s]) or math.isnan(xb[s]))}
-
-
-def holm(pvalues: Sequence[float]) -> list[float]:
-    """Holm's step-down adjustment (as ``statsmodels`` ``multipletests(method="holm")``,
-    checked by the tests); NaN entries stay NaN and do not count towards the family."""
-    present = sorted((p, i) for i, p in enumerate(pvalues) if not math.isnan(p))
-    adjusted = [math.nan] * len(pvalues)
-    running, m = 0.0, len(present)
-    for rank, (p, i) in enumerate(present):
-        running = max(running, min(1.0, (m - rank) * p))
-        adjusted[i] = running
-    return adjusted
 
 
 def mean_ci(values: Sequence[float]) -> tuple[float, float, float]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import operator
 import os
 import sys
 from collections.abc import Callable, Mapping
@@ -94,14 +95,25 @@ class ActorAgent(FeedbackAgent):
             "previous_action": np.asarray(ACTIONS.index(state.previous_action), dtype=np.int64),
             "hand": np.asarray((Hand.FREE, Hand.OCCUPIED).index(state.hand), dtype=np.int64),
         }
-        action = self.actor.select_action(observation)
-        index = int(action)
-        if not 0 <= index < len(ACTIONS):
-            raise EntrantError(f"the actor chose action {action!r}; valid: 0-{len(ACTIONS) - 1}")
-        return index, False, "actor"
+        return actor_action(self.actor.select_action(observation)), False, "actor"
 
     def _learn(self, sid: int, index: int, reward: float) -> None:
         self.actor.observe(index, reward)
+
+
+def actor_action(value: Any) -> int:
+    """``select_action``'s answer as an action index; :class:`EntrantError` saying what it
+    returned when it is not a whole number from 0 to 4."""
+    try:
+        index = None if isinstance(value, bool) else operator.index(value)
+    except TypeError:
+        index = None
+    if index is None or not 0 <= index < len(ACTIONS):
+        names = ", ".join(f"{i} {a.value}" for i, a in enumerate(ACTIONS))
+        raise EntrantError(
+            f"select_action returned {quote(value)}, not an action index (valid: {names})"
+        )
+    return index
 
 
 def as_agent(made: Any, seed: int, where: str) -> Agent:
@@ -138,7 +150,7 @@ def load_factory(spec: str) -> Factory:
             module = importlib.import_module(module_name)
     except EntrantError:
         raise
-    except Exception as error:  # an entrant's own import problem, said once
+    except (Exception, SystemExit) as error:  # an entrant's own import problem, said once
         raise EntrantError(
             f"--agent {quote(spec)}: cannot import {module_name}: {type(error).__name__}: {error}"
         ) from None
@@ -146,12 +158,3 @@ def load_factory(spec: str) -> Factory:
     if not callable(factory):
         raise EntrantError(f"--agent {quote(spec)}: {module_name} has no callable {attribute!r}")
     return factory
-
-
-def check_factory(factory: Factory, where: str) -> None:
-    """Build one agent from ``factory`` (before any run) so a broken entrant fails at once."""
-    try:
-        made = factory(0)
-    except Exception as error:
-        raise EntrantError(f"{where}: factory(0) failed: {type(error).__name__}: {error}") from None
-    as_agent(made, 0, where)

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.errors import RobinPilError, quote
+from pil.regular_files import UnreadableFileError, read_kind_bytes
 
 #: where a condition names a file: (section, key) of its mapping
 FILE_KEYS: tuple[tuple[str, str], ...] = (("gestures", "file"), ("feedback", "measured"))
@@ -46,9 +47,9 @@ def fingerprint(
     for name in files:
         path = (base / name).resolve()
         try:
-            data = path.read_bytes()
-        except OSError as exc:
-            raise error(f"the suite's condition file {quote(name)} ({path}): {exc}") from None
+            data = read_kind_bytes(path, "settings", "a condition file")
+        except UnreadableFileError as exc:
+            raise error(f"the suite's condition file {quote(name)}: {exc}") from None
         inputs[name] = hashlib.sha256(data).hexdigest()
         whole.update(b"\0" + name.encode("utf-8") + b"\0" + inputs[name].encode("ascii"))
     return whole.hexdigest(), inputs

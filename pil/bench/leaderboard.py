@@ -9,7 +9,6 @@ block and the commit that made the runs. :func:`row_line` is the one-line row
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping
 from pathlib import Path
@@ -27,6 +26,7 @@ from pil.bench.leaderboard_focus import (
 )
 from pil.bench.results import read_table
 from pil.bench.suite import Suite
+from pil.bench.tuned import read_tuned
 from pil.experiments.report import markdown_table
 from pil.experiments.stats import CONSTANT_NOTE, NO_DIFFERENCE_NOTE
 
@@ -80,11 +80,9 @@ def render(
     """The Markdown page of the results folder ``out``, named ``source`` on the page."""
     out = Path(out)
     stamp = Journal.read_stamp(out) or {}
-    found = {
-        n: read_table(out / f"{n}.csv") if (out / f"{n}.csv").is_file() else [] for n in TABLES
-    }
-    tuned = _tuned(out)
-    seeds = sorted({int(r["seed"]) for r in read_runs(out)})
+    found = {n: read_table(out / f"{n}.csv") if _found(out / f"{n}.csv") else [] for n in TABLES}
+    tuned = read_tuned(out / "tuned.json", suite) if _found(out / "tuned.json") else {}
+    seeds = sorted({int(r["seed"]) for r in read_runs(out, suite)})
     parts = [
         f"# {title}",
         "",
@@ -121,11 +119,9 @@ def render(
     return "\n".join(parts) + "\n"
 
 
-def _tuned(out: Path) -> dict[str, Any]:
-    path = out / "tuned.json"
-    if not path.is_file():
-        return {}
-    return dict(json.loads(path.read_text(encoding="utf-8")))
+def _found(path: Path) -> bool:
+    """Whether the folder holds ``path`` (a link or a FIFO too: its reader refuses them)."""
+    return path.exists() or path.is_symlink()
 
 
 def _track_section(suite: Suite, found: Mapping[str, list[dict]], track: str) -> list[str]:

@@ -27,12 +27,13 @@ fail). A stop the robot did not get is then answered after the action (drawn aga
 
 from __future__ import annotations
 
-import json
+import functools
 import random
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from pil.regular_files import UnreadableFileError, read_json_file
 from pil.task.detector import (
     DEFAULT_DISCARD,
     Detector,
@@ -77,14 +78,51 @@ class MarkovReader:
         return feedback
 
 
-def _thumb_rows(path: str) -> dict[Feedback, tuple[float, float, float]]:
-    """The measured thumb confusion: true OK / not-OK -> (read OK, read not-OK, discarded)."""
-    data = json.loads(Path(path).read_text(encoding="utf-8"))
+def thumb_rows(path: str) -> dict[Feedback, tuple[float, float, float]]:
+    """The measured thumb confusion of ``path`` (a ``measured.json``): true OK / not-OK ->
+    (read OK, read not-OK, discarded), read once per version of the file through the guarded
+    reader; :class:`~pil.regular_files.UnreadableFileError` naming it when it is not one."""
+    import os
+
+    try:
+        found = os.stat(path)
+    except OSError:
+        return _thumb_rows(path, 0, -1, 0)  # the reader says what is wrong
+    return _thumb_rows(path, found.st_mtime_ns, found.st_size, found.st_ino)
+
+
+@functools.lru_cache(maxsize=16)
+def _thumb_rows(
+    path: str, mtime_ns: int, size: int, inode: int
+) -> dict[Feedback, tuple[float, float, float]]:
+    data = read_json_file(Path(path), "settings", "the measured thumbs", finite=True)
     names = {"OK": Feedback.OK, "not OK": Feedback.NOT_OK}
-    rows = {}
-    for name, row in zip(data["feedback"], data["feedback_confusion"], strict=True):
-        rows[names[name]] = (float(row[0]), float(row[1]), float(row[2]))
-    return rows
+    rows = data.get("feedback_confusion") if isinstance(data, dict) else None
+    order = data.get("feedback") if isinstance(data, dict) else None
+    if (
+        not isinstance(order, list)
+        or sorted(map(str, order)) != sorted(names)
+        or not isinstance(rows, list)
+        or len(rows) != len(order)
+        or not all(_shares(row) for row in rows)
+    ):
+        raise UnreadableFileError(
+            f"{path}: the measured thumbs need 'feedback' (OK and not OK) and "
+            "'feedback_confusion' (a row of 3 shares summing to 1 for each: read OK, read not "
+            "OK, discarded)"
+        )
+    return {
+        names[n]: (float(r[0]), float(r[1]), float(r[2])) for n, r in zip(order, rows, strict=True)
+    }
+
+
+def _shares(row: Any) -> bool:
+    return (
+        isinstance(row, list)
+        and len(row) == 3
+        and all(type(x) in (int, float) and 0.0 <= x <= 1.0 for x in row)
+        and abs(sum(row) - 1.0) <= 1e-3
+    )
 
 
 class FeedbackChannel:
@@ -98,7 +136,7 @@ class FeedbackChannel:
         self.missed = float(params.get("missed", 0.0))
         self.late = float(params.get("late", 0.0))
         measured = params.get("measured")
-        self._rows = None if measured is None else _thumb_rows(str(measured))
+        self._rows = None if measured is None else thumb_rows(str(measured))
         self._rng = random.Random(seed)
         self._pending: Feedback | None = None
         self._held: Feedback | None = None

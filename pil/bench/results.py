@@ -5,7 +5,9 @@ condition: runs, failed, stalled, means), ``tests.csv`` (every entrant's declare
 the anchors, and the suite's focus family: column ``family``), ``equivalence.csv`` (TOST and
 the mixed model), ``noninferiority.csv`` (the declared one-sided test) and ``curves.csv`` (the
 mean actions per table of the runs that finished); :func:`read_table` reads one back (numbers
-as floats).
+as floats) through the guarded reader, strictly: its columns must be the table's (a table of an
+older version may lack some), every row has one cell per column, and every number is finite
+and written in ASCII; anything else is one error naming the file and the line.
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ from pil.bench.analysis import BENCH_TEST_COLUMNS, comparisons, curves, equivale
 from pil.bench.focus import NONINFERIORITY_COLUMNS, focus_comparisons, noninferiority
 from pil.bench.journal import Journal, read_runs, sorted_runs
 from pil.bench.suite import Suite
+from pil.numbers import is_decimal_text
+from pil.regular_files import UnreadableFileError, read_kind_text
 
 BENCH_SUMMARY_COLUMNS = (
     "track",
@@ -54,6 +58,14 @@ BENCH_EQUIVALENCE_COLUMNS = (
     "mixed_p",
     "mixed_note",
 )
+CURVE_COLUMNS = ("track", "agent", "condition", "table", "actions")
+TABLE_COLUMNS: dict[str, tuple[str, ...]] = {
+    "summary.csv": BENCH_SUMMARY_COLUMNS,
+    "tests.csv": BENCH_TEST_COLUMNS,
+    "equivalence.csv": BENCH_EQUIVALENCE_COLUMNS,
+    "noninferiority.csv": NONINFERIORITY_COLUMNS,
+    "curves.csv": CURVE_COLUMNS,
+}
 
 
 def csv_text(rows: Sequence[Mapping[str, Any]], columns: Sequence[str]) -> str:
@@ -99,7 +111,7 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
     ``curves.csv`` from the folder's journal."""
     out = Path(out)
     stamp = Journal.read_stamp(out) or {}
-    rows = read_runs(out)
+    rows = read_runs(out, suite)
     found = analyse(suite, rows, bool(stamp.get("quick")))
     curve_rows = [
         {"track": track, "agent": agent, "condition": condition, "table": k + 1, "actions": v}
@@ -108,10 +120,7 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
         for k, v in enumerate(curve)
     ]
     return [
-        write_text_atomic(
-            out / "curves.csv",
-            csv_text(curve_rows, ("track", "agent", "condition", "table", "actions")),
-        ),
+        write_text_atomic(out / "curves.csv", csv_text(curve_rows, CURVE_COLUMNS)),
         write_text_atomic(out / "summary.csv", csv_text(found["summary"], BENCH_SUMMARY_COLUMNS)),
         write_text_atomic(out / "tests.csv", csv_text(found["tests"], BENCH_TEST_COLUMNS)),
         write_text_atomic(
@@ -124,25 +133,43 @@ def write_results(suite: Suite, out: str | Path) -> list[Path]:
 
 
 def read_table(path: Path) -> list[dict[str, Any]]:
-    """A results CSV of :func:`write_results`: numbers as floats (NaN for empty cells)."""
+    """A results CSV of :func:`write_results` (module docstring): numbers as floats, NaN for
+    empty cells; :class:`UnreadableFileError` naming the file and the line."""
     import csv
+    import io
 
-    text = path.read_text(encoding="utf-8")
-    rows = []
-    for raw in csv.DictReader(text.splitlines()):
-        row: dict[str, Any] = {}
-        for key, value in raw.items():
-            if key in _TEXT:
-                row[key] = value
-            elif value == "":
-                row[key] = math.nan
-            else:
-                try:
-                    row[key] = float(value)
-                except ValueError:
-                    row[key] = value
-        rows.append(row)
+    known = TABLE_COLUMNS.get(path.name)
+    if known is None:
+        raise UnreadableFileError(
+            f"{path}: not a results table; valid: " + ", ".join(TABLE_COLUMNS)
+        )
+    text = read_kind_text(path, "results", "a results table")
+    reader = csv.reader(io.StringIO(text, newline=""), strict=True)
+    try:
+        header = next(reader, [])
+        if not header or len(set(header)) != len(header) or set(header) - set(known):
+            raise ValueError(f"its columns {header} are not those of {path.name}: {list(known)}")
+        rows = [_row(header, cells) for cells in reader]
+    except (ValueError, csv.Error) as error:
+        raise UnreadableFileError(f"{path}:{reader.line_num}: {error}") from None
     return rows
+
+
+def _row(header: list[str], cells: list[str]) -> dict[str, Any]:
+    """One table row: text columns as they are, the others finite numbers (NaN if empty)."""
+    if len(cells) != len(header):
+        raise ValueError(f"{len(cells)} cells, not {len(header)} (one per column)")
+    row: dict[str, Any] = {}
+    for key, value in zip(header, cells, strict=True):
+        if key in _TEXT:
+            row[key] = value
+        elif value == "":
+            row[key] = math.nan
+        elif is_decimal_text(value) and math.isfinite(float(value)):
+            row[key] = float(value)
+        else:
+            raise ValueError(f"{key!r} is {value!r}, not a finite number written with 0-9")
+    return row
 
 
 _TEXT = (

@@ -4,7 +4,10 @@
 its parameters, or ``pkg.module:factory``); :func:`run_bench` runs every (track, condition,
 entrant, seed) the journal does not have yet, in a pool of ``workers`` processes or here,
 appending each finished run. The rows are the same whatever the workers (each run depends on
-its seed alone).
+its seed alone). An entrant that is not a reference agent runs under
+:class:`pil.bench.guard.TimeLimit`: anything its code does wrong ends the bench with one
+:class:`pil.bench.entrants.EntrantError` naming the agent, the track, the condition and the
+seed; the runs finished before are kept.
 """
 
 from __future__ import annotations
@@ -15,7 +18,8 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from pil.bench.entrants import REFERENCE, Factory, load_factory, reference
+from pil.bench.entrants import REFERENCE, EntrantError, Factory, load_factory, reference
+from pil.bench.guard import DECISION_TIMEOUT, TimeLimit, guard_factory
 from pil.bench.journal import Journal
 from pil.bench.suite import Suite, Track
 from pil.bench.tracks import run_track
@@ -53,9 +57,24 @@ Task = tuple[str, str, Entrant, int, bool]
 Runner = Callable[[Suite, Track, str, int, Factory, bool], dict[str, Any]]
 
 
-def _run(suite: Suite, task: Task, runner: Runner = run_track) -> dict[str, Any]:
+def _run(
+    suite: Suite, task: Task, runner: Runner = run_track, seconds: float = DECISION_TIMEOUT
+) -> dict[str, Any]:
+    """One run's row; an external entrant's calls run under a limit of ``seconds`` each."""
     track, condition, entrant, seed, quick = task
-    row = runner(suite, suite.track(track), condition, seed, entrant.factory(), quick)
+    factory = entrant.factory()  # an entrant that cannot be loaded says so by its spec
+    if not entrant.external:
+        row = runner(suite, suite.track(track), condition, seed, factory, quick)
+    else:
+        try:
+            with TimeLimit(seconds) as limit:
+                guarded = guard_factory(factory, limit)
+                row = runner(suite, suite.track(track), condition, seed, guarded, quick)
+        except EntrantError as error:
+            raise EntrantError(
+                f"--agent {entrant.name} on track {track}, condition {condition}, seed {seed}: "
+                f"{error}"
+            ) from None
     params = json.dumps(dict(entrant.params), sort_keys=True)
     return {
         "track": track,
@@ -97,28 +116,30 @@ def run_bench(
     progress: Callable[[int], None] | None = None,
     conditions: Sequence[str] | None = None,
     runner: Runner = run_track,
+    decision_timeout: float = DECISION_TIMEOUT,
 ) -> list[dict[str, Any]]:
     """Run what ``journal`` lacks; return all its rows for these entrants and tracks.
     ``runner``: how one run is made (default :func:`pil.bench.tracks.run_track`, learner only;
-    the physical track's comes from ``robin_sim``)."""
+    the physical track's comes from ``robin_sim``); ``decision_timeout``: the limit of each
+    call into an external entrant, in seconds."""
     quick = bool(journal.stamp["quick"])
     every = plan(suite, entrants, tracks, seeds, quick, conditions)
     todo = [t for t in every if (t[0], t[1], t[2].name, t[3]) not in journal.done]
-    journal.open()
+    journal.start()
     with FolderLock(journal.out):  # one command at a time appends to the journal
-        _execute(suite, todo, journal, workers, progress, runner, len(every) - len(todo))
+        work = functools.partial(_run, suite, runner=runner, seconds=decision_timeout)
+        _execute(todo, journal, workers, progress, work, len(every) - len(todo))
     names = {e.name for e in entrants}
     wanted = set(tracks)
     return [r for r in journal.rows if r["agent"] in names and r["track"] in wanted]
 
 
 def _execute(
-    suite: Suite,
     todo: Sequence[Task],
     journal: Journal,
     workers: int,
     progress: Callable[[int], None] | None,
-    runner: Runner,
+    work: Callable[[Task], dict[str, Any]],
     done: int,
 ) -> None:
     """Run ``todo`` here or in a pool, appending each finished run to ``journal``."""
@@ -127,15 +148,32 @@ def _execute(
     if workers > 1 and len(todo) > 1:
         import multiprocessing
 
+        from pil.signal_policy import blocked_for_children
+
         context = multiprocessing.get_context("fork")
-        with context.Pool(workers) as pool:
-            work = functools.partial(_run, suite, runner=runner)
+        with blocked_for_children(spawning=False):  # no signal before _start_worker
+            pool = context.Pool(workers, initializer=_start_worker)
+        with pool:
             for row in pool.imap(work, todo, chunksize=4):
                 journal.add([row])
                 if progress is not None:
                     progress(1)
     else:
         for task in todo:
-            journal.add([_run(suite, task, runner)])
+            journal.add([work(task)])
             if progress is not None:
                 progress(1)
+
+
+def _start_worker() -> None:
+    """A pool worker's first call: Ctrl-C is the command's to act on (ignored here), the
+    command's SIGTERM when it ends the pool ends this worker without a word, and the worker
+    ends with the command (:func:`pil.worker_pool.die_with_parent`)."""
+    import signal
+
+    from pil.worker_pool import die_with_parent
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
+    die_with_parent()

@@ -201,10 +201,11 @@ def welch(a: Sequence[float], b: Sequence[float]) -> dict[str, Any]:
 
 
 def holm(pvalues: Sequence[float], size: int | None = None) -> list[float]:
-    """Holm-adjusted p-values; NaN entries (untestable comparisons) stay NaN and do not
-    count towards the family's size. ``size``: the family's declared size when some of its
-    comparisons are not among ``pvalues`` (each missing one counts as p = 1, so the others'
-    adjusted p never shrinks because less ran).
+    """Holm-adjusted p-values; NaN entries (untestable comparisons) stay NaN. Without
+    ``size`` they do not count towards the family's size. ``size``: the family's declared
+    size, Holm's multiplier: every declared comparison without a p (NaN here, or not among
+    ``pvalues`` at all) counts as p = 1, so no adjusted p shrinks because less ran or less
+    could be tested.
 
     The step-down of ``statsmodels.stats.multitest.multipletests(method="holm")`` (a test
     checks they agree), computed here: statsmodels runs a full garbage collection on every

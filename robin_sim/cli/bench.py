@@ -11,7 +11,8 @@
 
 Runs are journaled in ``--out`` (``runs.jsonl``): Ctrl-C keeps every finished run and the
 same command resumes. MuJoCo is imported only for ``--track physical`` (the slow track,
-:mod:`robin_sim.cli.bench_physical`).
+:mod:`robin_sim.cli.bench_physical`). An entrant's code runs with the user's rights; each call
+into it is limited to ``--decision-timeout`` seconds (:mod:`pil.bench.guard`).
 """
 
 from __future__ import annotations
@@ -19,11 +20,14 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import sys
 from pathlib import Path
 from typing import Any
 
+from pil.bench.guard import DECISION_TIMEOUT, MAX_DECISION_TIMEOUT
 from pil.bench.leaderboard import REFERENCE_FOLDER
-from robin_sim.cli.options import progress_bar
+from pil.numbers import is_whole_text
+from robin_sim.cli.options import decimal_number, progress_bar
 
 BENCH_OUT = Path("out/bench")
 LEADERBOARD_OUT = Path(REFERENCE_FOLDER)
@@ -62,6 +66,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--workers", default=1, help="processes (default: %(default)s)")
     parser.add_argument(
+        "--decision-timeout",
+        type=decimal_number,
+        default=DECISION_TIMEOUT,
+        metavar="SECONDS",
+        help="the longest an entrant's agent may take for one call (building it, a decision, "
+        f"a feedback) before the bench stops, up to {MAX_DECISION_TIMEOUT:g} "
+        "(default: %(default)g)",
+    )
+    parser.add_argument(
         "--out", type=Path, default=None, help=f"results folder (default: {BENCH_OUT})"
     )
     parser.add_argument(
@@ -79,10 +92,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def _workers(text: Any) -> int:
     from pil.bench.suite import SuiteError
 
-    try:
-        value = int(str(text))
-    except ValueError:
-        value = 0
+    value = int(str(text)) if is_whole_text(str(text)) else 0
     if value < 1 or value > 64:
         raise SuiteError(f"--workers: expected a whole number from 1 to 64, got {text!r}")
     return value
@@ -106,33 +116,35 @@ def _tracks(suite: Any, text: str | None, slow_allowed: bool = True) -> list[str
     return names
 
 
-def _entrants(suite: Any, specs: list[str], tuned: dict[str, Any]) -> list[Any]:
-    from pil.bench.entrants import REFERENCE, check_factory
+def _entrants(suite: Any, specs: list[str], tuned: dict[str, Any], seconds: float) -> list[Any]:
+    from pil.bench.entrants import REFERENCE
+    from pil.bench.guard import check_factory
     from pil.bench.run import Entrant
 
     out = []
     for spec in specs:
         params = tuned.get(spec, {}).get("params", {}) if spec in REFERENCE else {}
         entrant = Entrant(spec, spec, params)
-        check_factory(entrant.factory(), f"--agent {spec}")
+        check_factory(entrant.factory(), f"--agent {spec}", seconds)
         out.append(entrant)
     return out
 
 
-def _read_tuned(path: Path | None) -> dict[str, Any]:
-    if path is None:
-        return {}
+def _decision_timeout(seconds: float) -> float:
     from pil.bench.suite import SuiteError
 
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as error:
+    if not 0 < seconds <= MAX_DECISION_TIMEOUT:
         raise SuiteError(
-            f"--tuned {path}: not a tuned.json of robin-pil bench --tune ({error})"
-        ) from None
-    if not isinstance(data, dict):
-        raise SuiteError(f"--tuned {path}: expected a mapping of agent -> parameters")
-    return data
+            f"--decision-timeout: expected seconds above 0 and up to {MAX_DECISION_TIMEOUT:g}, "
+            f"got {seconds:g}"
+        )
+    return seconds
+
+
+def _read_tuned(suite: Any, path: Path | None) -> dict[str, Any]:
+    from pil.bench.tuned import read_tuned
+
+    return {} if path is None else read_tuned(path, suite)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -142,6 +154,7 @@ def run(args: argparse.Namespace) -> int:
 
     suite = load_suite(args.suite or SUITE_FILE)
     workers = _workers(args.workers)
+    args.decision_timeout = _decision_timeout(args.decision_timeout)
     args.commit = source_commit().label()  # once, as the code was loaded: what every stamp names
     if args.seeds not in BLOCKS:
         raise SuiteError(f"--seeds {args.seeds!r}; valid choices: " + ", ".join(BLOCKS))
@@ -166,7 +179,8 @@ def run(args: argparse.Namespace) -> int:
     if not args.agent:
         raise SuiteError("give --agent SPEC (or --list, --tune, --leaderboard)")
     tracks = _tracks(suite, args.track)
-    entrants = _entrants(suite, args.agent, _read_tuned(args.tuned))
+    tuned = _read_tuned(suite, args.tuned)
+    entrants = _entrants(suite, args.agent, tuned, args.decision_timeout)
     return _run_entrants(suite, entrants, tracks, args, workers)
 
 
@@ -184,17 +198,26 @@ def _list(suite: Any) -> int:
     return 0
 
 
+def _journal(out: Path, suite: Any, block: str, args: Any) -> Any:
+    """The results folder's journal; what a damaged last line lost is said on stderr."""
+    from pil.bench.journal import Journal
+
+    journal = Journal(out, suite, block, args.quick, args.commit)
+    if journal.dropped:
+        print(f"robin-pil bench: {journal.dropped}", file=sys.stderr)
+    return journal
+
+
 def _run_entrants(
     suite: Any, entrants: list[Any], tracks: list[str], args: Any, workers: int
 ) -> int:
     from pil.bench.analysis import ORACLE
-    from pil.bench.journal import Journal
     from pil.bench.leaderboard import row_line
     from pil.bench.results import analyse, write_results
     from pil.bench.run import Entrant, plan, run_bench
 
     out = args.out or BENCH_OUT
-    journal = Journal(out, suite, args.seeds, args.quick, args.commit)
+    journal = _journal(out, suite, args.seeds, args)
     names = {e.name for e in entrants}
     references = [Entrant(n, n) for n in (*suite.anchors, ORACLE) if n not in names]
     everyone = [*entrants, *references]
@@ -206,7 +229,14 @@ def _run_entrants(
     total += len(plan(suite, anchored, slow, seeds, args.quick))
     with progress_bar(total, "bench", args) as bar:
         rows = run_bench(
-            suite, everyone, learner_only, journal, seeds, workers=workers, progress=bar.update
+            suite,
+            everyone,
+            learner_only,
+            journal,
+            seeds,
+            workers=workers,
+            progress=bar.update,
+            decision_timeout=args.decision_timeout,
         )
         if slow:
             from robin_sim.cli.bench_physical import run_physical_track  # MuJoCo: the slow track
@@ -219,6 +249,7 @@ def _run_entrants(
                 seeds,
                 progress=bar.update,
                 runner=run_physical_track,
+                decision_timeout=args.decision_timeout,
             )
     write_results(suite, out)
     found = analyse(suite, rows, args.quick)
@@ -234,10 +265,9 @@ def _run_entrants(
 
 def _tune(suite: Any, out: Path, args: Any, workers: int) -> dict[str, Any]:
     from pil.atomic import write_text_atomic
-    from pil.bench.journal import Journal
     from pil.bench.tuning import TUNING_BLOCK, tune
 
-    journal = Journal(out, suite, TUNING_BLOCK, args.quick, args.commit)
+    journal = _journal(out, suite, TUNING_BLOCK, args)
     found = {}
     with progress_bar(None, "tuning", args) as bar:  # type: ignore[arg-type]
         for agent in suite.grids:
@@ -267,10 +297,9 @@ def _leaderboard(suite: Any, args: Any, workers: int) -> int:
     out.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(out / "tuning" / "tuned.json", out / "tuned.json")
     entrants = [Entrant(a, a, tuned.get(a, {}).get("params", {})) for a in suite.agents]
-    from pil.bench.journal import Journal
     from pil.bench.run import plan, run_bench
 
-    journal = Journal(out, suite, "eval", args.quick, args.commit)
+    journal = _journal(out, suite, "eval", args)
     seeds = suite.seeds("eval", args.quick)
     with progress_bar(
         len(plan(suite, entrants, tracks, seeds, args.quick)), "leaderboard", args
