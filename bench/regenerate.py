@@ -42,6 +42,7 @@ class Recipe:
     command: tuple[str, ...]
     quick: bool  # cheap enough for --quick (learner-only, minutes at most)
     drop: tuple[str, ...] = ()  # caches the command leaves in its folder (not results)
+    pages: tuple[str, ...] = ()  # files outside its folder the command writes (a docs page)
 
     def argv(self, out: Path) -> list[str]:
         """The command line with ``--out``."""
@@ -122,6 +123,7 @@ RECIPES: tuple[Recipe, ...] = (
         "leaderboard",  # also writes docs/leaderboard.md; refuses a tree with changes
         ("robin-pil", "bench", "--leaderboard", "--workers", "2", "--no-progress"),
         False,
+        pages=("docs/leaderboard.md",),
     ),
     Recipe(
         "people_fitted",  # docs/people.md's tables then: python docs/people_tables.py
@@ -184,7 +186,7 @@ def tidy(out: Path, written_at: str, recipe: Recipe) -> None:
     for name in recipe.drop:
         shutil.rmtree(out / name, ignore_errors=True)
     final = f"bench/results/{recipe.folder}"
-    for path in out.rglob("*"):
+    for path in [*out.rglob("*"), *(ROOT / page for page in recipe.pages)]:
         if path.is_file() and path.suffix in TEXT_SUFFIXES:
             text = path.read_text()
             if written_at in text:
