@@ -36,8 +36,8 @@ DIM_COLOUR = (170, 170, 170)
 BAR_COLOUR = (80, 170, 255)
 CHOSEN_BAR_COLOUR = (255, 190, 60)
 PANEL_ALPHA = 0.6  # darkening of the frame under a panel
-TEXT_FONT_SCALE = 0.38  # at 480 rows; the text panels' line height and padding below
-TEXT_LINE_H, TEXT_PAD = 15, 5
+TEXT_FONT_SCALE = 0.42  # at 480 rows; the text panels' line height and padding below
+TEXT_LINE_H, TEXT_PAD = 16, 5
 Box = tuple[int, int, int, int]  # x0, y0, x1, y1 (exclusive) in pixels
 
 
