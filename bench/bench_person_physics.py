@@ -5,7 +5,8 @@ core; steps per second of CPU time (the process's own, so that other work on a s
 counts less). Prints the median steps/s of raw ``mj_step`` (the robot at home, legs on the
 table) of:
 
-1. the scene as shipped (the articulated person: 62 joint DoFs, kinematic, no contacts);
+1. the scene as shipped: the articulated person without DoFs (its joints' values live in
+   ``data.userdata`` and pose its bodies' frames, :mod:`robin_sim.model.person_joints`), idle;
 2. the same scene with the person's articulated bodies removed (the body, arms and both
    hands; the mocap hand and the welded collision palm stay): the baseline, measured in the
    same run, which the capsule person of before matched (no person DoFs);
@@ -13,16 +14,8 @@ table) of:
    :class:`robin_sim.figure.posture.Posture`, the hand moving so every tick solves); in an
    episode it is solved only when a frame is rendered (a view hook), at most at video rate;
 4. the same at video rate (30 Hz: every 17th step), the hand moving every control tick;
-
-and two candidates for a person the integrator does not pay for (not shipped):
-
-5. the person's joints deleted, its bodies kept (each welded to its parent, so a pose would be
-   written into ``model.body_pos`` / ``body_quat``) and their gravity compensation off: no
-   person DoFs (idle: nothing poses them here);
-6. the shipped scene with MuJoCo's sleeping on (``mjENBL_SLEEP``), the person's two trees
-   asleep from the start and every other tree never asleep, solved at video rate as in 4: a
-   written pose wakes a tree for at least ``mjMINAWAKE`` (10) steps, and the moving mocap hand
-   keeps the right hand's tree awake;
+5. the scene as ``scene.xml`` is written, the person with its 62 joint DoFs (as it was
+   shipped before), idle;
 
 and the ratios to the baseline.
 """
@@ -55,37 +48,9 @@ def without_person() -> mujoco.MjModel:
     return spec.compile()
 
 
-def is_person_joint(name: str) -> bool:
-    """Whether joint ``name`` is one of the articulated person's (not the palm's free joint)."""
-    return name.startswith("human_") and name != names.HUMAN_PALM_JOINT
-
-
-def without_person_joints() -> mujoco.MjModel:
-    """The scene with the person's joints deleted and its bodies kept (case 5)."""
-    spec = build_spec()
-    for joint in list(spec.joints):
-        if is_person_joint(joint.name):
-            spec.delete(joint)
-    kept = (names.HUMAN_MOCAP_BODY, names.HUMAN_PALM_BODY)  # the mocap hand and the palm
-    for body in spec.bodies:
-        if body.name.startswith(names.PERSON_BODY) and body.name not in kept:
-            body.gravcomp = 0.0  # a body without DoFs of its own needs none
-    return spec.compile()
-
-
-def sleeping() -> mujoco.MjModel:
-    """The shipped scene with MuJoCo's sleeping on for the person's trees only (case 6)."""
-    model = build_spec().compile()
-    model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP
-    person = {
-        int(model.dof_treeid[model.jnt_dofadr[j]])
-        for j in range(model.njnt)
-        if is_person_joint(model.joint(j).name)
-    }
-    asleep, never = mujoco.mjtSleepPolicy.mjSLEEP_INIT, mujoco.mjtSleepPolicy.mjSLEEP_NEVER
-    for tree in range(model.ntree):
-        model.tree_sleep_policy[tree] = asleep if tree in person else never
-    return model
+def with_person_joints() -> mujoco.MjModel:
+    """The scene as ``scene.xml`` is written: the person with its 62 joint DoFs (case 5)."""
+    return mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
 
 
 def steps_per_second(model: mujoco.MjModel, steps: int, solve_every: int = 0) -> float:
@@ -118,12 +83,11 @@ def main() -> None:
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     shipped, baseline = build_spec().compile(), without_person()
     cases = {
-        "scene as shipped (articulated person)": (shipped, 0),
+        "scene as shipped (the person posed from userdata, no DoFs)": (shipped, 0),
         "without the person's articulated bodies (baseline)": (baseline, 0),
         "as shipped, the person solved every control tick": (shipped, CONTROL_EVERY),
         "as shipped, the person solved at video rate": (shipped, VIDEO_EVERY),
-        "candidate: the person's joints deleted, bodies kept": (without_person_joints(), 0),
-        "candidate: MuJoCo sleeping, solved at video rate": (sleeping(), VIDEO_EVERY),
+        "the person with its 62 joint DoFs (before)": (with_person_joints(), 0),
     }
     rates: dict[str, list[float]] = {name: [] for name in cases}
     for _ in range(args.repeats):  # interleaved: a load change hits every case alike
