@@ -1,15 +1,21 @@
 """What the articulated person costs the physics: ``mj_step`` with and without its bodies.
 
 Run: ``python bench/bench_person_physics.py [--repeats 5] [--steps 3000]``. Pinned to one
-core. Prints the median steps/s of raw ``mj_step`` (the robot at home, legs on the table) of:
+core; steps per second of CPU time (the process's own, so that other work on a shared core
+counts less). Prints the median steps/s of raw ``mj_step`` (the robot at home, legs on the
+table) of:
 
-1. the scene as shipped (the articulated person: 62 joint DoFs, kinematic, no contacts);
+1. the scene as shipped: the articulated person without DoFs (its joints' values live in
+   ``data.userdata`` and pose its bodies' frames, :mod:`robin_sim.model.person_joints`), idle;
 2. the same scene with the person's articulated bodies removed (the body, arms and both
    hands; the mocap hand and the welded collision palm stay): the baseline, measured in the
    same run, which the capsule person of before matched (no person DoFs);
 3. the shipped scene with the person's pose solved and written at every control tick (50 Hz,
    :class:`robin_sim.figure.posture.Posture`, the hand moving so every tick solves); in an
-   episode it is solved only when a frame is rendered (a view hook), at most at video rate.
+   episode it is solved only when a frame is rendered (a view hook), at most at video rate;
+4. the same at video rate (30 Hz: every 17th step), the hand moving every control tick;
+5. the scene as ``scene.xml`` is written, the person with its 62 joint DoFs (as it was
+   shipped before), idle;
 
 and the ratios to the baseline.
 """
@@ -31,6 +37,7 @@ from robin_sim.model import names
 from robin_sim.model.scene import build_spec
 
 CONTROL_EVERY = 10  # steps of 2 ms per control tick (50 Hz)
+VIDEO_EVERY = 17  # steps of 2 ms per video frame (30 fps)
 
 
 def without_person() -> mujoco.MjModel:
@@ -41,23 +48,30 @@ def without_person() -> mujoco.MjModel:
     return spec.compile()
 
 
-def steps_per_second(model: mujoco.MjModel, steps: int, posture: bool) -> float:
-    """``mj_step`` rate from the home keyframe; ``posture``: solve the person every tick."""
+def with_person_joints() -> mujoco.MjModel:
+    """The scene as ``scene.xml`` is written: the person with its 62 joint DoFs (case 5)."""
+    return mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
+
+
+def steps_per_second(model: mujoco.MjModel, steps: int, solve_every: int = 0) -> float:
+    """``mj_step`` rate from the home keyframe; ``solve_every`` > 0: the hand moves every
+    control tick and the person is solved every ``solve_every`` steps."""
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
     person = None
-    if posture:
+    if solve_every:
         ArticulatedHand(model, data).show("give_me")
         person = Posture(model, data)
     mocap = int(model.body(names.HUMAN_MOCAP_BODY).mocapid[0])
     start_pos = data.mocap_pos[mocap].copy()
-    start = time.perf_counter()
+    start = time.process_time()  # CPU time: what the other work on a shared core takes is not ours
     for k in range(steps):
         if person is not None and k % CONTROL_EVERY == 0:
             data.mocap_pos[mocap] = start_pos + np.array([-0.3 * k / steps, 0.0, 0.0])
+        if person is not None and k % solve_every == 0:
             person.update()
         mujoco.mj_step(model, data)
-    return steps / (time.perf_counter() - start)
+    return steps / (time.process_time() - start)
 
 
 def main() -> None:
@@ -69,14 +83,16 @@ def main() -> None:
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     shipped, baseline = build_spec().compile(), without_person()
     cases = {
-        "scene as shipped (articulated person)": (shipped, False),
-        "without the person's articulated bodies (baseline)": (baseline, False),
-        "as shipped, the person solved every control tick": (shipped, True),
+        "scene as shipped (the person posed from userdata, no DoFs)": (shipped, 0),
+        "without the person's articulated bodies (baseline)": (baseline, 0),
+        "as shipped, the person solved every control tick": (shipped, CONTROL_EVERY),
+        "as shipped, the person solved at video rate": (shipped, VIDEO_EVERY),
+        "the person with its 62 joint DoFs (before)": (with_person_joints(), 0),
     }
-    rates = {name: [] for name in cases}
+    rates: dict[str, list[float]] = {name: [] for name in cases}
     for _ in range(args.repeats):  # interleaved: a load change hits every case alike
-        for name, (model, posture) in cases.items():
-            rates[name].append(steps_per_second(model, args.steps, posture))
+        for name, (model, solve_every) in cases.items():
+            rates[name].append(steps_per_second(model, args.steps, solve_every))
     base = statistics.median(rates["without the person's articulated bodies (baseline)"])
     print(f"nv: shipped {shipped.nv}, baseline {baseline.nv}; {args.repeats} runs of {args.steps}")
     print("| case | steps/s (median) | ratio to baseline |")

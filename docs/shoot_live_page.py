@@ -31,7 +31,7 @@ def main() -> int:
         served = start_server([LiveConfig(out_root=Path(folder), video=False)])
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), headless=True,
                                              args=["--no-sandbox"])  # fmt: skip
-        page = browser.new_page(viewport={"width": 1200, "height": 740})
+        page = browser.new_page(viewport={"width": 1200, "height": 900})
         try:
             page.goto(served.url("/"))
             legs = leg_pixels(None)

@@ -13,6 +13,7 @@ import pytest  # noqa: E402
 from pil.errors import InvalidChoiceError, RobinPilError  # noqa: E402
 from pil.types import Feedback, Gesture  # noqa: E402
 from robin_sim.model.names import HOME_KEY  # noqa: E402
+from robin_sim.model.person_joints import figure  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import POSES, GestureDisplay, pose_for  # noqa: E402
 from robin_sim.render.renderer import FrameRenderer  # noqa: E402
@@ -134,7 +135,7 @@ def test_project_scene_shows_every_pose_without_changing_physics() -> None:
             if shown is not None and step % 40 == 0:
                 shown.show(POSES[(step // 40) % len(POSES)])
             mujoco.mj_step(model, data)
-            positions.append(data.qpos.copy())
+            positions.append(np.concatenate([data.qpos, data.userdata]))  # person: userdata
         return np.array(positions), shown
 
     plain, _ = run(display=False)
@@ -143,8 +144,9 @@ def test_project_scene_shows_every_pose_without_changing_physics() -> None:
     # only the person's hand joints moved (written): the robot's, the palm's and the legs'
     # positions are the same to the bit
     hand = np.zeros(plain.shape[1], bool)
-    hand[display.hand.qadr] = True
-    hand[display.hand.turn_q : display.hand.turn_q + 4] = True
+    nq = plain.shape[1] - figure().size  # the person's joints follow the scene's qpos
+    hand[nq + display.hand.qadr] = True
+    hand[nq + display.hand.turn_q : nq + display.hand.turn_q + 4] = True
     np.testing.assert_array_equal(plain[:, ~hand], switched[:, ~hand])
     assert np.any(plain[:, hand] != switched[:, hand])
     for pose in POSES:

@@ -70,7 +70,7 @@ def test_the_footage_drives_the_persons_fingertips(tmp_path: Path) -> None:
         assert mirror is not None
         world = session.body.world
         legs = world.legs.positions()
-        turn_before = mirror.data.qpos[mirror.turn_q : mirror.turn_q + 4].copy()
+        turn_before = mirror.data.userdata[mirror.turn_q : mirror.turn_q + 4].copy()
         errors: dict[str, np.ndarray] = {}
         for sequence in BOUNDS_MM:
             messages = footage_messages(sequence)
@@ -85,7 +85,7 @@ def test_the_footage_drives_the_persons_fingertips(tmp_path: Path) -> None:
             errors[sequence] = np.array(mirror.errors_mm[before:])
             assert len(errors[sequence]) == len(messages) >= 20
         follow, turn = np.array(mirror.follow_mm), np.array(mirror.turn_deg)
-        turned = np.abs(mirror.data.qpos[mirror.turn_q : mirror.turn_q + 4] - turn_before).max()
+        turned = np.abs(mirror.data.userdata[mirror.turn_q : mirror.turn_q + 4] - turn_before).max()
         still = np.abs(world.legs.positions() - legs).max()
         for sequence, e in errors.items():
             print(f"mirror {sequence}: fingertips {e.mean():.1f} mm mean, {e.max():.1f} worst")

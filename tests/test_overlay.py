@@ -12,6 +12,7 @@ from robin_sim.render.overlay import (
     OverlayInfo,
     draw_overlay,
     overlay_lines,
+    progress_lines,
 )
 
 INFO = OverlayInfo(
@@ -34,7 +35,7 @@ def background() -> np.ndarray:
 
 
 def test_lines_name_every_field() -> None:
-    text = "\n".join(overlay_lines(INFO))
+    text = "\n".join(progress_lines(INFO) + overlay_lines(INFO))
     for part in (
         "step 12",
         "34.50 s",
@@ -50,20 +51,26 @@ def test_lines_name_every_field() -> None:
     assert any("(not detected)" in line for line in undetected)
 
 
-def test_text_panel_changes_its_box_near_the_top_left_only() -> None:
-    from robin_sim.render.overlay import TEXT_PANEL_LEFT, text_panel_box
+def test_text_panels_change_their_boxes_on_the_bottom_edge_only() -> None:
+    from robin_sim.render.overlay import panel_boxes, progress_lines
 
     frame = draw_overlay(background(), INFO)
     changed = np.any(frame != background(), axis=2)
-    x0, y0, x1, y1 = text_panel_box(frame.shape, overlay_lines(INFO))
-    assert x0 == round(TEXT_PANEL_LEFT * frame.shape[1]) > 100 and y0 == 0  # the head is left
-    assert 200 < x1 - x0 < 320 and 100 < y1 < 170
-    assert changed[y0:y1, x0:x1].mean() > 0.9  # darkened panel with text
+    boxes = panel_boxes(frame.shape, INFO)
+    assert len(boxes) == 2  # no policy: the progress panel and the panel of what happens now
+    (px0, py0, px1, py1), (nx0, ny0, nx1, ny1) = boxes
+    assert (px0, py1, ny1) == (0, 480, 480) and px1 <= nx0  # bottom left; then side by side
+    assert min(py0, ny0) >= 380 and nx1 < 640 - 150  # the bottom band; left of P(a|s)
+    assert 180 < nx1 - nx0 < 260 and 80 < px1 - px0 < 130
+    for x0, y0, x1, y1 in boxes:
+        assert changed[y0:y1, x0:x1].mean() > 0.9  # darkened panel with text
+        panel = frame[y0:y1, x0:x1].astype(int).sum(axis=2)
+        assert np.sum(panel > 600) > 150  # white text pixels on the dark panel
     outside = changed.copy()
-    outside[y0:y1, x0:x1] = False
+    for x0, y0, x1, y1 in boxes:
+        outside[y0:y1, x0:x1] = False
     assert not outside.any()  # nothing drawn elsewhere without a policy or spots
-    panel = frame[y0:y1, x0:x1].astype(int).sum(axis=2)
-    assert np.sum(panel > 600) > 500  # white text pixels on the dark panel
+    assert "handover" not in " ".join(progress_lines(INFO))  # no handover given: no line
 
 
 def test_policy_panel_draws_bars_proportional_to_probability() -> None:
@@ -78,8 +85,8 @@ def test_policy_panel_draws_bars_proportional_to_probability() -> None:
 
 def test_overlay_scales_with_the_frame() -> None:
     small = draw_overlay(np.zeros((240, 320, 3), np.uint8), INFO)
-    assert np.any(small[:75, :125] > 0)
-    assert not np.any(small[120:, 200:])
+    assert np.any(small[190:, :60] > 0) and np.any(small[190:, 130:230] > 0)
+    assert not np.any(small[:185]) and not np.any(small[:, 250:])
 
 
 def test_bad_inputs_are_refused() -> None:

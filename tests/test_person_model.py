@@ -1,4 +1,5 @@
-"""The articulated person (models/person/person.xml): joints, limits, rest pose, reach, looks."""
+"""The articulated person (models/person/person.xml): joints, limits, rest pose, reach, looks;
+its joints kept out of the physics and posed from userdata exactly as MuJoCo's joints would."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ import pytest
 
 from robin_sim.figure.articulated import ArticulatedHand
 from robin_sim.figure.posture import Posture
-from robin_sim.model import names
+from robin_sim.model import names, person_joints
 from robin_sim.model import robot_spec as spec
+from robin_sim.model.person_joints import figure, is_person_joint
 from robin_sim.model.scene import LEG_COLORS, SceneLayout, build_model
 
 HINGE = mujoco.mjtJoint.mjJNT_HINGE
@@ -41,13 +43,13 @@ def test_each_hand_has_the_21_landmark_skeleton_with_limited_joints(scene) -> No
         joints = names.person_hand_joints(side)
         assert len(joints) == 20  # >= 15: three per finger (and a spread), the thumb 4
         for name in joints:
-            j = model.joint(name)
-            assert j.type[0] == HINGE and j.limited[0]
+            j = figure().joint(name)
+            assert j.kind == HINGE
             low, high = j.range
             assert low < 0.0 <= high and high - low > 0.5, name  # the straight hand is inside
         # the thumb's base: two joints in one body, about different axes
-        base = model.body(names.person_finger_bodies(side, "thumb")[0]).id
-        axes = [model.jnt_axis[j] for j in range(model.njnt) if model.jnt_bodyid[j] == base]
+        base = names.person_finger_bodies(side, "thumb")[0]
+        axes = [j.axis for j in figure().joints if j.body == base]
         assert len(axes) == 2 and abs(float(np.dot(*axes))) < 0.1
         # 21 landmarks: the wrist point, and per finger three bodies (knuckles) and a tip
         assert model.site(names.person_wrist_point(side)).id >= 0
@@ -56,16 +58,15 @@ def test_each_hand_has_the_21_landmark_skeleton_with_limited_joints(scene) -> No
             assert model.site(names.person_fingertip_site(side, finger)).id >= 0
 
 
-def test_arms_head_and_torso_joints_are_limited(scene) -> None:
-    model, _ = scene
+def test_arms_head_and_torso_joints_are_limited() -> None:
     for name in (
         *names.person_arm_joints("r"),
         *names.person_arm_joints("l"),
         *names.NECK_JOINTS,
         *names.TORSO_JOINTS,
     ):
-        j = model.joint(name)
-        assert j.limited[0] and j.range[0] < j.range[1], name
+        j = figure().joint(name)
+        assert j.range[0] < j.range[1], name
         assert j.range[0] <= 0.0 <= j.range[1], name  # zero: standing upright, arms hanging
 
 
@@ -77,7 +78,7 @@ def test_no_segment_touches_the_table_or_bin_at_rest(scene) -> None:
     mujoco.mj_kinematics(model, data)
     mujoco.mj_collision(model, data)
     assert posture.gap < 1e-3 and all(
-        abs(data.joint(j).qpos[0]) < 1e-5 for j in names.TORSO_JOINTS
+        abs(data.userdata[figure().joint(j).adr]) < 1e-5 for j in names.TORSO_JOINTS
     )  # at rest the person stands upright where the file puts them
     person = _subtree(model, names.PERSON_BODY) + _subtree(model, names.HUMAN_MOCAP_BODY)
     fixed = _subtree(model, names.TABLE_BODY) + _subtree(model, names.BIN_BODY)
@@ -124,3 +125,42 @@ def test_clothes_look_like_no_leg(scene) -> None:
     skin = ArticulatedHand(model, mujoco.MjData(model)).skin_geoms
     # two hands of 17 geoms, the neck, the face, two wrists
     assert len(skin) == 38 and not set(skin.tolist()) & set(worn)
+
+
+def test_the_person_has_no_dofs_and_poses_as_its_joints_would(scene) -> None:
+    """The scene keeps none of the person's joints (the integrator pays for none of them);
+    :func:`person_joints.pose` places every person geom and site where MuJoCo's own kinematics
+    puts them in ``scene.xml`` compiled with the joints, for random angles within the limits."""
+    model, _ = scene
+    assert not any(is_person_joint(model.joint(j).name) for j in range(model.njnt))
+    assert model.nuserdata == figure().size == 63  # 62 DoFs: one ball (a quaternion)
+    jointed = mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
+    assert jointed.nv - model.nv == 62
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        a, b = mujoco.MjData(jointed), mujoco.MjData(model)
+        for j in figure().joints:
+            adr = jointed.joint(j.name).qposadr[0]
+            if j.size == 4:
+                value = rng.normal(size=4)
+                value /= np.linalg.norm(value)
+            else:
+                value = np.array([rng.uniform(*j.range)])
+            a.qpos[adr : adr + j.size] = value
+            b.userdata[j.adr : j.adr + j.size] = value
+        mujoco.mj_kinematics(jointed, a)
+        person_joints.pose(model, b)
+        mujoco.mj_kinematics(model, b)
+        for kind, count in (
+            (mujoco.mjtObj.mjOBJ_GEOM, jointed.ngeom),
+            (mujoco.mjtObj.mjOBJ_SITE, jointed.nsite),
+        ):
+            for k in range(count):
+                name = mujoco.mj_id2name(jointed, kind, k)
+                if not name or not name.startswith("human_"):
+                    continue
+                if kind == mujoco.mjtObj.mjOBJ_GEOM:
+                    np.testing.assert_allclose(b.geom(name).xpos, a.geom_xpos[k], atol=1e-9)
+                    np.testing.assert_allclose(b.geom(name).xmat, a.geom_xmat[k], atol=1e-9)
+                else:
+                    np.testing.assert_allclose(b.site(name).xpos, a.site_xpos[k], atol=1e-9)

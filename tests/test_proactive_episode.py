@@ -122,7 +122,7 @@ def test_the_overlay_shows_an_anticipation_as_no_gesture() -> None:
     view = EpisodeView()
     view.decided(record)
     lines = overlay_lines(view.info)
-    assert "person:   -" in lines and "detected: -" in lines
+    assert "person:   -   feedback: -" in lines and "detected: -" in lines
     assert "action:   close (anticipating grasp)" in lines
     view.decided(record._replace(proactive=False))
-    assert "person:   grasp" in overlay_lines(view.info)
+    assert "person:   grasp   feedback: -" in overlay_lines(view.info)

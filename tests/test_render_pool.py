@@ -17,7 +17,7 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from robin_sim.model import names  # noqa: E402
+from robin_sim.model import names, person_joints  # noqa: E402
 from robin_sim.model.scene import SceneLayout, build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.render.overlay import OverlayInfo, draw_overlay  # noqa: E402
@@ -67,11 +67,13 @@ def direct_renders(model: mujoco.MjModel, states: list[FrameState]) -> list[np.n
         renderer.render(data)
         for state in states:
             data.qpos[:], data.mocap_pos[:], data.mocap_quat[:] = (
-                state.qpos,
+                state.qpos[: model.nq],
                 state.mocap_pos,
                 state.mocap_quat,
             )
+            data.userdata[:] = state.qpos[model.nq :]  # the person's joints follow
             model.geom_rgba[:] = state.geom_rgba
+            person_joints.pose(model, data)
             mujoco.mj_forward(model, data)
             frames.append(renderer.render(data))
     return frames
@@ -120,15 +122,15 @@ def test_frames_come_back_in_order_and_equal_direct_renders(
 def test_gesture_pose_change_shows_in_worker_frames() -> None:
     model, states = rollout(None, 1)
     data = mujoco.MjData(model)
-    data.qpos[:] = states[0].qpos
-    display = GestureDisplay(model, data)  # the articulated hand: the pose is in qpos
+    data.qpos[:], data.userdata[:] = states[0].qpos[: model.nq], states[0].qpos[model.nq :]
+    display = GestureDisplay(model, data)  # the articulated hand: the pose is in userdata
     with RenderPool(None, WIDTH, HEIGHT, "side", workers=1) as pool:
         for pose in ("neutral", "thumb_up", "neutral"):
             display.show(pose)
             pool.submit(
                 FrameState(
                     states[0].time,
-                    data.qpos.copy(),
+                    np.concatenate([data.qpos, data.userdata]),  # the person's joints last
                     states[0].mocap_pos,
                     states[0].mocap_quat,
                     model.geom_rgba.copy(),

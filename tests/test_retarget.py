@@ -9,7 +9,7 @@ from hand_data import footage
 
 from robin_sim.figure.pose_library import load_library
 from robin_sim.figure.retarget import FINGER_POINTS, Retargeter, metric, steady_palm_frame
-from robin_sim.model import names
+from robin_sim.model import names, person_joints
 from robin_sim.model.scene import build_model
 
 # degrees: median over the footage's frames and a finger's three bones of the angle between a
@@ -27,7 +27,7 @@ def bone_errors(refine: bool) -> dict[str, list[float]]:
     model = build_model()
     data = mujoco.MjData(model)
     retargeter = Retargeter(model)
-    qadr = model.jnt_qposadr[[model.joint(j).id for j in retargeter.joints]]
+    qadr = person_joints.figure().adr(retargeter.joints)  # the person's joints live in userdata
     hand = model.body(names.person_hand_body("r")).id
     reads = footage()
     errors: dict[str, list[float]] = {}
@@ -36,7 +36,8 @@ def bone_errors(refine: bool) -> dict[str, list[float]]:
         if not np.isfinite(points).all():
             continue
         mirror = retargeter.curled_toward_palm(points, aspect, False) < 0
-        data.qpos[qadr] = retargeter.fit(points, aspect, mirror, refine=refine)
+        data.userdata[qadr] = retargeter.fit(points, aspect, mirror, refine=refine)
+        person_joints.pose(model, data)
         mujoco.mj_kinematics(model, data)
         p = metric(points, aspect, mirror)
         frame = steady_palm_frame(p)

@@ -1,7 +1,7 @@
-"""The episode video explains itself: the overlay leaves the person's head in sight, the table
-spots are ringed and numbered where they are, no garment of the person looks like a leg, the
-overlay names the action meant and the handover type, and the last frame counts every leg the
-episode delivered. Real MuJoCo renders (EGL) and decoded H.264."""
+"""The episode video explains itself: the overlay leaves the person's head and hands in sight,
+the table spots are ringed and numbered where they are, no garment of the person looks like a
+leg, the overlay names the action meant and the handover type, and the last frame counts every
+leg the episode delivered. Real MuJoCo renders (EGL) and decoded H.264."""
 
 from __future__ import annotations
 
@@ -18,13 +18,12 @@ from pil.types import ACTIONS
 from robin_sim.model import names
 from robin_sim.model.scene import LEG_COLORS, SceneLayout, build_model
 from robin_sim.render.inset import inset_box
-from robin_sim.render.overlay import OverlayInfo, draw_overlay, overlay_lines
+from robin_sim.render.overlay import OverlayInfo, draw_overlay, overlay_lines, progress_lines
+from robin_sim.render.person_view import part_boxes
 from robin_sim.render.renderer import FrameRenderer, camera_id
-from robin_sim.render.spots import project, spot_pixels
+from robin_sim.render.spots import spot_pixels
 
 WIDTH, HEIGHT = 640, 480
-HEAD = (0.0, 0.0, 1.64)  # the head sphere's centre in the person's body (models/scene.xml)
-HEAD_RADIUS = 0.1
 BUSY = OverlayInfo(
     step=123,
     sim_time=456.78,
@@ -53,28 +52,18 @@ def scene() -> tuple[mujoco.MjModel, mujoco.MjData, np.ndarray]:
     return model, data, frame
 
 
-def _head_disc(model: mujoco.MjModel, data: mujoco.MjData) -> tuple[np.ndarray, float]:
-    camera = camera_id(model, names.DEFAULT_CAMERA)
-    body = data.body(names.PERSON_BODY)
-    centre = body.xpos + body.xmat.reshape(3, 3) @ np.array(HEAD)
-    sideways = data.cam_xmat[camera].reshape(3, 3)[:, 0] * HEAD_RADIUS
-    (middle, edge) = project(
-        model, data, camera, np.array([centre, centre + sideways]), (WIDTH, HEIGHT)
-    )
-    return middle, float(np.linalg.norm(edge - middle))
-
-
-def test_the_overlay_and_the_inset_leave_the_head_in_sight(scene) -> None:
+def test_the_overlay_and_the_inset_leave_the_head_and_hands_in_sight(scene) -> None:
     model, data, frame = scene
-    (x, y), radius = _head_disc(model, data)
-    assert 0 < x < WIDTH and 0 < y < HEIGHT and radius > 10  # the head is in the front view
+    camera = camera_id(model, names.DEFAULT_CAMERA)
+    parts = part_boxes(model, data, camera, (WIDTH, HEIGHT))
     drawn = draw_overlay(frame.copy(), BUSY)
     x0, y0, x1, y1 = inset_box(WIDTH, HEIGHT)
     drawn[y0 - 2 : y1 + 20, x0 - 2 : x1 + 2] = 0  # where the eye inset and its label go
     changed = np.any(drawn != frame, axis=2)
-    rows, cols = np.ogrid[:HEIGHT, :WIDTH]
-    head = (cols - x) ** 2 + (rows - y) ** 2 <= radius**2
-    assert not np.any(changed & head), f"{np.sum(changed & head)} head pixels covered"
+    for name, (px0, py0, px1, py1) in parts.items():
+        assert 0 <= px0 < px1 <= WIDTH and 0 <= py0 < py1 <= HEIGHT, name  # in the front view
+        box = changed[int(py0) : int(np.ceil(py1)), int(px0) : int(np.ceil(px1))]
+        assert not box.any(), f"{np.sum(box)} pixels of the {name} covered"
 
 
 def test_the_spots_are_ringed_and_numbered_where_the_table_has_them(scene) -> None:
@@ -98,7 +87,7 @@ def test_the_spots_are_ringed_and_numbered_where_the_table_has_them(scene) -> No
 
 
 def test_the_overlay_names_the_action_meant_and_the_handover_type() -> None:
-    text = "\n".join(overlay_lines(BUSY))
+    text = "\n".join(progress_lines(BUSY) + overlay_lines(BUSY))
     assert "meant:    human" in text and "handover 40, type J" in text
 
 

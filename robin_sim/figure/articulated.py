@@ -4,12 +4,14 @@
 from real hands) and one :class:`~robin_sim.figure.hand_poses.Performance` into the hand's 20
 joint angles and its turn in the mocap frame (the ball joint ``human_r_hand_turn``: where the
 pose's silhouette faces, :func:`~robin_sim.figure.hand_poses.wrist_rotation`), and writes them
-into ``data.qpos``. A change of pose is either immediate (a still picture, Robin's reading) or
-a seeded minimum-jerk blend from the current hand over ``blend`` seconds, played out by
-:meth:`ArticulatedHand.update` at every control tick: the hand moves into a gesture, it does
-not switch shapes. Only the person's joints are written (their geoms never collide); the
-collision palm under the mocap frame is untouched. The performance's hand size is not used
-(the hand's segment lengths are the model's); its skin tone colours every skin geom.
+into ``data.userdata`` (the person's joints live there, not in the physics:
+:mod:`robin_sim.model.person_joints`), posing the hand's bodies. A change of pose is either
+immediate (a still picture, Robin's reading) or a seeded minimum-jerk blend from the current
+hand over ``blend`` seconds, played out by :meth:`ArticulatedHand.update` at every control
+tick: the hand moves into a gesture, it does not switch shapes. Only the person's joints are
+written (their geoms never collide); the collision palm under the mocap frame is untouched. The
+performance's hand size is not used (the hand's segment lengths are the model's); its skin tone
+colours every skin geom.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ import numpy as np
 from robin_sim.figure.hand_poses import SHAPES, Performance, skin_colour, wrist_rotation
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
+from robin_sim.model.person_joints import figure, has_figure, pose
 
 # How a performance's offsets enter the joints (rad per unit): a finger's curl spreads over its
 # MCP, PIP and DIP; the spread fans the fingers about the middle; the thumb's direction moves
@@ -43,11 +46,8 @@ TURNS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] 
 
 
 def has_articulated_hand(model: mujoco.MjModel) -> bool:
-    """Whether ``model`` holds the articulated person (its right hand's joints)."""
-    return all(
-        mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, j) >= 0
-        for j in (*names.person_hand_joints("r"), names.HUMAN_HAND_TURN)
-    )
+    """Whether ``model`` holds the articulated person (posed from its userdata)."""
+    return has_figure(model)
 
 
 def _smooth(s: float) -> float:
@@ -74,13 +74,11 @@ class ArticulatedHand:
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         self.model, self.data = model, data
         self.library = load_library()
-        ids = [model.joint(j).id for j in names.person_hand_joints("r")]
-        self.qadr = model.jnt_qposadr[ids]
-        self.dadr = model.jnt_dofadr[ids]
-        self.low, self.high = model.jnt_range[ids, 0], model.jnt_range[ids, 1]
-        turn = model.joint(names.HUMAN_HAND_TURN).id
-        self.turn_q = int(model.jnt_qposadr[turn])
-        self.turn_v = int(model.jnt_dofadr[turn])
+        fig = figure()
+        joints = names.person_hand_joints("r")
+        self.qadr = fig.adr(joints)  # in data.userdata
+        self.low, self.high = fig.ranges(joints).T
+        self.turn_q = fig.joint(names.HUMAN_HAND_TURN).adr
         self.hand_geoms = subtree_geoms(model, names.person_hand_body("r"))
         person = np.concatenate(
             [subtree_geoms(model, names.PERSON_BODY), subtree_geoms(model, names.HUMAN_MOCAP_BODY)]
@@ -94,11 +92,12 @@ class ArticulatedHand:
     # --- reading the hand -----------------------------------------------------------------
     def angles(self) -> np.ndarray:
         """The hand's joint angles now (rad)."""
-        return self.data.qpos[self.qadr].copy()
+        return self.data.userdata[self.qadr].copy()
 
     def turn(self) -> np.ndarray:
         """The hand's turn in the mocap frame now (quaternion w, x, y, z)."""
-        return self.data.qpos[self.turn_q : self.turn_q + 4].copy()
+        turn = self.data.userdata[self.turn_q : self.turn_q + 4].copy()
+        return turn if np.any(turn) else np.array([1.0, 0.0, 0.0, 0.0])  # fresh data: none
 
     def target(
         self, pose: str, performance: Performance | None = None
@@ -153,7 +152,6 @@ class ArticulatedHand:
             self._from = None
 
     def _write(self, angles: np.ndarray, quat: np.ndarray) -> None:
-        self.data.qpos[self.qadr] = angles
-        self.data.qvel[self.dadr] = 0.0
-        self.data.qpos[self.turn_q : self.turn_q + 4] = quat
-        self.data.qvel[self.turn_v : self.turn_v + 3] = 0.0
+        self.data.userdata[self.qadr] = angles
+        self.data.userdata[self.turn_q : self.turn_q + 4] = quat
+        pose(self.model, self.data)

@@ -31,6 +31,7 @@ import numpy as np
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
+from robin_sim.model.person_joints import figure, pose
 
 # z of the forearm's direction from the wrist to the elbow: the elbow at most this far below
 # or above the wrist per metre of forearm
@@ -70,16 +71,17 @@ class Posture:
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         self.model, self.data = model, data
 
+        fig = figure()  # the person's joints live in data.userdata (model.person_joints)
+
         def joint(name: str) -> tuple[int, int, np.ndarray, np.ndarray]:
-            j = model.joint(name)
-            return int(j.qposadr[0]), int(j.dofadr[0]), j.axis.copy(), j.range.copy()
+            j = fig.joint(name)
+            return j.adr, -1, j.axis.copy(), j.range.copy()
 
         self.torso = [joint(n) for n in names.TORSO_JOINTS]  # step, turn, lean
         self.neck = [joint(n) for n in names.NECK_JOINTS]
         self.arm = [joint(n) for n in names.person_arm_joints("r")]
         left_hand = [joint(n) for n in names.person_hand_joints("l")]
         self.left_hand_q = np.array([q for q, *_ in left_hand])
-        self.left_hand_v = np.array([v for _, v, *_ in left_hand])
         low = np.array([r[0] for *_, r in left_hand]) + JOINT_LIMIT_MARGIN
         high = np.array([r[1] for *_, r in left_hand]) - JOINT_LIMIT_MARGIN
         self.left_hand_pose = np.clip(load_library().pose("neutral"), low, high)
@@ -94,8 +96,7 @@ class Posture:
         self.wrist_point = model.site(names.person_wrist_point("r")).pos.copy()
         mocap = body(names.HUMAN_MOCAP_BODY)
         self.mocap = int(mocap.mocapid[0])
-        turn = model.joint(names.HUMAN_HAND_TURN)
-        self.turn_q = int(turn.qposadr[0])
+        self.turn_q = fig.joint(names.HUMAN_HAND_TURN).adr
         self.gap = 0.0
         self.wrist_error = 0.0
         self.hand: ArticulatedHand | None = None  # its blends play out first, at each tick
@@ -105,9 +106,9 @@ class Posture:
     # --- the hand it follows --------------------------------------------------------------
     def hand_frame(self) -> tuple[np.ndarray, np.ndarray]:
         """World position of the hand's wrist point and the hand's rotation."""
-        rotation = _quat_mat(self.data.mocap_quat[self.mocap]) @ _quat_mat(
-            self.data.qpos[self.turn_q : self.turn_q + 4]
-        )
+        turn = self.data.userdata[self.turn_q : self.turn_q + 4]
+        turn = turn if np.any(turn) else np.array([1.0, 0.0, 0.0, 0.0])  # fresh data: none
+        rotation = _quat_mat(self.data.mocap_quat[self.mocap]) @ _quat_mat(turn)
         origin = self.data.mocap_pos[self.mocap]
         return origin + rotation @ self.wrist_point, rotation
 
@@ -250,7 +251,7 @@ class Posture:
             [
                 self.data.mocap_pos[self.mocap],
                 self.data.mocap_quat[self.mocap],
-                self.data.qpos[self.turn_q : self.turn_q + 4],
+                self.data.userdata[self.turn_q : self.turn_q + 4],
             ]
         )
         if self._last is not None and np.array_equal(key, self._last):
@@ -258,11 +259,10 @@ class Posture:
         self._last = key
         self._solved_at = now
         values = self.solve()
-        qpos, qvel = self.data.qpos, self.data.qvel
+        qpos = self.data.userdata  # the person's joints (model.person_joints)
         joints = [*self.torso, *self.neck, *self.arm]
         ordered = [*names.TORSO_JOINTS, *names.NECK_JOINTS, *names.person_arm_joints("r")]
-        for (q, v, _, (low, high)), name in zip(joints, ordered, strict=True):
+        for (q, _, _, (low, high)), name in zip(joints, ordered, strict=True):
             qpos[q] = min(max(values[name], low + JOINT_LIMIT_MARGIN), high - JOINT_LIMIT_MARGIN)
-            qvel[v] = 0.0
         qpos[self.left_hand_q] = self.left_hand_pose
-        qvel[self.left_hand_v] = 0.0
+        pose(self.model, self.data)

@@ -29,6 +29,7 @@ no gains. Twist about a bone is not observed and is left at the model's.
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Callable
 
 import mujoco
@@ -36,6 +37,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from robin_sim.model import names
+from robin_sim.model.person_joints import figure, pose
 
 DEPTH_WEIGHT = 0.5  # the tracker's depth residual against its image-plane ones
 REFINE_EVALUATIONS = 30  # solver steps at most per fit (each five forward kinematics)
@@ -120,28 +122,29 @@ class Retargeter:
     """Fits joint angles of the model's right hand (:func:`names.person_hand_joints`)."""
 
     def __init__(self, model: mujoco.MjModel) -> None:
-        body = model.body(names.person_finger_bodies("r", "thumb")[0])
+        fig = figure()
         rotation = np.zeros(9)
-        mujoco.mju_quat2Mat(rotation, body.quat)
+        mujoco.mju_quat2Mat(rotation, fig.base_quat_of(names.person_finger_bodies("r", "thumb")[0]))
         self.thumb_frame = rotation.reshape(3, 3)  # thumb base axes in the hand frame
         self.joints = names.person_hand_joints("r")
-        ids = [model.joint(j).id for j in self.joints]
-        self.low, self.high = model.jnt_range[ids, 0], model.jnt_range[ids, 1]
-        self.model = model
-        self._data = mujoco.MjData(model)  # the hand posed for the refinement
-        self._qadr = model.jnt_qposadr[ids]
+        self.low, self.high = fig.ranges(self.joints).T
+        # a copy: posing writes the person's body frames into the model (model.person_joints)
+        self.model = copy.copy(model)
+        self._data = mujoco.MjData(self.model)  # the hand posed for the refinement
+        self._qadr = fig.adr(self.joints)  # in data.userdata
         self._hand = model.body(names.person_hand_body("r")).id
         fingers = names.PERSON_HAND_FINGERS  # per finger: its three bodies' origins, its tip
         self._bodies = np.array(
             [[model.body(b).id for b in names.person_finger_bodies("r", f)] for f in fingers]
         )
         self._tips = np.array([model.site(names.person_fingertip_site("r", f)).id for f in fingers])
-        self._per_finger = len(ids) // len(fingers)  # four joints each, finger by finger
+        self._per_finger = len(self.joints) // len(fingers)  # four joints each, finger by finger
 
     def model_bones(self, angles: np.ndarray) -> np.ndarray:
         """(15, 3): the model's unit bone directions in the hand frame, posed with ``angles``."""
         data = self._data
-        data.qpos[self._qadr] = angles
+        data.userdata[self._qadr] = angles
+        pose(self.model, data)
         mujoco.mj_kinematics(self.model, data)
         rotation = data.xmat[self._hand].reshape(3, 3)
         chain = np.concatenate([data.xpos[self._bodies], data.site_xpos[self._tips][:, None]], 1)

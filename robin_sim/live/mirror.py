@@ -30,6 +30,7 @@ follows the retargeting);
 
 from __future__ import annotations
 
+import copy
 import threading
 from itertools import pairwise
 
@@ -41,6 +42,7 @@ from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN
 from robin_sim.figure.retarget import FINGER_POINTS, Retargeter
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.model import names
+from robin_sim.model.person_joints import figure, pose
 
 # camera axes (image right, image down, depth away) in the world, as Robin faces the person
 CAMERA_TO_WORLD = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
@@ -64,12 +66,12 @@ class HandMirror:
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         self.model, self.data = model, data
         self.retargeter = Retargeter(model)
-        ids = [model.joint(j).id for j in self.retargeter.joints]
-        self.qadr, self.dadr = model.jnt_qposadr[ids], model.jnt_dofadr[ids]
+        fig = figure()  # the person's joints live in data.userdata (model.person_joints)
+        self.qadr = fig.adr(self.retargeter.joints)
         self.low = self.retargeter.low + JOINT_LIMIT_MARGIN
         self.high = self.retargeter.high - JOINT_LIMIT_MARGIN
-        turn = model.joint(names.HUMAN_HAND_TURN)
-        self.turn_q, self.turn_v = int(turn.qposadr[0]), int(turn.dofadr[0])
+        self.turn_q = fig.joint(names.HUMAN_HAND_TURN).adr
+        self._own = copy.copy(model)  # posing writes body frames into a model: its own copy
         self.mocap = int(model.body(names.HUMAN_MOCAP_BODY).mocapid[0])
         self.hand_body = model.body(names.person_hand_body("r")).id
         self.wrist_site = model.site(names.person_wrist_point("r")).id
@@ -77,8 +79,9 @@ class HandMirror:
             model.site(names.person_fingertip_site("r", f)).id for f in names.PERSON_HAND_FINGERS
         ]
         # the model's hand as built (hand frame, from the wrist point)
-        spec = mujoco.MjData(model)
-        mujoco.mj_kinematics(model, spec)
+        spec = mujoco.MjData(self._own)
+        pose(self._own, spec)  # every joint at zero
+        mujoco.mj_kinematics(self._own, spec)
         rotation = spec.xmat[self.hand_body].reshape(3, 3)
         wrist = spec.site_xpos[self.wrist_site]
         # per finger: its first knuckle (knuckle frame, from the wrist point) and bone lengths
@@ -88,7 +91,7 @@ class HandMirror:
             joints.append(spec.site_xpos[model.site(names.person_fingertip_site("r", finger)).id])
             self.roots.append(rotation.T @ (joints[0] - wrist))
             self.bones.append([float(np.linalg.norm(b - a)) for a, b in pairwise(joints)])
-        self._posed = mujoco.MjData(model)  # the hand posed with a fit alone (for the record)
+        self._posed = mujoco.MjData(self._own)  # the hand posed with a fit alone (the record)
         self._lock = threading.Lock()
         self._pending: HandInput | None = None
         self._target: tuple[np.ndarray, np.ndarray] | None = None
@@ -125,10 +128,9 @@ class HandMirror:
             self._apply(hand)
         if self._target is not None:
             angles, quat = self._target
-            self.data.qpos[self.qadr] = angles
-            self.data.qvel[self.dadr] = 0.0
-            self.data.qpos[self.turn_q : self.turn_q + 4] = quat
-            self.data.qvel[self.turn_v : self.turn_v + 3] = 0.0
+            self.data.userdata[self.qadr] = angles
+            self.data.userdata[self.turn_q : self.turn_q + 4] = quat
+            pose(self.model, self.data)
 
     def fit(self, hand: HandInput) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Joint angles, turn quaternion, the landmarks' fingertips scaled to the model (m, hand
@@ -164,8 +166,9 @@ class HandMirror:
         angles, quat, tips, world = self.fit(hand)
         self._target = (angles, quat)
         posed = self._posed
-        posed.qpos[self.qadr] = angles
-        mujoco.mj_kinematics(self.model, posed)
+        posed.userdata[self.qadr] = angles
+        pose(self._own, posed)
+        mujoco.mj_kinematics(self._own, posed)
         self._wanted = (tips, self.tips_now(posed), world)
         self.readings += 1
 

@@ -38,6 +38,15 @@ def inset_box(width: int, height: int) -> tuple[int, int, int, int]:
     return x1 - w, margin, x1, margin + h
 
 
+def inset_region(width: int, height: int, label: str = INSET_LABEL) -> tuple[int, int, int, int]:
+    """(x0, y0, x1, y1) of every pixel :func:`draw_eye_inset` changes: the inset, its frame
+    and the label's band under it."""
+    x0, y0, x1, y1 = inset_box(width, height)
+    scale = height / 480.0
+    (_, text_h), _ = cv2.getTextSize(label, FONT, 0.4 * scale, max(1, round(scale)))
+    return x0 - 2, y0 - 2, x1 + 2, min(height, y1 + 2 + text_h + round(8 * scale))
+
+
 def draw_eye_inset(frame: np.ndarray, eye: np.ndarray, label: str = INSET_LABEL) -> np.ndarray:
     """Paste ``eye`` (its size from :func:`inset_size`) into ``frame`` in place, framed and
     labelled below; returns ``frame``."""

@@ -239,7 +239,7 @@ def check_against_model(path: Path, arrays: Mapping[str, np.ndarray], layout: An
 
     model = build_model(layout)
     widths = {
-        "qpos": (arrays["qpos"].shape[1], model.nq, "joint positions"),
+        "qpos": (arrays["qpos"].shape[1], model.nq + model.nuserdata, "joint positions"),
         "mocap_pos": (arrays["mocap_pos"].shape[1], model.nmocap, "mocap bodies"),
         "geom_rgba": (arrays["geom_rgba"].shape[1], model.ngeom, "geoms"),
     }

@@ -4,11 +4,11 @@ A :class:`StateLog` takes, for every frame a video records, the
 :class:`~robin_sim.render.worker.FrameState` it was rendered from, how many video frames it
 stands for, and what was drawn over it (the episode's overlay info, the eye inset's label). On
 :meth:`StateLog.save` it writes ``states.npz`` (``numpy.savez_compressed``) beside the run's
-log: per frame the time, ``qpos`` and mocap poses; the geom colours and shapes only where they
-changed (the gesture display and the hand poses change them now and then); the overlays as a
-table of distinct JSON texts with an index per frame; and a JSON ``meta`` block with the scene
-layout and the render settings. :func:`load_states` reads it back. About 1 KB per frame before
-compression; no physics is touched.
+log: per frame the time, ``qpos`` (the person's joints after the scene's) and mocap poses; the
+geom colours and shapes only where they changed (the gesture display and the hand poses change
+them now and then); the overlays as a table of distinct JSON texts with an index per frame; and
+a JSON ``meta`` block with the scene layout and the render settings. :func:`load_states` reads
+it back. About 1 KB per frame before compression; no physics is touched.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from robin_sim.render.worker import FrameState
 __all__ = ["STATES_NAME", "RecordedStates", "StateLog", "StatesError", "load_states"]
 
 STATES_NAME = "states.npz"
-FORMAT = 1  # bumped when the file's layout changes
+FORMAT = 2  # bumped when the file's layout changes (2: the person's joints from userdata)
 _GEOM = ("geom_rgba", "geom_pos", "geom_quat", "geom_size")
 
 

@@ -19,6 +19,7 @@ import mujoco
 import numpy as np
 
 from pil.signal_policy import deaf_from_now
+from robin_sim.model.person_joints import has_figure, pose
 from robin_sim.model.scene import SceneLayout, build_model
 from robin_sim.render.gl_backend import ensure_gl_backend
 from robin_sim.render.renderer import FrameRenderer, RenderError, camera_id
@@ -44,7 +45,7 @@ class FrameState:
     and geom shapes."""
 
     time: float
-    qpos: np.ndarray
+    qpos: np.ndarray  # the scene's qpos, then the person's joints (data.userdata)
     mocap_pos: np.ndarray
     mocap_quat: np.ndarray
     geom_rgba: np.ndarray  # (ngeom, 4); the gesture display changes alphas at run time
@@ -58,7 +59,7 @@ class FrameState:
     def capture(cls, model: mujoco.MjModel, data: mujoco.MjData) -> FrameState:
         """Copy the state of ``model``/``data`` now (later changes do not reach the frame)."""
         copies = (
-            data.qpos,
+            np.concatenate([data.qpos, data.userdata]),  # the person's joints: userdata
             data.mocap_pos,
             data.mocap_quat,
             model.geom_rgba,
@@ -98,7 +99,8 @@ class RenderedFrame:
 def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -> None:
     """Write ``state`` into ``model``/``data`` and compute the positions a render shows."""
     data.time = state.time
-    data.qpos[:] = state.qpos
+    data.qpos[:] = state.qpos[: model.nq]
+    data.userdata[:] = state.qpos[model.nq :]  # the person's joints (model.person_joints)
     data.mocap_pos[:] = state.mocap_pos
     data.mocap_quat[:] = state.mocap_quat
     model.geom_rgba[:] = state.geom_rgba
@@ -106,6 +108,8 @@ def apply_state(model: mujoco.MjModel, data: mujoco.MjData, state: FrameState) -
         model.geom_pos[:] = state.geom_pos
         model.geom_quat[:] = state.geom_quat
         model.geom_size[:] = state.geom_size
+    if has_figure(model):
+        pose(model, data)
     mujoco.mj_fwdPosition(model, data)
 
 
@@ -146,7 +150,8 @@ def second_renderer(model: mujoco.MjModel, view: SecondView, shadows: bool) -> F
 def check_state(model: mujoco.MjModel, state: FrameState) -> None:
     """Raise :class:`RenderPoolError` when ``state`` does not fit the pool's scene."""
     nmocap = model.nmocap
-    shapes = [("qpos", (model.nq,)), ("mocap_pos", (nmocap, 3)), ("mocap_quat", (nmocap, 4))]
+    qpos = ("qpos", (model.nq + model.nuserdata,))  # with the person's joints (userdata)
+    shapes = [qpos, ("mocap_pos", (nmocap, 3)), ("mocap_quat", (nmocap, 4))]
     for field, shape in [*shapes, ("geom_rgba", (model.ngeom, 4))]:
         got = np.shape(getattr(state, field))
         if got != shape:

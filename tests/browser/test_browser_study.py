@@ -294,5 +294,8 @@ def check_replay(folder: Path, browser) -> None:
     overlaid = with_log_overlay(recorded, session)
     with ReplayRenderer(recorded) as plain, ReplayRenderer(overlaid) as burnt:
         a, b = plain.render(index), burnt.render(index)
-    panel = (slice(0, 120), slice(120, 400))  # the overlay's text panel, top left of centre
+    from robin_sim.render.overlay import policy_panel_box
+
+    rows = a.shape[0]  # the overlay's text panels: along the bottom, left of the P(a|s) panel
+    panel = (slice(round(0.8 * rows), rows), slice(0, policy_panel_box(a.shape)[0]))
     assert abs(a[panel].astype(int) - b[panel].astype(int)).mean() > 5  # text burnt in
