@@ -17,7 +17,8 @@ from typing import Any
 from pil.bench.declared import Focus, NonInferiority, parse_declared
 from pil.bench.fingerprint import condition_files, fingerprint, staleness
 from pil.bench.suite_fields import Axis, SuiteError, count, mapping, number, parse_axes
-from pil.errors import quote
+from pil.errors import RobinPilError, quote
+from pil.task.params import RATE
 from pil.task.yaml_files import read_small_text, read_yaml_mapping, reject_unknown
 
 SUITE_FILE = Path(__file__).with_name("suite.yaml")
@@ -154,7 +155,10 @@ def _condition(name: str, raw: Any, base: Path) -> Condition:
             f"{where}.gestures.model: {quote(model)}; valid choices: " + ", ".join(GESTURE_MODELS)
         )
     if model == "independent":
-        gestures["rate"] = number(gestures.get("rate"), f"{where}.gestures.rate", 0.0, 1.0)
+        try:  # the one rate check: (0, 1], at least MIN_RATE (pil.task.params.RATE)
+            gestures["rate"] = RATE.parse(gestures.get("rate"), f"{where}.gestures.rate")
+        except RobinPilError as error:
+            raise SuiteError(str(error)) from None
     elif model == "measured":
         gestures["file"] = str((base / str(gestures.get("file"))).resolve())
     elif model == "markov":
