@@ -188,23 +188,13 @@ def run_track(
         second = parts["second"]
         if hasattr(agent, "restart"):
             agent.restart()  # back at the start pose; what it learnt stays
-        after = play(
-            agent,
-            second,
-            make_reader(spec, seeds.detector, len(second)),
-            seeds.person,
-            cap,
-            stall_after=stall,
-        )
-        fresh = as_agent(factory(seeds.learner), seeds.learner, "the agent factory")
-        scratch = play(
-            fresh,
-            second,
-            make_reader(spec, seeds.detector, len(second)),
-            seeds.person,
-            cap,
-            stall_after=stall,
-        )
+
+        def tidy(by: Any) -> Played:  # the second task, the same readings and person
+            reader = make_reader(spec, seeds.detector, len(second))
+            return play(by, second, reader, seeds.person, cap, stall_after=stall)
+
+        after = tidy(agent)
+        scratch = tidy(as_agent(factory(seeds.learner), seeds.learner, "the agent factory"))
         failed = played.failed or after.failed or scratch.failed
         every = (played, after, scratch)
         row.update(

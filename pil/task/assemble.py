@@ -263,29 +263,26 @@ def _phase(
     context = DetectorContext(spec, spec.rate, seeds.detector, max(1, len(script)), world, body)
     detector = detectors[key](context)
     settings = spec.learner
-    learner: Learner
-    if settings.learner == "robust":  # the robust PIL rule (pil.robust)
-        learner = RobustLearner(
-            seeds.learner,
-            table=table,
-            correction=not manual,
-            proactive=settings.proactive,
-            proactive_threshold=settings.proactive_threshold,
-            proactive_min_count=settings.proactive_min_count,
-            step_memory=step_memory_on(settings.step_memory, RobustLearner.STEP_MEMORY_OWN),
-        )
-    else:
-        learner = Learner(
-            seeds.learner,
-            table=table,
-            correction=not manual,
-            exploration=settings.exploration,
-            adaptation=settings.adaptation,
-            proactive=settings.proactive,
-            proactive_threshold=settings.proactive_threshold,
-            proactive_min_count=settings.proactive_min_count,
-            step_memory=step_memory_on(settings.step_memory, Learner.STEP_MEMORY_OWN),
-        )
+    # the robust PIL rule (pil.robust) has its own feedback weighing: no exploration rule
+    kind: type[Learner] = RobustLearner if settings.learner == "robust" else Learner
+    rule = (
+        {}
+        if kind is RobustLearner
+        else {
+            "exploration": settings.exploration,
+            "adaptation": settings.adaptation,
+        }
+    )
+    learner = kind(
+        seeds.learner,
+        table=table,
+        correction=not manual,
+        proactive=settings.proactive,
+        proactive_threshold=settings.proactive_threshold,
+        proactive_min_count=settings.proactive_min_count,
+        step_memory=step_memory_on(settings.step_memory, kind.STEP_MEMORY_OWN),
+        **rule,
+    )
     loop = LoopOptions(
         manual=manual,
         repeat_discarded=spec.detector.repeat_discarded,
