@@ -7,11 +7,13 @@ and judges each robot action by its name in the status, as a participant reads t
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
-from robin_sim.live.session import LiveSession
+from robin_sim.live.session import LiveConfig, LiveSession
 from robin_sim.model import names
 
 WAIT_S = 120.0  # s of wall time a test waits for the session to reach a state
@@ -83,3 +85,21 @@ class Driver:
             self.wait(lambda s, n=logged: s["actions"] >= n, "the action to be logged")
             if action == wanted:
                 return seen
+
+
+SPEED, FPS = 5.0, 5.0  # the pacing never runs ahead; a busy machine only slows the tests
+
+
+def start_session(tmp_path: Path, **options: Any) -> tuple[LiveSession, Driver]:
+    """A started live session without video at the tests' pace, and its driver."""
+    config = LiveConfig(out_root=tmp_path, video=False, speed=SPEED, fps=FPS, **options)
+    live = LiveSession(config)
+    live.start()
+    return live, Driver(live)
+
+
+def read_jsonl(path: Path) -> list[dict[str, Any]]:
+    """A session file's JSON lines ([] before it exists)."""
+    if not path.exists():
+        return []
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]

@@ -11,31 +11,16 @@ the participant points at the leg as the guide says, Robin acts, and the handove
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
-from typing import Any
 
 import pytest
-from live_driver import Driver
+from live_driver import Driver, read_jsonl
+from live_driver import start_session as session
 
-from robin_sim.live.session import LiveConfig, LiveSession
+from robin_sim.live.session import LiveSession
 
 pytestmark = pytest.mark.slow
-SPEED, FPS = 5.0, 5.0  # the pacing never runs ahead; a busy machine only slows the tests
 EMPTY_HAND_MOVES = ("human", "location")
-
-
-def session(tmp_path: Path, **options: Any) -> tuple[LiveSession, Driver]:
-    config = LiveConfig(out_root=tmp_path, video=False, speed=SPEED, fps=FPS, **options)
-    live = LiveSession(config)
-    live.start()
-    return live, Driver(live)
-
-
-def read_jsonl(path: Path) -> list[dict[str, Any]]:
-    if not path.exists():
-        return []
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
 
 
 def refuse_until_empty_hand_move(live: LiveSession, driver: Driver, verdict: str) -> list[str]:

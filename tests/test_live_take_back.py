@@ -11,36 +11,22 @@ is refused with a plain message.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 import pytest
-from live_driver import Driver
+from live_driver import Driver, read_jsonl
+from live_driver import start_session as _start
 
 from pil.table import state_id
 from pil.types import Action, State
 from robin_sim.live.inputs import LiveInputError
-from robin_sim.live.session import LiveConfig, LiveSession
+from robin_sim.live.session import LiveSession
 from robin_sim.live.take_back import TAKE_BACK_WINDOW_S
 
 pytestmark = pytest.mark.slow
-SPEED, FPS = 5.0, 5.0
 TAKE_BACK = {"type": "take_back"}
 POINT_AT_START = State.from_key("pointing|open|free")
-
-
-def session(tmp_path: Path) -> tuple[LiveSession, Driver]:
-    config = LiveConfig(
-        out_root=tmp_path, video=False, speed=SPEED, fps=FPS, seed=0, feedback_window=1.0
-    )
-    live = LiveSession(config)
-    live.start()
-    return live, Driver(live)
-
-
-def read_jsonl(path: Path) -> list[dict[str, Any]]:
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
 
 
 def close_count(live: LiveSession) -> int:
@@ -128,3 +114,7 @@ def test_a_take_back_is_refused_outside_its_window(tmp_path: Path) -> None:
     assert "works for 10 s after an action stands" in inputs[-1]["error"]
     events = read_jsonl(live.out_dir / "events.jsonl")
     assert not [e for e in events if e["event"] == "take_back"], events
+
+
+def session(tmp_path: Path) -> tuple[LiveSession, Driver]:
+    return _start(tmp_path, seed=0, feedback_window=1.0)
