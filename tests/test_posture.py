@@ -1,0 +1,223 @@
+"""The person's posture (robin_sim.figure.posture): the lean is what reaching needs, the torso
+bends in two segments, the idle left arm keeps clear of the table and the bin.
+
+*The lean* is the chest's tilt from vertical (rad, positive forwards): the sum of the two lean
+joints ``human_waist_lean`` and ``human_chest_lean`` (about one axis, so the sum is the tilt;
+:func:`robin_sim.figure.torso.lean_of`, checked against MuJoCo's kinematics below). Its limit is
+the sum of their upper limits, 0.9 rad (:func:`~robin_sim.figure.torso.lean_limit`).
+
+The episode tests run real episodes (MuJoCo physics, EGL renders at a small size, their states
+files), apply each recorded state and read the lean the run wrote (issue 40: the single-box
+torso sat at its 0.9 rad limit in 58 % of one_handover's frames).
+"""
+
+from __future__ import annotations
+
+from robin_sim.render.gl_backend import ensure_gl_backend
+
+ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
+
+import mujoco  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
+from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
+from robin_sim.figure.articulated import ArticulatedHand, subtree_geoms  # noqa: E402
+from robin_sim.figure.idle_arm import MARGIN  # noqa: E402
+from robin_sim.figure.posture import SWIVEL_TRY, Posture  # noqa: E402
+from robin_sim.figure.torso import COMFORT, TorsoPose, lean_limit, lean_of  # noqa: E402
+from robin_sim.model import names, person_joints  # noqa: E402
+from robin_sim.model.scene import build_model  # noqa: E402
+from robin_sim.render.state_log import STATES_NAME, RecordedStates, load_states  # noqa: E402
+from robin_sim.render.worker import apply_state  # noqa: E402
+
+REST = (1.22, 0.28, 0.92)  # the hand's rest place (issue 40's reproduction)
+REST_LEAN = 0.35  # rad: at the rest place no gesture leans more (the limit is 0.9)
+EPISODES = [(s, seed) for s in ("one_handover", "table_one") for seed in (0, 1, 2)]
+BELOW_LIMIT = 0.95  # share of an episode's frames whose lean stays below the limit
+# rad: the median lean over the episodes' frames. Measured 0.006-0.03 per episode (0.9 with
+# the single box, issue 40); the hand rests and gestures near the rest place most of the time,
+# where the person stands upright or steps, so half the frames must lean less than 0.1 rad
+# (6 degrees, the sway of a person standing)
+MEDIAN_LEAN = 0.1
+ARM_CLEAR = 0.01  # m: the idle arm's geoms from the table's and the bin's, on every frame
+
+
+@pytest.fixture(scope="module")
+def scene() -> tuple[mujoco.MjModel, mujoco.MjData, Posture, ArticulatedHand]:
+    model = build_model()
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key(names.HOME_KEY).id)
+    return model, data, Posture(model, data), ArticulatedHand(model, data)
+
+
+def _obstacles(model: mujoco.MjModel) -> np.ndarray:
+    return np.concatenate(
+        [subtree_geoms(model, names.TABLE_BODY), subtree_geoms(model, names.BIN_BODY)]
+    )
+
+
+def _arm_clearance(model: mujoco.MjModel, data: mujoco.MjData) -> float:
+    """The nearest the idle arm's geoms (upper arm to fingertips) come to the table or bin."""
+    arm = subtree_geoms(model, names.person_arm_bodies("l")[0])
+    fromto = np.zeros(6)
+    return min(
+        mujoco.mj_geomDistance(model, data, int(a), int(b), 1.0, fromto)
+        for a in arm
+        for b in _obstacles(model)
+    )
+
+
+def test_the_lean_is_the_chest_tilt_from_vertical(scene) -> None:
+    model, _, _, _ = scene
+    data = mujoco.MjData(model)
+    fig = person_joints.figure()
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        for name in names.TORSO_JOINTS:
+            data.userdata[fig.joint(name).adr] = rng.uniform(*fig.joint(name).range)
+        person_joints.pose(model, data)
+        mujoco.mj_kinematics(model, data)
+        up = data.body(names.PERSON_CHEST_BODY).xmat.reshape(3, 3)[:, 2]
+        turn = data.userdata[fig.joint("human_waist_turn").adr]
+        forwards = np.array([-np.cos(turn), -np.sin(turn), 0.0])  # the turned person's front
+        side = np.array([-np.sin(turn), np.cos(turn), 0.0])
+        tilt = float(np.arctan2(up @ forwards, up[2]))
+        assert abs(tilt - lean_of(data.userdata)) < 1e-9 and abs(up @ side) < 1e-9
+    assert lean_limit() == pytest.approx(0.9)
+
+
+@pytest.mark.parametrize("gesture", names.HUMAN_VIS_POSES)
+def test_at_the_rest_place_no_gesture_bows(scene, gesture: str) -> None:
+    """Issue 40's reproduction: the hand at the rest place showed give me, release, grasp or
+    thumb up with the waist at its 0.9 rad limit; now the person stands nearly upright."""
+    model, data, posture, hand = scene
+    data.mocap_pos[model.body(names.HUMAN_MOCAP_BODY).mocapid[0]] = REST
+    hand.show(gesture)
+    posture.update()
+    mujoco.mj_kinematics(model, data)
+    assert lean_of(data.userdata) < REST_LEAN, (gesture, lean_of(data.userdata))
+    assert posture.gap < 2e-3
+    if gesture == "neutral":  # the hand where the file puts it: the person as the file stands
+        fig = person_joints.figure()
+        assert all(abs(data.userdata[fig.joint(j).adr]) < 1e-5 for j in names.TORSO_JOINTS)
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(
+    x=st.floats(0.75, 1.35),
+    y=st.floats(-0.1, 0.5),
+    z=st.floats(0.8, 1.3),
+    gesture=st.sampled_from(["neutral", "pointing", "give_me"]),
+)
+def test_the_lean_is_what_reaching_needs_and_no_more(scene, x, y, z, gesture) -> None:
+    """Wherever the hand goes: upright while the upright shoulder reaches the wrist; else no
+    torso pose on a fine grid costs less than the one chosen (the lean costs most, so none
+    with less lean reaches as well at the same cost); the arm meets the hand where it can."""
+    model, data, posture, hand = scene
+    data.mocap_pos[model.body(names.HUMAN_MOCAP_BODY).mocapid[0]] = (x, y, z)
+    hand.show(gesture)
+    values = posture.solve()
+    wrist, hand_turn = posture.hand_frame()
+    torso = posture.torso
+    chosen = TorsoPose(values["human_step"], values["human_waist_turn"], lean_of_values(values))
+    upright = torso.shoulders(np.zeros(1), np.zeros(1), np.zeros(1))[0]
+    reaches = np.linalg.norm(wrist - upright) <= COMFORT * torso.reach - 1e-6
+    _, _, upright_error = posture.reach(wrist, hand_turn, TorsoPose(0.0, 0.0, 0.0))
+    if reaches and upright_error < SWIVEL_TRY:  # else a lean may buy the wrist its turn
+        assert chosen == TorsoPose(0.0, 0.0, 0.0)
+    grid = np.stack(
+        np.meshgrid(
+            np.linspace(*torso.step_range, 39),
+            np.linspace(*torso.turn_range, 29),
+            np.linspace(0.0, torso.lean_limit, 46),
+            indexing="ij",
+        ),
+        axis=-1,
+    ).reshape(-1, 3)
+    least = float(torso.cost(wrist, *grid.T).min())
+    cost = float(torso.cost(wrist, *np.array([[chosen.step, chosen.turn, chosen.lean]]).T)[0])
+    if posture.wrist_error < SWIVEL_TRY:  # else a lean may buy the wrist its turn (LEAN_TRIES)
+        assert cost <= least * 1.02 + 1e-3, (chosen, cost, least)
+    if least < 1e-2:  # reachable at little cost: the arm's wrist is on the hand's
+        assert posture.gap < 2e-3
+
+
+def lean_of_values(values: dict[str, float]) -> float:
+    return sum(values[n] for n in names.PERSON_LEAN_JOINTS)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(
+    step=st.floats(-0.38, 0.0),
+    turn=st.floats(-0.7, 0.7),
+    lean=st.floats(0.0, 0.9),
+)
+def test_the_idle_arm_keeps_clear_of_the_table_and_bin_whatever_the_torso(
+    scene, step, turn, lean
+) -> None:
+    model, _, posture, _ = scene
+    data = mujoco.MjData(model)
+    pose = TorsoPose(step, turn, lean)
+    fig = person_joints.figure()
+    waist, chest = posture.torso.lean_joints(lean)
+    values = dict(zip(names.TORSO_JOINTS, (step, turn, waist, chest), strict=True))
+    values.update(posture.idle_arm.solve(*posture.torso.chest_frame(pose), lean))
+    for name, value in values.items():
+        data.userdata[fig.joint(name).adr] = value
+    data.userdata[posture.left_hand_q] = posture.left_hand_pose
+    person_joints.pose(model, data)
+    mujoco.mj_kinematics(model, data)
+    assert posture.idle_arm.clearance >= MARGIN - 1e-9 or lean > 0.8  # swung as far as it goes
+    assert _arm_clearance(model, data) >= ARM_CLEAR, (pose, posture.idle_arm.clearance)
+
+
+@pytest.fixture(scope="module")
+def episodes(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], RecordedStates]:
+    out = {}
+    for scenario, seed in EPISODES:
+        folder = tmp_path_factory.mktemp(f"{scenario}_{seed}")
+        config = EpisodeConfig(
+            scenario=SCENARIOS_DIR / f"{scenario}.yaml",
+            seed=seed,
+            out=folder,
+            width=80,
+            height=60,
+            fps=10,
+            verify=False,
+            progress=False,
+            eye_inset=False,
+            policy_panel=False,
+        )
+        assert run_episode(config)["status"] == "finished"
+        out[scenario, seed] = load_states(folder / STATES_NAME)
+    return out
+
+
+@pytest.mark.slow
+def test_over_whole_episodes_the_lean_stays_below_its_limit(episodes) -> None:
+    limit = lean_limit() - 1e-3
+    every = []
+    for (scenario, seed), recorded in episodes.items():
+        leans = np.array([lean_of(s.qpos[-person_joints.figure().size :]) for s in recorded.states])
+        assert len(leans) > 100, (scenario, seed)
+        assert np.mean(leans < limit) >= BELOW_LIMIT, (scenario, seed, np.mean(leans < limit))
+        every.append(leans)
+    assert float(np.median(np.concatenate(every))) < MEDIAN_LEAN
+
+
+@pytest.mark.slow
+def test_over_whole_episodes_the_idle_arm_keeps_clear(episodes) -> None:
+    model = build_model()
+    data = mujoco.MjData(model)
+    for (scenario, seed), recorded in episodes.items():
+        leans = []
+        for state in recorded.states[::5]:
+            apply_state(model, data, state)
+            leans.append(lean_of(data.userdata))
+            clear = _arm_clearance(model, data)
+            assert clear >= ARM_CLEAR, (scenario, seed, state.time, clear)
+        assert max(leans) > 0.0  # the person did lean: the arm was kept clear while leaning
