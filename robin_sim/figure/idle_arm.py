@@ -37,6 +37,13 @@ def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
     return mat.reshape(3, 3)
 
 
+def _rots(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) turns about the unit ``axis`` by each of ``angles`` (Rodrigues)."""
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    sin, cos = np.sin(angles)[:, None, None], np.cos(angles)[:, None, None]
+    return np.eye(3) + sin * k + (1.0 - cos) * (k @ k)
+
+
 def obstacle_boxes(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Centres, rotations and half sizes of the table's and the bin's box geoms in the world
     (static bodies); the table top grown upwards by a lying leg's height."""
@@ -65,7 +72,8 @@ class IdleArm:
         self.joints = names.person_arm_joints("l")
         self.ranges = fig.ranges(self.joints)
         flex, abduct, _, elbow, *_ = (fig.joint(j).axis for j in self.joints)
-        self.flex_axis, self.abduct_axis, self.elbow_axis = flex, abduct, elbow
+        self.flex_axis = flex
+        self.abduct, self.bend = _rot(abduct, ABDUCT), _rot(elbow, ELBOW)
         upper, fore, wrist = names.person_arm_bodies("l")
         body = model.body
         self.shoulder = body(upper).pos.copy()  # in the chest
@@ -82,25 +90,15 @@ class IdleArm:
     def _points(self, chest: np.ndarray, origin: np.ndarray, flex: np.ndarray) -> np.ndarray:
         """(len(flex), 3 * SAMPLES, 3) world points along the arm for each shoulder flexion."""
         shoulder = origin + chest @ self.shoulder
-        s = np.linspace(1.0 / SAMPLES, 1.0, SAMPLES)
-        out = []
-        for f in flex:
-            upper = chest @ _rot(self.flex_axis, f) @ _rot(self.abduct_axis, ABDUCT)
-            fore = upper @ _rot(self.elbow_axis, ELBOW)
-            elbow = shoulder + upper @ self.upper
-            wrist = elbow + fore @ self.fore
-            down = fore @ (self.fore / np.linalg.norm(self.fore))
-            tip = wrist + self.hand * down
-            out.append(
-                np.concatenate(
-                    [
-                        shoulder + s[:, None] * (elbow - shoulder),
-                        elbow + s[:, None] * (wrist - elbow),
-                        wrist + s[:, None] * (tip - wrist),
-                    ]
-                )
-            )
-        return np.array(out)
+        upper = chest @ _rots(self.flex_axis, flex) @ self.abduct  # (n, 3, 3)
+        fore = upper @ self.bend
+        elbow = shoulder + upper @ self.upper
+        wrist = elbow + fore @ self.fore
+        tip = wrist + fore @ (self.hand * self.fore / np.linalg.norm(self.fore))
+        s = np.linspace(1.0 / SAMPLES, 1.0, SAMPLES)[None, :, None]
+        starts = (shoulder[None, None, :], elbow[:, None, :], wrist[:, None, :])
+        ends = (elbow[:, None, :], wrist[:, None, :], tip[:, None, :])
+        return np.concatenate([a + s * (b - a) for a, b in zip(starts, ends, strict=True)], 1)
 
     def _clearance(self, points: np.ndarray) -> np.ndarray:
         """Per candidate, the nearest approach (m, less the radii) of its points to any box."""
@@ -115,10 +113,14 @@ class IdleArm:
         vertical ``lean``); sets :attr:`clearance`."""
         low, high = self.ranges[0]
         plumb = float(np.clip(lean, low, high))
-        flex = np.arange(plumb, low, -SWING_STEP)
+        flex = np.array([plumb])
         clear = self._clearance(self._points(chest, origin, flex))
-        ok = np.flatnonzero(clear >= MARGIN)
-        k = int(ok[0]) if len(ok) else int(np.argmax(clear))
+        k = 0
+        if clear[0] < MARGIN:  # swing back: the least swing that clears, else the clearest
+            flex = np.arange(plumb, low, -SWING_STEP)
+            clear = self._clearance(self._points(chest, origin, flex))
+            ok = np.flatnonzero(clear >= MARGIN)
+            k = int(ok[0]) if len(ok) else int(np.argmax(clear))
         self.clearance = float(clear[k])
         values = np.zeros(len(self.joints))
         values[[0, 1, 3]] = flex[k], ABDUCT, ELBOW

@@ -35,6 +35,10 @@ REACH_SCALE = 0.04  # m beyond the comfortable reach that cost as much as LEAN_S
 GAP_SCALE = 0.004  # m beyond the arm's length: as much again
 GRID = (7, 9, 10)  # values of step, turn and lean the search starts from
 REFINE = 4  # rounds of the halving stencil around the best
+_UNIT_GRID = np.stack(
+    np.meshgrid(*[np.linspace(0.0, 1.0, n) for n in GRID], indexing="ij"), axis=-1
+).reshape(-1, 3)
+_STENCIL = np.stack(np.meshgrid(*[[-1.0, 0.0, 1.0]] * 3, indexing="ij"), -1).reshape(-1, 3)
 
 
 @dataclass(frozen=True)
@@ -122,13 +126,12 @@ class Torso:
         its cost."""
         low = np.array([self.step_range[0], self.turn_range[0], min(least_lean, self.lean_limit)])
         high = np.array([self.step_range[1], self.turn_range[1], self.lean_limit])
-        axes = [np.linspace(lo, hi, n) for lo, hi, n in zip(low, high, GRID, strict=True)]
-        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        grid = low + _UNIT_GRID * (high - low)
         spacing = (high - low) / (np.array(GRID) - 1)
         costs = self.cost(wrist, *grid.T)
         best = grid[int(np.argmin(costs))]
         least = float(costs.min())
-        stencil = np.stack(np.meshgrid(*[[-1.0, 0.0, 1.0]] * 3, indexing="ij"), -1).reshape(-1, 3)
+        stencil = _STENCIL
         for _ in range(REFINE):
             spacing = spacing / 2.0
             trial = np.clip(best + stencil * spacing, low, high)
