@@ -28,8 +28,8 @@ from robin_sim.model import names
 from robin_sim.model.person_joints import Figure, figure
 
 LEAN_SCALE = 0.5  # rad of lean that cost as much as ...
-STEP_SCALE = 0.5  # ... m of step towards the table (a step of 0.1 m reaches as far as 0.2 rad
-TURN_SCALE = 0.8  # of lean and costs a quarter as much), and rad of waist turn
+STEP_SCALE = 1.0  # ... m of step towards the table (a step of 0.1 m reaches as far as 0.2 rad
+TURN_SCALE = 0.8  # of lean and costs a sixteenth as much), and rad of waist turn
 COMFORT = 0.98  # of the arm's length (upper arm and forearm): reached without a step
 REACH_SCALE = 0.04  # m beyond the comfortable reach that cost as much as LEAN_SCALE of lean
 GAP_SCALE = 0.004  # m beyond the arm's length: as much again
