@@ -7,7 +7,8 @@ joints ``human_waist_lean`` and ``human_chest_lean`` (about one axis, so the sum
 the sum of their upper limits, 0.9 rad (:func:`~robin_sim.figure.torso.lean_limit`).
 
 The episode tests run real episodes (MuJoCo physics, EGL renders at a small size, their states
-files), apply each recorded state and read the lean the run wrote (issue 40: the single-box
+files; three seeds of one_handover, two of table_one), apply each recorded state and read the
+lean the run wrote (issue 40: the single-box
 torso sat at its 0.9 rad limit in 58 % of one_handover's frames).
 """
 
@@ -36,15 +37,17 @@ from robin_sim.render.worker import apply_state  # noqa: E402
 
 REST = (1.22, 0.28, 0.92)  # the hand's rest place (issue 40's reproduction)
 REST_LEAN = 0.35  # rad: at the rest place no gesture leans more (the limit is 0.9)
-EPISODES = [(s, seed) for s in ("one_handover", "table_one") for seed in (0, 1, 2)]
+EPISODES = [("one_handover", 0), ("one_handover", 1), ("one_handover", 2)]
+EPISODES += [("table_one", 0), ("table_one", 1)]
 BELOW_LIMIT = 0.95  # share of an episode's frames whose lean stays below the limit
-# rad: the median lean over the six episodes' frames together. Measured 0.08 (0.74 with the
-# single box, issue 40). The person stands upright while the arm reaches (about half the
-# frames) and steps before leaning; what leans is the reach over the table: 0.56-0.64 rad to
-# hold the hand out at the handover point (x = 0.63 m, 0.54 m in front of the fully stepped
-# feet) or to point at the far legs, which one_handover does in about half its frames (its
-# median alone 0.40-0.56) and table_one in a tenth (0.01-0.07).
-MEDIAN_LEAN = 0.15
+# rad: an episode's median lean. The person stands upright while the arm reaches and steps
+# before leaning; what leans is the reach over the table: about 0.56 rad at the full step to
+# hold the hand out at the handover point (x = 0.63 m, 0.54 m in front of the stepped feet,
+# 0.58 m below the shoulder, for an arm of 0.60 m), 0.6 to point at the far legs. one_handover
+# holds the hand out for about half its frames, table_one (three handovers, more gestures at
+# the rest place) for a tenth. Measured (seeds 0-2): one_handover 0.40-0.56, table_one
+# 0.01-0.07; with the single box 0.90 and 0.49-0.63 (issue 40).
+MEDIAN_LEAN = {"one_handover": 0.6, "table_one": 0.15}
 # rad of lean beyond the least with which any step and turn bring the shoulder within the
 # comfortable reach of the wrist: in half the frames at most EXCESS_MEDIAN (measured 0.013),
 # in nine in ten at most EXCESS_P90 (0.03-0.04; more where a lean buys the wrist its turn)
@@ -208,26 +211,27 @@ def test_the_idle_arm_keeps_clear_of_the_table_and_bin_whatever_the_torso(
     assert _arm_clearance(model, data) >= ARM_CLEAR, (pose, posture.idle_arm.clearance)
 
 
-@pytest.fixture(scope="module")
-def episodes(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, int], RecordedStates]:
-    out = {}
-    for scenario, seed in EPISODES:
-        folder = tmp_path_factory.mktemp(f"{scenario}_{seed}")
-        config = EpisodeConfig(
-            scenario=SCENARIOS_DIR / f"{scenario}.yaml",
-            seed=seed,
-            out=folder,
-            width=80,
-            height=60,
-            fps=10,
-            verify=False,
-            progress=False,
-            eye_inset=False,
-            policy_panel=False,
-        )
-        assert run_episode(config)["status"] == "finished"
-        out[scenario, seed] = load_states(folder / STATES_NAME)
-    return out
+@pytest.fixture(scope="module", params=EPISODES, ids=lambda e: f"{e[0]}-{e[1]}")
+def episode(request, tmp_path_factory: pytest.TempPathFactory) -> tuple[str, RecordedStates]:
+    """One real episode per scenario and seed (small frames at 5 fps), run once for the
+    module's tests."""
+    scenario, seed = request.param
+    folder = tmp_path_factory.mktemp(f"{scenario}_{seed}")
+    config = EpisodeConfig(
+        scenario=SCENARIOS_DIR / f"{scenario}.yaml",
+        seed=seed,
+        out=folder,
+        width=80,
+        height=60,
+        fps=5,
+        render_workers=0,
+        verify=False,
+        progress=False,
+        eye_inset=False,
+        policy_panel=False,
+    )
+    assert run_episode(config)["status"] == "finished"
+    return scenario, load_states(folder / STATES_NAME)
 
 
 def _least_lean(torso: Torso, wrist: np.ndarray) -> float:
@@ -252,42 +256,39 @@ def _least_lean(torso: Torso, wrist: np.ndarray) -> float:
 
 
 @pytest.mark.slow
-def test_over_whole_episodes_the_lean_stays_below_its_limit(episodes) -> None:
-    limit = lean_limit() - 1e-3
+def test_over_a_whole_episode_the_lean_stays_below_its_limit(episode) -> None:
+    scenario, recorded = episode
     size = person_joints.figure().size
-    every = []
-    for (scenario, seed), recorded in episodes.items():
-        leans = np.array([lean_of(s.qpos[-size:]) for s in recorded.states])
-        assert len(leans) > 100, (scenario, seed)
-        assert np.mean(leans < limit) >= BELOW_LIMIT, (scenario, seed, np.mean(leans < limit))
-        every.append(leans)
-    assert float(np.median(np.concatenate(every))) < MEDIAN_LEAN
+    leans = np.array([lean_of(s.qpos[-size:]) for s in recorded.states])
+    assert len(leans) > 100
+    assert np.mean(leans < lean_limit() - 1e-3) >= BELOW_LIMIT
+    assert float(np.median(leans)) < MEDIAN_LEAN[scenario]
 
 
 @pytest.mark.slow
-def test_over_whole_episodes_the_lean_is_what_reaching_needs(episodes) -> None:
-    model = build_model()
+def test_over_a_whole_episode_the_lean_is_what_reaching_needs(episode) -> None:
+    _, recorded = episode
+    model = build_model(recorded.layout)
     data = mujoco.MjData(model)
     torso = Posture(model, data).torso
     wrist = model.site(names.person_wrist_point("r")).id
-    for (scenario, seed), recorded in episodes.items():
-        excess = []
-        for state in recorded.states[::4]:
-            apply_state(model, data, state)
-            excess.append(lean_of(data.userdata) - _least_lean(torso, data.site_xpos[wrist]))
-        assert np.median(excess) <= EXCESS_MEDIAN, (scenario, seed, np.median(excess))
-        assert np.percentile(excess, 90) <= EXCESS_P90, (scenario, seed)
+    excess = []
+    for state in recorded.states[::2]:
+        apply_state(model, data, state)
+        excess.append(lean_of(data.userdata) - _least_lean(torso, data.site_xpos[wrist]))
+    assert np.median(excess) <= EXCESS_MEDIAN
+    assert np.percentile(excess, 90) <= EXCESS_P90
 
 
 @pytest.mark.slow
-def test_over_whole_episodes_the_idle_arm_keeps_clear(episodes) -> None:
-    model = build_model()
+def test_over_a_whole_episode_the_idle_arm_keeps_clear(episode) -> None:
+    _, recorded = episode
+    model = build_model(recorded.layout)
     data = mujoco.MjData(model)
-    for (scenario, seed), recorded in episodes.items():
-        leans = []
-        for state in recorded.states[::5]:
-            apply_state(model, data, state)
-            leans.append(lean_of(data.userdata))
-            clear = _arm_clearance(model, data)
-            assert clear >= ARM_CLEAR, (scenario, seed, state.time, clear)
-        assert max(leans) > 0.0  # the person did lean: the arm was kept clear while leaning
+    leans = []
+    for state in recorded.states[::2]:
+        apply_state(model, data, state)
+        leans.append(lean_of(data.userdata))
+        clear = _arm_clearance(model, data)
+        assert clear >= ARM_CLEAR, (state.time, clear)
+    assert max(leans) > 0.3  # the person leant: the arm was kept clear while leaning
