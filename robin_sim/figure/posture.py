@@ -36,7 +36,7 @@ import numpy as np
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.idle_arm import IdleArm
 from robin_sim.figure.pose_library import load_library
-from robin_sim.figure.torso import Torso, TorsoPose
+from robin_sim.figure.torso import COMFORT, Torso, TorsoPose
 from robin_sim.model import names
 from robin_sim.model.person_joints import figure, pose
 
@@ -52,6 +52,9 @@ SWIVEL_TRY = 0.35  # rad of wrist error above which other elbow swings are tried
 _Y = np.array([0.0, 1.0, 0.0])
 SWIVELS = tuple(np.radians(a) for a in (-150, -120, -90, -60, -30, 30, 60, 90, 120, 150, 180))
 LEAN_TRIES = (0.25, 0.5)  # rad of lean added to the cheapest torso's where the wrist is off
+# shares of the comfortable reach tried where the arm cannot meet the hand within its joints'
+# ranges (reaching across the body): the shoulder brought nearer, the waist turned to it
+NEARER = (0.8, 0.6, 0.4)
 ERROR_SCALE = 0.7  # rad of wrist error that cost as much as torso.LEAN_SCALE of lean
 
 
@@ -149,15 +152,19 @@ class Posture:
         torso, cost = self.torso.best(wrist)
         out, gap, error = self.reach(wrist, hand, torso)
         score = cost + (error / ERROR_SCALE) ** 2
+        tries: list[tuple[float, float]] = []
         if error > SWIVEL_TRY:  # lean further where that lets the wrist turn as the hand does
-            for extra in LEAN_TRIES:
-                if torso.lean + extra > self.torso.lean_limit:
-                    break
-                other, other_cost = self.torso.best(wrist, torso.lean + extra)
-                trial = self.reach(wrist, hand, other)
-                trial_score = other_cost + (trial[2] / ERROR_SCALE) ** 2
-                if trial_score < score:
-                    (out, gap, error), score = trial, trial_score
+            tries += [(torso.lean + extra, COMFORT) for extra in LEAN_TRIES]
+        if error >= np.pi:  # the arm out of its range: the shoulder nearer (turned towards it)
+            tries += [(0.0, share * COMFORT) for share in NEARER]
+        for least_lean, comfort in tries:
+            if least_lean > self.torso.lean_limit:
+                continue
+            other, _ = self.torso.best(wrist, least_lean, comfort)
+            trial = self.reach(wrist, hand, other)
+            trial_score = self.torso.cost_of(wrist, other) + (trial[2] / ERROR_SCALE) ** 2
+            if trial_score < score:
+                (out, gap, error), score = trial, trial_score
         self.gap, self.wrist_error = gap, error
         chosen = self._pose(out)
         out.update(self.idle_arm.solve(*self.torso.chest_frame(chosen), chosen.lean))

@@ -112,30 +112,43 @@ class Torso:
         return np.column_stack([x + step, y, vz]) + self.hip
 
     def cost(
-        self, wrist: np.ndarray, step: np.ndarray, turn: np.ndarray, lean: np.ndarray
+        self,
+        wrist: np.ndarray,
+        step: np.ndarray,
+        turn: np.ndarray,
+        lean: np.ndarray,
+        comfort: float = COMFORT,
     ) -> np.ndarray:
-        """Each pose's cost for reaching ``wrist`` (module doc)."""
+        """Each pose's cost for reaching ``wrist`` (module doc; ``comfort``: the share of the
+        arm's length reached without cost)."""
         d = np.linalg.norm(wrist - self.shoulders(step, turn, lean), axis=1)
-        over = np.maximum(d - COMFORT * self.reach, 0.0) / REACH_SCALE
+        over = np.maximum(d - comfort * self.reach, 0.0) / REACH_SCALE
         gap = np.maximum(d - self.reach, 0.0) / GAP_SCALE
         upright = (lean / LEAN_SCALE) ** 2 + (step / STEP_SCALE) ** 2 + (turn / TURN_SCALE) ** 2
         return upright + over**2 + gap**2
 
-    def best(self, wrist: np.ndarray, least_lean: float = 0.0) -> tuple[TorsoPose, float]:
-        """The cheapest pose for reaching ``wrist`` with a lean of at least ``least_lean``, and
-        its cost."""
+    def cost_of(self, wrist: np.ndarray, pose: TorsoPose) -> float:
+        """One pose's cost for reaching ``wrist``."""
+        step, turn, lean = (np.array([v]) for v in (pose.step, pose.turn, pose.lean))
+        return float(self.cost(wrist, step, turn, lean)[0])
+
+    def best(
+        self, wrist: np.ndarray, least_lean: float = 0.0, comfort: float = COMFORT
+    ) -> tuple[TorsoPose, float]:
+        """The cheapest pose for reaching ``wrist`` with a lean of at least ``least_lean`` (and
+        the shoulder within ``comfort`` of the arm's length), and its cost."""
         low = np.array([self.step_range[0], self.turn_range[0], min(least_lean, self.lean_limit)])
         high = np.array([self.step_range[1], self.turn_range[1], self.lean_limit])
         grid = low + _UNIT_GRID * (high - low)
         spacing = (high - low) / (np.array(GRID) - 1)
-        costs = self.cost(wrist, *grid.T)
+        costs = self.cost(wrist, grid[:, 0], grid[:, 1], grid[:, 2], comfort)
         best = grid[int(np.argmin(costs))]
         least = float(costs.min())
         stencil = _STENCIL
         for _ in range(REFINE):
             spacing = spacing / 2.0
             trial = np.clip(best + stencil * spacing, low, high)
-            costs = self.cost(wrist, *trial.T)
+            costs = self.cost(wrist, trial[:, 0], trial[:, 1], trial[:, 2], comfort)
             k = int(np.argmin(costs))
             if costs[k] < least:
                 best, least = trial[k], float(costs[k])
