@@ -2,7 +2,7 @@
 
 The arm hangs plumb from the shoulder whatever the torso does (the shoulder's flexion takes
 back the spine's lean), a little out from the body (:data:`ABDUCT`) with the elbow a little
-bent (:data:`ELBOW`); where the hanging arm would come within :data:`MARGIN` of the table
+bent (:data:`ELBOW`); where the hanging arm would come within :data:`TABLE_CLEARANCE` of the table
 (its top grown by a lying leg's height, so legs on it are kept clear too), its frame or the bin,
 the arm swings back at the shoulder by steps of :data:`SWING_STEP` until it is clear (the
 least swing that is; where none is, the one that comes least near). The arm's segments are
@@ -21,7 +21,7 @@ from robin_sim.model.person_joints import Figure
 
 ABDUCT = 0.12  # rad the idle arm hangs out from the body
 ELBOW = 0.15  # rad its elbow is bent
-MARGIN = 0.03  # m kept between the arm and the table, its frame and the bin
+TABLE_CLEARANCE = 0.03  # m kept between the arm and the table, its frame and the bin
 # m about each sampled point of the upper arm, the forearm and the hand (its thumb out to the
 # side): the segment's radius with margin to spare
 RADII = (0.05, 0.045, 0.08)
@@ -116,10 +116,10 @@ class IdleArm:
         flex = np.array([plumb])
         clear = self._clearance(self._points(chest, origin, flex))
         k = 0
-        if clear[0] < MARGIN:  # swing back: the least swing that clears, else the clearest
+        if clear[0] < TABLE_CLEARANCE:  # swing back: the least swing that clears, else the clearest
             flex = np.arange(plumb, low, -SWING_STEP)
             clear = self._clearance(self._points(chest, origin, flex))
-            ok = np.flatnonzero(clear >= MARGIN)
+            ok = np.flatnonzero(clear >= TABLE_CLEARANCE)
             k = int(ok[0]) if len(ok) else int(np.argmax(clear))
         self.clearance = float(clear[k])
         values = np.zeros(len(self.joints))
