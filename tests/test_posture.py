@@ -27,7 +27,7 @@ from hypothesis import strategies as st  # noqa: E402
 from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
 from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 from robin_sim.figure.articulated import ArticulatedHand, subtree_geoms  # noqa: E402
-from robin_sim.figure.idle_arm import MARGIN  # noqa: E402
+from robin_sim.figure.idle_arm import TABLE_CLEARANCE  # noqa: E402
 from robin_sim.figure.posture import SWIVEL_TRY, Posture  # noqa: E402
 from robin_sim.figure.torso import COMFORT, Torso, TorsoPose, lean_limit, lean_of  # noqa: E402
 from robin_sim.model import names, person_joints  # noqa: E402
@@ -216,7 +216,7 @@ def test_the_idle_arm_keeps_clear_of_the_table_and_bin_whatever_the_torso(
     data.userdata[posture.left_hand_q] = posture.left_hand_pose
     person_joints.pose(model, data)
     mujoco.mj_kinematics(model, data)
-    assert posture.idle_arm.clearance >= MARGIN - 1e-9 or lean > 0.8  # swung as far as it goes
+    assert posture.idle_arm.clearance >= TABLE_CLEARANCE - 1e-9 or lean > 0.8  # swung as far as it goes
     assert _arm_clearance(model, data) >= ARM_CLEAR, (pose, posture.idle_arm.clearance)
 
 
