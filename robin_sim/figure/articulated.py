@@ -21,6 +21,7 @@ from dataclasses import replace
 import mujoco
 import numpy as np
 
+from robin_sim.figure.hand_fit import HandFit
 from robin_sim.figure.hand_poses import SHAPES, Performance, skin_colour, wrist_rotation
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
@@ -85,8 +86,11 @@ class ArticulatedHand:
         )
         skin = np.all(np.abs(model.geom_rgba[person, :3] - SKIN_CLASS_RGBA) < 1e-6, axis=1)
         self.skin_geoms = person[skin]
+        self.fit = HandFit(model, data)  # keeps the fingers and palm clear of legs and Robin
         self._from: tuple[np.ndarray, np.ndarray] | None = None
         self._to: tuple[np.ndarray, np.ndarray] = (self.angles(), self.turn())
+        self._wanted = self._to  # the hand as the pose wants it, before the fit
+        self._fitted = False  # the written hand differs from the wanted one
         self._start, self._duration = 0.0, 0.0
 
     # --- reading the hand -----------------------------------------------------------------
@@ -137,8 +141,13 @@ class ArticulatedHand:
         return self._from is not None and now < self._start + self._duration
 
     def update(self, now: float) -> None:
-        """Write the blend's hand at simulated time ``now`` (nothing when none runs)."""
+        """Write the blend's hand at simulated time ``now``; fit it again around a leg or
+        Robin's hand near it (:class:`~robin_sim.figure.hand_fit.HandFit`) even when no blend
+        runs (nothing is written when neither)."""
+        ahead = max(now - float(self.data.time), 0.0)  # the tick being stepped
         if self._from is None:
+            if self._fitted or self.fit.active():
+                self._write(*self._wanted, ahead=ahead)
             return
         s = _smooth((now - self._start) / self._duration)
         (a0, q0), (a1, q1) = self._from, self._to
@@ -147,11 +156,16 @@ class ArticulatedHand:
         if np.dot(q0, q1) < 0:
             q1 = -q1
         quat = (1 - s) * q0 + s * q1  # nlerp: the turns are under 180 degrees apart
-        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat))
+        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat), ahead=ahead)
         if s >= 1.0:
             self._from = None
 
-    def _write(self, angles: np.ndarray, quat: np.ndarray) -> None:
-        self.data.userdata[self.qadr] = angles
-        self.data.userdata[self.turn_q : self.turn_q + 4] = quat
+    def _write(self, angles: np.ndarray, quat: np.ndarray, ahead: float = 0.0) -> None:
+        """Write the hand wanted at ``angles`` and turn ``quat``, fitted around what will be
+        near it ``ahead`` s on (:class:`~robin_sim.figure.hand_fit.HandFit`)."""
+        self._wanted = (angles, quat)
+        fitted, turned = self.fit.fit(angles, quat, ahead)
+        self._fitted = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
+        self.data.userdata[self.qadr] = fitted
+        self.data.userdata[self.turn_q : self.turn_q + 4] = turned
         pose(self.model, self.data)
