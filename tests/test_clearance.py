@@ -14,8 +14,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from robin_sim.model.geom_groups import CATEGORIES, category_geoms, geom_label
 from robin_sim.model.scene import build_model
-from robin_sim.person.clearance import CATEGORIES, Clearance, category_geoms, geom_label
+from robin_sim.person.clearance import Clearance
 
 SMALL = """
 <mujoco>

@@ -25,6 +25,7 @@ from robin_sim.figure.hand_fit import HandFit
 from robin_sim.figure.hand_poses import SHAPES, Performance, skin_colour, wrist_rotation
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
+from robin_sim.model.geom_groups import body_geoms
 from robin_sim.model.person_joints import figure, has_figure, pose
 
 # How a performance's offsets enter the joints (rad per unit): a finger's curl spreads over its
@@ -58,15 +59,7 @@ def _smooth(s: float) -> float:
 
 def subtree_geoms(model: mujoco.MjModel, root: str) -> np.ndarray:
     """Geom ids of body ``root`` and every body below it."""
-    top = model.body(root).id
-    bodies = [b for b in range(model.nbody) if _descends(model, b, top)]
-    return np.flatnonzero(np.isin(model.geom_bodyid, bodies))
-
-
-def _descends(model: mujoco.MjModel, body: int, top: int) -> bool:
-    while body != top and body != 0:
-        body = int(model.body_parentid[body])
-    return body == top
+    return body_geoms(model, (root,))
 
 
 class ArticulatedHand:

@@ -13,11 +13,12 @@ just enough to keep clear of them:
   into it); across the palm at this angle the forearm comes from the side, the leg diagonal
   over palm and fingers as a rod is held. The turn blends there between :data:`TURN_FAR` and
   :data:`TURN_NEAR` of the leg's distance to the collision palm;
-* **the fingers**: each finger (and the thumb) takes the furthest of :data:`STEPS` along the way
-  from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me") and
-  on to a finger bent back (:data:`EXTENDED`) at which its geoms keep :data:`MARGIN` from
-  every leg and every geom of Robin's near it: the fingers close onto a leg's surface, not
-  through it, and give way to Robin's.
+* **the fingers**: each finger (and the thumb) takes the furthest of :data:`STEPS` along the
+  way from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me")
+  and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`) at
+  which its geoms keep :data:`MARGIN` from every leg and every geom of Robin's near it (where
+  they will be one control tick on): the fingers close onto a leg's surface, not through it,
+  and give way to Robin's.
 
 Candidates are measured with ``mujoco.mj_geomDistance`` in a scratch ``MjData`` (the scene's
 own kinematics stay untouched; the figure's finger frames live in ``model.body_quat``,
@@ -31,10 +32,10 @@ import numpy as np
 
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
+from robin_sim.model.geom_groups import body_geoms, category_geoms
 from robin_sim.model.person_joints import figure
-from robin_sim.person.clearance import body_geoms, category_geoms
 
-MARGIN = 0.001  # m kept between a finger and a leg or Robin's geoms
+MARGIN = 0.002  # m kept between a finger and a leg or Robin's geoms
 # m from a leg to the collision palm: at TURN_NEAR and closer the hand is palm up (no turn)
 TURN_NEAR, TURN_FAR = 0.04, 0.10
 ABOVE = 0.7  # share of that distance upwards for a leg above the palm
@@ -42,6 +43,7 @@ NEAR = 0.03  # m: obstacles within this of the hand's bounding sphere are measur
 # the way from the wanted finger (1) to the open finger (0) and on to a finger bent back (-1)
 STEPS = (1.0, 0.8, 0.6, 0.4, 0.2, 0.0, -0.5, -1.0)
 EXTENDED = (-0.35, 0.0, 0.0)  # rad: MCP, PIP, DIP of a finger bent back
+THUMB_AWAY = (-0.8, -0.3, 0.0, 0.0)  # rad: the thumb swung out, away from the palm
 HOLD_YAW = np.radians(40.0)  # about the palm normal, the wrist towards the person's right
 HOLD_TURN = np.array([np.cos(HOLD_YAW / 2), 0.0, 0.0, np.sin(HOLD_YAW / 2)])
 
@@ -99,10 +101,10 @@ class HandFit:
         leg above it (the way between them mostly along the palm's normal: a leg coming down
         onto the palm or lying on it, also while the palm tips it off, not one beside it)."""
         best = TURN_FAR
-        normal = self.data.geom_xmat[self.palm].reshape(3, 3)[:, 2]
+        normal = self.scratch.geom_xmat[self.palm].reshape(3, 3)[:, 2]
         for leg in self.legs:
             gap = mujoco.mj_geomDistance(
-                self.model, self.data, self.palm, int(leg), TURN_FAR, self._fromto
+                self.model, self.scratch, self.palm, int(leg), TURN_FAR, self._fromto
             )
             rise = float((self._fromto[3:] - self._fromto[:3]) @ normal)
             if gap < best and (gap <= 0.0 or rise >= ABOVE * gap):
@@ -126,12 +128,24 @@ class HandFit:
     def active(self) -> bool:
         """Whether anything is near enough to change the hand (a leg nearing the palm, a leg
         or Robin's geoms near the fingers)."""
+        self._load(0.0)
         return len(self.near()) > 0 or self.leg_distance() < TURN_FAR
+
+    def _load(self, ahead: float) -> None:
+        """The scene now (its legs and Robin ``ahead`` s on, at their velocities now) in the
+        scratch data, kinematics computed (``data``'s may be stale or not computed yet)."""
+        scratch, data = self.scratch, self.data
+        scratch.qpos[:] = data.qpos
+        if ahead > 0.0:
+            mujoco.mj_integratePos(self.model, scratch.qpos, data.qvel, ahead)
+        scratch.mocap_pos[:] = data.mocap_pos
+        scratch.mocap_quat[:] = data.mocap_quat
+        mujoco.mj_kinematics(self.model, scratch)
 
     # --- the fingers -----------------------------------------------------------------------
     def near(self) -> np.ndarray:
-        """Leg and robot geoms within reach of the hand now (from the scene's kinematics)."""
-        data, model = self.data, self.model
+        """Leg and robot geoms within reach of the hand (in the scratch data)."""
+        data, model = self.scratch, self.model
         centre = data.xpos[self.hand_body]
         gap = np.linalg.norm(data.geom_xpos[self.obstacles] - centre, axis=1)
         gap -= model.geom_rbound[self.obstacles] + 0.2  # the hand with its fingers out
@@ -145,7 +159,8 @@ class HandFit:
             flex = slice(4 * finger + 1, 4 * finger + 4)
             open_hand[flex] = 0.0
             extended[flex] = EXTENDED
-        open_hand[:4] = extended[:4] = self.open_thumb
+        open_hand[:4] = self.open_thumb
+        extended[:4] = THUMB_AWAY
         rows = [
             open_hand + s * (wanted - open_hand)
             if s >= 0
@@ -181,19 +196,12 @@ class HandFit:
                 out[finger] = max(out[finger], MARGIN - distance)
         return out
 
-    def fingers(self, wanted: np.ndarray, ahead: float = 0.0) -> np.ndarray:
+    def fingers(self, wanted: np.ndarray) -> np.ndarray:
         """``wanted`` angles with each finger at the furthest step that keeps it clear of
-        where the legs and Robin will be ``ahead`` s from now (their velocities now: a
-        falling leg moves 4 cm in a control tick)."""
+        the legs and Robin as :meth:`_load` put them."""
         near = self.near()
         if len(near) == 0:
             return wanted
-        scratch, data = self.scratch, self.data
-        scratch.qpos[:] = data.qpos
-        if ahead > 0.0:
-            mujoco.mj_integratePos(self.model, scratch.qpos, data.qvel, ahead)
-        scratch.mocap_pos[:] = data.mocap_pos
-        scratch.mocap_quat[:] = data.mocap_quat
         ladder = self._ladder(wanted)
         pick = np.full(5, -1)
         least = np.full(5, np.inf)
@@ -215,11 +223,12 @@ class HandFit:
         self, angles: np.ndarray, turn: np.ndarray, ahead: float = 0.0
     ) -> tuple[np.ndarray, np.ndarray]:
         """The hand to write for the wanted ``angles`` and ``turn`` (module doc), the fingers
-        clear of the scene ``ahead`` s on (:meth:`fingers`). The turn is applied first (the
+        clear of the scene ``ahead`` s on (a falling leg moves 4 cm in a control tick). The turn is applied first (the
         fingers are measured where the hand is turned)."""
+        self._load(ahead)
         turned = self.turn(turn)
         self._set_turn(turned)
-        return self.fingers(angles, ahead), turned
+        return self.fingers(angles), turned
 
     def _set_turn(self, turn: np.ndarray) -> None:
         """Turn the hand body in ``model`` (as :func:`person_joints.pose` would) so the

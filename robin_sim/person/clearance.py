@@ -20,9 +20,8 @@ import mujoco
 import numpy as np
 
 from robin_sim.model import names
-from robin_sim.model.scene import leg_count
+from robin_sim.model.geom_groups import CATEGORIES, body_geoms, category_geoms, geom_label
 
-CATEGORIES: tuple[str, ...] = ("legs", "table", "bin", "robot")
 # m: pairs whose bounding spheres lie further apart than this are never measured
 BROAD_MARGIN = 1e-3
 
@@ -35,43 +34,6 @@ class Reach:
     other: str
     category: str
     depth: float
-
-
-def subtree_bodies(model: mujoco.MjModel, root: str) -> np.ndarray:
-    """Ids of body ``root`` and every body below it."""
-    top = model.body(root).id
-    inside = np.zeros(model.nbody, dtype=bool)
-    inside[top] = True
-    for body in range(top + 1, model.nbody):  # a child's id is above its parent's
-        inside[body] = inside[model.body_parentid[body]]
-    return np.flatnonzero(inside)
-
-
-def body_geoms(model: mujoco.MjModel, roots: tuple[str, ...]) -> np.ndarray:
-    """Geom ids of the bodies ``roots`` and every body below them."""
-    bodies = np.concatenate([subtree_bodies(model, root) for root in roots])
-    return np.flatnonzero(np.isin(model.geom_bodyid, bodies))
-
-
-def geom_label(model: mujoco.MjModel, geom: int) -> str:
-    """A geom's name, or ``<body>#<n>`` (its n-th geom) for an unnamed one."""
-    name = model.geom(geom).name
-    if name:
-        return str(name)
-    body = int(model.geom_bodyid[geom])
-    first = int(model.body_geomadr[body])
-    return f"{model.body(body).name}#{geom - first}"
-
-
-def category_geoms(model: mujoco.MjModel) -> dict[str, np.ndarray]:
-    """The geom ids of each of :data:`CATEGORIES` in ``model``."""
-    legs = [model.geom(names.leg_geom(i)).id for i in range(leg_count(model))]
-    return {
-        "legs": np.array(legs, dtype=int),
-        "table": body_geoms(model, (names.TABLE_BODY,)),
-        "bin": body_geoms(model, (names.BIN_BODY,)),
-        "robot": body_geoms(model, (names.TORSO_BODY,)),
-    }
 
 
 class Clearance:
