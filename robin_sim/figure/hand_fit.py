@@ -222,9 +222,9 @@ class HandFit:
     def fit(
         self, angles: np.ndarray, turn: np.ndarray, ahead: float = 0.0
     ) -> tuple[np.ndarray, np.ndarray]:
-        """The hand to write for the wanted ``angles`` and ``turn`` (module doc), the fingers
-        clear of the scene ``ahead`` s on (a falling leg moves 4 cm in a control tick). The turn is applied first (the
-        fingers are measured where the hand is turned)."""
+        """The hand to write for the wanted ``angles`` and ``turn`` (module doc), clear of
+        the scene ``ahead`` s on (a falling leg moves 4 cm in a control tick). The turn is
+        applied first (the fingers are measured where the hand is turned)."""
         self._load(ahead)
         turned = self.turn(turn)
         self._set_turn(turned)
