@@ -83,6 +83,7 @@ class ArticulatedHand:
         self._from: tuple[np.ndarray, np.ndarray] | None = None
         self._to: tuple[np.ndarray, np.ndarray] = (self.angles(), self.turn())
         self._wanted = self._to  # the hand as the pose wants it, before the fit
+        self._pose: str | None = None  # the pose shown last
         self._fitted = False  # the written hand differs from the wanted one
         self._start, self._duration = 0.0, 0.0
 
@@ -122,6 +123,7 @@ class ArticulatedHand:
         performance = performance or Performance()
         self.model.geom_rgba[self.skin_geoms, :3] = skin_colour(performance.skin)
         self._to = self.target(pose, performance)
+        self._pose = pose
         if blend > 0.0:
             self._from = (self.angles(), self.turn())
             self._start, self._duration = float(self.data.time), blend
@@ -157,7 +159,7 @@ class ArticulatedHand:
         """Write the hand wanted at ``angles`` and turn ``quat``, fitted around what will be
         near it ``ahead`` s on (:class:`~robin_sim.figure.hand_fit.HandFit`)."""
         self._wanted = (angles, quat)
-        fitted, turned = self.fit.fit(angles, quat, ahead)
+        fitted, turned = self.fit.fit(angles, quat, ahead, self._pose)
         self._fitted = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
         self.data.userdata[self.qadr] = fitted
         self.data.userdata[self.turn_q : self.turn_q + 4] = turned

@@ -44,6 +44,12 @@ NEAR = 0.03  # m: obstacles within this of the hand's bounding sphere are measur
 STEPS = (1.0, 0.8, 0.6, 0.4, 0.2, 0.0, -0.5, -1.0)
 EXTENDED = (-0.35, 0.0, 0.0)  # rad: MCP, PIP, DIP of a finger bent back
 THUMB_AWAY = (-0.8, -0.3, 0.0, 0.0)  # rad: the thumb swung out, away from the palm
+# A thumb sign made with a leg on the palm: the palm stays under the leg, so the thumb points
+# up out of the palm (its tip 6 cm above it) or down under it (9 cm below), rad
+HOLD_THUMBS: dict[str, tuple[float, float, float, float]] = {
+    "thumb_up": (-0.8, 0.2, 0.0, 0.0),
+    "thumb_down": (1.0, 0.0, 0.0, 0.0),
+}
 HOLD_YAW = np.radians(40.0)  # about the palm normal, the wrist towards the person's right
 HOLD_TURN = np.array([np.cos(HOLD_YAW / 2), 0.0, 0.0, np.sin(HOLD_YAW / 2)])
 
@@ -111,19 +117,21 @@ class HandFit:
                 best = gap
         return float(best)
 
-    def turn(self, wanted: np.ndarray) -> np.ndarray:
-        """``wanted`` (w, x, y, z), turned towards :data:`HOLD_TURN` as a leg comes down to
-        the palm (module doc)."""
+    def holding(self) -> float:
+        """How far (0 .. 1, smooth) the hand has turned to hold a leg coming down onto it."""
+        share = (TURN_FAR - self.leg_distance()) / (TURN_FAR - TURN_NEAR)
+        share = min(max(share, 0.0), 1.0)
+        return share * share * (3 - 2 * share)
+
+    def turn(self, wanted: np.ndarray, share: float) -> np.ndarray:
+        """``wanted`` (w, x, y, z), turned ``share`` of the way to :data:`HOLD_TURN`."""
+        if share <= 0.0:
+            return wanted
         q = np.asarray(wanted, float) / np.linalg.norm(wanted)
         if q[0] < 0:
             q = -q
-        share = (TURN_FAR - self.leg_distance()) / (TURN_FAR - TURN_NEAR)
-        share = min(max(share, 0.0), 1.0)
-        if share > 0.0:
-            share = share * share * (3 - 2 * share)
-            out = (1 - share) * q + share * HOLD_TURN
-            return out / np.linalg.norm(out)
-        return wanted
+        out = (1 - share) * q + share * HOLD_TURN
+        return out / np.linalg.norm(out)
 
     def active(self) -> bool:
         """Whether anything is near enough to change the hand (a leg nearing the palm, a leg
@@ -220,14 +228,24 @@ class HandFit:
         return ladder[pick[self.finger_of_joint], np.arange(20)]
 
     def fit(
-        self, angles: np.ndarray, turn: np.ndarray, ahead: float = 0.0
+        self,
+        angles: np.ndarray,
+        turn: np.ndarray,
+        ahead: float = 0.0,
+        pose: str | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The hand to write for the wanted ``angles`` and ``turn`` (module doc), clear of
         the scene ``ahead`` s on (a falling leg moves 4 cm in a control tick). The turn is
-        applied first (the fingers are measured where the hand is turned)."""
+        applied first (the fingers are measured where the hand is turned); a thumb sign
+        (``pose``) made while holding has its thumb up or down out of the palm
+        (:data:`HOLD_THUMBS`)."""
         self._load(ahead)
-        turned = self.turn(turn)
+        share = self.holding()
+        turned = self.turn(turn, share)
         self._set_turn(turned)
+        if share > 0.0 and pose in HOLD_THUMBS:
+            angles = angles.copy()
+            angles[:4] += share * (np.array(HOLD_THUMBS[pose]) - angles[:4])
         return self.fingers(angles), turned
 
     def _set_turn(self, turn: np.ndarray) -> None:
