@@ -8,10 +8,12 @@ into ``data.userdata`` (the person's joints live there, not in the physics:
 :mod:`robin_sim.model.person_joints`), posing the hand's bodies. A change of pose is either
 immediate (a still picture, Robin's reading) or a seeded minimum-jerk blend from the current
 hand over ``blend`` seconds, played out by :meth:`ArticulatedHand.update` at every control
-tick: the hand moves into a gesture, it does not switch shapes. Only the person's joints are
-written (their geoms never collide); the collision palm under the mocap frame is untouched. The
-performance's hand size is not used (the hand's segment lengths are the model's); its skin tone
-colours every skin geom.
+tick: the hand moves into a gesture, it does not switch shapes. Before a render looks,
+:meth:`ArticulatedHand.prepare_view` fits the hand around a leg coming down onto the palm or
+lying on it and around Robin's fingers (:mod:`robin_sim.figure.hand_fit`). Only the person's
+joints are written (their geoms never collide); the collision palm under the mocap frame is
+untouched. The performance's hand size is not used (the hand's segment lengths are the
+model's); its skin tone colours every skin geom.
 """
 
 from __future__ import annotations
@@ -125,7 +127,7 @@ class ArticulatedHand:
         self._to = self.target(pose, performance)
         self._pose = pose
         if blend > 0.0:
-            self._from = (self.angles(), self.turn())
+            self._from = self._wanted
             self._start, self._duration = float(self.data.time), blend
         else:
             self._from = None
@@ -136,13 +138,9 @@ class ArticulatedHand:
         return self._from is not None and now < self._start + self._duration
 
     def update(self, now: float) -> None:
-        """Write the blend's hand at simulated time ``now``; fit it again around a leg or
-        Robin's hand near it (:class:`~robin_sim.figure.hand_fit.HandFit`) even when no blend
-        runs (nothing is written when neither)."""
-        ahead = max(now - float(self.data.time), 0.0)  # the tick being stepped
+        """Write the blend's hand, as the pose wants it, at simulated time ``now`` (nothing when
+        none runs); :meth:`prepare_view` fits it around what is near when a render looks."""
         if self._from is None:
-            if self._fitted or self.fit.active():
-                self._write(*self._wanted, ahead=ahead)
             return
         s = _smooth((now - self._start) / self._duration)
         (a0, q0), (a1, q1) = self._from, self._to
@@ -151,16 +149,30 @@ class ArticulatedHand:
         if np.dot(q0, q1) < 0:
             q1 = -q1
         quat = (1 - s) * q0 + s * q1  # nlerp: the turns are under 180 degrees apart
-        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat), ahead=ahead)
+        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat), fit=False)
         if s >= 1.0:
             self._from = None
 
-    def _write(self, angles: np.ndarray, quat: np.ndarray, ahead: float = 0.0) -> None:
-        """Write the hand wanted at ``angles`` and turn ``quat``, fitted around what will be
-        near it ``ahead`` s on (:class:`~robin_sim.figure.hand_fit.HandFit`)."""
+    def prepare_view(self) -> None:
+        """Fit the hand around a leg or Robin's hand near it
+        (:class:`~robin_sim.figure.hand_fit.HandFit`) before a render looks, ahead of the
+        body's posture (which follows the hand's turn); nothing is written while nothing is near
+        and nothing was fitted (no physics needs it, so runs without renders pay nothing)."""
+        angles, quat = self._wanted
+        fitted, turned = self.fit.fit(angles, quat, self._pose)
+        changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
+        if changed or self._fitted:
+            self._put(fitted, turned, changed)
+
+    def _write(self, angles: np.ndarray, quat: np.ndarray, fit: bool = True) -> None:
+        """Write the hand wanted at ``angles`` and turn ``quat``, fitted (``fit``) or as is."""
         self._wanted = (angles, quat)
-        fitted, turned = self.fit.fit(angles, quat, ahead, self._pose)
-        self._fitted = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
-        self.data.userdata[self.qadr] = fitted
-        self.data.userdata[self.turn_q : self.turn_q + 4] = turned
+        fitted, turned = self.fit.fit(angles, quat, self._pose) if fit else (angles, quat)
+        changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
+        self._put(fitted, turned, changed)
+
+    def _put(self, angles: np.ndarray, quat: np.ndarray, fitted: bool) -> None:
+        self._fitted = fitted
+        self.data.userdata[self.qadr] = angles
+        self.data.userdata[self.turn_q : self.turn_q + 4] = quat
         pose(self.model, self.data)

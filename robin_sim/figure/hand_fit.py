@@ -16,8 +16,8 @@ just enough to keep clear of them:
 * **the fingers**: each finger (and the thumb) takes the furthest of :data:`STEPS` along the
   way from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me")
   and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`) at
-  which its geoms keep :data:`MARGIN` from every leg and every geom of Robin's near it (where
-  they will be one control tick on): the fingers close onto a leg's surface, not through it,
+  which its geoms keep :data:`MARGIN` from every leg and every geom of Robin's near it: the
+  fingers close onto a leg's surface, not through it,
   and give way to Robin's.
 
 Candidates are measured with ``mujoco.mj_geomDistance`` in a scratch ``MjData`` (the scene's
@@ -133,19 +133,11 @@ class HandFit:
         out = (1 - share) * q + share * HOLD_TURN
         return out / np.linalg.norm(out)
 
-    def active(self) -> bool:
-        """Whether anything is near enough to change the hand (a leg nearing the palm, a leg
-        or Robin's geoms near the fingers)."""
-        self._load(0.0)
-        return len(self.near()) > 0 or self.leg_distance() < TURN_FAR
-
-    def _load(self, ahead: float) -> None:
-        """The scene now (its legs and Robin ``ahead`` s on, at their velocities now) in the
-        scratch data, kinematics computed (``data``'s may be stale or not computed yet)."""
+    def _load(self) -> None:
+        """The scene now in the scratch data, kinematics computed (``data``'s may be stale or
+        not computed yet)."""
         scratch, data = self.scratch, self.data
         scratch.qpos[:] = data.qpos
-        if ahead > 0.0:
-            mujoco.mj_integratePos(self.model, scratch.qpos, data.qvel, ahead)
         scratch.mocap_pos[:] = data.mocap_pos
         scratch.mocap_quat[:] = data.mocap_quat
         mujoco.mj_kinematics(self.model, scratch)
@@ -228,18 +220,13 @@ class HandFit:
         return ladder[pick[self.finger_of_joint], np.arange(20)]
 
     def fit(
-        self,
-        angles: np.ndarray,
-        turn: np.ndarray,
-        ahead: float = 0.0,
-        pose: str | None = None,
+        self, angles: np.ndarray, turn: np.ndarray, pose: str | None = None
     ) -> tuple[np.ndarray, np.ndarray]:
-        """The hand to write for the wanted ``angles`` and ``turn`` (module doc), clear of
-        the scene ``ahead`` s on (a falling leg moves 4 cm in a control tick). The turn is
-        applied first (the fingers are measured where the hand is turned); a thumb sign
-        (``pose``) made while holding has its thumb up or down out of the palm
-        (:data:`HOLD_THUMBS`)."""
-        self._load(ahead)
+        """The hand to write for the wanted ``angles`` and ``turn`` (module doc), as the scene
+        is now. The turn is applied first (the fingers are measured where the hand is
+        turned); a thumb sign (``pose``) made while holding has its thumb up or down out of
+        the palm (:data:`HOLD_THUMBS`)."""
+        self._load()
         share = self.holding()
         turned = self.turn(turn, share)
         self._set_turn(turned)
