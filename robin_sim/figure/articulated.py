@@ -85,7 +85,6 @@ class ArticulatedHand:
         self._from: tuple[np.ndarray, np.ndarray] | None = None
         self._to: tuple[np.ndarray, np.ndarray] = (self.angles(), self.turn())
         self._wanted = self._to  # the hand as the pose wants it, before the fit
-        self._pose: str | None = None  # the pose shown last
         self._fitted = False  # the written hand differs from the wanted one
         self._start, self._duration = 0.0, 0.0
 
@@ -125,7 +124,6 @@ class ArticulatedHand:
         performance = performance or Performance()
         self.model.geom_rgba[self.skin_geoms, :3] = skin_colour(performance.skin)
         self._to = self.target(pose, performance)
-        self._pose = pose
         if blend > 0.0:
             self._from = self._wanted
             self._start, self._duration = float(self.data.time), blend
@@ -159,7 +157,7 @@ class ArticulatedHand:
         body's posture (which follows the hand's turn); nothing is written while nothing is near
         and nothing was fitted (no physics needs it, so runs without renders pay nothing)."""
         angles, quat = self._wanted
-        fitted, turned = self.fit.fit(angles, quat, self._pose)
+        fitted, turned = self.fit.fit(angles, quat)
         changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
         if changed or self._fitted:
             self._put(fitted, turned, changed)
@@ -167,7 +165,7 @@ class ArticulatedHand:
     def _write(self, angles: np.ndarray, quat: np.ndarray, fit: bool = True) -> None:
         """Write the hand wanted at ``angles`` and turn ``quat``, fitted (``fit``) or as is."""
         self._wanted = (angles, quat)
-        fitted, turned = self.fit.fit(angles, quat, self._pose) if fit else (angles, quat)
+        fitted, turned = self.fit.fit(angles, quat) if fit else (angles, quat)
         changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
         self._put(fitted, turned, changed)
 

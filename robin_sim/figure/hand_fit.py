@@ -17,8 +17,7 @@ just enough to keep clear of them:
   way from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me")
   and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`) at
   which its geoms keep :data:`MARGIN` from every leg and every geom of Robin's near it: the
-  fingers close onto a leg's surface, not through it,
-  and give way to Robin's.
+  fingers close onto a leg's surface, not through it, and give way to Robin's.
 
 Candidates are measured with ``mujoco.mj_geomDistance`` in a scratch ``MjData`` (the scene's
 own kinematics stay untouched; the figure's finger frames live in ``model.body_quat``,
@@ -36,20 +35,16 @@ from robin_sim.model.geom_groups import body_geoms, category_geoms
 from robin_sim.model.person_joints import figure
 
 MARGIN = 0.002  # m kept between a finger and a leg or Robin's geoms
-# m from a leg to the collision palm: at TURN_NEAR and closer the hand is palm up (no turn)
-TURN_NEAR, TURN_FAR = 0.04, 0.10
+# m from a leg to the collision palm: at TURN_NEAR and closer the hand holds it (HOLD_TURN);
+# TURN_FAR stays under the 4.7 cm a leg Robin holds over the palm keeps from it, so a sign
+# shown under a held leg (release, give me) keeps its turn and Robin's eyes still read it
+TURN_NEAR, TURN_FAR = 0.01, 0.04
 ABOVE = 0.7  # share of that distance upwards for a leg above the palm
 NEAR = 0.03  # m: obstacles within this of the hand's bounding sphere are measured
 # the way from the wanted finger (1) to the open finger (0) and on to a finger bent back (-1)
 STEPS = (1.0, 0.8, 0.6, 0.4, 0.2, 0.0, -0.5, -1.0)
 EXTENDED = (-0.35, 0.0, 0.0)  # rad: MCP, PIP, DIP of a finger bent back
 THUMB_AWAY = (-0.8, -0.3, 0.0, 0.0)  # rad: the thumb swung out, away from the palm
-# A thumb sign made with a leg on the palm: the palm stays under the leg, so the thumb points
-# up out of the palm (its tip 6 cm above it) or down under it (9 cm below), rad
-HOLD_THUMBS: dict[str, tuple[float, float, float, float]] = {
-    "thumb_up": (-0.8, 0.2, 0.0, 0.0),
-    "thumb_down": (1.0, 0.0, 0.0, 0.0),
-}
 HOLD_YAW = np.radians(40.0)  # about the palm normal, the wrist towards the person's right
 HOLD_TURN = np.array([np.cos(HOLD_YAW / 2), 0.0, 0.0, np.sin(HOLD_YAW / 2)])
 
@@ -219,20 +214,14 @@ class HandFit:
         pick = np.where(pick >= 0, pick, best)
         return ladder[pick[self.finger_of_joint], np.arange(20)]
 
-    def fit(
-        self, angles: np.ndarray, turn: np.ndarray, pose: str | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def fit(self, angles: np.ndarray, turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The hand to write for the wanted ``angles`` and ``turn`` (module doc), as the scene
         is now. The turn is applied first (the fingers are measured where the hand is
-        turned); a thumb sign (``pose``) made while holding has its thumb up or down out of
-        the palm (:data:`HOLD_THUMBS`)."""
+        turned)."""
         self._load()
         share = self.holding()
         turned = self.turn(turn, share)
         self._set_turn(turned)
-        if share > 0.0 and pose in HOLD_THUMBS:
-            angles = angles.copy()
-            angles[:4] += share * (np.array(HOLD_THUMBS[pose]) - angles[:4])
         return self.fingers(angles), turned
 
     def _set_turn(self, turn: np.ndarray) -> None:
