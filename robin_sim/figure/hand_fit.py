@@ -36,9 +36,9 @@ from robin_sim.model.person_joints import figure
 
 MARGIN = 0.002  # m kept between a finger and a leg or Robin's geoms
 # m from a leg to the collision palm: at TURN_NEAR and closer the hand holds it (HOLD_TURN);
-# TURN_FAR stays under the 4.7 cm a leg Robin holds over the palm keeps from it, so a sign
-# shown under a held leg (release, give me) keeps its turn and Robin's eyes still read it
-TURN_NEAR, TURN_FAR = 0.01, 0.04
+# from TURN_FAR on it keeps its own turn (a band of 1-4 cm turned it too late: fingers and
+# palm 15-18 mm into a leg Robin lowered onto the palm)
+TURN_NEAR, TURN_FAR = 0.04, 0.10
 ABOVE = 0.7  # share of that distance upwards for a leg above the palm
 NEAR = 0.03  # m: obstacles within this of the hand's bounding sphere are measured
 # the way from the wanted finger (1) to the open finger (0) and on to a finger bent back (-1)
