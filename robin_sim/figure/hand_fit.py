@@ -15,9 +15,10 @@ just enough to keep clear of them:
   :data:`TURN_NEAR` of the leg's distance to the collision palm;
 * **the fingers**: each finger (and the thumb) takes the furthest of :data:`STEPS` along the
   way from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me")
-  and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`) at
-  which its geoms keep :data:`MARGIN` from every leg and every geom of Robin's near it: the
-  fingers close onto a leg's surface, not through it, and give way to Robin's.
+  and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`),
+  or last, curled (:data:`CURLS`), at which its geoms keep :data:`MARGIN` from every leg and
+  every geom of Robin's near it: the fingers close onto a leg's surface, not through it, and
+  give way to Robin's.
 
 Candidates are measured with ``mujoco.mj_geomDistance`` in a scratch ``MjData`` (the scene's
 own kinematics stay untouched; the figure's finger frames live in ``model.body_quat``,
@@ -44,6 +45,10 @@ NEAR = 0.03  # m: obstacles within this of the hand's bounding sphere are measur
 # the way from the wanted finger (1) to the open finger (0) and on to a finger bent back (-1)
 STEPS = (1.0, 0.8, 0.6, 0.4, 0.2, 0.0, -0.5, -1.0)
 EXTENDED = (-0.35, 0.0, 0.0)  # rad: MCP, PIP, DIP of a finger bent back
+# last resort, from the wanted finger towards a curled one: a pointing index reaching down to
+# Robin's hand at the pointed leg (5 mm into its palm) curls away from it
+CURLS = (0.5, 1.0)
+CURLED = (1.4, 1.6, 1.0)  # rad: MCP, PIP, DIP
 THUMB_AWAY = (-0.8, -0.3, 0.0, 0.0)  # rad: the thumb swung out, away from the palm
 HOLD_YAW = np.radians(40.0)  # about the palm normal, the wrist towards the person's right
 HOLD_TURN = np.array([np.cos(HOLD_YAW / 2), 0.0, 0.0, np.sin(HOLD_YAW / 2)])
@@ -147,13 +152,16 @@ class HandFit:
         return self.obstacles[gap < NEAR]
 
     def _ladder(self, wanted: np.ndarray) -> np.ndarray:
-        """(len(STEPS), 20) hands from ``wanted`` to open and bent back, per :data:`STEPS`."""
+        """Hands from ``wanted`` to open and bent back (:data:`STEPS`), then towards curled
+        (:data:`CURLS`), one row each."""
         open_hand = wanted.copy()
         extended = wanted.copy()
+        curled = wanted.copy()
         for finger in range(1, 5):
             flex = slice(4 * finger + 1, 4 * finger + 4)
             open_hand[flex] = 0.0
             extended[flex] = EXTENDED
+            curled[flex] = CURLED
         open_hand[:4] = self.open_thumb
         extended[:4] = THUMB_AWAY
         rows = [
@@ -162,6 +170,7 @@ class HandFit:
             else open_hand - s * (extended - open_hand)
             for s in STEPS
         ]
+        rows += [wanted + s * (curled - wanted) for s in CURLS]
         return np.clip(np.array(rows), self.low, self.high)
 
     def _depths(self, angles: np.ndarray, near: np.ndarray, fingers: list[int]) -> np.ndarray:
