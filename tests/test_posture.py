@@ -216,7 +216,9 @@ def test_the_idle_arm_keeps_clear_of_the_table_and_bin_whatever_the_torso(
     data.userdata[posture.left_hand_q] = posture.left_hand_pose
     person_joints.pose(model, data)
     mujoco.mj_kinematics(model, data)
-    assert posture.idle_arm.clearance >= TABLE_CLEARANCE - 1e-9 or lean > 0.8  # swung as far as it goes
+    assert (
+        posture.idle_arm.clearance >= TABLE_CLEARANCE - 1e-9 or lean > 0.8
+    )  # swung as far as it goes
     assert _arm_clearance(model, data) >= ARM_CLEAR, (pose, posture.idle_arm.clearance)
 
 
