@@ -50,7 +50,10 @@ BELOW_LIMIT = 0.95  # share of an episode's frames whose lean stays below the li
 MEDIAN_LEAN = {"one_handover": 0.6, "table_one": 0.15}
 # rad of lean beyond the least with which any step and turn bring the shoulder within the
 # comfortable reach of the wrist: in half the frames at most EXCESS_MEDIAN (measured 0.013),
-# in nine in ten at most EXCESS_P90 (0.03-0.04; more where a lean buys the wrist its turn)
+# in nine in ten at most EXCESS_P90 (0.03-0.04; more where a lean buys the wrist its turn).
+# Frames where the cheapest torso's arm would reach into a leg or Robin are left out: there the
+# person leans further to keep the arm clear (posture.CLEAR_LEANS; one_handover seeds 0-2:
+# 8-18 % of frames, 0.16-0.20 rad more in median), which the clearance test checks
 EXCESS_MEDIAN = 0.03
 EXCESS_P90 = 0.1
 ARM_CLEAR = 0.01  # m: the idle arm's geoms from the table's and the bin's, on every frame
@@ -168,8 +171,9 @@ def test_the_lean_is_what_reaching_needs_and_no_more(scene, x, y, z, gesture) ->
     chosen = TorsoPose(values["human_step"], values["human_waist_turn"], lean_of_values(values))
     upright = torso.shoulders(np.zeros(1), np.zeros(1), np.zeros(1))[0]
     reaches = np.linalg.norm(wrist - upright) <= COMFORT * torso.reach - 1e-6
-    _, _, upright_error = posture.reach(wrist, hand_turn, TorsoPose(0.0, 0.0, 0.0))
-    if reaches and upright_error < SWIVEL_TRY:  # else a lean may buy the wrist its turn
+    _, _, upright_error, upright_depth = posture.reach(wrist, hand_turn, TorsoPose(0.0, 0.0, 0.0))
+    if reaches and upright_error < SWIVEL_TRY and upright_depth == 0.0:
+        # (else a lean may buy the wrist its turn, or the arm its clearance from legs and Robin)
         assert chosen == TorsoPose(0.0, 0.0, 0.0)
     grid = np.stack(
         np.meshgrid(
@@ -183,8 +187,9 @@ def test_the_lean_is_what_reaching_needs_and_no_more(scene, x, y, z, gesture) ->
     least = float(torso.cost(wrist, *grid.T).min())
     cost = torso.cost_of(wrist, chosen)
     cheapest, _ = torso.best(wrist)
-    if posture.reach(wrist, hand_turn, cheapest)[2] <= SWIVEL_TRY:  # else other torsos are tried
-        assert cost <= least * 1.02 + 1e-3, (chosen, cost, least)  # (posture.LEAN_TRIES)
+    _, _, cheapest_error, cheapest_depth = posture.reach(wrist, hand_turn, cheapest)
+    if cheapest_error <= SWIVEL_TRY and cheapest_depth == 0.0:  # else other torsos are tried
+        assert cost <= least * 1.02 + 1e-3, (chosen, cost, least)  # (LEAN_TRIES, CLEAR_LEANS)
     if least < 1e-2:  # reachable at little cost: the arm's wrist is on the hand's
         posture.update()
         mujoco.mj_kinematics(model, data)
@@ -281,13 +286,18 @@ def test_over_a_whole_episode_the_lean_is_what_reaching_needs(episode) -> None:
     _, recorded = episode
     model = build_model(recorded.layout)
     data = mujoco.MjData(model)
-    torso = Posture(model, data).torso
+    posture = Posture(model, data)
+    torso = posture.torso
     wrist = model.site(names.person_wrist_point("r")).id
     excess = []
     for state in recorded.states[::2]:
         apply_state(model, data, state)
-        excess.append(lean_of(data.userdata) - _least_lean(torso, data.site_xpos[wrist]))
         assert _miss(data) < 2e-3, state.time  # and the arm meets the hand
+        hand_wrist, hand = posture.hand_frame()
+        if posture.reach(hand_wrist, hand, torso.best(hand_wrist)[0])[3] > 0.0:
+            continue  # the cheapest torso's arm into a leg or Robin: leant to clear it
+        excess.append(lean_of(data.userdata) - _least_lean(torso, data.site_xpos[wrist]))
+    assert len(excess) >= len(recorded.states[::2]) // 2
     assert np.median(excess) <= EXCESS_MEDIAN
     assert np.percentile(excess, 90) <= EXCESS_P90
 

@@ -33,6 +33,7 @@ import math
 import mujoco
 import numpy as np
 
+from robin_sim.figure.arm_clearance import ArmClearance
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.idle_arm import IdleArm
 from robin_sim.figure.pose_library import load_library
@@ -56,6 +57,15 @@ LEAN_TRIES = (0.25, 0.5)  # rad of lean added to the cheapest torso's where the 
 # ranges (reaching across the body): the shoulder brought nearer, the waist turned to it
 NEARER = (0.8, 0.6, 0.4)
 ERROR_SCALE = 0.7  # rad of wrist error that cost as much as torso.LEAN_SCALE of lean
+# m of the arm inside arm_clearance.MARGIN of a leg or Robin that weigh as much as 1 rad of
+# wrist error: a clear arm is preferred to a wrist turned as the hand is
+DEPTH_SCALE = 0.005
+# where the arm is still inside that clearance: torsos leant at least this much more than the
+# cheapest (rad; capped at the limit) with the waist turned at least these shares of its
+# range's upper end (the shoulder further right, the forearm rising beside a leg held over
+# the palm rather than under its end)
+CLEAR_LEANS = (0.15, 0.35, 1.0)
+CLEAR_TURNS = (0.5, 1.0)
 
 
 def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -85,6 +95,12 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array(
         [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
     )
+
+
+def arm_score(error: float, depth: float) -> float:
+    """How bad an arm is: its wrist error (rad) and its depth into the clearance kept from legs
+    and Robin (m, :data:`DEPTH_SCALE`)."""
+    return error + depth / DEPTH_SCALE
 
 
 class Posture:
@@ -123,6 +139,7 @@ class Posture:
         self.fore = float(np.linalg.norm(body(wrist).pos))
         self.head = body(names.PERSON_HEAD_BODY).pos.copy()  # in the chest
         self.torso = Torso(model, fig, self.upper, self.fore)
+        self.clearance = ArmClearance(model)
         self.idle_arm = IdleArm(model, fig)
         self.wrist_point = model.site(names.person_wrist_point("r")).pos.copy()
         mocap = body(names.HUMAN_MOCAP_BODY)
@@ -130,6 +147,7 @@ class Posture:
         self.turn_q = fig.joint(names.HUMAN_HAND_TURN).adr
         self.gap = 0.0
         self.wrist_error = 0.0
+        self.depth = 0.0
         self.hand: ArticulatedHand | None = None  # its blends play out first, at each tick
         self._last: np.ndarray | None = None
         self._solved_at: float | None = None
@@ -150,22 +168,33 @@ class Posture:
         turned from the hand)."""
         wrist, hand = self.hand_frame()
         torso, cost = self.torso.best(wrist)
-        out, gap, error = self.reach(wrist, hand, torso)
-        score = cost + (error / ERROR_SCALE) ** 2
+        out, gap, error, depth = self.reach(wrist, hand, torso)
+        score = cost + (arm_score(error, depth) / ERROR_SCALE) ** 2
         tries: list[tuple[float, float]] = []
-        if error > SWIVEL_TRY:  # lean further where that lets the wrist turn as the hand does
+        if error > SWIVEL_TRY or depth > 0.0:  # lean further where that turns or clears the arm
             tries += [(torso.lean + extra, COMFORT) for extra in LEAN_TRIES]
         if error >= np.pi:  # the arm out of its range: the shoulder nearer (turned towards it)
             tries += [(0.0, share * COMFORT) for share in NEARER]
+        others = []
         for least_lean, comfort in tries:
-            if least_lean > self.torso.lean_limit:
-                continue
-            other, _ = self.torso.best(wrist, least_lean, comfort)
+            if least_lean <= self.torso.lean_limit:
+                others.append(self.torso.best(wrist, least_lean, comfort)[0])
+        if depth > 0.0:  # the arm into a leg or Robin: stepped in full, turned, leant further
+            step, high = self.torso.step_range[0], self.torso.turn_range[1]
+            limit = self.torso.lean_limit
+            others += [
+                TorsoPose(float(step), float(share * high), min(torso.lean + extra, limit))
+                for extra in CLEAR_LEANS
+                for share in CLEAR_TURNS
+            ]
+        for other in others:
             trial = self.reach(wrist, hand, other)
-            trial_score = self.torso.cost_of(wrist, other) + (trial[2] / ERROR_SCALE) ** 2
+            trial_score = (
+                self.torso.cost_of(wrist, other) + (arm_score(*trial[2:]) / ERROR_SCALE) ** 2
+            )
             if trial_score < score:
-                (out, gap, error), score = trial, trial_score
-        self.gap, self.wrist_error = gap, error
+                (out, gap, error, depth), score = trial, trial_score
+        self.gap, self.wrist_error, self.depth = gap, error, depth
         chosen = self._pose(out)
         out.update(self.idle_arm.solve(*self.torso.chest_frame(chosen), chosen.lean))
         return out
@@ -177,9 +206,11 @@ class Posture:
 
     def reach(
         self, wrist: np.ndarray, hand: np.ndarray, pose: TorsoPose
-    ) -> tuple[dict[str, float], float, float]:
+    ) -> tuple[dict[str, float], float, float, float]:
         """Joint values (torso, neck, right arm) that reach ``wrist`` turned as ``hand`` from
-        the torso ``pose``, the gap left and the wrist's error (:meth:`solve`)."""
+        the torso ``pose``, the gap left, the wrist's error (:meth:`solve`) and how far the arm
+        comes inside the clearance it keeps from legs and Robin
+        (:class:`~robin_sim.figure.arm_clearance.ArmClearance`)."""
         origin, torso = self.torso.chest_frame(pose)
         shoulder = origin + torso @ self.shoulder
         reach = wrist - shoulder
@@ -194,13 +225,22 @@ class Posture:
         along = hand[:, 0].copy()
         along[2] = float(np.clip(along[2], *FOREARM_RISE))
         hint = wrist + self.fore * _unit(along) - shoulder
-        best = self._arm(torso, shoulder, n, stretch, wanted, hint)
-        if best[1] > SWIVEL_TRY:  # try the elbow swung about the reach axis
-            for angle in SWIVELS:
-                trial = self._arm(torso, shoulder, n, stretch, wanted, _rot(n, angle) @ hint)
-                if trial[1] < best[1] - 1e-3:
-                    best = trial
-        arm, error = best
+        first = self._arm(torso, shoulder, n, stretch, wanted, hint)
+        near = self.clearance.near(self.data, shoulder, shoulder + stretch * n, self.upper)
+        ends = shoulder + stretch * n
+        depth = float(self.clearance.depths(near, shoulder, first[2][None], ends)[0])
+        (arm, error, _), best = first, arm_score(first[1], depth)
+        if first[1] > SWIVEL_TRY or depth > 0.0:  # try the elbow swung about the reach axis
+            trials = [
+                self._arm(torso, shoulder, n, stretch, wanted, _rot(n, angle) @ hint)
+                for angle in SWIVELS
+            ]
+            elbows = np.array([t[2] for t in trials])
+            depths = self.clearance.depths(near, shoulder, elbows, ends)
+            for (trial_arm, trial_error, _), trial_depth in zip(trials, depths, strict=True):
+                score = arm_score(trial_error, float(trial_depth))
+                if score < best - 1e-3:
+                    arm, error, depth, best = trial_arm, trial_error, float(trial_depth), score
         eyes = origin + torso @ self.head
         look = torso.T @ (wrist - eyes)
         yaw = LOOK * float(np.arctan2(-look[1], -look[0]))
@@ -209,7 +249,7 @@ class Posture:
         out = dict(zip(names.TORSO_JOINTS, (pose.step, pose.turn, waist, chest), strict=True))
         out.update(zip(names.NECK_JOINTS, (yaw, pitch), strict=True))
         out.update(zip(names.person_arm_joints("r"), arm, strict=True))
-        return out, gap, error
+        return out, gap, error, depth
 
     def _arm(
         self,
@@ -219,9 +259,9 @@ class Posture:
         stretch: float,
         wanted: np.ndarray,
         hint: np.ndarray,
-    ) -> tuple[tuple[float, ...], float]:
-        """The arm's seven angles with the elbow swung towards ``hint``, and the wrist's
-        remaining turn (rad) from ``wanted`` after its joint limits."""
+    ) -> tuple[tuple[float, ...], float, np.ndarray]:
+        """The arm's seven angles with the elbow swung towards ``hint``, the wrist's remaining
+        turn (rad) from ``wanted`` after its joint limits, and the elbow (world)."""
         cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
         m = _unit(hint - np.dot(hint, n) * n)
         alpha = float(np.arccos(_clip1(cos_a)))
@@ -248,7 +288,7 @@ class Posture:
         error = float(np.arccos(_clip1((float(np.sum(got * rest)) - 1) / 2)))
         if any(abs(c - a) > 1e-9 for c, a in zip(clipped[:4], angles[:4], strict=True)):
             error += np.pi  # the upper arm or elbow out of range: only a last resort
-        return tuple(clipped), error
+        return tuple(clipped), error, elbow
 
     def tick(self, now: float) -> None:
         """Play out :attr:`hand`'s blend into a pose at simulated time ``now``."""
