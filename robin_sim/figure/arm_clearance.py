@@ -23,6 +23,9 @@ from robin_sim.model import names
 from robin_sim.model.geom_groups import category_geoms
 
 MARGIN = 0.006  # m kept between the arm's geoms and a leg's or Robin's
+# m: obstacles whose bounding spheres come this near to where the arm can be are measured (and
+# make the posture solve again at the next render: they may move while the hand holds still)
+BROAD = 0.05
 _CAPSULE, _CYLINDER = int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)
 _SPHERE, _BOX = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_BOX)
 
@@ -109,14 +112,14 @@ class ArmClearance:
     def near(
         self, data: mujoco.MjData, shoulder: np.ndarray, wrist: np.ndarray, swing: float
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The obstacles within reach of an arm from ``shoulder`` to ``wrist`` whose elbow lies
-        at most ``swing`` from the line between them: their segments' ends (two (m, 3) arrays)
-        and radii, in ``data``'s computed kinematics."""
+        """The obstacles within :data:`BROAD` of an arm from ``shoulder`` to ``wrist`` whose
+        elbow lies at most ``swing`` from the line between them: their segments' ends (two
+        (m, 3) arrays) and radii, in ``data``'s computed kinematics."""
         centres = data.geom_xpos[self.obstacles]
         line = wrist - shoulder
         share = np.clip((centres - shoulder) @ line / max(float(line @ line), 1e-12), 0.0, 1.0)
         apart = np.linalg.norm(centres - (shoulder + share[:, None] * line), axis=1)
-        k = np.flatnonzero(apart - self.bound < swing + self.reach + MARGIN)
+        k = np.flatnonzero(apart - self.bound < swing + self.reach + BROAD)
         mats = data.geom_xmat[self.obstacles[k]].reshape(-1, 3, 3)
         axes = mats[np.arange(len(k)), :, self.axis[k]]
         half = (self.half[k])[:, None] * axes

@@ -148,6 +148,7 @@ class Posture:
         self.gap = 0.0
         self.wrist_error = 0.0
         self.depth = 0.0
+        self.crowded = False  # the last solve found legs or Robin's geoms within the arm's reach
         self.hand: ArticulatedHand | None = None  # its blends play out first, at each tick
         self._last: np.ndarray | None = None
         self._solved_at: float | None = None
@@ -167,6 +168,7 @@ class Posture:
         and :attr:`wrist_error` (rad the wrist's joints, at their limits, leave the forearm
         turned from the hand)."""
         wrist, hand = self.hand_frame()
+        self.crowded = False
         torso, cost = self.torso.best(wrist)
         out, gap, error, depth = self.reach(wrist, hand, torso)
         score = cost + (arm_score(error, depth) / ERROR_SCALE) ** 2
@@ -187,11 +189,12 @@ class Posture:
                 for extra in CLEAR_LEANS
                 for share in CLEAR_TURNS
             ]
-        for other in others:
-            trial = self.reach(wrist, hand, other)
-            trial_score = (
-                self.torso.cost_of(wrist, other) + (arm_score(*trial[2:]) / ERROR_SCALE) ** 2
-            )
+        costs = [self.torso.cost_of(wrist, other) for other in others]
+        for k in np.argsort(costs, kind="stable"):  # the cheapest torsos first
+            if costs[k] >= score:  # the torso alone costs more than the best arm so far
+                break
+            trial = self.reach(wrist, hand, others[k])
+            trial_score = costs[k] + (arm_score(*trial[2:]) / ERROR_SCALE) ** 2
             if trial_score < score:
                 (out, gap, error, depth), score = trial, trial_score
         self.gap, self.wrist_error, self.depth = gap, error, depth
@@ -226,8 +229,11 @@ class Posture:
         along[2] = float(np.clip(along[2], *FOREARM_RISE))
         hint = wrist + self.fore * _unit(along) - shoulder
         first = self._arm(torso, shoulder, n, stretch, wanted, hint)
-        near = self.clearance.near(self.data, shoulder, shoulder + stretch * n, self.upper)
         ends = shoulder + stretch * n
+        cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
+        swing = self.upper * math.sqrt(max(1.0 - cos_a * cos_a, 0.0))  # the elbow's circle
+        near = self.clearance.near(self.data, shoulder, ends, swing)
+        self.crowded |= len(near[2]) > 0
         depth = float(self.clearance.depths(near, shoulder, first[2][None], ends)[0])
         (arm, error, _), best = first, arm_score(first[1], depth)
         if first[1] > SWIVEL_TRY or depth > 0.0:  # try the elbow swung about the reach axis
@@ -298,10 +304,13 @@ class Posture:
     def update(self, now: float | None = None) -> None:
         """Solve and write the person's joints; nothing to solve while the hand has not moved
         or turned since the last call, nor within :data:`VIEW_PERIOD` of simulated time
-        ``now`` after the last solve (a render at most that much behind the hand's arm).
-        Called before a render looks (no physics needs it)."""
-        last = self._solved_at
-        if now is not None and last is not None and 0.0 <= now - last < VIEW_PERIOD:
+        ``now`` after the last solve (a render at most that much behind the hand's arm), unless
+        the last solve found a leg or Robin's geoms within the arm's reach (:attr:`crowded`:
+        they move while the hand holds still, and an arm that trailed them by a view period
+        reached 6-19 mm into a leg Robin held over the palm). Called before a render looks (no
+        physics needs it)."""
+        last, crowded = self._solved_at, self.crowded
+        if not crowded and now is not None and last is not None and 0.0 <= now - last < VIEW_PERIOD:
             return
         key = np.concatenate(
             [
@@ -310,7 +319,7 @@ class Posture:
                 self.data.userdata[self.turn_q : self.turn_q + 4],
             ]
         )
-        if self._last is not None and np.array_equal(key, self._last):
+        if not crowded and self._last is not None and np.array_equal(key, self._last):
             return
         self._last = key
         self._solved_at = now
