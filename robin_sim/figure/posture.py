@@ -149,6 +149,9 @@ class Posture:
         self.wrist_error = 0.0
         self.depth = 0.0
         self.crowded = False  # the last solve found legs or Robin's geoms within the arm's reach
+        # the chosen arm's shoulder, wrist and elbow circle's radius (ArmClearance.near)
+        self.arm_line: tuple[np.ndarray, np.ndarray, float] | None = None
+        self._line: tuple[np.ndarray, np.ndarray, float] | None = None
         self.hand: ArticulatedHand | None = None  # its blends play out first, at each tick
         self._last: np.ndarray | None = None
         self._solved_at: float | None = None
@@ -171,6 +174,7 @@ class Posture:
         self.crowded = False
         torso, cost = self.torso.best(wrist)
         out, gap, error, depth = self.reach(wrist, hand, torso)
+        line = self._line
         score = cost + (arm_score(error, depth) / ERROR_SCALE) ** 2
         tries: list[tuple[float, float]] = []
         if error > SWIVEL_TRY or depth > 0.0:  # lean further where that turns or clears the arm
@@ -196,8 +200,8 @@ class Posture:
             trial = self.reach(wrist, hand, others[k])
             trial_score = costs[k] + (arm_score(*trial[2:]) / ERROR_SCALE) ** 2
             if trial_score < score:
-                (out, gap, error, depth), score = trial, trial_score
-        self.gap, self.wrist_error, self.depth = gap, error, depth
+                (out, gap, error, depth), score, line = trial, trial_score, self._line
+        self.gap, self.wrist_error, self.depth, self.arm_line = gap, error, depth, line
         chosen = self._pose(out)
         out.update(self.idle_arm.solve(*self.torso.chest_frame(chosen), chosen.lean))
         return out
@@ -233,6 +237,7 @@ class Posture:
         cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
         swing = self.upper * math.sqrt(max(1.0 - cos_a * cos_a, 0.0))  # the elbow's circle
         near = self.clearance.near(self.data, shoulder, ends, swing)
+        self._line = (shoulder, ends, swing)
         self.crowded |= len(near[2]) > 0
         depth = float(self.clearance.depths(near, shoulder, first[2][None], ends)[0])
         (arm, error, _), best = first, arm_score(first[1], depth)
@@ -305,11 +310,14 @@ class Posture:
         """Solve and write the person's joints; nothing to solve while the hand has not moved
         or turned since the last call, nor within :data:`VIEW_PERIOD` of simulated time
         ``now`` after the last solve (a render at most that much behind the hand's arm), unless
-        the last solve found a leg or Robin's geoms within the arm's reach (:attr:`crowded`:
-        they move while the hand holds still, and an arm that trailed them by a view period
-        reached 6-19 mm into a leg Robin held over the palm). Called before a render looks (no
-        physics needs it)."""
-        last, crowded = self._solved_at, self.crowded
+        the last solve found a leg or Robin's geoms within the arm's reach or they are now
+        (:attr:`crowded`, :attr:`arm_line`: they move while the hand holds still; an arm that
+        trailed them by a view period reached 6-19 mm into a leg Robin held over the palm).
+        Called before a render looks (no physics needs it)."""
+        last, line = self._solved_at, self.arm_line
+        crowded = self.crowded or (
+            line is not None and len(self.clearance.near(self.data, *line)[2]) > 0
+        )
         if not crowded and now is not None and last is not None and 0.0 <= now - last < VIEW_PERIOD:
             return
         key = np.concatenate(
