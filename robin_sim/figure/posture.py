@@ -18,6 +18,12 @@ the person):
    shoulder to wrist are tried and the best kept (:attr:`Posture.wrist_error`); where the best
    still leaves it that far off, leaning further (:data:`LEAN_TRIES`) is tried and kept when
    the wrist's gain (:data:`ERROR_SCALE`) is worth more than the lean's cost;
+3a. each candidate arm is also scored by how far its capsules come inside
+   :data:`~robin_sim.figure.arm_clearance.MARGIN` of a handed-over leg or Robin's geoms
+   (:mod:`robin_sim.figure.arm_clearance`; :data:`DEPTH_SCALE`: a clear arm is preferred to a
+   wrist turned as the hand is); where the cheapest torso's arm is not clear, the elbow swings,
+   the leans of :data:`LEAN_TRIES` and the full step with the waist turned and leant further
+   (:data:`CLEAR_LEANS`, :data:`CLEAR_TURNS`) are tried, the cheapest torsos first;
 4. the head turns towards the hand; the idle left arm hangs clear of the table and the bin
    (:mod:`robin_sim.figure.idle_arm`).
 
