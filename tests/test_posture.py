@@ -46,14 +46,17 @@ BELOW_LIMIT = 0.95  # share of an episode's frames whose lean stays below the li
 # 0.58 m below the shoulder, for an arm of 0.60 m), 0.6 to point at the far legs. one_handover
 # holds the hand out for about half its frames, table_one (three handovers, more gestures at
 # the rest place) for a tenth. Measured (seeds 0-2): one_handover 0.40-0.56, table_one
-# 0.01-0.07; with the single box 0.90 and 0.49-0.63 (issue 40).
+# 0.01-0.07; with the single box 0.90 and 0.49-0.63 (issue 40). With the right arm kept
+# clear of legs and Robin (posture.CLEAR_LEANS): one_handover 0.40, 0.44, 0.57 (seeds 0-2),
+# table_one 0.013 (seeds 0-1).
 MEDIAN_LEAN = {"one_handover": 0.6, "table_one": 0.15}
 # rad of lean beyond the least with which any step and turn bring the shoulder within the
 # comfortable reach of the wrist: in half the frames at most EXCESS_MEDIAN (measured 0.013),
 # in nine in ten at most EXCESS_P90 (0.03-0.04; more where a lean buys the wrist its turn).
 # Frames where the cheapest torso's arm would reach into a leg or Robin are left out: there the
-# person leans further to keep the arm clear (posture.CLEAR_LEANS; one_handover seeds 0-2:
-# 8-18 % of frames, 0.16-0.20 rad more in median), which the clearance test checks
+# person leans further to keep the arm clear (posture.CLEAR_LEANS; measured on 10 fps records:
+# one_handover seeds 0-2 15-37 % of frames, table_one seed 0 7 %; there 0.16-0.20 rad more
+# than the least in median); tests/test_person_clearance checks that arm
 EXCESS_MEDIAN = 0.03
 EXCESS_P90 = 0.1
 ARM_CLEAR = 0.01  # m: the idle arm's geoms from the table's and the bin's, on every frame
