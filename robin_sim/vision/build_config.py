@@ -28,6 +28,7 @@ class BuildConfig:
     seed: int = 0
     out: Path = Path("out/gestures")
     workers: int = field(default_factory=lambda: default_build_workers())
+    cache: Path | None = None  # a render cache root (robin_sim.vision.render_key); None: OUT
 
     def __post_init__(self) -> None:
         SEED.parse(self.seed, "--seed")  # a negative or huge seed: refused here
@@ -52,8 +53,14 @@ class BuildConfig:
 
     @property
     def chunks(self) -> Path:
-        """Folder of the chunk files."""
-        return self.out / "chunks"
+        """Folder of the chunk files: ``OUT/chunks``, or with a cache root the folder of this
+        checkout's render key and the seed under it (reused while what the pictures depend
+        on is unchanged)."""
+        if self.cache is None:
+            return self.out / "chunks"
+        from robin_sim.vision.render_key import cache_folder
+
+        return cache_folder(self.cache, self.seed)
 
 
 __all__ = ["DEFAULT_SAMPLES", "MAX_SAMPLES", "MIN_SAMPLES", "BuildConfig", "default_build_workers"]

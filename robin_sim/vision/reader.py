@@ -72,7 +72,7 @@ def eye_features(
 ) -> list[np.ndarray | None]:
     """Features of each eye's hand region (None where none was found)."""
     return [
-        None if r is None else hand_features(v.rgb, r, v.focal)
+        None if r is None else hand_features(v.rgb, v.depth, r, v.focal)
         for v, r in zip(views, found, strict=True)
     ]
 
