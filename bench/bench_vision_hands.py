@@ -21,8 +21,9 @@ of the scene's light), its skin tone (nearest of 0-4) and its pose jitter (0-0.8
 1.6-2.5). Written for the capsule-to-articulated comparison of issue 29: ``--baseline FILE``
 copies the other hand's file (the capsule hand's, measured at ``f581bee``: this checkout's
 scene no longer holds that hand) beside it and writes their paired ``table.md``
-(``bench/vision_hands_table.py``, which also puts it into the docs). It uses only interfaces
-both hands' code has.
+(``bench/vision_hands_table.py``, which also puts it into the docs); ``--previous FILE`` copies
+the previous model's file of the same samples beside it as ``previous.csv`` and writes the
+paired previous-against-this-model ``models.md``. It uses only interfaces both hands' code has.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 import smoke  # bench/smoke.py: --smoke
-from vision_hands_table import table
+from vision_hands_table import MODELS, table
 
 from robin_sim.vision.build import Job, run_jobs
 from robin_sim.vision.classifier import CLASSES, GestureModel, shipped_path
@@ -103,6 +104,9 @@ def main() -> None:
     parser.add_argument("--chunks", action="append", default=[], help="SEED=DIR to reuse")
     parser.add_argument("--cache", type=Path, default=None, help="render cache root")
     parser.add_argument("--baseline", type=Path, default=None, help="the other hand's CSV")
+    parser.add_argument(
+        "--previous", type=Path, default=None, help="the previous model's CSV (same samples)"
+    )
     args = smoke.parse_args(parser, seeds="0", samples=CHUNK, workers=1)
     seeds = [int(s) for s in args.seeds.split(",")]
     reuse = {int(k): Path(v) for k, v in (c.split("=", 1) for c in args.chunks)}
@@ -135,6 +139,13 @@ def main() -> None:
         pair = sorted([other, results], key=lambda p: p.name != "capsule.csv")
         (args.out / "table.md").write_text("\n".join(table(*pair)) + "\n")
         print(f"wrote {args.out / 'table.md'}")
+    if args.previous is not None:
+        previous = args.out / "previous.csv"
+        if previous.resolve() != args.previous.resolve():
+            shutil.copyfile(args.previous, previous)
+        models = table(previous, results, MODELS)
+        (args.out / "models.md").write_text("\n".join(models) + "\n")
+        print(f"wrote {args.out / 'models.md'}")
 
 
 if __name__ == "__main__":

@@ -144,7 +144,9 @@ RECIPES: tuple[Recipe, ...] = (
         False,
     ),
     Recipe(
-        "vision_hands",  # the capsule hand's half was measured at f581bee and is carried over
+        # the capsule hand's half was measured at f581bee and the previous model's (format 2,
+        # the articulated hand) at 04f787f; both are carried over
+        "vision_hands",
         (
             "bench",
             "bench_vision_hands.py",
@@ -152,6 +154,8 @@ RECIPES: tuple[Recipe, ...] = (
             "articulated",
             "--baseline",
             str(RESULTS / "vision_hands" / "capsule.csv"),
+            "--previous",
+            str(RESULTS / "vision_hands" / "previous.csv"),
             "--cache",
             VISION_CACHE,
         ),

@@ -25,8 +25,8 @@ from robin_sim.vision.render_key import (
 
 # modules a rendering worker imports that do not shape what a sample shows or stores: the
 # learner's package, package inits, the physics controller (a data set is posed kinematically,
-# never stepped), the features (computed from the stored crops when a split is loaded) and the
-# key itself
+# never stepped), the features (computed from the stored crops when a split is loaded), the
+# model file's reader (its CLASSES, which a label indexes, are hashed by value) and the key itself
 NOT_PICTURES = (
     "pil",
     "robin_sim.closing",
@@ -34,6 +34,7 @@ NOT_PICTURES = (
     "robin_sim.control.ik",
     "robin_sim.control.trajectory",
     "robin_sim.vision.features",
+    "robin_sim.vision.classifier",
     "robin_sim.vision.render_key",
 )
 
@@ -122,3 +123,35 @@ def test_a_cache_reuses_chunks_of_its_key_and_seed_only(tmp_path: Path) -> None:
     other_body.rename(config.chunks)
     other_seed = BuildConfig(samples=MIN_SAMPLES, seed=4, out=tmp_path / "out", cache=cache)
     assert len(pending(other_seed)) == 2 and pending(config) == []
+
+
+def test_a_model_of_the_features_before_is_refused_by_name(tmp_path: Path) -> None:
+    """A format-2 model (658 features: the shading HOG) cannot read this reader's features:
+    loading it names its format and says to retrain."""
+    import pytest
+
+    from robin_sim.vision.classifier import CLASSES, FORMAT, GestureModel, ModelFileError
+
+    old = tmp_path / "old.npz"
+    rng = np.random.default_rng(0)
+    with old.open("wb") as handle:
+        np.savez_compressed(
+            handle,
+            format=np.int64(2),
+            classes=np.array(CLASSES),
+            mean=np.zeros(658, np.float32),
+            scale=np.ones(658, np.float32),
+            layers=np.int64(1),
+            w0=rng.normal(size=(658, 7)).astype(np.float32),
+            b0=np.zeros(7, np.float32),
+            threshold=np.float64(0.5),
+            seed=np.int64(0),
+            samples=np.int64(0),
+        )
+    assert FORMAT == 3
+    with pytest.raises(ModelFileError, match=r"format 2 .*retrain it with 'robin-pil train"):
+        GestureModel.load(old)
+    same_shape = GestureModel(
+        np.zeros(658), np.ones(658), (np.zeros((658, 7)),), (np.zeros(7),), 0.5
+    )
+    assert "takes 658 features, not the 1810" in same_shape.problem()

@@ -6,9 +6,10 @@ person's body and hand, Robin, the table, the lights), the hand poses file, the 
 sample spec (places, ranges, chunk size) and the crops it stores. :func:`render_key` hashes all
 of them: the compiled scene's XML, every file under ``models/`` (meshes and textures the XML
 names), the source of every module that shapes a picture (:data:`SOURCES`), the data files of
-the figure, and the MuJoCo version. A cache folder named by the key (:func:`cache_folder`)
-is reused only while all of it is unchanged: a changed body, pose, camera or spec gives a new
-key, so the data set is rendered anew; the seed names a folder of its own below the key.
+the figure, the classes (by value: a sample's label indexes them) and the MuJoCo version. A
+cache folder named by the key (:func:`cache_folder`) is reused only while all of it is
+unchanged: a changed body, pose, camera or spec gives a new key, so the data set is rendered
+anew; the seed names a folder of its own below the key.
 
 The key is conservative: any edit of a listed source file (a comment too) re-renders. The
 features are not in the key: they are computed from the stored crops when a split is loaded.
@@ -33,7 +34,6 @@ SOURCES = (
     "render/renderer.py",
     "render/frame_spec.py",
     "render/gl_backend.py",
-    "vision/classifier.py",  # the classes, in the order a sample's label indexes
     "vision/dataset.py",
     "vision/render_set.py",
     "vision/eyes.py",
@@ -85,8 +85,11 @@ def scene_xml() -> str:
 @cache
 def render_key() -> str:
     """The content key of this checkout's rendered samples (:func:`content_key` of the
-    compiled scene and :func:`key_inputs`)."""
-    return content_key(scene_xml(), key_inputs())
+    compiled scene, the classes in the order a sample's label indexes them, and
+    :func:`key_inputs`)."""
+    from robin_sim.vision.classifier import CLASSES
+
+    return content_key(f"{scene_xml()}\nclasses {CLASSES}", key_inputs())
 
 
 def cache_folder(root: Path, seed: int) -> Path:
