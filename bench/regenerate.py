@@ -168,7 +168,7 @@ RECIPES: tuple[Recipe, ...] = (
             "robin-pil",
             "train-gestures",
             "--samples",
-            "8064",
+            "16128",
             "--workers",
             "2",
             "--cache",
