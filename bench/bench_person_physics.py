@@ -14,7 +14,7 @@ table) of:
    :class:`robin_sim.figure.posture.Posture`, the hand moving so every tick solves); in an
    episode it is solved only when a frame is rendered (a view hook), at most at video rate;
 4. the same at video rate (30 Hz: every 17th step), the hand moving every control tick;
-5. the scene as ``scene.xml`` is written, the person with its 62 joint DoFs (as it was
+5. the scene as ``scene.xml`` is written, the person with its 63 joint DoFs (as it was
    shipped before), idle;
 
 and the ratios to the baseline.
@@ -49,7 +49,7 @@ def without_person() -> mujoco.MjModel:
 
 
 def with_person_joints() -> mujoco.MjModel:
-    """The scene as ``scene.xml`` is written: the person with its 62 joint DoFs (case 5)."""
+    """The scene as ``scene.xml`` is written: the person with its 63 joint DoFs (case 5)."""
     return mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
 
 
@@ -87,7 +87,7 @@ def main() -> None:
         "without the person's articulated bodies (baseline)": (baseline, 0),
         "as shipped, the person solved every control tick": (shipped, CONTROL_EVERY),
         "as shipped, the person solved at video rate": (shipped, VIDEO_EVERY),
-        "the person with its 62 joint DoFs (before)": (with_person_joints(), 0),
+        "the person with its 63 joint DoFs (before)": (with_person_joints(), 0),
     }
     rates: dict[str, list[float]] = {name: [] for name in cases}
     for _ in range(args.repeats):  # interleaved: a load change hits every case alike

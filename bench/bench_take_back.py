@@ -29,9 +29,10 @@ from pil.bench.noise import make_reader
 from pil.bench.suite import load_suite
 from pil.bench.tracks import TableWorld, count
 from pil.experiments.stats import holm, paired
-from pil.task.person import ScriptedPerson, plan_script
+from pil.task.person import ScriptedPerson
 from pil.task.runner import steps
 from pil.task.scenario import load_scenario
+from pil.task.script import plan_script
 from pil.task.seeds import sub_seeds
 
 ARMS: dict[str, tuple[float, int]] = {  # name -> (take_back, take_back_delay)

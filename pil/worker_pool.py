@@ -51,17 +51,19 @@ def die_with_parent() -> None:
 
 class SpawnPool(ProcessPoolExecutor):
     """A ``ProcessPoolExecutor`` of ``spawn`` workers deaf to signals that die with this
-    process and are ended at once by :meth:`stop`."""
+    process and are ended at once by :meth:`stop`. ``start_method="fork"`` is for work that
+    needs this process's loaded state (the bench's entrants, :mod:`pil.bench.processes`)."""
 
     def __init__(
         self,
         workers: int,
         initializer: Callable[..., object] | None = None,
         initargs: tuple[Any, ...] = (),
+        start_method: str = "spawn",
     ) -> None:
         super().__init__(
             workers,
-            mp_context=multiprocessing.get_context("spawn"),
+            mp_context=multiprocessing.get_context(start_method),
             initializer=start_worker,
             initargs=(initializer, initargs),
         )

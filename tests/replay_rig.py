@@ -65,7 +65,7 @@ def check_episode_replay(out: Path, summary: dict, capsys: object, seconds: floa
     assert "states" not in json.dumps(summary)  # the summary is as before: no new field
     recorded = load_states(out / STATES_NAME)
     assert recorded.video_frames == summary["video"]["frames"]
-    # compact: the articulated person adds 63 joint positions to every frame
+    # compact: the articulated person adds 64 joint positions to every frame
     assert (out / STATES_NAME).stat().st_size < 60_000 + 700 * len(recorded.states)
     capsys.readouterr()  # type: ignore[attr-defined]
     assert main(["replay", str(out), "--to", str(seconds)]) == 0

@@ -161,6 +161,26 @@ def test_a_slow_decision_in_a_worker_process_is_stopped(tmp_path, capfd):
     _says(err, spec, f"seed {SEEDS[2]}", "1 s")
 
 
+@pytest.mark.parametrize("workers", ["1", "2"])
+@pytest.mark.parametrize(
+    ("ends", "said"),
+    [
+        ("import os; os._exit(3)", "exit status 3"),
+        ("import os, signal; os.kill(os.getpid(), signal.SIGKILL)", "killed by SIGKILL"),
+    ],
+)
+def test_an_entrant_that_ends_its_process_is_named(ends, said, workers, tmp_path, capfd):
+    """No guard in a process outlives it: the bench watches the process and names the run."""
+    spec = _entrant(tmp_path, select=f"if self.seed == {LEARNER[2]}:\n            {ends}")
+    out = tmp_path / "out"
+    status, err = _bench_fd(spec, out, capfd, "--workers", workers)
+    assert status == 2
+    _says(err, spec, "track assembly", f"seed {SEEDS[2]}", said)
+    rows = read_runs(out, SUITE)
+    assert rows and all(r["seed"] != SEEDS[2] for r in rows)  # the runs before it are kept
+    assert {r["seed"] for r in rows} >= {SEEDS[0], SEEDS[1]}
+
+
 def test_an_agent_of_the_protocol_that_raises_is_named(tmp_path):
     path = tmp_path / "proto.py"
     path.write_text(

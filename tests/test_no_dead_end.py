@@ -36,9 +36,10 @@ from pil.bench.tracks import TableWorld
 from pil.learner import Learner
 from pil.robust import RobustLearner
 from pil.table import action_index, state_id
-from pil.task.person import ScriptedPerson, plan_script
+from pil.task.person import ScriptedPerson
 from pil.task.runner import ASK_AFTER_REPEATS, RunnerError, StepRecord, steps
 from pil.task.scenario import load_scenario
+from pil.task.script import plan_script
 from pil.types import GESTURES, Action, Feedback, Gesture, Hand, State
 
 BOUND = ASK_AFTER_REPEATS  # gestures in a row within which the robot acts

@@ -5,8 +5,9 @@ from __future__ import annotations
 import pytest
 
 from pil.errors import RobinPilError
-from pil.task.person import ScriptedPerson, plan_script
+from pil.task.person import ScriptedPerson
 from pil.task.scenario import load_scenario
+from pil.task.script import plan_script
 from pil.task.world import Outcome, Target
 from pil.types import Action, Feedback
 

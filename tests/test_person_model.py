@@ -133,9 +133,9 @@ def test_the_person_has_no_dofs_and_poses_as_its_joints_would(scene) -> None:
     puts them in ``scene.xml`` compiled with the joints, for random angles within the limits."""
     model, _ = scene
     assert not any(is_person_joint(model.joint(j).name) for j in range(model.njnt))
-    assert model.nuserdata == figure().size == 63  # 62 DoFs: one ball (a quaternion)
+    assert model.nuserdata == figure().size == 64  # 63 DoFs: one ball (a quaternion)
     jointed = mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
-    assert jointed.nv - model.nv == 62
+    assert jointed.nv - model.nv == 63
     rng = np.random.default_rng(0)
     for _ in range(3):
         a, b = mujoco.MjData(jointed), mujoco.MjData(model)

@@ -23,6 +23,7 @@ ensure_gl_backend()
 from robin_sim.cli.main import main  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.render.state_log import (  # noqa: E402
+    FORMAT,
     STATES_NAME,
     StateLog,
     StatesError,
@@ -126,6 +127,10 @@ def _with(array: np.ndarray, index: tuple[int, ...], value: float) -> np.ndarray
         ({"qpos": lambda q: q.astype(object)}, "qpos holds object, expected floating"),
         ({"overlay_index": lambda i: i + 5}, "overlay_index points past"),
         ({"meta": json.dumps({**META, "format": 1, "fps": 10**9})}, "meta: fps"),
+        (  # an older layout (format 2: one lean joint fewer) is refused by its number
+            {"meta": json.dumps({**META, "format": FORMAT - 1})},
+            f"states format {FORMAT - 1}; this version reads format {FORMAT}",
+        ),
     ],
     ids=lambda v: "" if isinstance(v, str) else str(sorted(v)),
 )

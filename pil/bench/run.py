@@ -21,6 +21,7 @@ from typing import Any
 from pil.bench.entrants import REFERENCE, EntrantError, Factory, load_factory, reference
 from pil.bench.guard import DECISION_TIMEOUT, TimeLimit, guard_factory
 from pil.bench.journal import Journal
+from pil.bench.processes import RunEndedError, run_ordered
 from pil.bench.suite import Suite, Track
 from pil.bench.tracks import run_track
 from pil.folder_lock import FolderLock
@@ -142,38 +143,24 @@ def _execute(
     work: Callable[[Task], dict[str, Any]],
     done: int,
 ) -> None:
-    """Run ``todo`` here or in a pool, appending each finished run to ``journal``."""
+    """Run ``todo`` here or in watched processes (:mod:`pil.bench.processes`: several
+    workers, or an external entrant's runs), appending each finished run to ``journal``."""
     if progress is not None and done:
         progress(done)
-    if workers > 1 and len(todo) > 1:
-        import multiprocessing
-
-        from pil.signal_policy import blocked_for_children
-
-        context = multiprocessing.get_context("fork")
-        with blocked_for_children(spawning=False):  # no signal before _start_worker
-            pool = context.Pool(workers, initializer=_start_worker)
-        with pool:
-            for row in pool.imap(work, todo, chunksize=4):
-                journal.add([row])
-                if progress is not None:
-                    progress(1)
-    else:
-        for task in todo:
-            journal.add([work(task)])
+    watched = workers > 1 or any(task[2].external for task in todo)
+    try:
+        if watched:
+            rows = (row for _, row in run_ordered(work, todo, workers))
+        else:
+            rows = (work(task) for task in todo)
+        for row in rows:
+            journal.add([row])
             if progress is not None:
                 progress(1)
-
-
-def _start_worker() -> None:
-    """A pool worker's first call: Ctrl-C is the command's to act on (ignored here), the
-    command's SIGTERM when it ends the pool ends this worker without a word, and the worker
-    ends with the command (:func:`pil.worker_pool.die_with_parent`)."""
-    import signal
-
-    from pil.worker_pool import die_with_parent
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, (signal.SIGINT, signal.SIGTERM))
-    die_with_parent()
+    except RunEndedError as ended:
+        task: Task = ended.task  # type: ignore[assignment]
+        track, condition, entrant, seed, _ = task
+        who = f"--agent {entrant.name}" if entrant.external else f"agent {entrant.name}"
+        raise EntrantError(
+            f"{who} on track {track}, condition {condition}, seed {seed}: {ended}"
+        ) from None

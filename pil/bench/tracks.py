@@ -31,9 +31,10 @@ from pil.bench.counting import Played, count, curve_area, curve_of, recovery
 from pil.bench.entrants import Factory, as_agent
 from pil.bench.noise import make_reader
 from pil.bench.suite import Suite, Track
-from pil.task.person import ScriptedPerson, ScriptStep, plan_script
+from pil.task.person import ScriptedPerson
 from pil.task.runner import steps
 from pil.task.scenario import load_scenario, states_along
+from pil.task.script import ScriptStep, plan_script
 from pil.task.seeds import sub_seeds
 from pil.task.world import Outcome, SymbolicWorld, Target, Watcher
 from pil.types import Action, Feedback, State, hand_after

@@ -35,9 +35,10 @@ from dm_env import specs
 from pil.errors import RobinPilError, quote
 from pil.task.assemble import assemble
 from pil.task.params import MAX_SEED, STEP_RATE
-from pil.task.person import PersonBody, ScriptStep
+from pil.task.person import PersonBody
 from pil.task.runner import MAX_PERFORMANCES
 from pil.task.scenario import Scenario
+from pil.task.script import ScriptStep
 from pil.task.spec import parse_run_spec
 from pil.task.world import WORLD_METHODS, SymbolicWorld, World
 from pil.types import ACTIONS, GESTURES, START_ACTION, Action, Feedback, Hand, State

@@ -23,8 +23,8 @@ from pil.experiments.paper import PAPER_REPS
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.task.assemble import assemble, pretraining
-from pil.task.person import ScriptStep, plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, build_type
+from pil.task.script import ScriptStep, plan_script
 from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Feedback, Gesture
 

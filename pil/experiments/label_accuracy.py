@@ -18,8 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.experiments.baselines import csv_text
-from pil.experiments.report import markdown_table
+from pil.experiments.report import csv_text, markdown_table
 from pil.task.detector import Detector
 from pil.types import Gesture
 

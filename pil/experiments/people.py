@@ -25,8 +25,8 @@ from pil.experiments.rep_journal import RepJournal
 from pil.experiments.study import rep_seeds
 from pil.experiments.study_files import read_study_file
 from pil.task.assemble import assemble
-from pil.task.person import plan_script
 from pil.task.scenario import SCENARIOS_DIR, HandoverType, Scenario, ScenarioError, parse_step
+from pil.task.script import plan_script
 from pil.task.seeds import person_seed, sub_seeds
 from pil.task.spec import RunSpec, parse_run_spec
 from pil.types import Action, Gesture

@@ -230,3 +230,12 @@ def summary_markdown(
         for s in summarize(rows, group_by, metrics)
     ]
     return markdown_table(header, body)
+
+
+def csv_text(rows: Sequence[Mapping[str, Any]], columns: Sequence[str]) -> str:
+    """The rows as CSV text (fixed columns, ``\\n`` line ends: byte-reproducible)."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=list(columns), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buffer.getvalue()

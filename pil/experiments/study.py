@@ -13,8 +13,6 @@ repetition uses that seed (common random numbers: same handover order, same dete
 from __future__ import annotations
 
 import copy
-import csv
-import io
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +22,7 @@ import numpy as np
 
 from pil.atomic import write_text_atomic
 from pil.errors import RobinPilError
+from pil.experiments import report
 from pil.experiments.paper import LOW_RATES, PAPER_RATES, PAPER_REPS, PAPER_TRAINING
 from pil.experiments.paper_comparison import (
     Figures,
@@ -171,12 +170,8 @@ def run_study(
 
 
 def csv_text(rows: Sequence[Row], columns: Sequence[str] = STUDY_COLUMNS) -> str:
-    """The rows as CSV text (fixed columns, ``\\n`` line ends: byte-reproducible)."""
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=list(columns), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    return buffer.getvalue()
+    """The study's rows as CSV text (:func:`pil.experiments.report.csv_text`)."""
+    return report.csv_text(rows, columns)
 
 
 def training_by_rule(config: StudyConfig) -> dict[str, Figures]:

@@ -24,7 +24,6 @@ from pathlib import Path
 from typing import Any
 
 from pil.atomic import write_text_atomic
-from pil.experiments.baselines import csv_text
 from pil.experiments.calibration import (
     CALIBRATION_RATES,
     DEFAULT_CHOICE,
@@ -39,7 +38,7 @@ from pil.experiments.experience import (
     experience_rows,
     experience_tests,
 )
-from pil.experiments.report import markdown_table
+from pil.experiments.report import csv_text, markdown_table
 from pil.experiments.stats import csv_columns
 from pil.experiments.study_reading_plots import (
     experience_figure,

@@ -25,10 +25,11 @@ from pil.step_memory import step_memory_on
 from pil.table import AssociationTable
 from pil.task.counting import RunStats
 from pil.task.detector import EXACT, INDEPENDENT, MEASURED_PREFIX, GestureReader, make_detector
-from pil.task.person import PersonBody, ScriptedPerson, ScriptStep, plan_script
+from pil.task.person import PersonBody, ScriptedPerson
 from pil.task.records import StepRecord
 from pil.task.runner import ASK_AFTER_REPEATS, StepObserver, steps
 from pil.task.scenario import Scenario
+from pil.task.script import ScriptStep, plan_script
 from pil.task.seeds import PHASES, PhaseSeeds
 from pil.task.spec import SYMBOLIC, RunSpec
 from pil.task.watching import ReactionTime

@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from pil.task.person import ScriptStep
 from pil.task.records import StepRecord
+from pil.task.script import ScriptStep
 from pil.types import Feedback
 
 

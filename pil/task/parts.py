@@ -17,8 +17,8 @@ from pil.errors import InvalidChoiceError
 from pil.task.assemble import Run, cached, script_of
 from pil.task.params import ASSEMBLY
 from pil.task.params import PARAMS as PARAM_SPECS
-from pil.task.person import ScriptStep
 from pil.task.scenario import Scenario, load_scenario
+from pil.task.script import ScriptStep
 from pil.task.seeds import PHASES, SEED_NAMES, SEED_PARTS, PhaseSeeds, derive_seeds
 
 __all__ = [

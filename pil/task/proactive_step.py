@@ -9,8 +9,8 @@ action while the person watches (:func:`pil.task.watched_action.watched_action`)
 from __future__ import annotations
 
 from pil.anticipation import Anticipation
-from pil.task.person import ScriptStep
 from pil.task.records import StepRecord, item_record
+from pil.task.script import ScriptStep
 from pil.task.watched_action import StepParts, watched_action
 from pil.types import Action
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any, NamedTuple, Protocol
 
-from pil.task.person import ScriptStep
+from pil.task.script import ScriptStep
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture, State
 

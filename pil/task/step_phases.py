@@ -20,9 +20,10 @@ from pil.learner import Decision, Learner
 from pil.task.asking import ask_unreadable
 from pil.task.detector import GestureReader
 from pil.task.grounding import ground
-from pil.task.person import Person, ScriptStep
+from pil.task.person import Person
 from pil.task.proactive_step import anticipate_step
 from pil.task.records import StepObserver, StepRecord, item_record
+from pil.task.script import ScriptStep
 from pil.task.watched_action import StepParts, watched_action
 from pil.task.world import World
 from pil.types import START_ACTION, START_HAND, Action, Feedback, Hand, hand_after

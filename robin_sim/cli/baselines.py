@@ -43,7 +43,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Tune, run the table and write it; bad input raises a RobinPilError (exit code 2)."""
-    from pil.experiments.baselines import BaselineConfig, run_baselines, write_outputs
+    from pil.experiments.baselines import BaselineConfig, run_baselines
+    from pil.experiments.baselines_report import write_outputs
     from pil.outdir import check_out_dir
 
     # as given: parsed once, by the config (the edge)

@@ -27,6 +27,10 @@ TIP_ANGLE = 2.0  # rad the palm rolls to tip a leg off
 # held leg on its way to point somewhere.
 POINT_RETREAT = np.array([0.15, 0.0, -0.06])  # m
 SLIDE_IN = 0.2  # m: the palm slides in under a held leg from this far on the person's side
+# m/s peak of a palm carrying a leg upwards: the physics palm, welded to the mocap frame, trails
+# it by about 29 ms of its speed (7 mm rising at CARRY_SPEED), so the leg on it sank that far
+# into the figure's palm, which hangs from the mocap frame; at this speed 2-3 mm
+CARRY_RISE_SPEED = 0.08
 
 
 class HumanHand:
@@ -133,18 +137,24 @@ class HumanHand:
     ) -> float:
         """Draw the hand straight back (+x, towards the person) to ``clear_x``, out of the
         robot's way, then raise it ``raise_by`` m and move it ``aside`` m along y, at
-        ``speed`` (:data:`CARRY_SPEED` with a leg on the palm); returns the duration (0 if it
-        is there already)."""
+        ``speed`` (:data:`CARRY_SPEED` with a leg on the palm, which also rises at
+        :data:`CARRY_RISE_SPEED`); returns the duration (0 if it is there already)."""
         here = self.pose()
         if here.translation()[0] >= clear_x - 1e-6:
             return 0.0
         back = here.translation().copy()
         back[0] = clear_x
         waypoints = [mink.SE3.from_rotation_and_translation(here.rotation(), back)]
-        if raise_by > 0.0 or aside != 0.0:
-            up = back + np.array([0.0, aside, raise_by])
-            waypoints.append(mink.SE3.from_rotation_and_translation(here.rotation(), up))
-        return self.follow(waypoints, now, speed)
+        if raise_by <= 0.0 and aside == 0.0:
+            return self.follow(waypoints, now, speed)
+        up = back + np.array([0.0, aside, raise_by])
+        raised = mink.SE3.from_rotation_and_translation(here.rotation(), up)
+        draw = through([here, *waypoints], speed)
+        rise_speed = CARRY_RISE_SPEED if speed <= CARRY_SPEED and raise_by > 0.0 else speed
+        rise = through([draw.end, raised], rise_speed)
+        self._path = CartesianPath(draw.segments + rise.segments)
+        self._start = now
+        return self._path.duration
 
     def take_away(self, bin_position: np.ndarray, now: float) -> float:
         """Carry what lies on the palm to the bin, tip it in, and go back to rest.

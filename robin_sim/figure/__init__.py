@@ -1,5 +1,6 @@
 """The person's kinematic figure, below the robot and the person's behaviour: the capsule hand's
 signs (``hand_poses``), the articulated hand's joint poses (``articulated``) from the pose library
 of real hands (``pose_library``, ``data/hand_poses.json``), 21 landmarks to joint angles
-(``retarget``) and the body that follows the hand (``posture``). It imports the model's names
-only, so the world, the person, the eyes and the live mirror can all use it."""
+(``retarget``) and the body that follows the hand (``posture``: the torso's least-cost step, turn
+and lean in ``torso``, the idle arm clear of the table in ``idle_arm``). It imports the model's
+names only, so the world, the person, the eyes and the live mirror can all use it."""

@@ -8,10 +8,12 @@ into ``data.userdata`` (the person's joints live there, not in the physics:
 :mod:`robin_sim.model.person_joints`), posing the hand's bodies. A change of pose is either
 immediate (a still picture, Robin's reading) or a seeded minimum-jerk blend from the current
 hand over ``blend`` seconds, played out by :meth:`ArticulatedHand.update` at every control
-tick: the hand moves into a gesture, it does not switch shapes. Only the person's joints are
-written (their geoms never collide); the collision palm under the mocap frame is untouched. The
-performance's hand size is not used (the hand's segment lengths are the model's); its skin tone
-colours every skin geom.
+tick: the hand moves into a gesture, it does not switch shapes. Before a render looks,
+:meth:`ArticulatedHand.prepare_view` fits the hand around a leg coming down onto the palm or
+lying on it and around Robin's fingers (:mod:`robin_sim.figure.hand_fit`). Only the person's
+joints are written (their geoms never collide); the collision palm under the mocap frame is
+untouched. The performance's hand size is not used (the hand's segment lengths are the
+model's); its skin tone colours every skin geom.
 """
 
 from __future__ import annotations
@@ -21,9 +23,11 @@ from dataclasses import replace
 import mujoco
 import numpy as np
 
+from robin_sim.figure.hand_fit import HandFit
 from robin_sim.figure.hand_poses import SHAPES, Performance, skin_colour, wrist_rotation
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
+from robin_sim.model.geom_groups import body_geoms
 from robin_sim.model.person_joints import figure, has_figure, pose
 
 # How a performance's offsets enter the joints (rad per unit): a finger's curl spreads over its
@@ -57,15 +61,7 @@ def _smooth(s: float) -> float:
 
 def subtree_geoms(model: mujoco.MjModel, root: str) -> np.ndarray:
     """Geom ids of body ``root`` and every body below it."""
-    top = model.body(root).id
-    bodies = [b for b in range(model.nbody) if _descends(model, b, top)]
-    return np.flatnonzero(np.isin(model.geom_bodyid, bodies))
-
-
-def _descends(model: mujoco.MjModel, body: int, top: int) -> bool:
-    while body != top and body != 0:
-        body = int(model.body_parentid[body])
-    return body == top
+    return body_geoms(model, (root,))
 
 
 class ArticulatedHand:
@@ -85,8 +81,11 @@ class ArticulatedHand:
         )
         skin = np.all(np.abs(model.geom_rgba[person, :3] - SKIN_CLASS_RGBA) < 1e-6, axis=1)
         self.skin_geoms = person[skin]
+        self.fit = HandFit(model, data)  # keeps the fingers and palm clear of legs and Robin
         self._from: tuple[np.ndarray, np.ndarray] | None = None
         self._to: tuple[np.ndarray, np.ndarray] = (self.angles(), self.turn())
+        self._wanted = self._to  # the hand as the pose wants it, before the fit
+        self._fitted = False  # the written hand differs from the wanted one
         self._start, self._duration = 0.0, 0.0
 
     # --- reading the hand -----------------------------------------------------------------
@@ -126,7 +125,7 @@ class ArticulatedHand:
         self.model.geom_rgba[self.skin_geoms, :3] = skin_colour(performance.skin)
         self._to = self.target(pose, performance)
         if blend > 0.0:
-            self._from = (self.angles(), self.turn())
+            self._from = self._wanted
             self._start, self._duration = float(self.data.time), blend
         else:
             self._from = None
@@ -137,7 +136,8 @@ class ArticulatedHand:
         return self._from is not None and now < self._start + self._duration
 
     def update(self, now: float) -> None:
-        """Write the blend's hand at simulated time ``now`` (nothing when none runs)."""
+        """Write the blend's hand, as the pose wants it, at simulated time ``now`` (nothing when
+        none runs); :meth:`prepare_view` fits it around what is near when a render looks."""
         if self._from is None:
             return
         s = _smooth((now - self._start) / self._duration)
@@ -147,11 +147,30 @@ class ArticulatedHand:
         if np.dot(q0, q1) < 0:
             q1 = -q1
         quat = (1 - s) * q0 + s * q1  # nlerp: the turns are under 180 degrees apart
-        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat))
+        self._write(a0 + s * (a1 - a0), quat / np.linalg.norm(quat), fit=False)
         if s >= 1.0:
             self._from = None
 
-    def _write(self, angles: np.ndarray, quat: np.ndarray) -> None:
+    def prepare_view(self) -> None:
+        """Fit the hand around a leg or Robin's hand near it
+        (:class:`~robin_sim.figure.hand_fit.HandFit`) before a render looks, ahead of the
+        body's posture (which follows the hand's turn); nothing is written while nothing is near
+        and nothing was fitted (no physics needs it, so runs without renders pay nothing)."""
+        angles, quat = self._wanted
+        fitted, turned = self.fit.fit(angles, quat)
+        changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
+        if changed or self._fitted:
+            self._put(fitted, turned, changed)
+
+    def _write(self, angles: np.ndarray, quat: np.ndarray, fit: bool = True) -> None:
+        """Write the hand wanted at ``angles`` and turn ``quat``, fitted (``fit``) or as is."""
+        self._wanted = (angles, quat)
+        fitted, turned = self.fit.fit(angles, quat) if fit else (angles, quat)
+        changed = not (np.array_equal(fitted, angles) and np.array_equal(turned, quat))
+        self._put(fitted, turned, changed)
+
+    def _put(self, angles: np.ndarray, quat: np.ndarray, fitted: bool) -> None:
+        self._fitted = fitted
         self.data.userdata[self.qadr] = angles
         self.data.userdata[self.turn_q : self.turn_q + 4] = quat
         pose(self.model, self.data)

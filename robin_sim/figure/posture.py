@@ -1,50 +1,61 @@
-"""The articulated person's body follows its right hand: torso, arm and head, in closed form.
+"""The articulated person's body follows its right hand: torso, arms and head.
 
 The right hand hangs from the mocap frame ``human_hand`` that carries the collision palm (so
-what Robin sees is where the physics palm is). At every control tick :class:`Posture` solves
-the rest of the body so that the right arm's wrist meets the hand's wrist point
+what Robin sees is where the physics palm is). Before a render looks :class:`Posture` solves the
+rest of the body so that the right arm's wrist meets the hand's wrist point
 (``human_r_wrist_point``) and writes the person's joint positions (kinematic; nothing pushes
 the person):
 
-1. the person stands upright while the wrist is within :data:`EASY_REACH` of the arm's length
-   from the shoulder; further out the shoulder is wanted on the line to the wrist at that
-   distance: the waist leans to bring it to that height, turns to bring it across, and the
-   person steps towards the table for the rest (each within its joint range);
+1. the torso (:mod:`robin_sim.figure.torso`): the step, waist turn and spine lean that bring
+   the shoulder near enough to the wrist at least cost, the lean costing most: the person
+   stands upright while the arm reaches, steps towards the table first and leans for the rest;
 2. the arm reaches from that shoulder in closed form: the elbow on the circle the upper arm
-   and forearm lengths allow, swung down and out (:data:`ELBOW_HINT`); the shoulder's three
-   angles from the upper arm's frame, the elbow's from the two segments;
+   and forearm lengths allow, swung towards where the forearm would continue the hand's own
+   axis; the shoulder's three angles from the upper arm's frame, the elbow's from the two
+   segments;
 3. the forearm roll and the two wrist axes turn the wrist frame onto the hand's; where their
    limits leave it more than :data:`SWIVEL_TRY` off, other elbow swings about the line from
-   shoulder to wrist are tried and the best kept (:attr:`Posture.wrist_error`);
-4. the head turns towards the hand.
+   shoulder to wrist are tried and the best kept (:attr:`Posture.wrist_error`); where the best
+   still leaves it that far off, leaning further (:data:`LEAN_TRIES`) is tried and kept when
+   the wrist's gain (:data:`ERROR_SCALE`) is worth more than the lean's cost;
+4. the head turns towards the hand; the idle left arm hangs clear of the table and the bin
+   (:mod:`robin_sim.figure.idle_arm`).
 
 Where the hand lies out of reach the arm points at it at full stretch and :attr:`Posture.gap`
 says how far the arm's wrist stays from the hand's. Segment lengths, offsets and axes are read
-from the model. The left arm hangs, its hand half relaxed (the library's neutral pose).
+from the model. The left hand is half relaxed (the library's neutral pose).
 """
 
 from __future__ import annotations
+
+import math
 
 import mujoco
 import numpy as np
 
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
+from robin_sim.figure.idle_arm import IdleArm
 from robin_sim.figure.pose_library import load_library
+from robin_sim.figure.torso import COMFORT, Torso, TorsoPose
 from robin_sim.model import names
 from robin_sim.model.person_joints import figure, pose
 
 # z of the forearm's direction from the wrist to the elbow: the elbow at most this far below
 # or above the wrist per metre of forearm
 FOREARM_RISE = (-0.45, 0.9)
-UPPER_ARM_HANG = np.array([0.25, 0.25, 1.0])  # from the wanted elbow up to the shoulder
 LOOK = 0.8  # share of the way the head turns towards the hand
-EASY_LINE = 0.9  # else: the shoulder on the line to the wrist, this share of the arm away
-EASY_REACH = 1.25  # of the upper arm's length: the wanted elbow this near keeps them upright
-# s of simulated time: renders closer together than this share one solve (a solve costs 1-3
-# ms in Python: at every frame of a live session it slowed the loop enough to matter)
+# s of simulated time: renders closer together than this share one solve (a solve costs about
+# 1.3 ms of CPU in Python, 1.0 with the single box's closed form: at every frame of a live
+# session it slowed the loop enough to matter)
 VIEW_PERIOD = 0.1
 SWIVEL_TRY = 0.35  # rad of wrist error above which other elbow swings are tried
+_Y = np.array([0.0, 1.0, 0.0])
 SWIVELS = tuple(np.radians(a) for a in (-150, -120, -90, -60, -30, 30, 60, 90, 120, 150, 180))
+LEAN_TRIES = (0.25, 0.5)  # rad of lean added to the cheapest torso's where the wrist is off
+# shares of the comfortable reach tried where the arm cannot meet the hand within its joints'
+# ranges (reaching across the body): the shoulder brought nearer, the waist turned to it
+NEARER = (0.8, 0.6, 0.4)
+ERROR_SCALE = 0.7  # rad of wrist error that cost as much as torso.LEAN_SCALE of lean
 
 
 def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -61,8 +72,19 @@ def _quat_mat(quat: np.ndarray) -> np.ndarray:
     return mat.reshape(3, 3)
 
 
+def _clip1(value: float) -> float:
+    return min(max(float(value), -1.0), 1.0)
+
+
 def _unit(v: np.ndarray) -> np.ndarray:
-    return v / max(float(np.linalg.norm(v)), 1e-12)
+    return v / max(math.sqrt(float(v @ v)), 1e-12)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b of two 3-vectors (``np.cross`` costs ten times as much on one pair)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
 
 
 class Posture:
@@ -77,22 +99,31 @@ class Posture:
             j = fig.joint(name)
             return j.adr, -1, j.axis.copy(), j.range.copy()
 
-        self.torso = [joint(n) for n in names.TORSO_JOINTS]  # step, turn, lean
-        self.neck = [joint(n) for n in names.NECK_JOINTS]
-        self.arm = [joint(n) for n in names.person_arm_joints("r")]
+        arm = [joint(n) for n in names.person_arm_joints("r")]
+        self.arm_ranges = [(float(r[0]), float(r[1])) for *_, r in arm]
+        self.wrist_axes = [a for _, _, a, _ in arm[4:]]
+        self.written = (
+            *names.TORSO_JOINTS,
+            *names.NECK_JOINTS,
+            *names.person_arm_joints("r"),
+            *names.person_arm_joints("l"),
+        )
+        self.written_q = fig.adr(self.written)
+        ranges = fig.ranges(self.written)
+        self.low, self.high = ranges[:, 0] + JOINT_LIMIT_MARGIN, ranges[:, 1] - JOINT_LIMIT_MARGIN
         left_hand = [joint(n) for n in names.person_hand_joints("l")]
         self.left_hand_q = np.array([q for q, *_ in left_hand])
         low = np.array([r[0] for *_, r in left_hand]) + JOINT_LIMIT_MARGIN
         high = np.array([r[1] for *_, r in left_hand]) - JOINT_LIMIT_MARGIN
         self.left_hand_pose = np.clip(load_library().pose("neutral"), low, high)
         body = model.body
-        self.root = body(names.PERSON_BODY).pos.copy()
-        self.hip = body(names.PERSON_TORSO_BODY).pos.copy()
         upper, fore, wrist = names.person_arm_bodies("r")
-        self.shoulder = body(upper).pos.copy()
+        self.shoulder = body(upper).pos.copy()  # in the chest
         self.upper = float(np.linalg.norm(body(fore).pos))
         self.fore = float(np.linalg.norm(body(wrist).pos))
-        self.head = body(names.PERSON_HEAD_BODY).pos.copy()
+        self.head = body(names.PERSON_HEAD_BODY).pos.copy()  # in the chest
+        self.torso = Torso(model, fig, self.upper, self.fore)
+        self.idle_arm = IdleArm(model, fig)
         self.wrist_point = model.site(names.person_wrist_point("r")).pos.copy()
         mocap = body(names.HUMAN_MOCAP_BODY)
         self.mocap = int(mocap.mocapid[0])
@@ -113,52 +144,44 @@ class Posture:
         return origin + rotation @ self.wrist_point, rotation
 
     # --- solving --------------------------------------------------------------------------
-    def _torso(self, wanted: np.ndarray) -> tuple[float, float, float]:
-        (_, _, _, step_range), (_, _, _, turn_range), (_, _, _, lean_range) = self.torso
-        up = float(self.shoulder[2])
-        height = wanted[2] - self.root[2] - self.hip[2]
-        lean = float(np.arccos(np.clip(height / up, -1.0, 1.0)))
-        lean = float(np.clip(lean, *lean_range))
-        a, b = -up * np.sin(lean), float(self.shoulder[1])
-        radius, phase = float(np.hypot(a, b)), float(np.arctan2(b, a))
-        c = float(np.clip((wanted[1] - self.root[1]) / radius, -1.0, 1.0))
-        options = [np.arcsin(c) - phase, np.pi - np.arcsin(c) - phase]
-        options = [float((o + np.pi) % (2 * np.pi) - np.pi) for o in options]
-        turn = float(np.clip(min(options, key=abs), *turn_range))
-        across = a * np.cos(turn) - b * np.sin(turn)
-        step = float(np.clip(wanted[0] - self.root[0] - across, *step_range))
-        return step, turn, lean
-
-    def torso_rotation(self, turn: float, lean: float) -> np.ndarray:
-        """The torso's rotation in the world for the waist's turn and lean."""
-        (_, _, turn_axis, _), (_, _, lean_axis, _) = self.torso[1], self.torso[2]
-        return _rot(turn_axis, turn) @ _rot(lean_axis, lean)
-
     def solve(self) -> dict[str, float]:
         """Joint positions (by name) that bring the right arm to the hand; sets :attr:`gap`
         and :attr:`wrist_error` (rad the wrist's joints, at their limits, leave the forearm
         turned from the hand)."""
         wrist, hand = self.hand_frame()
-        along = hand[:, 0].copy()  # the forearm best continues the hand's own axis
-        along[2] = float(np.clip(along[2], *FOREARM_RISE))
-        elbow_wanted = wrist + self.fore * _unit(along)
-        out, gap, error = self._solve(wrist, hand, self._wanted_shoulder(wrist, elbow_wanted))
-        if gap > 0.005 or error >= np.pi:  # that torso leaves the hand out of reach
-            upright = self.root + self.hip + self.shoulder
-            line = wrist + _unit(upright - wrist) * (EASY_LINE * (self.upper + self.fore))
-            second = self._solve(wrist, hand, line)
-            if (second[1], second[2]) < (gap, error):
-                out, gap, error = second
+        torso, cost = self.torso.best(wrist)
+        out, gap, error = self.reach(wrist, hand, torso)
+        score = cost + (error / ERROR_SCALE) ** 2
+        tries: list[tuple[float, float]] = []
+        if error > SWIVEL_TRY:  # lean further where that lets the wrist turn as the hand does
+            tries += [(torso.lean + extra, COMFORT) for extra in LEAN_TRIES]
+        if error >= np.pi:  # the arm out of its range: the shoulder nearer (turned towards it)
+            tries += [(0.0, share * COMFORT) for share in NEARER]
+        for least_lean, comfort in tries:
+            if least_lean > self.torso.lean_limit:
+                continue
+            other, _ = self.torso.best(wrist, least_lean, comfort)
+            trial = self.reach(wrist, hand, other)
+            trial_score = self.torso.cost_of(wrist, other) + (trial[2] / ERROR_SCALE) ** 2
+            if trial_score < score:
+                (out, gap, error), score = trial, trial_score
         self.gap, self.wrist_error = gap, error
+        chosen = self._pose(out)
+        out.update(self.idle_arm.solve(*self.torso.chest_frame(chosen), chosen.lean))
         return out
 
-    def _solve(
-        self, wrist: np.ndarray, hand: np.ndarray, shoulder_wanted: np.ndarray
+    @staticmethod
+    def _pose(out: dict[str, float]) -> TorsoPose:
+        step, turn, waist, chest = (out[n] for n in names.TORSO_JOINTS)
+        return TorsoPose(step, turn, waist + chest)
+
+    def reach(
+        self, wrist: np.ndarray, hand: np.ndarray, pose: TorsoPose
     ) -> tuple[dict[str, float], float, float]:
-        step, turn, lean = self._torso(shoulder_wanted)
-        torso = self.torso_rotation(turn, lean)
-        hip = self.root + np.array([step, 0.0, 0.0]) + self.hip
-        shoulder = hip + torso @ self.shoulder
+        """Joint values (torso, neck, right arm) that reach ``wrist`` turned as ``hand`` from
+        the torso ``pose``, the gap left and the wrist's error (:meth:`solve`)."""
+        origin, torso = self.torso.chest_frame(pose)
+        shoulder = origin + torso @ self.shoulder
         reach = wrist - shoulder
         length = float(np.linalg.norm(reach))
         n = _unit(reach)
@@ -178,22 +201,15 @@ class Posture:
                 if trial[1] < best[1] - 1e-3:
                     best = trial
         arm, error = best
-        eyes = hip + torso @ self.head
+        eyes = origin + torso @ self.head
         look = torso.T @ (wrist - eyes)
         yaw = LOOK * float(np.arctan2(-look[1], -look[0]))
         pitch = LOOK * float(np.arctan2(look[2], np.hypot(look[0], look[1])))
-        out = dict(zip(names.TORSO_JOINTS, (step, turn, lean), strict=True))
+        waist, chest = self.torso.lean_joints(pose.lean)
+        out = dict(zip(names.TORSO_JOINTS, (pose.step, pose.turn, waist, chest), strict=True))
         out.update(zip(names.NECK_JOINTS, (yaw, pitch), strict=True))
         out.update(zip(names.person_arm_joints("r"), arm, strict=True))
         return out, gap, error
-
-    def _wanted_shoulder(self, wrist: np.ndarray, elbow: np.ndarray) -> np.ndarray:
-        """Upright while the wanted elbow is in easy reach of the upright shoulder; else the
-        shoulder above and behind the wanted elbow (:data:`UPPER_ARM_HANG`)."""
-        upright = self.root + self.hip + self.shoulder
-        if float(np.linalg.norm(upright - elbow)) <= EASY_REACH * self.upper:
-            return upright
-        return elbow + self.upper * _unit(UPPER_ARM_HANG)
 
     def _arm(
         self,
@@ -208,28 +224,28 @@ class Posture:
         remaining turn (rad) from ``wanted`` after its joint limits."""
         cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
         m = _unit(hint - np.dot(hint, n) * n)
-        alpha = float(np.arccos(np.clip(cos_a, -1.0, 1.0)))
+        alpha = float(np.arccos(_clip1(cos_a)))
         elbow = shoulder + self.upper * (np.cos(alpha) * n + np.sin(alpha) * m)
         u = _unit(elbow - shoulder)
         f = _unit(shoulder + stretch * n - elbow)
         bend = f - np.dot(f, u) * u
-        x = -_unit(bend) if np.linalg.norm(bend) > 1e-6 else torso[:, 0]
+        x = -_unit(bend) if float(bend @ bend) > 1e-12 else torso[:, 0]
         z = -u
-        upper = torso.T @ np.column_stack([x, np.cross(z, x), z])
+        upper = torso.T @ np.array([x, _cross(z, x), z]).T
         flex = float(np.arctan2(upper[0, 2], upper[2, 2]))
-        abduct = float(np.arcsin(np.clip(-upper[1, 2], -1.0, 1.0)))
+        abduct = float(np.arcsin(_clip1(-upper[1, 2])))
         rot = float(np.arctan2(upper[1, 0], upper[1, 1]))
-        elbow_angle = float(np.arccos(np.clip(np.dot(u, f), -1.0, 1.0)))
-        fore = torso @ upper @ _rot(np.array([0.0, 1.0, 0.0]), elbow_angle)
+        elbow_angle = float(np.arccos(_clip1(np.dot(u, f))))
+        fore = torso @ upper @ _rot(_Y, elbow_angle)
         rest = fore.T @ wanted
         roll = float(np.arctan2(-rest[0, 1], rest[1, 1]))  # z, then -x (flex), then y (dev)
-        wrist_flex = -float(np.arcsin(np.clip(rest[2, 1], -1.0, 1.0)))
+        wrist_flex = -float(np.arcsin(_clip1(rest[2, 1])))
         wrist_dev = float(np.arctan2(-rest[2, 0], rest[2, 2]))
         angles = (flex, abduct, rot, elbow_angle, roll, wrist_flex, wrist_dev)
-        clipped = [float(np.clip(a, *r)) for a, (_, _, _, r) in zip(angles, self.arm, strict=True)]
-        axes = [a for _, _, a, _ in self.arm[4:]]
+        clipped = [min(max(a, lo), hi) for a, (lo, hi) in zip(angles, self.arm_ranges, strict=True)]
+        axes = self.wrist_axes
         got = _rot(axes[0], clipped[4]) @ _rot(axes[1], clipped[5]) @ _rot(axes[2], clipped[6])
-        error = float(np.arccos(np.clip((np.trace(got.T @ rest) - 1) / 2, -1.0, 1.0)))
+        error = float(np.arccos(_clip1((float(np.sum(got * rest)) - 1) / 2)))
         if any(abs(c - a) > 1e-9 for c, a in zip(clipped[:4], angles[:4], strict=True)):
             error += np.pi  # the upper arm or elbow out of range: only a last resort
         return tuple(clipped), error
@@ -260,9 +276,7 @@ class Posture:
         self._solved_at = now
         values = self.solve()
         qpos = self.data.userdata  # the person's joints (model.person_joints)
-        joints = [*self.torso, *self.neck, *self.arm]
-        ordered = [*names.TORSO_JOINTS, *names.NECK_JOINTS, *names.person_arm_joints("r")]
-        for (q, _, _, (low, high)), name in zip(joints, ordered, strict=True):
-            qpos[q] = min(max(values[name], low + JOINT_LIMIT_MARGIN), high - JOINT_LIMIT_MARGIN)
+        wanted = np.array([values[name] for name in self.written])
+        qpos[self.written_q] = np.minimum(np.maximum(wanted, self.low), self.high)
         qpos[self.left_hand_q] = self.left_hand_pose
         pose(self.model, self.data)

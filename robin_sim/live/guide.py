@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from pil.task.person import LegsSeen
 from pil.task.scenario import HandoverType
+from pil.task.script import LegsSeen
 from pil.task.world import Target
 from pil.types import Action, Gesture, Hand, State
 from pil.validity import is_valid

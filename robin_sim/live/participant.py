@@ -30,9 +30,9 @@ from collections import deque
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from pil.task.person import LegsSeen, ScriptStep
 from pil.task.records import StepRecord
 from pil.task.scenario import HandoverType
+from pil.task.script import LegsSeen, ScriptStep
 from pil.task.world import Intent, Outcome
 from pil.types import Action, Feedback, Gesture, Hand, State
 from robin_sim.live.guide import cannot_act, guide, leg_now, legend, meant_action, step_for

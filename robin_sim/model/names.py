@@ -173,7 +173,14 @@ PERSON_XML = MODELS_DIR / "person" / "person.xml"
 PERSON_HAND_FINGERS: tuple[str, ...] = ("thumb", "index", "middle", "ring", "little")
 FINGER_JOINT_KINDS: tuple[str, ...] = ("spread", "mcp", "pip", "dip")  # index .. little
 THUMB_JOINT_KINDS: tuple[str, ...] = ("cmc_abduct", "cmc_flex", "mcp", "ip")
-TORSO_JOINTS: tuple[str, ...] = ("human_step", "human_waist_turn", "human_waist_lean")
+TORSO_JOINTS: tuple[str, ...] = (
+    "human_step",
+    "human_waist_turn",
+    "human_waist_lean",
+    "human_chest_lean",
+)
+# the spine's lean, shared between the abdomen and the chest: their sum is the chest's tilt
+PERSON_LEAN_JOINTS: tuple[str, ...] = ("human_waist_lean", "human_chest_lean")
 NECK_JOINTS: tuple[str, ...] = ("human_neck_yaw", "human_neck_pitch")
 PERSON_ARM_KINDS: tuple[str, ...] = (
     "shoulder_flex",
@@ -184,7 +191,8 @@ PERSON_ARM_KINDS: tuple[str, ...] = (
     "wrist_flex",
     "wrist_dev",
 )
-PERSON_TORSO_BODY = "human_torso"  # the waist's turn and lean move it (the legs stay)
+PERSON_TORSO_BODY = "human_torso"  # the abdomen: the waist's turn and lean move it (the legs stay)
+PERSON_CHEST_BODY = "human_chest"  # its own lean on the abdomen's; the head and arms hang from it
 PERSON_HEAD_BODY = "human_head"
 HUMAN_HAND_TURN = "human_r_hand_turn"  # ball joint: the right hand's turn in the mocap frame
 PERSON_EYES_SITE = "human_eyes"

@@ -30,7 +30,9 @@ from robin_sim.render.worker import FrameState
 __all__ = ["STATES_NAME", "RecordedStates", "StateLog", "StatesError", "load_states"]
 
 STATES_NAME = "states.npz"
-FORMAT = 2  # bumped when the file's layout changes (2: the person's joints from userdata)
+# bumped when the file's layout changes (2: the person's joints from userdata; 3: the chest's own
+# lean joint, 64 of them)
+FORMAT = 3
 _GEOM = ("geom_rgba", "geom_pos", "geom_quat", "geom_size")
 
 

@@ -86,7 +86,13 @@ class PhysicalWorld:
         if self.posture is not None:
             posture = self.posture
             self.sim.add_controller(lambda s: posture.tick(s.time + s.control_dt))
-            self.sim.add_view_hook(lambda: posture.update(self.sim.time))
+
+            def view() -> None:  # the hand fitted around what is near it, then the body
+                if posture.hand is not None:
+                    posture.hand.prepare_view()
+                posture.update(self.sim.time)
+
+            self.sim.add_view_hook(view)
             posture.update()
             mujoco.mj_kinematics(self.model, self.data)
         self.person_contacts = PersonContacts(self.sim)
