@@ -61,7 +61,11 @@ def main() -> None:
         t1 = time.perf_counter()
         found = [find_hand(v.rgb, v.depth, d, v.focal) for v, d in zip(views, depths, strict=True)]
         t2 = time.perf_counter()
-        rows = [hand_features(v.rgb, r, v.focal) for v, r in zip(views, found, strict=True) if r]
+        rows = [
+            hand_features(v.rgb, v.depth, r, v.focal)
+            for v, r in zip(views, found, strict=True)
+            if r
+        ]
         t3 = time.perf_counter()
         p = model.probabilities(np.stack(rows)).mean(axis=0) if rows else None
         t4 = time.perf_counter()

@@ -8,19 +8,22 @@ Run (from a checkout whose scene holds the hand to measure, with that hand's mod
 (``python bench/regenerate.py --only vision_hands`` runs it into ``bench/results``.)
 
 Renders ``--samples`` samples of the held-out split (light never trained on; every skin tone,
-pose jitter 0-2.5, the four kinds of place) per seed, or reuses chunks already in ``--out``
-(``--chunks SEED=DIR`` reuses a training run's held-out chunks of that seed; rendered ones are
-kept in ``--out``'s ``chunks``), reads them with ``--model`` (default: the shipped one) as an
-episode would (both eyes fused, discarded below the threshold) and writes ``HAND.csv`` into
-``--out``, one row per sample: the class shown, whether it was read right
-(seven classes; a discard or no hand counts as wrong) and the levels of what it was drawn
-with: its place (above a leg or spot, drawn back and raised, at the handover point, in
-the working box), its light (dim 0.35-0.55 or bright 1.3-1.6 of the scene's light), its skin
-tone (nearest of 0-4) and its pose jitter (0-0.8, 0.8-1.6, 1.6-2.5). Written for the
-capsule-to-articulated comparison of issue 29: ``--baseline FILE`` copies the other hand's file
-(the capsule hand's, measured at ``f581bee``: this checkout's scene no longer holds that hand)
-beside it and writes their paired ``table.md`` (``bench/vision_hands_table.py``, which also
-puts it into the docs). It uses only interfaces both hands' code has.
+pose jitter 0-2.5, the four kinds of place) per seed, or reuses chunks already rendered: with
+``--cache DIR`` those under ``DIR`` of this checkout's render key (the same body, poses,
+cameras and sample spec: :mod:`robin_sim.vision.render_key`), else those in ``--out``'s
+``chunks`` (``--chunks SEED=DIR`` reuses a training run's held-out chunks of that seed), reads
+them with ``--model`` (default: the shipped one) as an episode would (both eyes fused,
+discarded below the threshold) and writes ``HAND.csv`` into ``--out``, one row per sample: the
+class shown, whether it was read right (seven classes; a discard or no hand counts as wrong)
+and the levels of what it was drawn with: its place (above a leg or spot, drawn back and
+raised, at the handover point, in the working box), its light (dim 0.35-0.55 or bright 1.3-1.6
+of the scene's light), its skin tone (nearest of 0-4) and its pose jitter (0-0.8, 0.8-1.6,
+1.6-2.5). Written for the capsule-to-articulated comparison of issue 29: ``--baseline FILE``
+copies the other hand's file (the capsule hand's, measured at ``f581bee``: this checkout's
+scene no longer holds that hand) beside it and writes their paired ``table.md``
+(``bench/vision_hands_table.py``, which also puts it into the docs); ``--previous FILE`` copies
+the previous model's file of the same samples beside it as ``previous.csv`` and writes the
+paired previous-against-this-model ``models.md``. It uses only interfaces both hands' code has.
 """
 
 from __future__ import annotations
@@ -33,11 +36,19 @@ from pathlib import Path
 
 import numpy as np
 import smoke  # bench/smoke.py: --smoke
-from vision_hands_table import table
+from vision_hands_table import MODELS, table
 
 from robin_sim.vision.build import Job, run_jobs
 from robin_sim.vision.classifier import CLASSES, GestureModel, shipped_path
-from robin_sim.vision.dataset import CHUNK, SPLIT_IDS, chunk_path, chunks_for, load_split
+from robin_sim.vision.dataset import (
+    CHUNK,
+    SPLIT_IDS,
+    chunk_path,
+    chunk_ready,
+    chunks_for,
+    load_split,
+)
+from robin_sim.vision.render_key import cache_folder
 from robin_sim.vision.train import readings
 
 PLACES = ("above a place", "drawn back, raised", "handover point", "working box")
@@ -91,18 +102,23 @@ def main() -> None:
     parser.add_argument("--model", type=Path, default=None)
     parser.add_argument("--out", type=Path, default=Path("out/vision_hands"))
     parser.add_argument("--chunks", action="append", default=[], help="SEED=DIR to reuse")
+    parser.add_argument("--cache", type=Path, default=None, help="render cache root")
     parser.add_argument("--baseline", type=Path, default=None, help="the other hand's CSV")
+    parser.add_argument(
+        "--previous", type=Path, default=None, help="the previous model's CSV (same samples)"
+    )
     args = smoke.parse_args(parser, seeds="0", samples=CHUNK, workers=1)
     seeds = [int(s) for s in args.seeds.split(",")]
     reuse = {int(k): Path(v) for k, v in (c.split("=", 1) for c in args.chunks)}
     model = GestureModel.load(args.model or shipped_path())
     rows: list[dict[str, object]] = []
     for seed in seeds:
-        folder = reuse.get(seed, args.out / "chunks" / f"seed{seed}")
+        own = args.out / "chunks" / f"seed{seed}"
+        folder = reuse.get(seed, own if args.cache is None else cache_folder(args.cache, seed))
         jobs = [
             Job("heldout", k)
             for k in range(chunks_for(args.samples))
-            if not chunk_path(folder, "heldout", k).is_file()
+            if not chunk_ready(chunk_path(folder, "heldout", k), seed)
         ]
         started = time.perf_counter()
         run_jobs(jobs, folder, seed, args.workers)
@@ -123,6 +139,13 @@ def main() -> None:
         pair = sorted([other, results], key=lambda p: p.name != "capsule.csv")
         (args.out / "table.md").write_text("\n".join(table(*pair)) + "\n")
         print(f"wrote {args.out / 'table.md'}")
+    if args.previous is not None:
+        previous = args.out / "previous.csv"
+        if previous.resolve() != args.previous.resolve():
+            shutil.copyfile(args.previous, previous)
+        models = table(previous, results, MODELS)
+        (args.out / "models.md").write_text("\n".join(models) + "\n")
+        print(f"wrote {args.out / 'models.md'}")
 
 
 if __name__ == "__main__":

@@ -32,6 +32,9 @@ RESULTS = ROOT / "bench" / "results"
 ROBIN = [sys.executable, "-m", "robin_sim.cli.main"]
 PYTHON = [sys.executable, "-m"]
 SYSTEMS = "pil,proactive,c1,c2,c3,c4"
+# rendered gesture data sets, kept by their render key (robin_sim.vision.render_key): a second
+# run on the same body, poses and cameras reuses them; a changed one renders anew
+VISION_CACHE = "out/vision_cache"  # relative to the checkout (the commands run there)
 
 
 @dataclass(frozen=True)
@@ -141,7 +144,9 @@ RECIPES: tuple[Recipe, ...] = (
         False,
     ),
     Recipe(
-        "vision_hands",  # the capsule hand's half was measured at f581bee and is carried over
+        # the capsule hand's half was measured at f581bee and the previous model's (format 2,
+        # the articulated hand) at 04f787f; both are carried over
+        "vision_hands",
         (
             "bench",
             "bench_vision_hands.py",
@@ -149,13 +154,26 @@ RECIPES: tuple[Recipe, ...] = (
             "articulated",
             "--baseline",
             str(RESULTS / "vision_hands" / "capsule.csv"),
+            "--previous",
+            str(RESULTS / "vision_hands" / "previous.csv"),
+            "--cache",
+            VISION_CACHE,
         ),
         False,
-        drop=("chunks",),  # the rendered samples: a cache
+        drop=("chunks",),  # rendered samples (none with --cache: they live in VISION_CACHE)
     ),
     Recipe(
         "vision_whole_range",
-        ("robin-pil", "train-gestures", "--samples", "8064", "--workers", "2"),
+        (
+            "robin-pil",
+            "train-gestures",
+            "--samples",
+            "16128",
+            "--workers",
+            "2",
+            "--cache",
+            VISION_CACHE,
+        ),
         False,
     ),
 )

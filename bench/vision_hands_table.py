@@ -4,10 +4,13 @@ Run: ``python bench/vision_hands_table.py [--results bench/results/vision_hands]
 ``capsule.csv`` and ``articulated.csv`` (``bench/bench_vision_hands.py``, one row per
 held-out sample), pairs the samples (same seed and index: the same place, light, skin, class
 and camera; only the hand differs), and writes ``table.md`` beside them and into
-``docs/vision.md`` between its ``vision-hands`` markers: per factor level the samples, each
-hand's seven-class accuracy (pooled over the seeds; in brackets the lowest and highest seed),
-the paired difference with its 95 % interval, and McNemar's exact test (statsmodels), Holm
-adjusted within each factor.
+``docs/vision.md`` between its ``vision-hands`` markers: per factor level (the gesture shown,
+the place, light, skin tone and pose jitter) the samples, each hand's seven-class accuracy
+(pooled over the seeds; in brackets the lowest and highest seed), the paired difference with
+its 95 % interval, and McNemar's exact test (statsmodels), Holm adjusted within each factor.
+Where ``previous.csv`` is there too (the articulated hand read by the model shipped before,
+on the same samples), the same table of the previous model against ``articulated.csv``'s is
+written to ``models.md`` and between the docs' ``vision-models`` markers.
 """
 
 from __future__ import annotations
@@ -21,8 +24,12 @@ import numpy as np
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.multitest import multipletests
 
-FACTORS = ("all", "place", "light", "skin tone", "pose jitter")
+FACTORS = ("all", "shown", "place", "light", "skin tone", "pose jitter")
 BEGIN, END = "<!-- vision-hands table: begin -->", "<!-- vision-hands table: end -->"
+MODELS_BEGIN = "<!-- vision-models table: begin -->"
+MODELS_END = "<!-- vision-models table: end -->"
+HANDS = ("capsule hand", "articulated hand")
+MODELS = ("previous model", "this model")
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "vision.md"
 
 
@@ -40,8 +47,8 @@ def _per_seed(rows: list[tuple[dict[str, str], dict[str, str]]], side: int) -> s
     return f"{min(rates):.0%}-{max(rates):.0%}"
 
 
-def table(capsule: Path, articulated: Path) -> list[str]:
-    """Markdown lines (see the module doc)."""
+def table(capsule: Path, articulated: Path, sides: tuple[str, str] = HANDS) -> list[str]:
+    """Markdown lines (see the module doc); ``sides`` names the two files' columns."""
     a, b = load(capsule), load(articulated)
     keys = sorted(set(a) & set(b))
     seeds = sorted({k[0] for k in keys})
@@ -49,7 +56,7 @@ def table(capsule: Path, articulated: Path) -> list[str]:
         f"Held-out split (light never trained on), seeds {', '.join(map(str, seeds))}, "
         f"{len(keys)} paired samples; a discard or a missed hand counts as wrong.",
         "",
-        "| factor | level | samples | capsule hand [seeds] | articulated hand [seeds] | "
+        f"| factor | level | samples | {sides[0]} [seeds] | {sides[1]} [seeds] | "
         "difference [95 % CI] | McNemar p (Holm) |",
         "|---|---|---|---|---|---|---|",
     ]
@@ -81,19 +88,36 @@ def table(capsule: Path, articulated: Path) -> list[str]:
     return lines
 
 
+def put(docs: Path, begin: str, end: str, text: str) -> None:
+    """Replace what lies between the markers ``begin`` and ``end`` in ``docs`` with ``text``."""
+    page = docs.read_text()
+    if begin in page and end in page:
+        head, rest = page.split(begin, 1)
+        docs.write_text(head + begin + "\n" + text + end + rest.split(end, 1)[1])
+
+
+def write(results: Path, docs: Path) -> list[Path]:
+    """Write ``table.md`` (and ``models.md`` where ``previous.csv`` is there) and the docs."""
+    articulated = results / "articulated.csv"
+    text = "\n".join(table(results / "capsule.csv", articulated)) + "\n"
+    (results / "table.md").write_text(text)
+    put(docs, BEGIN, END, text)
+    written = [results / "table.md"]
+    if (results / "previous.csv").exists():
+        models = "\n".join(table(results / "previous.csv", articulated, MODELS)) + "\n"
+        (results / "models.md").write_text(models)
+        put(docs, MODELS_BEGIN, MODELS_END, models)
+        written.append(results / "models.md")
+    return written
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--results", type=Path, default=Path("bench/results/vision_hands"))
     parser.add_argument("--docs", type=Path, default=DOCS)
     args = parser.parse_args()
-    lines = table(args.results / "capsule.csv", args.results / "articulated.csv")
-    text = "\n".join(lines) + "\n"
-    (args.results / "table.md").write_text(text)
-    docs = args.docs.read_text()
-    if BEGIN in docs and END in docs:
-        head, rest = docs.split(BEGIN, 1)
-        args.docs.write_text(head + BEGIN + "\n" + text + END + rest.split(END, 1)[1])
-    print(text)
+    for path in write(args.results, args.docs):
+        print(path.read_text())
 
 
 if __name__ == "__main__":

@@ -13,7 +13,9 @@ from robin_sim.cli.main import main
 from robin_sim.vision.build import pending
 from robin_sim.vision.build_config import BuildConfig
 from robin_sim.vision.classifier import GestureModel, ModelFileError, load_shipped, shipped_path
+from robin_sim.vision.crops import SIDE
 from robin_sim.vision.dataset import CHUNK, chunk_path, load_split, save_chunk
+from robin_sim.vision.features import FEATURE_COUNT
 
 MAX_SAMPLES = 100_000  # robin_sim.vision.build_config.MAX_SAMPLES
 CPUS = len(os.sched_getaffinity(0))
@@ -27,7 +29,10 @@ def write_chunk(folder: Path, split: str, k: int, seed: int) -> Path:
     save_chunk(
         path,
         {
-            "features": np.zeros((rows, 4), np.float32),
+            "mask": np.zeros((rows, SIDE, SIDE), np.uint8),
+            "shading": np.zeros((rows, SIDE, SIDE), np.uint8),
+            "relief": np.zeros((rows, SIDE, SIDE), np.uint8),
+            "size": np.zeros((rows, 3), np.float32),
             "label": samples % 7,
             "sample": samples,
             "eye": np.tile([0, 1], CHUNK),
@@ -51,7 +56,9 @@ def test_chunks_of_another_seed_are_rendered_anew(tmp_path: Path) -> None:
 
     with pytest.raises(ChunkError, match="drawn with seed 0, not 5"):
         load_split(seed5.chunks, "train", CHUNK, seed=5)
-    assert len(load_split(seed0.chunks, "train", CHUNK, seed=0)["label"]) == 2 * CHUNK
+    loaded = load_split(seed0.chunks, "train", CHUNK, seed=0)
+    assert len(loaded["label"]) == 2 * CHUNK
+    assert loaded["features"].shape == (2 * CHUNK, FEATURE_COUNT)  # computed from the crops
 
 
 def test_a_truncated_chunk_is_a_clear_error_and_rendered_anew(tmp_path: Path) -> None:
@@ -94,7 +101,7 @@ def broken_models(tmp_path: Path) -> dict[str, Path]:
     ("kind", "needle"),
     [
         ("cut", "damaged or not a model file"),
-        ("transposed", "do not take 658 inputs"),
+        ("transposed", f"do not take {FEATURE_COUNT} inputs"),
         ("nan", "NaN or infinite"),
     ],
 )

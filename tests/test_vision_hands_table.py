@@ -40,3 +40,15 @@ def test_a_changed_result_changes_the_table(tmp_path: Path) -> None:
     changed.write_text("\n".join([header, ",".join(first), *lines[2:]]) + "\n")
     before = module.table(RESULTS / "capsule.csv", RESULTS / "articulated.csv")
     assert module.table(RESULTS / "capsule.csv", changed) != before
+
+
+def test_the_docs_models_table_is_the_previous_and_this_models_table() -> None:
+    """The previous model against this one, on the same articulated-hand samples."""
+    module = _table_module()
+    lines = module.table(RESULTS / "previous.csv", RESULTS / "articulated.csv", module.MODELS)
+    text = "\n".join(lines) + "\n"
+    assert (RESULTS / "models.md").read_text() == text
+    docs = (ROOT / "docs" / "vision.md").read_text()
+    shown = docs.split(module.MODELS_BEGIN, 1)[1].split(module.MODELS_END, 1)[0]
+    assert shown == "\n" + text
+    assert "| all | all | 1008 |" in text and "| shown | grasp |" in text

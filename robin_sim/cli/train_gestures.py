@@ -1,8 +1,10 @@
 """``robin-pil train-gestures``: render the gesture data set, train the model, report.
 
 Writes under ``--out`` (default ``out/gestures``): ``chunks/`` (the rendered data set, kept so
-that an interrupted run resumes), ``gesture_model.npz``, ``report.md``, ``confusion.png`` and
-``measured.json`` (the error model for ``robin-pil study --detector measured:FILE``).
+that an interrupted run resumes; with ``--cache DIR`` it is kept under ``DIR`` by its render
+key instead, :mod:`robin_sim.vision.render_key`), ``gesture_model.npz``, ``report.md``,
+``confusion.png`` and ``measured.json`` (the error model for
+``robin-pil study --detector measured:FILE``).
 ``--install`` also copies the model, its report, figure and measured error model into the
 package (``robin_sim/vision/data``: what episodes read).
 """
@@ -38,6 +40,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="render processes, at most the CPU count (default: 2, or the CPU count if less)",
     )
     parser.add_argument(
+        "--cache",
+        type=Path,
+        default=None,
+        help="render cache root: the data set is kept under its render key and reused while "
+        "the scene, poses, cameras and sample spec are unchanged (default: OUT/chunks)",
+    )
+    parser.add_argument(
         "--install",
         action="store_true",
         help="copy the model, report and measured error model into the package",
@@ -55,7 +64,9 @@ def run(args: argparse.Namespace) -> int:
     from robin_sim.vision.classifier import shipped_path
 
     workers = default_build_workers() if args.workers is None else args.workers
-    config = BuildConfig(samples=args.samples, seed=args.seed, out=args.out, workers=workers)
+    config = BuildConfig(
+        samples=args.samples, seed=args.seed, out=args.out, workers=workers, cache=args.cache
+    )
     total = config.samples + config.heldout
     with claimed_out_dir(config.out):  # unwritable, too long a name, in use: refused here
         with tqdm(

@@ -18,11 +18,14 @@ import numpy as np
 from pil.errors import RobinPilError
 from pil.regular_files import open_bounded
 from robin_sim.model.names import HUMAN_VIS_POSES
+from robin_sim.vision.features import FEATURE_COUNT
 
 NO_GESTURE = "no_gesture"
 # The hand's signs as the model names them (every pose but the relaxed one), then "no gesture".
 CLASSES: tuple[str, ...] = (*(p for p in HUMAN_VIS_POSES if p != "neutral"), NO_GESTURE)
-FORMAT = 2
+# 3: features of robin_sim.vision.features as of issue 41 (silhouette and relief HOG); a model
+# of format 2 read the shading HOG instead and is refused by name
+FORMAT = 3
 SHIPPED = "gesture_model.npz"
 MAX_LAYERS = 16
 
@@ -82,7 +85,9 @@ class GestureModel:
                 if int(z["format"]) != FORMAT or tuple(z["classes"].tolist()) != CLASSES:
                     raise ModelFileError(
                         f"gesture model {path}: format {int(z['format'])} or classes "
-                        f"{z['classes'].tolist()} do not match this version ({FORMAT}, {CLASSES})"
+                        f"{z['classes'].tolist()} do not match this version ({FORMAT}, "
+                        f"{CLASSES}); a model of format 2 or older was trained on other "
+                        "features: retrain it with 'robin-pil train-gestures'"
                     )
                 layers = int(z["layers"])
                 if not 1 <= layers <= MAX_LAYERS:
@@ -117,6 +122,8 @@ class GestureModel:
         features = self.mean.shape
         if self.mean.ndim != 1 or self.scale.shape != features or not features[0]:
             return f"mean {self.mean.shape} and scale {self.scale.shape} differ or are empty"
+        if features[0] != FEATURE_COUNT:
+            return f"it takes {features[0]} features, not the {FEATURE_COUNT} the reader gives"
         inputs = features[0]
         for k, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
             if w.ndim != 2 or w.shape[0] != inputs or b.shape != (w.shape[1],):

@@ -12,17 +12,20 @@ heights across the whole range a person shows (:data:`SPLITS`); the *held-out* s
 light from ranges the *training* split never has, so the held-out accuracy measures light never
 trained on.
 
-A chunk of samples is one ``.npz`` (written atomically) of per-eye feature rows, labels,
-per-sample conditions and the seed it was drawn from; finished chunks are kept, so an
-interrupted run resumes. A chunk is reused only when it reads back whole and holds the run's
-seed (:func:`chunk_ready`): a run with another seed, or a damaged file, renders it anew.
+A chunk of samples is one ``.npz`` (written atomically) of per-eye hand crops
+(:mod:`robin_sim.vision.crops`), labels, per-sample conditions and the seed it was drawn from;
+finished chunks are kept, so an interrupted run resumes. A chunk is reused only when it reads
+back whole and holds the run's seed (:func:`chunk_ready`): a run with another seed, or a
+damaged file, renders it anew. :func:`load_split` computes the features from the crops, so a
+change of features reuses the rendered chunks (:mod:`robin_sim.vision.render_key` names the
+folder that holds them by what they depend on).
 """
 
 from __future__ import annotations
 
 import os
 import zipfile
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,10 +37,13 @@ from robin_sim.model import names, robot_spec
 from robin_sim.model.scene import DEFAULT_HANDOVER, DEFAULT_LEGS, DEFAULT_SPOTS
 from robin_sim.model.scene_file import site_offset
 from robin_sim.vision.classifier import CLASSES
+from robin_sim.vision.crops import HandCrops
+from robin_sim.vision.features import crop_features
 
 CHUNK = 48  # samples per chunk
 EYES = 2
-CHUNK_KEYS = ("features", "label", "sample", "eye", "found", "iou", "condition", "seed")
+CROP_KEYS = ("mask", "shading", "relief", "size")  # per eye row (robin_sim.vision.crops)
+CHUNK_KEYS = (*CROP_KEYS, "label", "sample", "eye", "found", "iou", "condition", "seed")
 # what reading a damaged .npz can raise (a truncated zip, a bad member, a missing key)
 _DAMAGED = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile)
 
@@ -207,10 +213,15 @@ def chunk_ready(path: Path, seed: int) -> bool:
 
 
 def load_split(
-    folder: Path, split: str, samples: int, seed: int | None = None
+    folder: Path,
+    split: str,
+    samples: int,
+    seed: int | None = None,
+    features: Callable[[HandCrops], np.ndarray] = crop_features,
 ) -> dict[str, np.ndarray]:
     """The first ``samples`` samples of ``split`` from its chunk files, concatenated (each
-    checked by :func:`read_chunk`)."""
+    checked by :func:`read_chunk`), with ``features``: one row per eye row computed by
+    ``features`` from its crops (zeros where no hand was found)."""
     parts: dict[str, list[np.ndarray]] = {}
     for k in range(chunks_for(samples)):
         for key, value in read_chunk(chunk_path(folder, split, k), seed).items():
@@ -218,4 +229,12 @@ def load_split(
                 parts.setdefault(key, []).append(value)
     data = {key: np.concatenate(value) for key, value in parts.items()}
     keep = data["sample"] < samples
-    return {key: value[keep] for key, value in data.items()}
+    data = {key: value[keep] for key, value in data.items()}
+    rows = [
+        features(HandCrops(*(data[key][k] for key in CROP_KEYS))) if data["found"][k] else None
+        for k in range(len(data["found"]))
+    ]
+    width = next((len(r) for r in rows if r is not None), 1)
+    blank = np.zeros(width, np.float32)
+    data["features"] = np.stack([blank if r is None else r for r in rows])
+    return data

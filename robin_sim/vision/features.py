@@ -1,8 +1,13 @@
-"""Features of a hand region: silhouette and shading HOG, Hu moments, physical size.
+"""Features of a hand region: silhouette and relief HOG, Hu moments, physical size.
 
-The crop is the region's box made square (plus a margin) and resized to :data:`CROP` pixels,
-so the features do not depend on the hand's distance; its physical size (m, from the depth
-and the focal length) is kept as three features of its own.
+Computed from the region's crops (:mod:`robin_sim.vision.crops`: square, so the features do
+not depend on the hand's distance): a HOG of the silhouette and one of the relief (the hand's
+depth about its median) at :data:`CROP` pixels, the silhouette's Hu moments at
+:data:`HU_CROP` pixels, and the hand's physical size (m, from the depth and the focal length).
+Neither the silhouette nor the relief depends on the light's colour or direction; the shading
+HOG of the features before (format 2) did, and leaving it out read held-out samples about 2
+points better (issue 41: 82.3 % against 80.4 % on held-out samples of seed 0 beyond the
+paired table's, same training set).
 """
 
 from __future__ import annotations
@@ -10,10 +15,11 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from robin_sim.vision.crops import HandCrops, hand_crops
 from robin_sim.vision.segment import HandRegion
 
-CROP = 32  # pixels, square crop side
-MARGIN = 0.12  # share of the box side added around it
+CROP = 48  # pixels, square side of the images the HOGs are computed on
+HU_CROP = 32  # pixels, square side of the silhouette the Hu moments are computed on
 CELL = 8  # pixels per HOG cell side
 BINS = 9  # unsigned orientation bins over 180 degrees
 _CELLS = CROP // CELL
@@ -40,43 +46,31 @@ def hog(image: np.ndarray) -> np.ndarray:
     np.add.at(hist, (cell_of.ravel(), low.ravel()), (magnitude * (1 - frac)).ravel())
     np.add.at(hist, (cell_of.ravel(), ((low + 1) % BINS).ravel()), (magnitude * frac).ravel())
     grid = hist.reshape(_CELLS, _CELLS, BINS)
-    blocks = []
-    for i in range(_CELLS - 1):
-        for j in range(_CELLS - 1):
-            v = grid[i : i + 2, j : j + 2].ravel()
-            v = v / (np.linalg.norm(v) + 1e-6)
-            v = np.minimum(v, 0.2)
-            blocks.append(v / (np.linalg.norm(v) + 1e-6))
-    return np.concatenate(blocks)
+    # each 2x2-cell block, row by row: its cells (i, j), (i, j+1), (i+1, j), (i+1, j+1)
+    blocks = np.concatenate([grid[:-1, :-1], grid[:-1, 1:], grid[1:, :-1], grid[1:, 1:]], axis=-1)
+    blocks = blocks / (np.linalg.norm(blocks, axis=-1, keepdims=True) + 1e-6)
+    blocks = np.minimum(blocks, 0.2)
+    blocks = blocks / (np.linalg.norm(blocks, axis=-1, keepdims=True) + 1e-6)
+    return blocks.ravel()
 
 
-def crop(image: np.ndarray, box: tuple[int, int, int, int]) -> np.ndarray:
-    """The square crop of ``image`` around ``box``, resized to CROP x CROP (zero padded)."""
-    x, y, w, h = box
-    side = int(np.ceil(max(w, h) * (1 + 2 * MARGIN))) + 1
-    cx, cy = x + w / 2, y + h / 2
-    x0, y0 = round(cx - side / 2), round(cy - side / 2)
-    pad = side
-    padded = cv2.copyMakeBorder(image, pad, pad, pad, pad, cv2.BORDER_CONSTANT, value=0)
-    window = padded[y0 + pad : y0 + pad + side, x0 + pad : x0 + pad + side]
-    return cv2.resize(window, (CROP, CROP), interpolation=cv2.INTER_AREA)
+def _resized(image: np.ndarray, side: int) -> np.ndarray:
+    return cv2.resize(image, (side, side), interpolation=cv2.INTER_AREA)
 
 
-def hand_features(rgb: np.ndarray, region: HandRegion, focal: float) -> np.ndarray:
-    """Feature vector (FEATURE_COUNT,) of the hand ``region`` in ``rgb``."""
-    mask8 = region.mask.astype(np.uint8) * 255
-    gray = cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY)
-    shading = np.where(region.mask, gray, 0).astype(np.uint8)
-    mask_crop = crop(mask8, region.box)
-    shade_crop = crop(shading, region.box)
-    peak = max(int(shade_crop.max()), 1)
-    shade_crop = (shade_crop.astype(np.float32) * (255.0 / peak)).astype(np.uint8)  # light-free
-    silhouette = hog(mask_crop)
-    texture = hog(shade_crop)
-    hu = cv2.HuMoments(cv2.moments(mask_crop, binaryImage=True)).ravel()
+def crop_features(crops: HandCrops) -> np.ndarray:
+    """Feature vector (FEATURE_COUNT,) of a hand's crops."""
+    silhouette = hog(_resized(crops.mask, CROP))
+    relief = hog(_resized(crops.relief, CROP))
+    hu = cv2.HuMoments(cv2.moments(_resized(crops.mask, HU_CROP), binaryImage=True)).ravel()
     hu = -np.sign(hu) * np.log10(np.abs(hu) + 1e-30)
     hu = np.clip(hu, -30, 30) / 10
-    metres = region.depth / focal
-    _, _, w, h = region.box
-    size = np.array([w * metres, h * metres, np.sqrt(region.pixels) * metres]) * 10
-    return np.concatenate([silhouette, texture, hu, size]).astype(np.float32)
+    size = crops.size.astype(np.float64) * 10
+    return np.concatenate([silhouette, relief, hu, size]).astype(np.float32)
+
+
+def hand_features(
+    rgb: np.ndarray, depth: np.ndarray, region: HandRegion, focal: float
+) -> np.ndarray:
+    """Feature vector (FEATURE_COUNT,) of the hand ``region`` in one eye's ``rgb``/``depth``."""
+    return crop_features(hand_crops(rgb, depth, region, focal))

@@ -1,8 +1,10 @@
 """One reading of the person's hand from both eyes: segment, describe, classify, fuse.
 
 :func:`see` renders both eyes with the head aimed at a point; :func:`read_views` finds the
-hand in each eye, classifies each crop, and averages the eyes' class probabilities (an eye that
-finds no hand casts no vote; no eye finding one reads "no gesture" at confidence 1).
+hand in each eye, classifies each crop, and fuses the eyes' class probabilities by their
+normalised geometric mean (:func:`fuse`: a class one eye rules out stays unlikely; it read
+held-out samples 1.4-1.6 points better than the plain mean, issue 41); an eye that finds no
+hand casts no vote; no eye finding one reads "no gesture" at confidence 1.
 :meth:`EyeReading.among` restricts a reading to the classes the robot expects (instruction
 gestures while it waits for an instruction, thumbs while it waits for feedback).
 """
@@ -72,9 +74,17 @@ def eye_features(
 ) -> list[np.ndarray | None]:
     """Features of each eye's hand region (None where none was found)."""
     return [
-        None if r is None else hand_features(v.rgb, r, v.focal)
+        None if r is None else hand_features(v.rgb, v.depth, r, v.focal)
         for v, r in zip(views, found, strict=True)
     ]
+
+
+def fuse(probabilities: np.ndarray) -> np.ndarray:
+    """One reading (7,) from the class probabilities of the eyes that found a hand (E, 7):
+    their geometric mean, normalised (probabilities floored at 1e-12)."""
+    logs = np.log(np.maximum(np.asarray(probabilities, np.float64), 1e-12)).mean(axis=0)
+    fused = np.exp(logs - logs.max())
+    return fused / fused.sum()
 
 
 class Classifier(Protocol):
@@ -95,7 +105,7 @@ def read_views(
     rows = [f for f in eye_features(views, found) if f is not None]
     features = np.stack(rows) if rows else None
     if features is not None:
-        probabilities = gesture_model.probabilities(features).mean(axis=0)
+        probabilities = fuse(gesture_model.probabilities(features))
     else:
         probabilities = np.zeros(len(CLASSES))
         probabilities[CLASSES.index(NO_GESTURE)] = 1.0

@@ -2,7 +2,8 @@
 
 :func:`render_chunk` is the worker's job: it builds the scene once per process, renders each
 sample of the chunk (kinematics only: the hand's mocap pose, the head aimed by ``qpos``),
-finds the hand in each eye and stores the features, and writes the chunk file. Where the
+finds the hand in each eye and stores its crops (:mod:`robin_sim.vision.crops`: the features
+are computed from them when the split is loaded), and writes the chunk file. Where the
 segmentation renderer's ground truth is available it records the left eye's overlap (IoU) of
 the found region with the true hand pixels, for the report only.
 """
@@ -29,6 +30,7 @@ from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.render.renderer import open_renderer  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
+from robin_sim.vision.crops import SIDE, HandCrops, hand_crops  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
     CHUNK,
     SampleSpec,
@@ -37,8 +39,7 @@ from robin_sim.vision.dataset import (  # noqa: E402
     save_chunk,
 )
 from robin_sim.vision.eyes import EyeCameras, EyeCondition  # noqa: E402
-from robin_sim.vision.features import FEATURE_COUNT  # noqa: E402
-from robin_sim.vision.reader import aim_and_see, eye_features, regions  # noqa: E402
+from robin_sim.vision.reader import aim_and_see, regions  # noqa: E402
 
 POSE_OF = {c: ("neutral" if c == NO_GESTURE else c) for c in CLASSES}
 
@@ -57,8 +58,8 @@ class SampleRenderer:
         self.eyes = EyeCameras(self.model)
         self._truth = open_renderer(self.model, self.eyes.size, self.eyes.size)
 
-    def render(self, spec: SampleSpec) -> tuple[list[np.ndarray | None], float]:
-        """Per-eye features (None: no hand found) and the left eye's IoU with the truth."""
+    def render(self, spec: SampleSpec) -> tuple[list[HandCrops | None], float]:
+        """Per-eye hand crops (None: no hand found) and the left eye's IoU with the truth."""
         rng = np.random.default_rng(spec.seed)
         pose = POSE_OF[CLASSES[spec.label]]
         performance = Performance.draw(rng, jitter=spec.jitter, skin_range=(spec.skin, spec.skin))
@@ -82,7 +83,11 @@ class SampleRenderer:
             iou = 0.0 if truth.any() else 1.0
         else:
             iou = float((left.mask & truth).sum() / max((left.mask | truth).sum(), 1))
-        return eye_features(views, found), iou
+        crops = [
+            None if r is None else hand_crops(v.rgb, v.depth, r, v.focal)
+            for v, r in zip(views, found, strict=True)
+        ]
+        return crops, iou
 
     def truth_mask(self, pose: str) -> np.ndarray:
         """True hand pixels of the left eye (segmentation render; labels and tests only)."""
@@ -119,25 +124,30 @@ def render_chunk(
     global _RENDERER  # one scene per worker process, built on its first chunk
     if _RENDERER is None:
         _RENDERER = SampleRenderer()
-    rows, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
+    images: dict[str, list[np.ndarray]] = {key: [] for key in ("mask", "shading", "relief")}
+    sizes, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
+    blank = np.zeros((SIDE, SIDE), np.uint8)
     changes: dict[str, Any] = dict(overrides or {})  # float fields; replace() checks the names
     for index in range(chunk * CHUNK, (chunk + 1) * CHUNK):
         spec = replace(sample_spec(seed, split, index), **changes)
-        features, iou = _RENDERER.render(spec)
+        crops, iou = _RENDERER.render(spec)
         ious.append(iou)
         conditions.append(
             [spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise, spec.jitter, spec.lift]
         )
-        for eye, f in enumerate(features):
-            rows.append(np.zeros(FEATURE_COUNT, np.float32) if f is None else f)
-            found.append(f is not None)
+        for eye, c in enumerate(crops):
+            for key, frames in images.items():
+                frames.append(blank if c is None else getattr(c, key))
+            sizes.append(np.zeros(3, np.float32) if c is None else c.size)
+            found.append(c is not None)
             labels.append(spec.label)
             samples.append(index)
             eyes.append(eye)
     save_chunk(
         chunk_path(folder, name or split, chunk),
         {
-            "features": np.stack(rows),
+            **{key: np.stack(frames) for key, frames in images.items()},
+            "size": np.stack(sizes),
             "label": np.array(labels, np.int64),
             "sample": np.array(samples, np.int64),
             "eye": np.array(eyes, np.int64),
