@@ -23,16 +23,24 @@ from robin_sim.vision.arm_states import PALM_LEG, _act  # noqa: E402
 from robin_sim.vision.detector import VisionDetector  # noqa: E402
 
 TRIES = 6  # readings of each thumb, a new performance each time
-RIGHT = 5  # of the 6 at least (docs/vision.md: measured 6/6 each; at the palm 1/6 up, 2/6 down)
+# of the 6 at least, none read as the other thumb (issue 41's model on the upright person: up
+# 6/6, down 4/6 with 2 discarded below the threshold, none flipped; at the palm 1/6 up, 2/6 down)
+RIGHT = 4
 TOLERANCE = 0.01  # m: the hand drawn back and raised as meant; the held leg where it was
 SHOWN = {Feedback.OK: "thumb_up", Feedback.NOT_OK: "thumb_down"}
+BIN_HALF, BIN_RIM = 0.18, 0.25  # m: the bin's inner half-side and its rim's height
 
 
 def _read(detector: VisionDetector, feedback: Feedback) -> int:
-    """How many of :data:`TRIES` readings of ``feedback`` are right."""
+    """How many of :data:`TRIES` readings of ``feedback`` are right; none may be read as the
+    other thumb (a discard is asked again or taken as no feedback; a flipped thumb misleads
+    the learner)."""
     for _ in range(TRIES):
         detector.read_feedback(feedback)
-    return sum(r.read == SHOWN[feedback] for r in detector.records[-TRIES:])
+    reads = [r.read for r in detector.records[-TRIES:]]
+    other = next(v for k, v in SHOWN.items() if k is not feedback)
+    assert other not in reads, f"{feedback.value} read as {other}: {reads}"
+    return sum(r == SHOWN[feedback] for r in reads)
 
 
 @pytest.mark.slow
@@ -40,8 +48,8 @@ def test_a_thumb_at_the_palm_is_shown_in_robins_view_and_read() -> None:
     """After ``human`` (Robin's hand and the held leg just above the palm) a thumb up and a
     thumb down are each shown drawn back, raised and aside, clear of the held leg and of
     Robin's arm, and read right;
-    after the open over the palm the leg is carried along on the palm, the thumb up is read,
-    and the leg then goes to the bin. No person contact throughout."""
+    after the open over the palm the person puts the leg into the bin, then shows the thumb up
+    with the free hand, and it is read. No person contact throughout."""
     world = PhysicalWorld()
     body = PhysicalBody(world)
     detector = VisionDetector(world.sim, display=body.display, seed=0)
@@ -68,12 +76,16 @@ def test_a_thumb_at_the_palm_is_shown_in_robins_view_and_read() -> None:
         body.perform(Gesture.RELEASE, None)  # slid under the held leg
         assert world.execute(Action.OPEN, None).succeeded
         assert body.leg_on_palm() == PALM_LEG and body.thumb_hidden_at_palm()
-        body.show_feedback(Feedback.OK)
-        assert body.leg_on_palm() == PALM_LEG, "the leg fell off the palm carried back"
-        assert not body.thumb_hidden_at_palm()
+        body.show_feedback(Feedback.OK)  # the leg into the bin first, then the free hand's thumb
+        bin_x, bin_y = world.layout.bin
+        leg = world.legs.position(PALM_LEG)
+        # the leg lies in the bin (inner half-side 0.18 m; below its 0.25 m rim), by physics
+        assert abs(leg[0] - bin_x) < BIN_HALF and abs(leg[1] - bin_y) < BIN_HALF, leg
+        assert leg[2] < BIN_RIM, leg
+        assert body.leg_on_palm() is None and not body.thumb_hidden_at_palm()
         right = _read(detector, Feedback.OK)
-        assert right >= RIGHT, f"ok with the leg on the palm: {right}/{TRIES} read right"
-        body.after_feedback(Feedback.OK)
+        assert right >= RIGHT, f"ok after taking the leg: {right}/{TRIES} read right"
+        body.after_feedback(Feedback.OK)  # nothing left to carry
         assert PALM_LEG in world.delivered and body.leg_on_palm() is None
         assert world.person_contacts.events == 0
     finally:

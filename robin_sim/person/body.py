@@ -159,10 +159,18 @@ class PhysicalBody:
         the palm is carried straight back and up at :data:`CARRY_SPEED` (Robin's hand is home
         then).
         A thumb that already went down (the person stopped a motion or rejected its result,
-        which the robot then took back) stays where it is."""
+        which the robot then took back) stays where it is.
+
+        A hand with a leg lying on it cannot make a thumb sign (its fingers keep out of the leg,
+        :mod:`robin_sim.figure.hand_fit`; Robin read that hand as a thumb down): a person who
+        approves puts the leg into the bin first (:meth:`after_feedback`'s carry) and shows
+        the thumb with the hand free, back at rest. Robin learns the verdict from the thumb
+        only (taking the leg is what the person does with any leg put on the palm)."""
         stopped = self.last_watcher is not None and self.last_watcher.stopped_at is not None
         drawn = self.tempo.thumb_in_view and not stopped and feedback is not Feedback.NONE
-        if drawn and self.thumb_hidden_at_palm():
+        if drawn and feedback.approves and self.leg_on_palm() is not None:
+            self._carry_to_bin()
+        elif drawn and self.thumb_hidden_at_palm():
             carried = self.leg_on_palm() is not None  # moved along the leg only: it never rolls
             speed, aside = (CARRY_SPEED, 0.0) if carried else (self.tempo.hand_speed, THUMB_ASIDE)
             self._move(
@@ -183,8 +191,12 @@ class PhysicalBody:
     def after_feedback(self, feedback: Feedback) -> None:
         """After an approval, carry a leg that lies on the palm to the bin."""
         if feedback.approves and self.leg_on_palm() is not None:
-            bin_centre = np.array([*self.world.layout.bin, 0.0])
-            self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
+            self._carry_to_bin()
+
+    def _carry_to_bin(self) -> None:
+        """Carry the leg lying on the palm to the bin, tip it in, and bring the hand to rest."""
+        bin_centre = np.array([*self.world.layout.bin, 0.0])
+        self._move(self.hand.take_away(bin_centre, self.world.time), settle=0.2)
 
     def put_back_strays(self, delivered: set[int]) -> int:
         """Put back at its place every leg not ``delivered`` nor held that lies where Robin
