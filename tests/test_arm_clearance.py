@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from robin_sim.figure.arm_clearance import MARGIN, segment_distances
+from robin_sim.figure.arm_clearance import ARM_CLEARANCE, segment_distances
 from robin_sim.figure.posture import Posture
 from robin_sim.model import names
 from robin_sim.model.geom_groups import body_geoms, category_geoms
@@ -104,7 +104,8 @@ def test_a_leg_across_the_forearm_is_kept_clear_of(scene) -> None:
         assert _nearest(model, data, leg) < -0.03  # the leg lies across the forearm
         _solve(model, data, posture, (x, y, z))
         after.append(_nearest(model, data, leg))
-        assert posture.depth >= MARGIN - _nearest(model, data, others) - 1e-6  # never clearer
+        never_clearer = ARM_CLEARANCE - _nearest(model, data, others) - 1e-6
+        assert posture.depth >= never_clearer
         miss = data.site(names.person_wrist_site("r")).xpos
         miss = miss - data.site(names.person_wrist_point("r")).xpos
         assert np.linalg.norm(miss) < MEETS

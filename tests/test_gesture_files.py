@@ -13,7 +13,7 @@ from robin_sim.cli.main import main
 from robin_sim.vision.build import pending
 from robin_sim.vision.build_config import BuildConfig
 from robin_sim.vision.classifier import GestureModel, ModelFileError, load_shipped, shipped_path
-from robin_sim.vision.crops import SIDE
+from robin_sim.vision.crops import CROP_SIDE
 from robin_sim.vision.dataset import CHUNK, chunk_path, load_split, save_chunk
 from robin_sim.vision.features import FEATURE_COUNT
 
@@ -29,9 +29,9 @@ def write_chunk(folder: Path, split: str, k: int, seed: int) -> Path:
     save_chunk(
         path,
         {
-            "mask": np.zeros((rows, SIDE, SIDE), np.uint8),
-            "shading": np.zeros((rows, SIDE, SIDE), np.uint8),
-            "relief": np.zeros((rows, SIDE, SIDE), np.uint8),
+            "mask": np.zeros((rows, CROP_SIDE, CROP_SIDE), np.uint8),
+            "shading": np.zeros((rows, CROP_SIDE, CROP_SIDE), np.uint8),
+            "relief": np.zeros((rows, CROP_SIDE, CROP_SIDE), np.uint8),
             "size": np.zeros((rows, 3), np.float32),
             "label": samples % 7,
             "sample": samples,

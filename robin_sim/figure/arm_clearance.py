@@ -3,7 +3,7 @@
 The person is kinematic: nothing in the physics keeps its arm out of a leg Robin holds over the
 person's palm or out of Robin's hand delivering it. :class:`ArmClearance` lets the posture's
 solve (:class:`~robin_sim.figure.posture.Posture`) score each candidate arm (elbow swings about
-the shoulder-wrist line, torso poses) by how far it comes inside :data:`MARGIN` of them.
+the shoulder-wrist line, torso poses) by how far it comes inside :data:`ARM_CLEARANCE` of them.
 
 Both sides are capsules, measured analytically as segments less radii: the arm's sphere and
 capsules (upper arm and forearm, read from the model as shares along the segments shoulder to
@@ -22,7 +22,7 @@ import numpy as np
 from robin_sim.model import names
 from robin_sim.model.geom_groups import category_geoms
 
-MARGIN = 0.006  # m kept between the arm's geoms and a leg's or Robin's
+ARM_CLEARANCE = 0.006  # m kept between the arm's geoms and a leg's or Robin's
 # m: obstacles whose bounding spheres come this near to where the arm can be are measured (and
 # make the posture solve again at the next render: they may move while the hand holds still)
 BROAD = 0.05
@@ -133,7 +133,8 @@ class ArmClearance:
         wrist: np.ndarray,
     ) -> np.ndarray:
         """Per candidate elbow of ``elbows`` (n, 3): how far (m) the arm from ``shoulder`` over
-        it to ``wrist`` comes inside :data:`MARGIN` of the ``near`` obstacles (0 when clear)."""
+        it to ``wrist`` comes inside :data:`ARM_CLEARANCE` of the ``near`` obstacles (0 when
+        clear)."""
         starts, ends, radii = near
         if len(radii) == 0:
             return np.zeros(len(elbows))
@@ -146,4 +147,4 @@ class ArmClearance:
             p[:, :, None, :], q[:, :, None, :], starts[None, None], ends[None, None]
         )
         gap -= self.radius[None, :, None] + radii[None, None, :]
-        return np.maximum(MARGIN - gap.reshape(n, -1).min(axis=1), 0.0)
+        return np.maximum(ARM_CLEARANCE - gap.reshape(n, -1).min(axis=1), 0.0)

@@ -16,8 +16,8 @@ just enough to keep clear of them:
 * **the fingers**: each finger (and the thumb) takes the furthest of :data:`STEPS` along the
   way from the wanted angles to an open hand (flexion 0; the thumb as held out for "give me")
   and on to a finger bent back (:data:`EXTENDED`; the thumb swung out, :data:`THUMB_AWAY`),
-  or last, curled (:data:`CURLS`), at which its geoms keep :data:`MARGIN` from every leg and
-  every geom of Robin's near it: the fingers close onto a leg's surface, not through it, and
+  or last, curled (:data:`CURLS`), at which its geoms keep :data:`FINGER_CLEARANCE` from every
+  leg and every geom of Robin's near it: the fingers close onto a leg's surface, not through it, and
   give way to Robin's.
 
 Candidates are measured with ``mujoco.mj_geomDistance`` in a scratch ``MjData`` (the scene's
@@ -30,12 +30,13 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from pil.types import SIGN_OF, Gesture
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
 from robin_sim.model.geom_groups import body_geoms, category_geoms
 from robin_sim.model.person_joints import figure
 
-MARGIN = 0.002  # m kept between a finger and a leg or Robin's geoms
+FINGER_CLEARANCE = 0.002  # m kept between a finger and a leg or Robin's geoms
 # m from a leg to the collision palm: at TURN_NEAR and closer the hand holds it (HOLD_TURN);
 # from TURN_FAR on it keeps its own turn (a band of 1-4 cm turned it too late: fingers and
 # palm 15-18 mm into a leg Robin lowered onto the palm)
@@ -98,7 +99,7 @@ class HandFit:
         self.legs = groups["legs"]
         self.obstacles = np.concatenate([groups["legs"], groups["robot"]])
         self.palm = model.geom(names.HUMAN_PALM_GEOM).id
-        self.open_thumb = load_library().pose("give_me")[:4]
+        self.open_thumb = load_library().pose(SIGN_OF[Gesture.GIVE_ME])[:4]
         self._fromto = np.zeros(6)
 
     # --- the turn --------------------------------------------------------------------------
@@ -174,8 +175,8 @@ class HandFit:
         return np.clip(np.array(rows), self.low, self.high)
 
     def _depths(self, angles: np.ndarray, near: np.ndarray, fingers: list[int]) -> np.ndarray:
-        """Per finger of ``fingers``: how far (m) its geoms come inside :data:`MARGIN` of the
-        ``near`` geoms with the hand at ``angles`` (0 or less: clear)."""
+        """Per finger of ``fingers``: how far (m) its geoms come inside :data:`FINGER_CLEARANCE` of
+        the ``near`` geoms with the hand at ``angles`` (0 or less: clear)."""
         model, scratch = self.model, self.scratch
         saved = model.body_quat[self.bodies].copy()
         turns = _axis_quats(self.axes, angles)
@@ -194,10 +195,11 @@ class HandFit:
                 scratch.geom_xpos[geoms][:, None] - scratch.geom_xpos[near][None], axis=2
             )
             gap -= model.geom_rbound[geoms][:, None] + model.geom_rbound[near][None]
-            for i, j in zip(*np.nonzero(gap < MARGIN), strict=True):
+            for i, j in zip(*np.nonzero(gap < FINGER_CLEARANCE), strict=True):
                 a, b = int(geoms[i]), int(near[j])
-                distance = mujoco.mj_geomDistance(model, scratch, a, b, MARGIN, self._fromto)
-                out[finger] = max(out[finger], MARGIN - distance)
+                reach = FINGER_CLEARANCE
+                distance = mujoco.mj_geomDistance(model, scratch, a, b, reach, self._fromto)
+                out[finger] = max(out[finger], FINGER_CLEARANCE - distance)
         return out
 
     def fingers(self, wanted: np.ndarray) -> np.ndarray:

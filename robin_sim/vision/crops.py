@@ -1,6 +1,6 @@
 """The hand's crops: what the features are computed from, and what a rendered data set keeps.
 
-A found hand region becomes three square crops of :data:`SIDE` pixels (its box made square
+A found hand region becomes three square crops of :data:`CROP_SIDE` pixels (its box made square
 plus a margin, zero padded, resized by area): the silhouette (0/255), the shading (grey level
 inside the silhouette, as seen) and the relief (depth inside the silhouette relative to the
 hand's median depth, :data:`RELIEF_RANGE` m mapped onto 1-255; 0 outside), plus the hand's
@@ -18,14 +18,14 @@ import numpy as np
 
 from robin_sim.vision.segment import HandRegion
 
-SIDE = 64  # pixels, square crop side (the features resize it further)
+CROP_SIDE = 64  # pixels, square crop side (the features resize it further)
 MARGIN = 0.12  # share of the box side added around it
 RELIEF_RANGE = 0.08  # m either side of the hand's median depth kept in the relief crop
 
 
 @dataclass(frozen=True, slots=True)
 class HandCrops:
-    """Square crops (SIDE x SIDE uint8) of one hand region and its size (3,) in m."""
+    """Square crops (CROP_SIDE x CROP_SIDE uint8) of one hand region and its size (3,) in m."""
 
     mask: np.ndarray
     shading: np.ndarray
@@ -33,7 +33,7 @@ class HandCrops:
     size: np.ndarray
 
 
-def square(image: np.ndarray, box: tuple[int, int, int, int], side: int = SIDE) -> np.ndarray:
+def square(image: np.ndarray, box: tuple[int, int, int, int], side: int = CROP_SIDE) -> np.ndarray:
     """The square crop of ``image`` around ``box`` plus the margin, resized to ``side``
     (zero padded where it leaves the image)."""
     x, y, w, h = box

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import mujoco
 
-PACKAGE = Path(__file__).resolve().parents[1]  # robin_sim/
-ROOT = PACKAGE.parent
+ROBIN_SIM_DIR = Path(__file__).resolve().parents[1]  # robin_sim/
+ROOT = ROBIN_SIM_DIR.parent
 # every module whose code changes what a rendered sample shows or stores
 SOURCES = (
     "figure",  # the articulated hand, its poses, the posture solver
@@ -57,7 +57,7 @@ def _files(entry: Path) -> list[Path]:
 
 def key_inputs() -> list[Path]:
     """The files the key hashes (besides the compiled scene's XML), in a fixed order."""
-    files = [f for name in SOURCES for f in _files(PACKAGE / name)]
+    files = [f for name in SOURCES for f in _files(ROBIN_SIM_DIR / name)]
     return files + _files(ROOT / "models")
 
 

@@ -30,7 +30,7 @@ from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.render.renderer import open_renderer  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
-from robin_sim.vision.crops import SIDE, HandCrops, hand_crops  # noqa: E402
+from robin_sim.vision.crops import CROP_SIDE, HandCrops, hand_crops  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
     CHUNK,
     SampleSpec,
@@ -126,7 +126,7 @@ def render_chunk(
         _RENDERER = SampleRenderer()
     images: dict[str, list[np.ndarray]] = {key: [] for key in ("mask", "shading", "relief")}
     sizes, labels, samples, eyes, found, ious, conditions = [], [], [], [], [], [], []
-    blank = np.zeros((SIDE, SIDE), np.uint8)
+    blank = np.zeros((CROP_SIDE, CROP_SIDE), np.uint8)
     changes: dict[str, Any] = dict(overrides or {})  # float fields; replace() checks the names
     for index in range(chunk * CHUNK, (chunk + 1) * CHUNK):
         spec = replace(sample_spec(seed, split, index), **changes)
