@@ -217,7 +217,10 @@ def test_the_video_eye_inset_shows_each_reading_with_its_box(tmp_path: Path) -> 
         shown_until = reading["sim_time"] + READING_SHOWN
         if (after is not None and after["sim_time"] < shown_until) or reading["boxes"][0] is None:
             continue  # the next reading replaces it in the inset, or no box to draw
-        frame = frames[int(np.ceil(reading["sim_time"] * fps)) + 1]  # within READING_SHOWN
+        index = int(np.ceil(reading["sim_time"] * fps)) + 1  # within READING_SHOWN
+        if index >= len(frames):
+            continue  # read in the episode's last moment: the video ends before it is shown
+        frame = frames[index]
         bx0, by0, bx1, by1 = placed_box(tuple(reading["boxes"][0]), EYE, inset_size(640, 480))
         if min(bx0, by0) < 5 or bx1 > 155 or by1 > 115 or min(bx1 - bx0, by1 - by0) < 10:
             continue  # too near the inset's edge or too small for rings inside and outside
