@@ -15,6 +15,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from robin_sim.figure.torso import axis_rotation
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
 from robin_sim.model.person_joints import Figure
@@ -27,14 +28,6 @@ TABLE_CLEARANCE = 0.03  # m kept between the arm and the table, its frame and th
 RADII = (0.05, 0.045, 0.08)
 SWING_STEP = 0.1  # rad
 SAMPLES = 8  # points per segment, its far end included: 5 cm apart at most
-
-
-def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
-    quat = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(quat, axis, angle)
-    mat = np.zeros(9)
-    mujoco.mju_quat2Mat(mat, quat)
-    return mat.reshape(3, 3)
 
 
 def _rots(axis: np.ndarray, angles: np.ndarray) -> np.ndarray:
@@ -73,7 +66,7 @@ class IdleArm:
         self.ranges = fig.ranges(self.joints)
         flex, abduct, _, elbow, *_ = (fig.joint(j).axis for j in self.joints)
         self.flex_axis = flex
-        self.abduct, self.bend = _rot(abduct, ABDUCT), _rot(elbow, ELBOW)
+        self.abduct, self.bend = axis_rotation(abduct, ABDUCT), axis_rotation(elbow, ELBOW)
         upper, fore, wrist = names.person_arm_bodies("l")
         body = model.body
         self.shoulder = body(upper).pos.copy()  # in the chest

@@ -43,7 +43,7 @@ from robin_sim.figure.arm_clearance import ArmClearance
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.idle_arm import IdleArm
 from robin_sim.figure.pose_library import load_library
-from robin_sim.figure.torso import COMFORT, Torso, TorsoPose
+from robin_sim.figure.torso import COMFORT, Torso, TorsoPose, axis_rotation
 from robin_sim.model import names
 from robin_sim.model.person_joints import figure, pose
 
@@ -72,14 +72,6 @@ DEPTH_SCALE = 0.005
 # the palm rather than under its end)
 CLEAR_LEANS = (0.15, 0.35, 1.0)
 CLEAR_TURNS = (0.5, 1.0)
-
-
-def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
-    quat = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(quat, axis, angle)
-    mat = np.zeros(9)
-    mujoco.mju_quat2Mat(mat, quat)
-    return mat.reshape(3, 3)
 
 
 def _quat_mat(quat: np.ndarray) -> np.ndarray:
@@ -249,7 +241,7 @@ class Posture:
         (arm, error, _), best = first, arm_score(first[1], depth)
         if first[1] > SWIVEL_TRY or depth > 0.0:  # try the elbow swung about the reach axis
             trials = [
-                self._arm(torso, shoulder, n, stretch, wanted, _rot(n, angle) @ hint)
+                self._arm(torso, shoulder, n, stretch, wanted, axis_rotation(n, angle) @ hint)
                 for angle in SWIVELS
             ]
             elbows = np.array([t[2] for t in trials])
@@ -293,7 +285,7 @@ class Posture:
         abduct = float(np.arcsin(_clip1(-upper[1, 2])))
         rot = float(np.arctan2(upper[1, 0], upper[1, 1]))
         elbow_angle = float(np.arccos(_clip1(np.dot(u, f))))
-        fore = torso @ upper @ _rot(_Y, elbow_angle)
+        fore = torso @ upper @ axis_rotation(_Y, elbow_angle)
         rest = fore.T @ wanted
         roll = float(np.arctan2(-rest[0, 1], rest[1, 1]))  # z, then -x (flex), then y (dev)
         wrist_flex = -float(np.arcsin(_clip1(rest[2, 1])))
@@ -301,7 +293,11 @@ class Posture:
         angles = (flex, abduct, rot, elbow_angle, roll, wrist_flex, wrist_dev)
         clipped = [min(max(a, lo), hi) for a, (lo, hi) in zip(angles, self.arm_ranges, strict=True)]
         axes = self.wrist_axes
-        got = _rot(axes[0], clipped[4]) @ _rot(axes[1], clipped[5]) @ _rot(axes[2], clipped[6])
+        got = (
+            axis_rotation(axes[0], clipped[4])
+            @ axis_rotation(axes[1], clipped[5])
+            @ axis_rotation(axes[2], clipped[6])
+        )
         error = float(np.arccos(_clip1((float(np.sum(got * rest)) - 1) / 2)))
         if any(abs(c - a) > 1e-9 for c, a in zip(clipped[:4], angles[:4], strict=True)):
             error += np.pi  # the upper arm or elbow out of range: only a last resort

@@ -94,10 +94,10 @@ class Torso:
 
     def chest_frame(self, pose: TorsoPose) -> tuple[np.ndarray, np.ndarray]:
         """World origin and rotation of the chest."""
-        turn = _rot(self.turn_axis, pose.turn)
-        abdomen = turn @ _rot(self.lean_axis, self.share * pose.lean)
+        turn = axis_rotation(self.turn_axis, pose.turn)
+        abdomen = turn @ axis_rotation(self.lean_axis, self.share * pose.lean)
         origin = self.hip + np.array([pose.step, 0.0, 0.0]) + abdomen @ self.chest
-        return origin, turn @ _rot(self.lean_axis, pose.lean)
+        return origin, turn @ axis_rotation(self.lean_axis, pose.lean)
 
     def shoulders(self, step: np.ndarray, turn: np.ndarray, lean: np.ndarray) -> np.ndarray:
         """(n, 3) world positions of the right shoulder for arrays of step, turn and lean."""
@@ -155,7 +155,8 @@ class Torso:
         return TorsoPose(float(best[0]), float(best[1]), float(best[2])), least
 
 
-def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
+def axis_rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """The rotation matrix of ``angle`` (rad) about the unit ``axis``."""
     quat = np.zeros(4)
     mujoco.mju_axisAngle2Quat(quat, axis, angle)
     mat = np.zeros(9)
