@@ -11,22 +11,19 @@ that went deeper: category, person geom, other geom, the time of its deepest rea
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import mujoco
 import numpy as np
 import pytest
+from recorded_episode import record_episode
 
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()
 
-from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
-from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 from robin_sim.model import names  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.clearance import CATEGORIES, Clearance  # noqa: E402
-from robin_sim.render.state_log import STATES_NAME, RecordedStates, load_states  # noqa: E402
+from robin_sim.render.state_log import RecordedStates  # noqa: E402
 from robin_sim.render.worker import apply_state  # noqa: E402
 
 BOUND = 0.002  # m
@@ -36,29 +33,13 @@ EPISODES = (("one_handover", 0), ("one_handover", 1), ("one_handover", 2), ("tab
 POSED = 0.03
 
 
-def _record(out: Path, scenario: str, seed: int) -> tuple[RecordedStates, dict]:
-    config = EpisodeConfig(
-        scenario=SCENARIOS_DIR / f"{scenario}.yaml",
-        seed=seed,
-        out=out,
-        width=96,
-        height=72,
-        fps=10,
-        verify=False,
-        progress=False,
-        eye_inset=False,
-        policy_panel=False,
-    )
-    summary = run_episode(config)
-    return load_states(out / STATES_NAME), summary
-
-
 @pytest.fixture(scope="module", params=EPISODES, ids=[f"{s}-{n}" for s, n in EPISODES])
 def episode(
     request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory
 ) -> tuple[str, RecordedStates, dict]:
     scenario, seed = request.param
-    recorded, summary = _record(tmp_path_factory.mktemp(f"{scenario}{seed}"), scenario, seed)
+    folder = tmp_path_factory.mktemp(f"{scenario}{seed}")
+    recorded, summary = record_episode(folder, scenario, seed, (96, 72), 10)
     return f"{scenario} seed {seed}", recorded, summary
 
 

@@ -14,6 +14,8 @@ torso sat at its 0.9 rad limit in 58 % of one_handover's frames).
 
 from __future__ import annotations
 
+from recorded_episode import record_episode
+
 from robin_sim.render.gl_backend import ensure_gl_backend
 
 ensure_gl_backend()  # before mujoco is imported (see robin_sim.render.gl_backend)
@@ -24,15 +26,13 @@ import pytest  # noqa: E402
 from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from pil.task.scenario import SCENARIOS_DIR  # noqa: E402
-from robin_sim.episode.run import EpisodeConfig, run_episode  # noqa: E402
 from robin_sim.figure.articulated import ArticulatedHand, subtree_geoms  # noqa: E402
 from robin_sim.figure.idle_arm import TABLE_CLEARANCE  # noqa: E402
 from robin_sim.figure.posture import SWIVEL_TRY, Posture  # noqa: E402
 from robin_sim.figure.torso import COMFORT, Torso, TorsoPose, lean_limit, lean_of  # noqa: E402
 from robin_sim.model import names, person_joints  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
-from robin_sim.render.state_log import STATES_NAME, RecordedStates, load_states  # noqa: E402
+from robin_sim.render.state_log import RecordedStates  # noqa: E402
 from robin_sim.render.worker import apply_state  # noqa: E402
 
 REST = (1.22, 0.28, 0.92)  # the hand's rest place (issue 40's reproduction)
@@ -236,21 +236,9 @@ def episode(request, tmp_path_factory: pytest.TempPathFactory) -> tuple[str, Rec
     module's tests."""
     scenario, seed = request.param
     folder = tmp_path_factory.mktemp(f"{scenario}_{seed}")
-    config = EpisodeConfig(
-        scenario=SCENARIOS_DIR / f"{scenario}.yaml",
-        seed=seed,
-        out=folder,
-        width=80,
-        height=60,
-        fps=5,
-        render_workers=0,
-        verify=False,
-        progress=False,
-        eye_inset=False,
-        policy_panel=False,
-    )
-    assert run_episode(config)["status"] == "finished"
-    return scenario, load_states(folder / STATES_NAME)
+    states, summary = record_episode(folder, scenario, seed, (80, 60), 5, render_workers=0)
+    assert summary["status"] == "finished"
+    return scenario, states
 
 
 def _least_lean(torso: Torso, wrist: np.ndarray) -> float:

@@ -34,7 +34,7 @@ from pil.types import SIGN_OF, Gesture
 from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
 from robin_sim.model.geom_groups import body_geoms, category_geoms
-from robin_sim.model.person_joints import figure
+from robin_sim.model.person_joints import axis_quats, figure, quat_products
 
 FINGER_CLEARANCE = 0.002  # m kept between a finger and a leg or Robin's geoms
 # m from a leg to the collision palm: at TURN_NEAR and closer the hand holds it (HOLD_TURN);
@@ -53,26 +53,6 @@ CURLED = (1.4, 1.6, 1.0)  # rad: MCP, PIP, DIP
 THUMB_AWAY = (-0.8, -0.3, 0.0, 0.0)  # rad: the thumb swung out, away from the palm
 HOLD_YAW = np.radians(40.0)  # about the palm normal, the wrist towards the person's right
 HOLD_TURN = np.array([np.cos(HOLD_YAW / 2), 0.0, 0.0, np.sin(HOLD_YAW / 2)])
-
-
-def _axis_quats(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
-    """(n, 4) quaternions of turns ``angles`` about unit ``axes`` (n, 3)."""
-    half = 0.5 * np.asarray(angles)
-    return np.column_stack([np.cos(half), np.sin(half)[:, None] * axes])
-
-
-def _multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    w1, x1, y1, z1 = a.T
-    w2, x2, y2, z2 = b.T
-    return np.stack(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ],
-        axis=1,
-    )
 
 
 class HandFit:
@@ -179,10 +159,10 @@ class HandFit:
         the ``near`` geoms with the hand at ``angles`` (0 or less: clear)."""
         model, scratch = self.model, self.scratch
         saved = model.body_quat[self.bodies].copy()
-        turns = _axis_quats(self.axes, angles)
+        turns = axis_quats(self.axes, angles)
         quats = dict(zip(self.bodies, self.base, strict=True))
         for body, turn in zip(self.joint_body, turns, strict=True):
-            quats[body] = _multiply(quats[body][None], turn[None])[0]
+            quats[body] = quat_products(quats[body][None], turn[None])[0]
         model.body_quat[self.bodies] = np.array([quats[b] for b in self.bodies])
         try:
             mujoco.mj_kinematics(model, scratch)
@@ -240,4 +220,4 @@ class HandFit:
         fingers are measured where the written hand will be."""
         body = self.hand_body
         base = figure().base_quat_of(names.person_hand_body("r"))
-        self.model.body_quat[body] = _multiply(base[None], np.asarray(turn)[None])[0]
+        self.model.body_quat[body] = quat_products(base[None], np.asarray(turn)[None])[0]

@@ -180,7 +180,13 @@ def _plan() -> _Plan:
     )
 
 
-def _multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def axis_quats(axes: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """(n, 4) quaternions (w, x, y, z) of turns ``angles`` about unit ``axes`` (n, 3)."""
+    half = 0.5 * np.asarray(angles)
+    return np.column_stack([np.cos(half), np.sin(half)[:, None] * axes])
+
+
+def quat_products(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise quaternion products a b, (n, 4) each (w, x, y, z)."""
     w1, x1, y1, z1 = a.T
     w2, x2, y2, z2 = b.T
@@ -203,13 +209,12 @@ def pose(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     pos, quat = fig.base_pos.copy(), fig.base_quat.copy()
     pos[plan.slide_body] += plan.slide_dir * values[plan.slide_adr][:, None]
     for body, adr, axis, ball in plan.levels:
-        half = values[adr] / 2.0
-        turn = np.column_stack([np.cos(half), axis * np.sin(half)[:, None]])
+        turn = axis_quats(axis, values[adr])
         for k in np.flatnonzero(ball):
             q = values[adr[k] : adr[k] + 4]
             norm = float(np.linalg.norm(q))
             turn[k] = q / norm if norm > 1e-12 else (1.0, 0.0, 0.0, 0.0)
-        quat[body] = _multiply(quat[body], turn)
+        quat[body] = quat_products(quat[body], turn)
     ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b) for b in fig.bodies]
     model.body_pos[ids] = pos
     model.body_quat[ids] = quat
