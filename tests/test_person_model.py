@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from robin_sim.figure.articulated import ArticulatedHand
+from robin_sim.figure.idle_hand import idle_hand_angles
 from robin_sim.figure.posture import Posture
 from robin_sim.model import names, person_joints
 from robin_sim.model import robot_spec as spec
@@ -38,23 +39,30 @@ def _subtree(model: mujoco.MjModel, root: str) -> list[int]:
 
 
 def test_each_hand_has_the_21_landmark_skeleton_with_limited_joints(scene) -> None:
-    model, _ = scene
+    """Both hands as person.xml writes them (the jointed scene); in the episode's scene the
+    right hand keeps them posed from userdata, the idle left hand's fingers are baked (its
+    landmark sites stay: tests/test_idle_hand.py)."""
+    model, jointed = scene[0], person_joints.jointed_scene()
     for side in ("r", "l"):
         joints = names.person_hand_joints(side)
         assert len(joints) == 20  # >= 15: three per finger (and a spread), the thumb 4
         for name in joints:
-            j = figure().joint(name)
-            assert j.kind == HINGE
+            j = jointed.joint(name)
+            assert j.type[0] == HINGE
             low, high = j.range
             assert low < 0.0 <= high and high - low > 0.5, name  # the straight hand is inside
+            if side != names.IDLE_HAND_SIDE:
+                assert figure().joint(name).kind == HINGE
         # the thumb's base: two joints in one body, about different axes
-        base = names.person_finger_bodies(side, "thumb")[0]
-        axes = [j.axis for j in figure().joints if j.body == base]
+        base = jointed.body(names.person_finger_bodies(side, "thumb")[0])
+        adr = int(base.jntadr[0])
+        axes = jointed.jnt_axis[adr : adr + int(base.jntnum[0])]
         assert len(axes) == 2 and abs(float(np.dot(*axes))) < 0.1
         # 21 landmarks: the wrist point, and per finger three bodies (knuckles) and a tip
-        assert model.site(names.person_wrist_point(side)).id >= 0
+        for m in (model, jointed):
+            assert m.site(names.person_wrist_point(side)).id >= 0
         for finger in names.PERSON_HAND_FINGERS:
-            assert all(model.body(b).id >= 0 for b in names.person_finger_bodies(side, finger))
+            assert all(jointed.body(b).id >= 0 for b in names.person_finger_bodies(side, finger))
             assert model.site(names.person_fingertip_site(side, finger)).id >= 0
 
 
@@ -133,12 +141,15 @@ def test_the_person_has_no_dofs_and_poses_as_its_joints_would(scene) -> None:
     puts them in ``scene.xml`` compiled with the joints, for random angles within the limits."""
     model, _ = scene
     assert not any(is_person_joint(model.joint(j).name) for j in range(model.njnt))
-    assert model.nuserdata == figure().size == 64  # 63 DoFs: one ball (a quaternion)
+    # 43 posed DoFs, one a ball (a quaternion); the idle hand's 20 are baked (figure.idle_hand)
+    assert model.nuserdata == figure().size == 44
     jointed = mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
     assert jointed.nv - model.nv == 63
     rng = np.random.default_rng(0)
     for _ in range(3):
         a, b = mujoco.MjData(jointed), mujoco.MjData(model)
+        for name, angle in idle_hand_angles().items():
+            a.qpos[jointed.joint(name).qposadr[0]] = angle
         for j in figure().joints:
             adr = jointed.joint(j.name).qposadr[0]
             if j.size == 4:

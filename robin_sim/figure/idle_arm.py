@@ -18,7 +18,7 @@ import numpy as np
 from robin_sim.figure.torso import axis_rotation
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
-from robin_sim.model.person_joints import Figure
+from robin_sim.model.person_joints import Figure, jointed_scene
 
 ABDUCT = 0.12  # rad the idle arm hangs out from the body
 ELBOW = 0.15  # rad its elbow is bent
@@ -72,10 +72,13 @@ class IdleArm:
         self.shoulder = body(upper).pos.copy()  # in the chest
         self.upper = body(fore).pos.copy()
         self.fore = body(wrist).pos.copy()
-        # the hand straight, wrist to the middle finger's tip
+        # the hand straight, wrist to the middle finger's tip (its fingers are baked in the
+        # scene: their lengths from the jointed one)
+        jointed = jointed_scene()
         chain = [names.person_hand_body("l"), *names.person_finger_bodies("l", "middle")]
-        tip = model.site(names.person_fingertip_site("l", "middle")).pos
-        self.hand = float(sum(np.linalg.norm(body(b).pos) for b in chain) + np.linalg.norm(tip))
+        tip = jointed.site(names.person_fingertip_site("l", "middle")).pos
+        lengths = [np.linalg.norm(jointed.body(b).pos) for b in chain]
+        self.hand = float(sum(lengths) + np.linalg.norm(tip))
         self.centres, self.rotations, self.sizes = obstacle_boxes(model)
         self.radii = np.repeat(RADII, SAMPLES)
         self.clearance = 0.0  # m: the last solve's nearest approach (less the radii)

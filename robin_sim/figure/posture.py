@@ -29,7 +29,7 @@ the person):
 
 Where the hand lies out of reach the arm points at it at full stretch and :attr:`Posture.gap`
 says how far the arm's wrist stays from the hand's. Segment lengths, offsets and axes are read
-from the model. The left hand is half relaxed (the library's neutral pose).
+from the model. The left hand is half relaxed (the library's neutral pose, baked: figure.idle_hand).
 """
 
 from __future__ import annotations
@@ -42,7 +42,6 @@ import numpy as np
 from robin_sim.figure.arm_clearance import ArmClearance
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.idle_arm import IdleArm
-from robin_sim.figure.pose_library import load_library
 from robin_sim.figure.torso import COMFORT, Torso, TorsoPose, axis_rotation
 from robin_sim.model import names
 from robin_sim.model.person_joints import figure, pose
@@ -102,7 +101,7 @@ def arm_score(error: float, depth: float) -> float:
 
 
 class Posture:
-    """Writes the person's torso, arms, head and left hand each tick (see the module doc)."""
+    """Writes the person's torso, arms and head each tick (see the module doc)."""
 
     def __init__(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         self.model, self.data = model, data
@@ -125,11 +124,6 @@ class Posture:
         self.written_q = fig.adr(self.written)
         ranges = fig.ranges(self.written)
         self.low, self.high = ranges[:, 0] + JOINT_LIMIT_MARGIN, ranges[:, 1] - JOINT_LIMIT_MARGIN
-        left_hand = [joint(n) for n in names.person_hand_joints("l")]
-        self.left_hand_q = np.array([q for q, *_ in left_hand])
-        low = np.array([r[0] for *_, r in left_hand]) + JOINT_LIMIT_MARGIN
-        high = np.array([r[1] for *_, r in left_hand]) - JOINT_LIMIT_MARGIN
-        self.left_hand_pose = np.clip(load_library().pose("neutral"), low, high)
         body = model.body
         upper, fore, wrist = names.person_arm_bodies("r")
         self.shoulder = body(upper).pos.copy()  # in the chest
@@ -337,5 +331,4 @@ class Posture:
         qpos = self.data.userdata  # the person's joints (model.person_joints)
         wanted = np.array([values[name] for name in self.written])
         qpos[self.written_q] = np.minimum(np.maximum(wanted, self.low), self.high)
-        qpos[self.left_hand_q] = self.left_hand_pose
         pose(self.model, self.data)

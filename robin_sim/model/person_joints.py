@@ -76,12 +76,20 @@ def is_person_joint(name: str) -> bool:
 
 
 @functools.cache
+def jointed_scene() -> mujoco.MjModel:
+    """``scene.xml`` compiled as written, the person with its joints: the bodies' frames."""
+    return mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
+
+
+@functools.cache
 def figure() -> Figure:
-    """The person's joints and bodies, read once from ``scene.xml`` compiled with them."""
-    model = mujoco.MjModel.from_xml_path(str(names.SCENE_XML))  # its compiler settings
+    """The person's posed joints and their bodies, read once from :func:`jointed_scene`; the
+    idle hand's fingers are baked, not posed (:mod:`robin_sim.figure.idle_hand`)."""
+    model = jointed_scene()
+    baked = set(names.person_hand_joints(names.IDLE_HAND_SIDE))
     joints, bodies, adr = [], [], 0
     for j in range(model.njnt):
-        if not is_person_joint(model.joint(j).name):
+        if not is_person_joint(model.joint(j).name) or model.joint(j).name in baked:
             continue
         kind = int(model.jnt_type[j])
         size = 4 if kind == BALL else 1
@@ -108,8 +116,9 @@ def figure() -> Figure:
 
 
 def strip_joints(spec: mujoco.MjSpec) -> None:
-    """Delete the person's joints from the scene's ``spec`` and give it their userdata; the
-    person's bodies keep no gravity compensation (nothing moves them)."""
+    """Delete the person's joints from the scene's ``spec`` (the idle hand's baked before:
+    :func:`robin_sim.figure.idle_hand.bake_idle_hand`) and give it the posed ones' userdata;
+    the person's bodies keep no gravity compensation (nothing moves them)."""
     for joint in list(spec.joints):
         if is_person_joint(joint.name):
             spec.delete(joint)

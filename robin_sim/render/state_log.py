@@ -31,8 +31,8 @@ __all__ = ["STATES_NAME", "RecordedStates", "StateLog", "StatesError", "load_sta
 
 STATES_NAME = "states.npz"
 # bumped when the file's layout changes (2: the person's joints from userdata; 3: the chest's own
-# lean joint, 64 of them)
-FORMAT = 3
+# lean joint, 64 of them; 4: the idle hand baked, 44)
+FORMAT = 4
 _GEOM = ("geom_rgba", "geom_pos", "geom_quat", "geom_size")
 
 
