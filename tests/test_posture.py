@@ -221,7 +221,6 @@ def test_the_idle_arm_keeps_clear_of_the_table_and_bin_whatever_the_torso(
     values.update(posture.idle_arm.solve(*posture.torso.chest_frame(pose), lean))
     for name, value in values.items():
         data.userdata[fig.joint(name).adr] = value
-    data.userdata[posture.left_hand_q] = posture.left_hand_pose
     person_joints.pose(model, data)
     mujoco.mj_kinematics(model, data)
     assert (
