@@ -39,6 +39,7 @@ import math
 import mujoco
 import numpy as np
 
+from robin_sim.figure.arm_angles import ArmAngles, unit
 from robin_sim.figure.arm_clearance import ArmClearance
 from robin_sim.figure.articulated import JOINT_LIMIT_MARGIN, ArticulatedHand
 from robin_sim.figure.idle_arm import IdleArm
@@ -55,7 +56,6 @@ LOOK = 0.8  # share of the way the head turns towards the hand
 # session it slowed the loop enough to matter)
 VIEW_PERIOD = 0.1
 SWIVEL_TRY = 0.35  # rad of wrist error above which other elbow swings are tried
-_Y = np.array([0.0, 1.0, 0.0])
 SWIVELS = tuple(np.radians(a) for a in (-150, -120, -90, -60, -30, 30, 60, 90, 120, 150, 180))
 LEAN_TRIES = (0.25, 0.5)  # rad of lean added to the cheapest torso's where the wrist is off
 # shares of the comfortable reach tried where the arm cannot meet the hand within its joints'
@@ -79,21 +79,6 @@ def _quat_mat(quat: np.ndarray) -> np.ndarray:
     return mat.reshape(3, 3)
 
 
-def _clip1(value: float) -> float:
-    return min(max(float(value), -1.0), 1.0)
-
-
-def _unit(v: np.ndarray) -> np.ndarray:
-    return v / max(math.sqrt(float(v @ v)), 1e-12)
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b of two 3-vectors (``np.cross`` costs ten times as much on one pair)."""
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
-
-
 def arm_score(error: float, depth: float) -> float:
     """How bad an arm is: its wrist error (rad) and its depth into the clearance kept from legs
     and Robin (m, :data:`DEPTH_SCALE`)."""
@@ -113,8 +98,6 @@ class Posture:
             return j.adr, -1, j.axis.copy(), j.range.copy()
 
         arm = [joint(n) for n in names.person_arm_joints("r")]
-        self.arm_ranges = [(float(r[0]), float(r[1])) for *_, r in arm]
-        self.wrist_axes = [a for _, _, a, _ in arm[4:]]
         self.written = (
             *names.TORSO_JOINTS,
             *names.NECK_JOINTS,
@@ -131,6 +114,8 @@ class Posture:
         self.fore = float(np.linalg.norm(body(wrist).pos))
         self.head = body(names.PERSON_HEAD_BODY).pos.copy()  # in the chest
         self.torso = Torso(model, fig, self.upper, self.fore)
+        ranges_r = [(float(r[0]), float(r[1])) for *_, r in arm]
+        self.angles = ArmAngles(self.upper, self.fore, ranges_r, [a for _, _, a, _ in arm[4:]])
         self.clearance = ArmClearance(model)
         self.idle_arm = IdleArm(model, fig)
         self.wrist_point = model.site(names.person_wrist_point("r")).pos.copy()
@@ -214,7 +199,7 @@ class Posture:
         shoulder = origin + torso @ self.shoulder
         reach = wrist - shoulder
         length = float(np.linalg.norm(reach))
-        n = _unit(reach)
+        n = unit(reach)
         stretch = float(np.clip(length, abs(self.upper - self.fore) + 1e-3, self.upper + self.fore))
         stretch = min(stretch, self.upper + self.fore - 1e-4)
         gap = max(length - stretch, 0.0)
@@ -223,8 +208,8 @@ class Posture:
         wanted = np.column_stack([-hand[:, 1], -hand[:, 2], hand[:, 0]])
         along = hand[:, 0].copy()
         along[2] = float(np.clip(along[2], *FOREARM_RISE))
-        hint = wrist + self.fore * _unit(along) - shoulder
-        first = self._arm(torso, shoulder, n, stretch, wanted, hint)
+        hint = wrist + self.fore * unit(along) - shoulder
+        first = self.angles.solve(torso, shoulder, n, stretch, wanted, hint)
         ends = shoulder + stretch * n
         cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
         swing = self.upper * math.sqrt(max(1.0 - cos_a * cos_a, 0.0))  # the elbow's circle
@@ -234,8 +219,9 @@ class Posture:
         depth = float(self.clearance.depths(near, shoulder, first[2][None], ends)[0])
         (arm, error, _), best = first, arm_score(first[1], depth)
         if first[1] > SWIVEL_TRY or depth > 0.0:  # try the elbow swung about the reach axis
+            solve = self.angles.solve
             trials = [
-                self._arm(torso, shoulder, n, stretch, wanted, axis_rotation(n, angle) @ hint)
+                solve(torso, shoulder, n, stretch, wanted, axis_rotation(n, angle) @ hint)
                 for angle in SWIVELS
             ]
             elbows = np.array([t[2] for t in trials])
@@ -253,49 +239,6 @@ class Posture:
         out.update(zip(names.NECK_JOINTS, (yaw, pitch), strict=True))
         out.update(zip(names.person_arm_joints("r"), arm, strict=True))
         return out, gap, error, depth
-
-    def _arm(
-        self,
-        torso: np.ndarray,
-        shoulder: np.ndarray,
-        n: np.ndarray,
-        stretch: float,
-        wanted: np.ndarray,
-        hint: np.ndarray,
-    ) -> tuple[tuple[float, ...], float, np.ndarray]:
-        """The arm's seven angles with the elbow swung towards ``hint``, the wrist's remaining
-        turn (rad) from ``wanted`` after its joint limits, and the elbow (world)."""
-        cos_a = (self.upper**2 + stretch**2 - self.fore**2) / (2 * self.upper * stretch)
-        m = _unit(hint - np.dot(hint, n) * n)
-        alpha = float(np.arccos(_clip1(cos_a)))
-        elbow = shoulder + self.upper * (np.cos(alpha) * n + np.sin(alpha) * m)
-        u = _unit(elbow - shoulder)
-        f = _unit(shoulder + stretch * n - elbow)
-        bend = f - np.dot(f, u) * u
-        x = -_unit(bend) if float(bend @ bend) > 1e-12 else torso[:, 0]
-        z = -u
-        upper = torso.T @ np.array([x, _cross(z, x), z]).T
-        flex = float(np.arctan2(upper[0, 2], upper[2, 2]))
-        abduct = float(np.arcsin(_clip1(-upper[1, 2])))
-        rot = float(np.arctan2(upper[1, 0], upper[1, 1]))
-        elbow_angle = float(np.arccos(_clip1(np.dot(u, f))))
-        fore = torso @ upper @ axis_rotation(_Y, elbow_angle)
-        rest = fore.T @ wanted
-        roll = float(np.arctan2(-rest[0, 1], rest[1, 1]))  # z, then -x (flex), then y (dev)
-        wrist_flex = -float(np.arcsin(_clip1(rest[2, 1])))
-        wrist_dev = float(np.arctan2(-rest[2, 0], rest[2, 2]))
-        angles = (flex, abduct, rot, elbow_angle, roll, wrist_flex, wrist_dev)
-        clipped = [min(max(a, lo), hi) for a, (lo, hi) in zip(angles, self.arm_ranges, strict=True)]
-        axes = self.wrist_axes
-        got = (
-            axis_rotation(axes[0], clipped[4])
-            @ axis_rotation(axes[1], clipped[5])
-            @ axis_rotation(axes[2], clipped[6])
-        )
-        error = float(np.arccos(_clip1((float(np.sum(got * rest)) - 1) / 2)))
-        if any(abs(c - a) > 1e-9 for c, a in zip(clipped[:4], angles[:4], strict=True)):
-            error += np.pi  # the upper arm or elbow out of range: only a last resort
-        return tuple(clipped), error, elbow
 
     def tick(self, now: float) -> None:
         """Play out :attr:`hand`'s blend into a pose at simulated time ``now``."""
