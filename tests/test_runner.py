@@ -223,7 +223,7 @@ class RecordingBody:
     def recover(self, leg: int) -> bool:
         raise AssertionError("nothing is dropped in a symbolic world")
 
-    def put_back_unreachable(self, leg: int) -> bool:
+    def put_back_off_table(self, leg: int) -> bool:
         return False  # every leg stays where the robot reaches it in a symbolic world
 
 

@@ -13,7 +13,7 @@ The person's next instruction follows the world (:meth:`~ScriptedPerson.next_ste
 the robot held has left its hand (a drop), the person first has it picked up again, pointing at
 the leg where it lies (or, when it left the robot's reach, putting it back on the table: a
 person intervention), then goes on with the script. A leg the person is about to point at
-that lies out of the robot's reach (knocked off the table by a motion) is put back the same way.
+that lies off the table top (knocked to the floor by a motion) is put back the same way.
 
 The person knows the correct association T_c: for every gesture of the script they want one
 action (the step's action). They approve an action exactly when it is the wanted one *and* the
@@ -78,10 +78,10 @@ class PersonBody(Protocol):
         put it back on the table themselves (a person intervention)."""
         ...
 
-    def put_back_unreachable(self, leg: int) -> bool:
+    def put_back_off_table(self, leg: int) -> bool:
         """Before pointing at leg ``leg``: put it back at its place on the table when it lies
-        where the robot cannot reach it (e.g. knocked to the floor) and the robot does not hold
-        it; True when the person did (a person intervention)."""
+        off the table top (e.g. knocked to the floor, where the robot cannot reach it) and the
+        robot does not hold it; True when the person did (a person intervention)."""
         ...
 
 
@@ -242,14 +242,15 @@ class ScriptedPerson:
             self.body.start_table(table)
 
     def perform(self, intent: Intent) -> None:
-        """Perform ``intent``'s gesture (visibly, with a body). Pointing at a leg that lies
-        out of the robot's reach, the person first puts it back on the table (an intervention:
-        pointing at it there would ask for an action that cannot succeed, again and again)."""
+        """Perform ``intent``'s gesture (visibly, with a body). Pointing at a leg that lies off
+        the table top (e.g. on the floor), the person first puts it back at its place (an
+        intervention: the robot reaches for a leg on the table, so pointing at it there asked
+        for an action that could not succeed, again and again)."""
         if self.body is None:
             return
         target = intent.target
         if intent.gesture is Gesture.POINTING and target is not None and target.kind == "leg":
-            self.interventions += self.body.put_back_unreachable(target.index)
+            self.interventions += self.body.put_back_off_table(target.index)
         self.body.perform(intent.gesture, intent.target)
 
     def watch(self, intent: Intent) -> Watcher:

@@ -60,11 +60,6 @@ class TableLegs:
         would fail: e.g. pushed there by a wrong move a person let stand)."""
         return self.on_table(leg) and not spec.in_left_reach(*self.position(leg)[:2])
 
-    def within_reach(self, leg: int) -> bool:
-        """Leg ``leg`` lies on the table top where the arm can reach it (off the table, e.g.
-        knocked to the floor, it is out of reach whatever its position)."""
-        return self.on_table(leg) and spec.in_left_reach(*self.position(leg)[:2])
-
     def graspable(self, leg: int) -> bool:
         """Leg ``leg`` lies flat on the table top inside the arm's reach, at rest, and no other
         leg lies where the open fingers come down around it (:func:`fingers_blocked`)."""
