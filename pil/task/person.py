@@ -12,7 +12,8 @@ the palm and carries delivered legs away.
 The person's next instruction follows the world (:meth:`~ScriptedPerson.next_step`): when a leg
 the robot held has left its hand (a drop), the person first has it picked up again, pointing at
 the leg where it lies (or, when it left the robot's reach, putting it back on the table: a
-person intervention), then goes on with the script.
+person intervention), then goes on with the script. A leg the person is about to point at
+that lies off the table top (knocked to the floor by a motion) is put back the same way.
 
 The person knows the correct association T_c: for every gesture of the script they want one
 action (the step's action). They approve an action exactly when it is the wanted one *and* the
@@ -75,6 +76,12 @@ class PersonBody(Protocol):
     def recover(self, leg: int) -> bool:
         """Make leg ``leg`` (dropped by the robot) graspable again: True when the person had to
         put it back on the table themselves (a person intervention)."""
+        ...
+
+    def put_back_off_table(self, leg: int) -> bool:
+        """Before pointing at leg ``leg``: put it back at its place on the table when it lies
+        off the table top (e.g. knocked to the floor, where the robot cannot reach it) and the
+        robot does not hold it; True when the person did (a person intervention)."""
         ...
 
 
@@ -235,9 +242,16 @@ class ScriptedPerson:
             self.body.start_table(table)
 
     def perform(self, intent: Intent) -> None:
-        """Perform ``intent``'s gesture (visibly, with a body)."""
-        if self.body is not None:
-            self.body.perform(intent.gesture, intent.target)
+        """Perform ``intent``'s gesture (visibly, with a body). Pointing at a leg that lies off
+        the table top (e.g. on the floor), the person first puts it back at its place (an
+        intervention: the robot reaches for a leg on the table, so pointing at it there asked
+        for an action that could not succeed, again and again)."""
+        if self.body is None:
+            return
+        target = intent.target
+        if intent.gesture is Gesture.POINTING and target is not None and target.kind == "leg":
+            self.interventions += self.body.put_back_off_table(target.index)
+        self.body.perform(intent.gesture, intent.target)
 
     def watch(self, intent: Intent) -> Watcher:
         """How the person watches the robot's next action (instantly, without a body)."""

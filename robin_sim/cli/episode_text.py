@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from pil.file_names import EPISODE_LOG_NAME, SUMMARY_NAME, VIDEO_NAME
+from robin_sim.episode.config import TIME_LIMIT
 
 
 def _seconds(value: float | None) -> str:
@@ -30,6 +31,8 @@ def summary_text(summary: dict[str, Any], out: Path) -> str:
     """The end-of-episode lines for a person reading the terminal."""
     status = summary["status"]
     ended = status if not summary.get("error") else f"{status}: {summary['error']}"
+    if status == TIME_LIMIT:
+        ended = f"stopped at its simulated-time limit, {_seconds(summary['sim_time_limit_s'])}"
     legs = f"{summary['legs_delivered']} of {summary['legs_total']}"
     where = f"{summary['legs_to_person']} to the person, {summary['legs_placed']} on spots"
     rate = summary.get("real_time_factor")

@@ -19,6 +19,7 @@ from typing import Any
 from pil.errors import RobinPilError
 from pil.task.detector import CAMERAS as VISION
 from pil.task.params import ParamSpec
+from pil.task.scenario import Scenario
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, RunSpec, parse_run_spec
 from robin_sim.model.names import HEAD_CAMERAS, SCENE_CAMERAS
 from robin_sim.render.frame_spec import FPS, check_size
@@ -72,6 +73,20 @@ class EpisodeConfig:
 
 
 DEFAULT_TABLES = 1  # the main job assembles one table of the paper's assembly
+# s of simulated time per leg of the scenario after which an episode stops, status
+# TIME_LIMIT: about twice the longest measured (10 vision episodes in a dim, noisy room: at most
+# 147 s per leg), so that no run that still makes progress is cut, and a run that cannot (the
+# robot's thumbs misread in a loop of re-plans that no per-gesture count catches) still ends
+SIM_SECONDS_PER_LEG = 300.0
+FINISHED, TIME_LIMIT = "finished", "time_limit"  # how an episode that ran to its end ended
+
+
+def sim_time_limit(scenario: Scenario) -> float:
+    """The simulated seconds after which an episode of ``scenario`` stops (status
+    :data:`TIME_LIMIT`): :data:`SIM_SECONDS_PER_LEG` per leg of its tables."""
+    return SIM_SECONDS_PER_LEG * scenario.tables * scenario.legs_per_table
+
+
 _LABELS = {"rate": "--rate", "seed": "--seed", "scenario": "--scenario", "tables": "--tables"}
 
 
@@ -93,8 +108,8 @@ class VideoSpec:
 @dataclass(frozen=True, slots=True)
 class EpisodeSpec:
     """A physical episode, typed and checked: the learner side (:class:`RunSpec`, world
-    ``physical``), the eye cameras' conditions (a ``vision`` run only), the video and where
-    the files go."""
+    ``physical``), the eye cameras' conditions (a ``vision`` run only), the video, where
+    the files go and the simulated time after which it stops."""
 
     run: RunSpec
     conditions: VisionSettings | None
@@ -102,6 +117,7 @@ class EpisodeSpec:
     verify: bool
     progress: bool
     out: Path
+    time_limit_s: float  # simulated s after which it stops (:func:`sim_time_limit`)
 
 
 _DEFAULT = EpisodeConfig()
@@ -160,5 +176,11 @@ def parse_episode(config: EpisodeConfig) -> EpisodeSpec:
     )
     conditions = parse_conditions(given) if run.detector.model == VISION else None
     return EpisodeSpec(
-        run, conditions, video, bool(config.verify), bool(config.progress), Path(config.out)
+        run,
+        conditions,
+        video,
+        bool(config.verify),
+        bool(config.progress),
+        Path(config.out),
+        sim_time_limit(run.scenario),
     )

@@ -24,7 +24,7 @@ from pil.task.detector import CAMERAS, EXACT
 from pil.task.params import ASSEMBLY, PARAMS, RUN_OPTIONS, ParamSpec
 from pil.task.spec import DETECTOR_SPECS, PHYSICAL, SYMBOLIC, build_run_spec
 from pil.task.systems import SYSTEM_SPECS
-from robin_sim.episode.config import DEFAULT_TABLES, NO_VIDEO, EpisodeSpec
+from robin_sim.episode.config import DEFAULT_TABLES, NO_VIDEO, EpisodeSpec, sim_time_limit
 from robin_sim.episode.run import run_episode
 from robin_sim.vision.condition_params import CONDITION_PARAMS, VisionSettings
 
@@ -67,7 +67,8 @@ def _cell_spec(options: dict[str, Any], cache: MutableMapping[Any, Any]) -> Epis
         )
     defaults = {name: spec.default for name, spec in CONDITION_PARAMS.items()}
     conditions = VisionSettings(**{**defaults, **given}) if vision else None
-    return EpisodeSpec(run, conditions, NO_VIDEO, verify, False, Path("."))
+    limit = sim_time_limit(run.scenario)
+    return EpisodeSpec(run, conditions, NO_VIDEO, verify, False, Path("."), limit)
 
 
 def check_physical(spec: EpisodeSpec) -> None:
@@ -110,6 +111,7 @@ def physical_row(spec: EpisodeSpec) -> dict[str, Any]:
         summary = run_episode(replace(spec, out=Path(folder)))
     row = {key: value for key, value in summary.items() if not isinstance(value, dict)}
     row.pop("system_name", None)
+    row["ended"] = row.pop("status")  # finished, or time_limit (a sweep's status: ok / failed)
     row["legs_delivered_fraction"] = summary["legs_delivered"] / summary["legs_total"]
     for key, value in summary.get("vision", {}).items():
         if not isinstance(value, dict):

@@ -24,7 +24,13 @@ from pil.outdir import claimed_out_dir
 from pil.task.assemble import Run
 from pil.task.records import StepRecord
 from robin_sim.episode.book import StepBook, run_summary, vision_of
-from robin_sim.episode.config import EpisodeConfig, EpisodeError, EpisodeSpec
+from robin_sim.episode.config import (
+    FINISHED,
+    TIME_LIMIT,
+    EpisodeConfig,
+    EpisodeError,
+    EpisodeSpec,
+)
 from robin_sim.episode.interrupts import InterruptGuard
 from robin_sim.episode.log import SUMMARY_RESERVE, StepLog, write_json_atomic
 from robin_sim.episode.physical_assembly import assemble_physical
@@ -108,8 +114,9 @@ def run_episode(config: EpisodeConfig | EpisodeSpec) -> dict[str, Any]:
                 bar = stack.enter_context(progress_bar(legs_total, spec.progress))
                 guard.check()  # a signal during start-up
                 book = StepBook(parts, world, log, totals, checks)
-                _play(parts.steps(view), book, view, bar)
-            status = "finished"  # the video and the log are closed by now
+                limit = spec.time_limit_s, legs_total
+                stopped = _play(parts.steps(view), book, view, bar, limit)
+            status = TIME_LIMIT if stopped else FINISHED  # the video and the log are closed now
             guard.check()  # a signal while the video was being finished
         except KeyboardInterrupt:
             status = "interrupted"
@@ -136,8 +143,12 @@ def _play(
     book: StepBook,
     view: EpisodeView,
     bar: tqdm,
-) -> None:
-    """Check, log and count every step (:class:`StepBook`); stop at a hand-state mismatch."""
+    limit: tuple[float, int],
+) -> bool:
+    """Check, log and count every step (:class:`StepBook`); stop at a hand-state mismatch.
+    ``limit``: the simulated seconds and the legs of the episode; True when the simulated time
+    reached those seconds with legs still to deliver (no step is taken after that one)."""
+    limit_s, legs_total = limit
     for record in records:
         view.finished(record)
         if record.action is None:
@@ -145,6 +156,9 @@ def _play(
         book.add(record)
         bar.update(record.legs_delivered - bar.n)
         bar.set_postfix(step=record.t, sim=f"{book.world.time:.0f}s")
+        if book.world.time >= limit_s and record.legs_delivered < legs_total:
+            return True
+    return False
 
 
 def _summary(
@@ -166,6 +180,7 @@ def _summary(
         status=status,
         error=error,
     )
+    summary["sim_time_limit_s"] = spec.time_limit_s
     if recorder is not None:
         timing, video = recorder.timing, spec.video
         summary["video"] = {

@@ -24,7 +24,9 @@ the scene, in the order a person does it:
 * :meth:`~PhysicalBody.recover` a leg the robot dropped: where it lies on the table within the
   robot's reach, clear of the other legs, the robot can pick it up again; anywhere else (the
   floor, the palm, on or against another leg) the person puts it back on the table at its
-  place: a person intervention, the one scene change besides laying out a new table.
+  place: a person intervention, the one scene change besides laying out a new table. So is
+  :meth:`~PhysicalBody.put_back_off_table`: a leg about to be pointed at that lies off the
+  table top (knocked to the floor by a motion) is put back at its place first.
 
 The body sees the world as a person would (where the legs and the robot's hand are); it is never
 told what the robot will do next. Only the mocap hand and visual-only geoms move.
@@ -215,9 +217,23 @@ class PhysicalBody:
         on the table at its place (True: a person intervention)."""
         if self.world.legs.graspable(leg):
             return False
+        self._put_back(leg)
+        return True
+
+    def put_back_off_table(self, leg: int) -> bool:
+        """Before pointing at ``leg``: put it back at its place when it lies off the table top
+        (e.g. knocked to the floor: the robot reaches for a leg where it lies on the table, and
+        else at its layout place, where it is not) and the robot does not hold it (True: a
+        person intervention)."""
+        world = self.world
+        if world.held_leg() == leg or world.legs.on_table(leg):
+            return False
+        self._put_back(leg)
+        return True
+
+    def _put_back(self, leg: int) -> None:
         self._move(self.hand.rest(self.world.time))
         self.world.put_leg_back(leg)
-        return True
 
     # --- what the person does and sees ---------------------------------------------------------
     def point_at(self, target: Target) -> float:
