@@ -6,12 +6,12 @@ import mujoco
 import numpy as np
 import pytest
 
-from robin_sim.figure.idle_hand import (
+from robin_sim.model import names
+from robin_sim.model.idle_hand import (
     idle_finger_bodies,
     idle_hand_angles,
     idle_hand_joints,
 )
-from robin_sim.model import names
 from robin_sim.model.person_joints import figure, jointed_scene, pose
 from robin_sim.model.scene import build_spec
 

@@ -21,7 +21,7 @@ WRITE_MODES = ("w", "a", "x", "+")
 ALLOWED: dict[tuple[str, str], str] = {
     ("pil/regular_files.py", "os.fdopen"): "the reader itself",
     ("pil/task/yaml_files.py", "yaml.load"): "parses text the reader read (load_yaml_text)",
-    ("robin_sim/figure/pose_library.py", "read_text"): "the package's own pose library",
+    ("robin_sim/model/pose_library.py", "read_text"): "the package's own pose library",
     ("robin_sim/vision/render_key.py", "read_bytes"): "hashes the package's own sources and models",
     ("robin_sim/live/pages.py", "read_text"): "the package's own page files",
     ("robin_sim/live/pages.py", "read_bytes"): "the package's own page files",

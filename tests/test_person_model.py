@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from robin_sim.figure.articulated import ArticulatedHand
-from robin_sim.figure.idle_hand import idle_hand_angles
 from robin_sim.figure.posture import Posture
 from robin_sim.model import names, person_joints
 from robin_sim.model import robot_spec as spec
+from robin_sim.model.idle_hand import idle_hand_angles
 from robin_sim.model.person_joints import figure, is_person_joint
 from robin_sim.model.scene import LEG_COLORS, SceneLayout, build_model
 
@@ -141,7 +141,7 @@ def test_the_person_has_no_dofs_and_poses_as_its_joints_would(scene) -> None:
     puts them in ``scene.xml`` compiled with the joints, for random angles within the limits."""
     model, _ = scene
     assert not any(is_person_joint(model.joint(j).name) for j in range(model.njnt))
-    # 43 posed DoFs, one a ball (a quaternion); the idle hand's 20 are baked (figure.idle_hand)
+    # 43 posed DoFs, one a ball (a quaternion); the idle hand's 20 are baked (model.idle_hand)
     assert model.nuserdata == figure().size == 44
     jointed = mujoco.MjModel.from_xml_path(str(names.SCENE_XML))
     assert jointed.nv - model.nv == 63

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from hand_data import footage
 
-from robin_sim.figure.pose_library import load_library
 from robin_sim.figure.retarget import FINGER_POINTS, Retargeter, metric, steady_palm_frame
 from robin_sim.model import names, person_joints
+from robin_sim.model.pose_library import load_library
 from robin_sim.model.scene import build_model
 
 # degrees: median over the footage's frames and a finger's three bones of the angle between a

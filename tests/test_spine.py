@@ -212,7 +212,7 @@ def test_a_physical_sweep_parses_each_value_once(parse_calls: Counter[str], tmp_
     outcomes = [execute_run(kind.run, run.spec) for run in runs]
     assert [o["status"] for o in outcomes] == ["ok"], outcomes
     row = outcomes[0]["metrics"]  # a flat row: the summary's fields and the share delivered
-    assert row["status"] == "finished" and row["error"] == "" and row["physical_failures"] == 0
+    assert row["ended"] == "finished" and row["error"] == "" and row["physical_failures"] == 0
     assert (row["legs_total"], row["legs_delivered"], row["legs_delivered_fraction"]) == (1, 1, 1.0)
     assert row["sim_time_s"] > 0 and not any(isinstance(v, dict) for v in row.values())
     for name in ("rate", "seed", "reps", "verify"):

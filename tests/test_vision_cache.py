@@ -61,7 +61,7 @@ def test_every_module_a_rendering_worker_runs_is_in_the_key() -> None:
         and not any(name == n or name.startswith(n + ".") for n in NOT_PICTURES)
     ]
     assert not missing, f"imported by the renderer but not in the key: {missing}"
-    assert (ROOT / "robin_sim" / "figure" / "data" / "hand_poses.json").resolve() in hashed
+    assert (ROOT / "robin_sim" / "model" / "data" / "hand_poses.json").resolve() in hashed
     assert any(p.suffix == ".xml" for p in hashed)  # the scene's files under models/
 
 

@@ -1,6 +1,6 @@
 """The articulated person's right hand forms the poses: joint angles written kinematically.
 
-:class:`ArticulatedHand` turns a pose of the library (:mod:`robin_sim.figure.pose_library`,
+:class:`ArticulatedHand` turns a pose of the library (:mod:`robin_sim.model.pose_library`,
 from real hands) and one :class:`~robin_sim.figure.hand_poses.Performance` into the hand's 20
 joint angles and its turn in the mocap frame (the ball joint ``human_r_hand_turn``: where the
 pose's silhouette faces, :func:`~robin_sim.figure.hand_poses.wrist_rotation`), and writes them
@@ -25,10 +25,10 @@ import numpy as np
 
 from robin_sim.figure.hand_fit import HandFit
 from robin_sim.figure.hand_poses import SHAPES, Performance, skin_colour, wrist_rotation
-from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
 from robin_sim.model.geom_groups import body_geoms
 from robin_sim.model.person_joints import figure, has_figure, pose
+from robin_sim.model.pose_library import load_library
 
 # How a performance's offsets enter the joints (rad per unit): a finger's curl spreads over its
 # MCP, PIP and DIP; the spread fans the fingers about the middle; the thumb's direction moves

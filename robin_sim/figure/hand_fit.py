@@ -31,10 +31,10 @@ import mujoco
 import numpy as np
 
 from pil.types import SIGN_OF, Gesture
-from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
 from robin_sim.model.geom_groups import body_geoms, category_geoms
 from robin_sim.model.person_joints import axis_quats, figure, quat_products
+from robin_sim.model.pose_library import load_library
 
 FINGER_CLEARANCE = 0.002  # m kept between a finger and a leg or Robin's geoms
 # m from a leg to the collision palm: at TURN_NEAR and closer the hand holds it (HOLD_TURN);

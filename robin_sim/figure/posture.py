@@ -29,7 +29,7 @@ the person):
 
 Where the hand lies out of reach the arm points at it at full stretch and :attr:`Posture.gap`
 says how far the arm's wrist stays from the hand's. Segment lengths, offsets and axes are read
-from the model. The left hand is half relaxed (the library's neutral pose, baked: figure.idle_hand).
+from the model. The left hand is half relaxed (the library's neutral pose, baked: model.idle_hand).
 """
 
 from __future__ import annotations

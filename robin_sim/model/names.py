@@ -194,7 +194,7 @@ PERSON_ARM_KINDS: tuple[str, ...] = (
 PERSON_TORSO_BODY = "human_torso"  # the abdomen: the waist's turn and lean move it (the legs stay)
 PERSON_CHEST_BODY = "human_chest"  # its own lean on the abdomen's; the head and arms hang from it
 PERSON_HEAD_BODY = "human_head"
-# the person's idle hand: its fingers hold one pose, baked into its body (figure.idle_hand)
+# the person's idle hand: its fingers hold one pose, baked into its body (model.idle_hand)
 IDLE_HAND_SIDE: Side = "l"
 HUMAN_HAND_TURN = "human_r_hand_turn"  # ball joint: the right hand's turn in the mocap frame
 PERSON_EYES_SITE = "human_eyes"

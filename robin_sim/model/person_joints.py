@@ -84,7 +84,7 @@ def jointed_scene() -> mujoco.MjModel:
 @functools.cache
 def figure() -> Figure:
     """The person's posed joints and their bodies, read once from :func:`jointed_scene`; the
-    idle hand's fingers are baked, not posed (:mod:`robin_sim.figure.idle_hand`)."""
+    idle hand's fingers are baked, not posed (:mod:`robin_sim.model.idle_hand`)."""
     model = jointed_scene()
     baked = set(names.person_hand_joints(names.IDLE_HAND_SIDE))
     joints, bodies, adr = [], [], 0
@@ -117,7 +117,7 @@ def figure() -> Figure:
 
 def strip_joints(spec: mujoco.MjSpec) -> None:
     """Delete the person's joints from the scene's ``spec`` (the idle hand's baked before:
-    :func:`robin_sim.figure.idle_hand.bake_idle_hand`) and give it the posed ones' userdata;
+    :func:`robin_sim.model.idle_hand.bake_idle_hand`) and give it the posed ones' userdata;
     the person's bodies keep no gravity compensation (nothing moves them)."""
     for joint in list(spec.joints):
         if is_person_joint(joint.name):

@@ -15,9 +15,9 @@ import numpy as np
 
 from pil.task.layout import LayoutError, LayoutSection, LegPose, Spot
 from pil.task.params import MAX_LEGS  # a table's legs: the task's bound, for the scene too
-from robin_sim.figure.idle_hand import bake_idle_hand
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
+from robin_sim.model.idle_hand import bake_idle_hand
 from robin_sim.model.person_joints import strip_joints
 
 # Default table: the four legs lie along x in a row near the robot (x 0.44, 0.12 m apart) and
@@ -215,7 +215,7 @@ def build_spec(layout: SceneLayout | None = None, *, sleep: bool = False) -> muj
     while it held the leg, and the hand state must come from contacts."""
     layout = layout or SceneLayout()
     model_spec = mujoco.MjSpec.from_file(str(names.SCENE_XML))
-    bake_idle_hand(model_spec)  # the idle hand's fingers hold one pose (figure.idle_hand)
+    bake_idle_hand(model_spec)  # the idle hand's fingers hold one pose (model.idle_hand)
     strip_joints(model_spec)  # the person is posed from userdata (model.person_joints)
     if sleep:
         enable_sleep(model_spec)

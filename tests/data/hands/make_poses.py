@@ -6,7 +6,7 @@ vendored MediaPipe Hands tracker's readings of the Apache-2.0 footage made by
 
     python tests/data/hands/make_poses.py
 
-writes ``robin_sim/figure/data/hand_poses.json``. Each frame's 21 landmarks are retargeted
+writes ``robin_sim/model/data/hand_poses.json``. Each frame's 21 landmarks are retargeted
 onto the model's right hand (:mod:`robin_sim.figure.retarget`: closed form, refined); which side the
 tracker saw is decided per frame by where the fingertips lie (curled fingers are on the palm
 side: the tracker's handedness label follows the selfie convention). A pose from footage is
@@ -27,7 +27,7 @@ from robin_sim.model import names
 from robin_sim.model.scene import build_model
 
 HERE = Path(__file__).resolve().parent
-OUT = HERE.parents[2] / "robin_sim" / "figure" / "data" / "hand_poses.json"
+OUT = HERE.parents[2] / "robin_sim" / "model" / "data" / "hand_poses.json"
 SD_FLOOR, SD_CAP = 0.03, 0.15  # rad
 FOOTAGE = {"grasp": "fist", "give_me": "palm", "thumb_up": "thumb_up"}
 CHECKS = {"thumb_down": "thumb_down", "release": "open_up"}  # flipped / turned frames

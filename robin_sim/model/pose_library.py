@@ -38,7 +38,7 @@ class PoseLibrary:
 @cache
 def load_library() -> PoseLibrary:
     """The shipped library, checked against the model's joint names and the poses."""
-    text = (resources.files("robin_sim.figure") / "data" / LIBRARY_FILE).read_text()
+    text = (resources.files("robin_sim.model") / "data" / LIBRARY_FILE).read_text()
     raw = json.loads(text)
     joints = tuple(raw["joints"])
     want = tuple(j.removeprefix("human_r_") for j in names.person_hand_joints("r"))

@@ -15,9 +15,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from robin_sim.figure.pose_library import load_library
 from robin_sim.model import names
 from robin_sim.model.person_joints import jointed_scene
+from robin_sim.model.pose_library import load_library
 
 IDLE_SIDE = names.IDLE_HAND_SIDE
 IDLE_POSE = "neutral"  # the library's pose the idle hand holds
