@@ -148,10 +148,10 @@ def test_a_model_of_the_features_before_is_refused_by_name(tmp_path: Path) -> No
             seed=np.int64(0),
             samples=np.int64(0),
         )
-    assert FORMAT == 3
+    assert FORMAT == 4
     with pytest.raises(ModelFileError, match=r"format 2 .*retrain it with 'robin-pil train"):
         GestureModel.load(old)
     same_shape = GestureModel(
         np.zeros(658), np.ones(658), (np.zeros((658, 7)),), (np.zeros(7),), 0.5
     )
-    assert "takes 658 features, not the 1810" in same_shape.problem()
+    assert "takes 658 features, not the 2458" in same_shape.problem()

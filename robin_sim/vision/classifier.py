@@ -23,9 +23,9 @@ from robin_sim.vision.features import FEATURE_COUNT
 NO_GESTURE = "no_gesture"
 # The hand's signs as the model names them (every pose but the relaxed one), then "no gesture".
 CLASSES: tuple[str, ...] = (*(p for p in HUMAN_VIS_POSES if p != "neutral"), NO_GESTURE)
-# 3: features of robin_sim.vision.features as of issue 41 (silhouette and relief HOG); a model
-# of format 2 read the shading HOG instead and is refused by name
-FORMAT = 3
+# 4: features of robin_sim.vision.features as of issue 41 (silhouette and relief HOG at two
+# scales); a model of format 3 (one scale) or 2 (the shading HOG) is refused by name
+FORMAT = 4
 SHIPPED = "gesture_model.npz"
 MAX_LAYERS = 16
 
@@ -86,7 +86,7 @@ class GestureModel:
                     raise ModelFileError(
                         f"gesture model {path}: format {int(z['format'])} or classes "
                         f"{z['classes'].tolist()} do not match this version ({FORMAT}, "
-                        f"{CLASSES}); a model of format 2 or older was trained on other "
+                        f"{CLASSES}); a model of format 3 or older was trained on other "
                         "features: retrain it with 'robin-pil train-gestures'"
                     )
                 layers = int(z["layers"])
