@@ -5,6 +5,8 @@ from __future__ import annotations
 import mink
 import numpy as np
 import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from robin_sim.control.trajectory import (
     PEAK_TO_MEAN,
@@ -89,3 +91,21 @@ def test_lift_traverse_descend_drops_empty_moves_and_turns_on_the_way() -> None:
 def test_through_needs_two_waypoints() -> None:
     with pytest.raises(ValueError, match="two waypoints"):
         through([pose([0, 0, 0])])
+
+
+@settings(max_examples=300, deadline=None)
+@given(tau=st.floats(-1.0, 2.0) | st.floats(0.99999, 1.0))
+@example(tau=0.99999495)
+def test_min_jerk_stays_within_zero_and_one(tau: float) -> None:
+    """Rounding must not carry the scaling past 1 (mink refuses an interpolation beyond it:
+    a vision episode, seed 225712630, stopped there)."""
+    assert 0.0 <= min_jerk(tau) <= 1.0
+
+
+def test_a_turning_segment_samples_just_before_its_end() -> None:
+    start = pose([0.4, 0.0, 1.0])
+    end = pose([0.5, 0.1, 1.1], [np.cos(0.4), 0.0, 0.0, np.sin(0.4)])
+    segment = Segment(start, end, 2.0)
+    for tau in (0.99999495, 0.9999954, 0.99999555):  # min_jerk rounded past 1 here
+        got = segment.sample(tau * 2.0)
+        np.testing.assert_allclose(got.translation(), end.translation(), atol=1e-9)

@@ -23,9 +23,11 @@ MIN_SEGMENT_TIME = 0.2  # s; even tiny corrections take this long
 
 
 def min_jerk(tau: float) -> float:
-    """Minimum-jerk time scaling: 0 at ``tau <= 0``, 1 at ``tau >= 1``, smooth in between."""
+    """Minimum-jerk time scaling: 0 at ``tau <= 0``, 1 at ``tau >= 1``, smooth in between; never
+    outside [0, 1] (the polynomial rounds to 1 + 4e-16 just below ``tau`` 1, which mink's
+    rotation interpolation refuses)."""
     t = min(max(tau, 0.0), 1.0)
-    return t * t * t * (10.0 + t * (-15.0 + 6.0 * t))
+    return min(t * t * t * (10.0 + t * (-15.0 + 6.0 * t)), 1.0)
 
 
 def pose(
