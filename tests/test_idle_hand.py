@@ -6,6 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from robin_sim.figure.articulated import subtree_geoms
 from robin_sim.model import names
 from robin_sim.model.idle_hand import (
     idle_finger_bodies,
@@ -21,18 +22,12 @@ TOL = 1e-9  # m, and in rotation-matrix entries: the same frames up to rounding
 def _hand_geoms(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """Rows (pos, rotation, size, type) of every geom on the idle hand and its fingers,
     sorted, so two models' lists compare whatever the geoms' order."""
-    hand = model.body(names.person_hand_body(names.IDLE_HAND_SIDE)).id
-    rows = []
-    for g in range(model.ngeom):
-        body = int(model.geom_bodyid[g])
-        while body not in (0, hand):
-            body = int(model.body_parentid[body])
-        if body == hand:
-            rows.append(
-                np.concatenate(
-                    [data.geom_xpos[g], data.geom_xmat[g], model.geom_size[g], [model.geom_type[g]]]
-                )
-            )
+    rows = [
+        np.concatenate(
+            [data.geom_xpos[g], data.geom_xmat[g], model.geom_size[g], [model.geom_type[g]]]
+        )
+        for g in subtree_geoms(model, names.person_hand_body(names.IDLE_HAND_SIDE))
+    ]
     return np.array(sorted(rows, key=lambda r: tuple(np.round(r, 6))))
 
 
