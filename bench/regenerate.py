@@ -121,6 +121,7 @@ RECIPES: tuple[Recipe, ...] = (
         "appearance",
         ("robin-pil", "people", "--appearance", "--reps", "10", "--no-progress"),
         False,
+        drop=("runs",),  # each run's episode log and result: the resume journal, 8 MB
     ),
     Recipe(
         "leaderboard",  # also writes docs/leaderboard.md; refuses a tree with changes
