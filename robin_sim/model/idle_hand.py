@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 
 from robin_sim.model import names
-from robin_sim.model.person_joints import jointed_scene
+from robin_sim.model.person_joints import axis_quats, jointed_scene, quat_products
 from robin_sim.model.pose_library import load_library
 
 IDLE_SIDE = names.IDLE_HAND_SIDE
@@ -37,22 +37,15 @@ def idle_finger_bodies() -> tuple[str, ...]:
     )
 
 
-def idle_hand_angles(model: mujoco.MjModel | None = None) -> dict[str, float]:
+def idle_hand_angles() -> dict[str, float]:
     """Each idle finger joint's angle: the library's pose, inside the joint's range."""
-    model = model or jointed_scene()
+    model = jointed_scene()
     pose = load_library().pose(IDLE_POSE)
     out = {}
     for name, angle in zip(idle_hand_joints(), pose, strict=True):
         low, high = model.joint(name).range
         out[name] = float(np.clip(angle, low, high))
     return out
-
-
-def _turn(axis: np.ndarray, angle: float) -> np.ndarray:
-    """The quaternion of ``angle`` about unit ``axis``."""
-    quat = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(quat, axis, angle)
-    return quat
 
 
 def baked_frames() -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -62,15 +55,13 @@ def baked_frames() -> dict[str, tuple[np.ndarray, np.ndarray]]:
     frames = {}
     for body in idle_finger_bodies():
         b = model.body(body)
-        quat = b.quat.copy()
+        quat = b.quat[None].copy()
         for j in range(int(b.jntadr[0]), int(b.jntadr[0] + b.jntnum[0])):
             joint = model.joint(j)
             if np.any(joint.pos):
                 raise ValueError(f"{joint.name} turns about {joint.pos}, not its body's origin")
-            turned = np.zeros(4)
-            mujoco.mju_mulQuat(turned, quat, _turn(joint.axis, angles[joint.name]))
-            quat = turned
-        frames[body] = (b.pos.copy(), quat)
+            quat = quat_products(quat, axis_quats(joint.axis[None], np.array([angles[joint.name]])))
+        frames[body] = (b.pos.copy(), quat[0])
     return frames
 
 
