@@ -22,6 +22,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+import mujoco
+import numpy as np
+
 from pil.errors import RobinPilError
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture
@@ -78,3 +81,25 @@ def on_table(world: PhysicalWorld, target: Target) -> bool:
     if target.kind == "spot":
         return True
     return world.held_leg() != target.index and world.legs.graspable(target.index)
+
+
+def held_leg_qpos(model: mujoco.MjModel) -> np.ndarray:
+    """``qpos`` for ``model`` (the default scene) with Robin holding a leg above the person's
+    palm: the ``human`` state reached by acting in a fresh world, after the person slid the
+    hand under the leg to show "release"; joints are matched by name."""
+    world = PhysicalWorld()
+    body = PhysicalBody(world)
+    for state in arm_states(world, body):
+        if state == "human":
+            body.perform(Gesture.RELEASE, None)
+            break
+    if world.held_leg() != PALM_LEG:
+        raise RobinPilError(f"held-leg state: Robin does not hold leg {PALM_LEG} over the palm")
+    qpos = np.empty(model.nq)
+    for joint in range(model.njnt):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint)
+        source = world.model.joint(name)
+        size = len(source.qpos0)
+        start = model.jnt_qposadr[joint]
+        qpos[start : start + size] = world.data.qpos[source.qposadr[0] : source.qposadr[0] + size]
+    return qpos

@@ -5,7 +5,9 @@ never depends on which worker renders it or in which order): its class (cycling 
 seven), where the hand is (a quarter each: above a leg or a table spot as when pointing, drawn
 back and raised there as the person holds a pointing up to be read, at the handover point where
 the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
-in the person's working box) and how much higher (``lift``), its performance (pose jitter
+in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or,
+for a share of the training split's handover samples, holding a leg above the palm as it does
+when the person shows "release" under it: ``arm``), its performance (pose jitter
 scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
 intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
 heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws
@@ -26,7 +28,7 @@ from __future__ import annotations
 import os
 import zipfile
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -63,11 +65,17 @@ class Ranges:
     blur: tuple[float, float] = (0.0, 0.8)
     jitter: tuple[float, float] = (0.0, 2.5)  # scale of the performance's pose jitter
     lift: tuple[float, float] = (-0.04, 0.16)  # m the hand is held higher than its place
+    held_leg: float = 0.0  # share of the handover samples drawn under a leg Robin holds there
 
 
 WHOLE_SKIN = ((0.0, 4.0),)  # every tone of the five-tone scale (hand_poses.SKIN_TONES)
 SPLITS: dict[str, Ranges] = {
-    "train": Ranges(skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)),
+    # half the training split's handover samples show the hand under a leg Robin holds above
+    # the palm (issue 41: the held leg and Robin's fingers hide and frame the hand there; the
+    # held-out split keeps Robin at home, so its samples stay those of the paired tables)
+    "train": Ranges(
+        skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=0.5
+    ),
     "heldout": Ranges(
         skin=WHOLE_SKIN, lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
     ),
@@ -97,6 +105,12 @@ PLACES = np.array(
 HANDOVER_HAND = np.array(DEFAULT_HANDOVER) - site_offset(names.HUMAN_PALM_SITE)
 BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.12]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
+# Robin's arm in a sample: at home, or holding a leg above the palm at the handover point (the
+# state robin_sim.vision.arm_states reaches by acting, "human"); the hand under the leg varies
+# this much (m, sd across, and at most this much lower: never up into the leg)
+ARMS = ("home", "held_leg")
+UNDER_LEG_SPREAD = 0.015
+UNDER_LEG_DROP = 0.03
 
 
 def _uniform(rng: np.random.Generator, intervals: tuple[tuple[float, float], ...]) -> float:
@@ -123,6 +137,7 @@ class SampleSpec:
     seed: int  # for the performance and the noise
     jitter: float = 1.0  # scale of the pose jitter (hand_poses.Performance.draw)
     lift: float = 0.0  # m the hand is held higher than ``hand``
+    arm: str = "home"  # where Robin's arm is (one of ARMS)
 
     @property
     def held_at(self) -> np.ndarray:
@@ -135,6 +150,7 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     rng = np.random.default_rng([seed, SPLIT_IDS[split], index])
     ranges = SPLITS[split]
     where = rng.random()
+    arm = "home"
     if where < 1 / 4:  # above a place, as while pointing
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
@@ -145,9 +161,14 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         hand = back + rng.normal(0, 0.02, 3)
     elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
         hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
+        # drawn only where a split has held-leg samples: the others' streams stay as they were
+        if ranges.held_leg > 0 and rng.random() < ranges.held_leg:
+            arm = "held_leg"  # under the leg Robin holds above the palm, never raised into it
+            across = rng.normal(0, UNDER_LEG_SPREAD, 2)
+            hand = HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
     else:
         hand = rng.uniform(*BOX)
-    return SampleSpec(
+    spec = SampleSpec(
         label=index % len(CLASSES),
         hand=hand,
         aim_error=rng.normal(0.0, AIM_ERROR, 3),
@@ -160,7 +181,9 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         seed=int(rng.integers(2**31)),
         jitter=float(rng.uniform(*ranges.jitter)),
         lift=float(rng.uniform(*ranges.lift)),
+        arm=arm,
     )
+    return spec if arm == "home" else replace(spec, lift=0.0)
 
 
 def chunk_path(folder: Path, split: str, chunk: int) -> Path:

@@ -2,7 +2,8 @@
 
 A rendered chunk (:mod:`robin_sim.vision.render_set`) depends on the compiled scene (the
 person's body and hand, Robin, the table, the lights), the hand poses file, the eye cameras
-(size, field of view, noise), the person's posture solver, the head's aiming, the data set's
+(size, field of view, noise), the person's posture solver, the head's aiming, the actions and
+the person's moves that reach the held-leg arm state, the data set's
 sample spec (places, ranges, chunk size) and the crops it stores. :func:`render_key` hashes all
 of them: the compiled scene's XML, every file under ``models/`` (meshes and textures the XML
 names), the source of every module that shapes a picture (:data:`SOURCES`), the data files of
@@ -29,8 +30,9 @@ ROOT = ROBIN_SIM_DIR.parent
 SOURCES = (
     "figure",  # the articulated hand, its poses, the posture solver
     "model",  # the scene, the person's joints
-    "person/gestures.py",
-    "control/gaze.py",
+    "person",  # the gestures; the body's moves that reach the held-leg arm state
+    "robot",  # the actions that reach it
+    "control",  # the head's aiming, the controllers
     "render/renderer.py",
     "render/frame_spec.py",
     "render/gl_backend.py",
@@ -40,6 +42,7 @@ SOURCES = (
     "vision/condition_params.py",
     "vision/segment.py",
     "vision/crops.py",
+    "vision/arm_states.py",
     "vision/reader.py",
 )
 KEY_LENGTH = 16  # hex digits of the sha256 kept in the folder name

@@ -1,7 +1,9 @@
 """Render data-set chunks (one process renders with one scene and one pair of eyes).
 
 :func:`render_chunk` is the worker's job: it builds the scene once per process, renders each
-sample of the chunk (kinematics only: the hand's mocap pose, the head aimed by ``qpos``),
+sample of the chunk (kinematics only: Robin's arm set to the sample's state by ``qpos``, at home
+or holding a leg above the palm as physics left it (:func:`~robin_sim.vision.arm_states.
+held_leg_qpos`, reached once per process), the hand's mocap pose, the head aimed by ``qpos``),
 finds the hand in each eye and stores its crops (:mod:`robin_sim.vision.crops`: the features
 are computed from them when the split is loaded), and writes the chunk file. Where the
 segmentation renderer's ground truth is available it records the left eye's overlap (IoU) of
@@ -29,6 +31,7 @@ from robin_sim.model import names  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.render.renderer import open_renderer  # noqa: E402
+from robin_sim.vision.arm_states import held_leg_qpos  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
 from robin_sim.vision.crops import CROP_SIDE, HandCrops, hand_crops  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
@@ -55,6 +58,7 @@ class SampleRenderer:
         self.display = GestureDisplay(self.model, self.data)
         self.posture = Posture(self.model, self.data)
         self.mocap = int(self.model.body_mocapid[self.model.body(names.HUMAN_MOCAP_BODY).id])
+        self.arm_qpos = {"home": self.data.qpos.copy()}  # "held_leg" reached when first drawn
         self.eyes = EyeCameras(self.model)
         self._truth = open_renderer(self.model, self.eyes.size, self.eyes.size)
 
@@ -63,6 +67,7 @@ class SampleRenderer:
         rng = np.random.default_rng(spec.seed)
         pose = POSE_OF[CLASSES[spec.label]]
         performance = Performance.draw(rng, jitter=spec.jitter, skin_range=(spec.skin, spec.skin))
+        self.set_arm(spec.arm)
         self.data.mocap_pos[self.mocap] = spec.held_at
         self.display.show(pose, performance)
         self.posture.update()  # the arm and body follow the hand
@@ -88,6 +93,14 @@ class SampleRenderer:
             for v, r in zip(views, found, strict=True)
         ]
         return crops, iou
+
+    def set_arm(self, arm: str) -> None:
+        """Robin's joints and the legs as in state ``arm`` (:data:`~robin_sim.vision.dataset.
+        ARMS`); every sample starts from it, so a sample never depends on the one before."""
+        if arm not in self.arm_qpos:
+            self.arm_qpos[arm] = held_leg_qpos(self.model)
+        self.data.qpos[:] = self.arm_qpos[arm]
+        mujoco.mj_kinematics(self.model, self.data)
 
     def truth_mask(self, pose: str) -> np.ndarray:
         """True hand pixels of the left eye (segmentation render; labels and tests only)."""

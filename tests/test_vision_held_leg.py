@@ -1,0 +1,75 @@
+"""The gesture data set's held-leg samples: Robin holds a leg above the palm, the hand under it.
+
+In an episode the person shows "release" (and at times "give me") with the palm slid under a
+leg that Robin holds above it; the training split draws half its handover samples so, from the
+arm state that real actions reach (``arm_states.held_leg_qpos``), while the held-out split keeps
+Robin at home (its samples stay those of the paired tables).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from robin_sim.model import names
+from robin_sim.vision.arm_states import PALM_LEG
+from robin_sim.vision.dataset import (
+    HANDOVER_HAND,
+    UNDER_LEG_DROP,
+    UNDER_LEG_SPREAD,
+    sample_spec,
+)
+
+HELD_SHARE = (0.09, 0.16)  # of all training samples: half of the handover quarter, 1/8
+SAMPLES = 1600
+
+
+def test_the_training_split_draws_held_leg_samples_and_the_held_out_split_none() -> None:
+    train = [sample_spec(0, "train", i) for i in range(SAMPLES)]
+    held = [s for s in train if s.arm == "held_leg"]
+    assert HELD_SHARE[0] < len(held) / SAMPLES < HELD_SHARE[1]
+    assert {s.label for s in held} == set(range(7))  # every class is shown under the leg
+    for spec in held:  # under the leg: never raised into it, and near the palm's place
+        offset = spec.held_at - HANDOVER_HAND
+        assert spec.lift == 0.0
+        assert -UNDER_LEG_DROP <= offset[2] <= 0.0
+        assert np.all(np.abs(offset[:2]) < 5 * UNDER_LEG_SPREAD)
+    assert all(sample_spec(0, "heldout", i).arm == "home" for i in range(SAMPLES))
+    assert all(sample_spec(0, "sweep", i).arm == "home" for i in range(400))
+
+
+@pytest.mark.slow
+def test_a_held_leg_sample_shows_the_hand_under_the_leg_robin_holds() -> None:
+    """Rendered held-leg samples: Robin's hand holds the leg (contact-free distance to its
+    fingers under 1 cm), the person's hand stays clear of the leg (no geom of it inside the
+    leg: distance >= 0) and below it, and the eyes find a hand in most of them; a home sample
+    after them shows the leg back on the table (every sample starts from its own state)."""
+    from robin_sim.vision.classifier import CLASSES
+    from robin_sim.vision.render_set import POSE_OF, SampleRenderer
+
+    renderer = SampleRenderer()
+    model, data = renderer.model, renderer.data
+    leg = model.geom(names.leg_geom(PALM_LEG)).id
+    grip_bodies = ("l_f1_", "l_f2_", "l_thumb_", "l_palm")  # Robin's left hand holds it
+    robin_hand = [
+        g
+        for g in range(model.ngeom)
+        if model.body(model.geom_bodyid[g]).name.startswith(grip_bodies)
+    ]
+    specs = [s for s in (sample_spec(0, "train", i) for i in range(400)) if s.arm == "held_leg"]
+    found = 0
+    for spec in specs[:12]:
+        crops, _ = renderer.render(spec)
+        person = list(renderer.display.geoms(POSE_OF[CLASSES[spec.label]]))  # the shown hand
+        found += all(c is not None for c in crops)
+        clearance = min(mujoco.mj_geomDistance(model, data, g, leg, 0.2, None) for g in person)
+        assert clearance >= 0.0  # the hand never reaches into the held leg
+        grip = min(mujoco.mj_geomDistance(model, data, g, leg, 0.2, None) for g in robin_hand)
+        assert grip < 0.01  # Robin's fingers are on the leg
+        leg_z = data.geom_xpos[leg][2]
+        assert data.site(names.HUMAN_PALM_SITE).xpos[2] < leg_z  # the palm is under the leg
+    assert found >= 9  # both eyes find the hand in most (the leg and Robin's fingers hide some)
+    home = next(s for s in (sample_spec(0, "train", i) for i in range(400)) if s.arm == "home")
+    renderer.render(home)
+    assert data.geom_xpos[leg][2] < 0.80  # back lying on the table (top at 0.75 m)
