@@ -164,12 +164,23 @@ RECIPES: tuple[Recipe, ...] = (
         drop=("chunks",),  # rendered samples (none with --cache: they live in VISION_CACHE)
     ),
     Recipe(
+        # the previous model (format 4 before the held-leg samples) is kept in the folder
+        "held_leg",
+        (
+            "bench",
+            "bench_held_leg.py",
+            "--previous",
+            str(RESULTS / "held_leg" / "previous_model.npz"),
+        ),
+        False,
+    ),
+    Recipe(
         "vision_whole_range",
         (
             "robin-pil",
             "train-gestures",
             "--samples",
-            "16128",
+            "18144",
             "--workers",
             "2",
             "--cache",

@@ -1,7 +1,7 @@
 """The gesture data set's held-leg samples: Robin holds a leg above the palm, the hand under it.
 
 In an episode the person shows "release" (and at times "give me") with the palm slid under a
-leg that Robin holds above it; the training split draws half its handover samples so, from the
+leg that Robin holds above it; the training split draws a ninth of its samples so, from the
 arm state that real actions reach (``arm_states.held_leg_qpos``), while the held-out split keeps
 Robin at home (its samples stay those of the paired tables).
 """
@@ -21,7 +21,7 @@ from robin_sim.vision.dataset import (
     sample_spec,
 )
 
-HELD_SHARE = (0.09, 0.16)  # of all training samples: half of the handover quarter, 1/8
+HELD_SHARE = (0.08, 0.14)  # of all training samples: a ninth
 SAMPLES = 1600
 
 

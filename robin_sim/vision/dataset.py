@@ -6,8 +6,8 @@ seven), where the hand is (a quarter each: above a leg or a table spot as when p
 back and raised there as the person holds a pointing up to be read, at the handover point where
 the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
 in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or,
-for a share of the training split's handover samples, holding a leg above the palm as it does
-when the person shows "release" under it: ``arm``), its performance (pose jitter
+for a ninth of the training split, holding a leg above the palm as it does when the person
+shows "release" under it, the hand under the leg: ``arm``), its performance (pose jitter
 scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
 intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
 heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws
@@ -65,16 +65,17 @@ class Ranges:
     blur: tuple[float, float] = (0.0, 0.8)
     jitter: tuple[float, float] = (0.0, 2.5)  # scale of the performance's pose jitter
     lift: tuple[float, float] = (-0.04, 0.16)  # m the hand is held higher than its place
-    held_leg: float = 0.0  # share of the handover samples drawn under a leg Robin holds there
+    held_leg: float = 0.0  # share of samples drawn under a leg Robin holds above the palm
 
 
 WHOLE_SKIN = ((0.0, 4.0),)  # every tone of the five-tone scale (hand_poses.SKIN_TONES)
 SPLITS: dict[str, Ranges] = {
-    # half the training split's handover samples show the hand under a leg Robin holds above
-    # the palm (issue 41: the held leg and Robin's fingers hide and frame the hand there; the
-    # held-out split keeps Robin at home, so its samples stay those of the paired tables)
+    # a ninth of the training split shows the hand under a leg Robin holds above the palm
+    # (issue 41: the held leg and Robin's fingers hide and frame the hand there), the rest a
+    # quarter each at the four places; the held-out split keeps Robin at home, so its samples
+    # stay those of the paired tables
     "train": Ranges(
-        skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=0.5
+        skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=1 / 9
     ),
     "heldout": Ranges(
         skin=WHOLE_SKIN, lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
@@ -151,7 +152,12 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     ranges = SPLITS[split]
     where = rng.random()
     arm = "home"
-    if where < 1 / 4:  # above a place, as while pointing
+    # drawn only where a split has held-leg samples: the others' streams stay as they were
+    if ranges.held_leg > 0 and rng.random() < ranges.held_leg:
+        arm = "held_leg"  # under the leg Robin holds above the palm, never raised into it
+        across = rng.normal(0, UNDER_LEG_SPREAD, 2)
+        hand = HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
+    elif where < 1 / 4:  # above a place, as while pointing
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
         place = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET
@@ -161,11 +167,6 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         hand = back + rng.normal(0, 0.02, 3)
     elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
         hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
-        # drawn only where a split has held-leg samples: the others' streams stay as they were
-        if ranges.held_leg > 0 and rng.random() < ranges.held_leg:
-            arm = "held_leg"  # under the leg Robin holds above the palm, never raised into it
-            across = rng.normal(0, UNDER_LEG_SPREAD, 2)
-            hand = HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
     else:
         hand = rng.uniform(*BOX)
     spec = SampleSpec(
