@@ -1,8 +1,8 @@
 """Robin's eyes on the hand under a leg it holds above the palm: two gesture models, same views.
 
-Run: ``python bench/bench_held_leg.py [--seeds 0,1,2,3,4] [--tries 20] [--previous FILE]
-[--out out/held_leg]`` (``python bench/regenerate.py --only held_leg`` runs it into
-``bench/results``).
+Run: ``python bench/bench_held_leg.py [--seeds 0,1,2,3,4] [--tries 20] [--other FILE]
+[--other-name NAME] [--out out/held_leg]`` (``python bench/regenerate.py --only held_leg`` runs
+it into ``bench/results``).
 
 In an episode the person shows "release" (and, when Robin already holds the leg there, "give
 me") with the palm slid under the leg Robin holds above it; Robin's fingers and the leg then
@@ -10,12 +10,13 @@ frame and hide parts of the hand. Per seed a fresh world is brought there by rea
 (:func:`robin_sim.vision.arm_states.arm_states`, state ``human``), the person slides the hand
 under the leg, and shows each of the two gestures ``--tries`` times (a new performance each
 time, drawn from the seed), read as the robot reads an instruction: among the four gestures,
-discarded below the threshold. Each view is read by the shipped model and by ``--previous``
-(default: none; then only the shipped model's column), so the two columns are paired: the
-same views; the previous model is copied beside the figures as ``previous_model.npz``. Writes
-``held_leg.csv`` (one row per reading) and ``table.md`` (per gesture: the
-readings, each model's share read right, the paired difference with its 95 % interval and
-McNemar's exact p, Holm over the gestures).
+discarded below the threshold. Each view is read by the shipped model and by ``--other`` (a
+candidate model file, named ``--other-name`` in the table; default: none, then only the
+shipped model's column), so the two columns are paired: the same views; the other model is
+copied beside the figures as ``other_model.npz``. Writes ``held_leg.csv`` (one row per reading)
+and ``table.md`` (per gesture: the readings, each model's share read right, the paired
+difference (other less shipped) with its 95 % interval and McNemar's exact p, Holm over the
+gestures).
 """
 
 from __future__ import annotations
@@ -45,7 +46,7 @@ from robin_sim.vision.reader import EyeReading, fuse  # noqa: E402
 from robin_sim.vision.train import GESTURE_CLASSES  # noqa: E402
 
 GESTURES = (Gesture.RELEASE, Gesture.GIVE_ME)  # what a person shows under the held leg
-FIELDS = ("seed", "try", "shown", "previous", "this")
+FIELDS = ("seed", "try", "shown", "shipped", "other")
 Z95 = 1.959963984540054  # two-sided 95 % normal quantile (the difference's interval)
 
 
@@ -58,7 +59,7 @@ def in_context(model: GestureModel, reading: EyeReading) -> str:
     return label if label != NO_GESTURE and confidence >= model.threshold else ""
 
 
-def measure(seed: int, tries: int, previous: GestureModel | None) -> list[dict[str, object]]:
+def measure(seed: int, tries: int, other: GestureModel | None) -> list[dict[str, object]]:
     """Readings of one seed's world (see the module doc)."""
     world = PhysicalWorld()
     body = PhysicalBody(world)
@@ -79,8 +80,8 @@ def measure(seed: int, tries: int, previous: GestureModel | None) -> list[dict[s
                         "seed": seed,
                         "try": k,
                         "shown": pose_for(gesture),
-                        "previous": "" if previous is None else in_context(previous, reading),
-                        "this": "" if read is None else pose_for(read),
+                        "shipped": "" if read is None else pose_for(read),
+                        "other": "" if other is None else in_context(other, reading),
                     }
                 )
     finally:
@@ -88,10 +89,11 @@ def measure(seed: int, tries: int, previous: GestureModel | None) -> list[dict[s
     return rows
 
 
-def table(rows: list[dict[str, object]], paired: bool) -> list[str]:
-    """The per-gesture table (see the module doc)."""
+def table(rows: list[dict[str, object]], other: str | None) -> list[str]:
+    """The per-gesture table (see the module doc); ``other``: the other model's name."""
+    paired = other is not None
     lines = [
-        "| shown | readings | previous model | this model | difference [95 % CI] | "
+        f"| shown | readings | shipped model | {other or '-'} | difference [95 % CI] | "
         "McNemar p (Holm) |",
         "|---|---|---|---|---|---|",
     ]
@@ -99,8 +101,8 @@ def table(rows: list[dict[str, object]], paired: bool) -> list[str]:
     for gesture in GESTURES:
         shown = pose_for(gesture)  # the class names the models read
         mine = [r for r in rows if r["shown"] == shown]
-        a = np.array([r["previous"] == shown for r in mine])
-        b = np.array([r["this"] == shown for r in mine])
+        a = np.array([r["shipped"] == shown for r in mine])
+        b = np.array([r["other"] == shown for r in mine])
         d = b.astype(float) - a.astype(float)
         half = Z95 * d.std(ddof=1) / np.sqrt(len(d)) if len(d) > 1 else 0.0
         both = [[np.sum(a & b), np.sum(a & ~b)], [np.sum(~a & b), np.sum(~a & ~b)]]
@@ -108,12 +110,11 @@ def table(rows: list[dict[str, object]], paired: bool) -> list[str]:
         cells.append((shown, len(mine), a.mean(), b.mean(), d.mean(), half))
     adjusted = multipletests(pvalues, method="holm")[1]
     for (name, n, pa, pb, diff, half), p in zip(cells, adjusted, strict=True):
-        before = f"{pa:.1%}" if paired else "-"
-        change = f"{diff:+.1%} [{diff - half:+.1%}, {diff + half:+.1%}]" if paired else "-"
+        change = f"{diff:+.1%} [{diff - half:+.1%}, {diff + half:+.1%}]"
         lines.append(
-            f"| {name} | {n} | {before} | {pb:.1%} | {change} | {p:.3g} |"
+            f"| {name} | {n} | {pa:.1%} | {pb:.1%} | {change} | {p:.3g} |"
             if paired
-            else f"| {name} | {n} | - | {pb:.1%} | - | - |"
+            else f"| {name} | {n} | {pa:.1%} | - | - | - |"
         )
     return lines
 
@@ -122,28 +123,29 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", default="0,1,2,3,4")
     parser.add_argument("--tries", type=int, default=20)
-    parser.add_argument("--previous", type=Path, default=None, help="a gesture model file")
+    parser.add_argument("--other", type=Path, default=None, help="a gesture model file")
+    parser.add_argument("--other-name", default="other model", help="its column's name")
     parser.add_argument("--out", type=Path, default=Path("out/held_leg"))
     args = smoke.parse_args(parser, seeds="0", tries=1)
-    previous = None if args.previous is None else GestureModel.load(args.previous)
+    other = None if args.other is None else GestureModel.load(args.other)
     shipped = load_shipped()
-    if previous is not None and np.array_equal(previous.weights[0], shipped.weights[0]):
-        print("note: --previous is the shipped model itself")
+    if other is not None and np.array_equal(other.weights[0], shipped.weights[0]):
+        print("note: --other is the shipped model itself")
     rows = [
         row
         for seed in (int(s) for s in args.seeds.split(","))
-        for row in measure(seed, args.tries, previous)
+        for row in measure(seed, args.tries, other)
     ]
     args.out.mkdir(parents=True, exist_ok=True)
-    if args.previous is not None:  # kept beside the figures, so a regeneration finds it there
-        kept = args.out / "previous_model.npz"
-        if args.previous.resolve() != kept.resolve():
-            shutil.copyfile(args.previous, kept)
+    if args.other is not None:  # kept beside the figures, so a regeneration finds it there
+        kept = args.out / "other_model.npz"
+        if args.other.resolve() != kept.resolve():
+            shutil.copyfile(args.other, kept)
     with (args.out / "held_leg.csv").open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=FIELDS)
         writer.writeheader()
         writer.writerows(rows)
-    lines = table(rows, previous is not None)
+    lines = table(rows, None if other is None else args.other_name)
     (args.out / "table.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

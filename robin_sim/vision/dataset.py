@@ -6,8 +6,8 @@ seven), where the hand is (a quarter each: above a leg or a table spot as when p
 back and raised there as the person holds a pointing up to be read, at the handover point where
 the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
 in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or,
-for a ninth of the training split, holding a leg above the palm as it does when the person
-shows "release" under it, the hand under the leg: ``arm``), its performance (pose jitter
+in the ``held_leg`` split, holding a leg above the palm as it does when the person shows
+"release" under it, the hand under the leg: ``arm``), its performance (pose jitter
 scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
 intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
 heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws
@@ -70,13 +70,7 @@ class Ranges:
 
 WHOLE_SKIN = ((0.0, 4.0),)  # every tone of the five-tone scale (hand_poses.SKIN_TONES)
 SPLITS: dict[str, Ranges] = {
-    # a ninth of the training split shows the hand under a leg Robin holds above the palm
-    # (issue 41: the held leg and Robin's fingers hide and frame the hand there), the rest a
-    # quarter each at the four places; the held-out split keeps Robin at home, so its samples
-    # stay those of the paired tables
-    "train": Ranges(
-        skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=1 / 9
-    ),
+    "train": Ranges(skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),)),
     "heldout": Ranges(
         skin=WHOLE_SKIN, lighting=((0.35, 0.55), (1.3, 1.6)), light_tilt=((0.5, 0.8),)
     ),
@@ -88,6 +82,12 @@ SPLITS: dict[str, Ranges] = {
         light_tilt=((0.0, 0.5),),
         jitter=(1.0, 1.0),
         lift=(0.0, 0.0),
+    ),
+    # every sample under a leg Robin holds above the palm at the handover point (issue 41), in
+    # the training light: what bench/bench_held_leg.py and a model trained with such samples
+    # read; the shipped model's training split has none (a ninth of it cost thumb readings)
+    "held_leg": Ranges(
+        skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=1.0
     ),
 }
 SPLIT_IDS = {name: k for k, name in enumerate(SPLITS)}

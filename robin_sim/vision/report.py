@@ -115,9 +115,7 @@ def write_report(
         "",
         f"- both splits: skin tones {train.skin}, pose jitter scale {train.jitter}, hand held "
         f"{train.lift} m above its place; a quarter each above a place, drawn back and raised, "
-        "at the handover point, in the working box, Robin's arm at home; training only: a share "
-        f"of {train.held_leg:.3g} of its samples shows the hand under a leg Robin holds above "
-        "the palm",
+        "at the handover point, in the working box",
         f"- training light: scale {train.lighting}, tilt {train.light_tilt} rad",
         f"- held-out light (never trained on): {condition}",
         "",
