@@ -1,9 +1,10 @@
 """The gesture data set's held-leg samples: Robin holds a leg above the palm, the hand under it.
 
 In an episode the person shows "release" (and at times "give me") with the palm slid under a
-leg that Robin holds above it; the ``held_leg`` split draws every sample so, from the arm state
-that real actions reach (``arm_states.held_leg_qpos``), while the training and held-out splits
-keep Robin at home (their samples stay those the shipped model and the paired tables used).
+leg that Robin holds above it, and a thumb drawn back, raised and aside; the ``held_leg`` split
+draws every sample in that arm state (reached by real actions: ``arm_states.held_leg_qpos``),
+while the training and held-out splits keep Robin at home (their samples stay those the
+shipped model and the paired tables used).
 """
 
 from __future__ import annotations
@@ -13,9 +14,12 @@ import numpy as np
 import pytest
 
 from robin_sim.model import names
+from robin_sim.model.robot_spec import PERSON_CLEAR_X, POINT_RAISE, THUMB_ASIDE
 from robin_sim.vision.arm_states import PALM_LEG
+from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import (
     HANDOVER_HAND,
+    THUMBS,
     UNDER_LEG_DROP,
     UNDER_LEG_SPREAD,
     sample_spec,
@@ -28,11 +32,18 @@ def test_the_held_leg_split_draws_every_sample_under_the_leg_and_the_others_none
     held = [sample_spec(0, "held_leg", i) for i in range(SAMPLES)]
     assert all(s.arm == "held_leg" for s in held)
     assert {s.label for s in held} == set(range(7))  # every class is shown under the leg
-    for spec in held:  # under the leg: never raised into it, and near the palm's place
+    for spec in held:
         offset = spec.held_at - HANDOVER_HAND
         assert spec.lift == 0.0
-        assert -UNDER_LEG_DROP <= offset[2] <= 0.0
-        assert np.all(np.abs(offset[:2]) < 5 * UNDER_LEG_SPREAD)
+        if CLASSES[spec.label] in (*THUMBS, "pointing"):  # drawn back and raised, as shown
+            assert abs(spec.held_at[0] - PERSON_CLEAR_X) < 0.1
+            assert abs(offset[2] - POINT_RAISE) < 0.1
+            aside = THUMB_ASIDE if CLASSES[spec.label] in THUMBS else 0.0
+            assert abs(offset[1] - aside) < 0.1
+        else:  # under the leg: never raised into it, and near the palm's place
+            assert -UNDER_LEG_DROP <= offset[2] <= 0.0
+            assert np.all(np.abs(offset[:2]) < 5 * UNDER_LEG_SPREAD)
+
     for split in ("train", "heldout"):
         assert all(sample_spec(0, split, i).arm == "home" for i in range(SAMPLES))
     assert all(sample_spec(0, "sweep", i).arm == "home" for i in range(400))
@@ -44,7 +55,6 @@ def test_a_held_leg_sample_shows_the_hand_under_the_leg_robin_holds() -> None:
     fingers under 1 cm), the person's hand stays clear of the leg (no geom of it inside the
     leg: distance >= 0) and below it, and the eyes find a hand in most of them; a home sample
     after them shows the leg back on the table (every sample starts from its own state)."""
-    from robin_sim.vision.classifier import CLASSES
     from robin_sim.vision.render_set import POSE_OF, SampleRenderer
 
     renderer = SampleRenderer()
@@ -66,8 +76,8 @@ def test_a_held_leg_sample_shows_the_hand_under_the_leg_robin_holds() -> None:
         assert clearance >= 0.0  # the hand never reaches into the held leg
         grip = min(mujoco.mj_geomDistance(model, data, g, leg, 0.2, None) for g in robin_hand)
         assert grip < 0.01  # Robin's fingers are on the leg
-        leg_z = data.geom_xpos[leg][2]
-        assert data.site(names.HUMAN_PALM_SITE).xpos[2] < leg_z  # the palm is under the leg
+        if CLASSES[spec.label] not in (*THUMBS, "pointing"):  # the palm is under the leg
+            assert data.site(names.HUMAN_PALM_SITE).xpos[2] < data.geom_xpos[leg][2]
     assert found >= 9  # both eyes find the hand in most (the leg and Robin's fingers hide some)
     home = sample_spec(0, "train", 0)
     renderer.render(home)

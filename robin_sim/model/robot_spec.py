@@ -83,3 +83,7 @@ PERSON_CLEAR_X = 0.95  # m: the pointing hand draws back this far, out of the ro
 # m the drawn-back pointing hand is then raised: held up into Robin's view, above its own left
 # upper arm, which hides a hand held lower above the left spots and legs from both eyes
 POINT_RAISE = 0.20
+# m along y the drawn-back thumb moves aside, away from Robin's active (left, +y) arm reaching
+# to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
+# thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
+THUMB_ASIDE = -0.15

@@ -44,7 +44,11 @@ from robin_sim.control.human_hand import CARRY_SPEED, HAND_SPEED
 from robin_sim.figure.hand_poses import DEFAULT_SKIN, Performance
 from robin_sim.model import names
 from robin_sim.model import robot_spec as spec
-from robin_sim.model.robot_spec import PERSON_CLEAR_X, POINT_RAISE  # read at each pointing
+from robin_sim.model.robot_spec import (  # read at each pointing
+    PERSON_CLEAR_X,
+    POINT_RAISE,
+    THUMB_ASIDE,
+)
 from robin_sim.person.gestures import GestureDisplay
 from robin_sim.person.watcher import PhysicalWatcher
 from robin_sim.robot.planning import HANDOVER_TOLERANCE, PALM_OUT_RADIUS
@@ -60,10 +64,6 @@ SETTLE = 0.1  # s after a hand motion before the next
 # m, Robin's grasp site to the held-out palm centre within which its hand (and a leg it holds
 # there) hides a thumb shown at the palm from its eyes (holding a leg over the palm: 3.5 cm)
 HIDES_PALM = 0.15
-# m along y the drawn-back thumb moves aside, away from Robin's active (left, +y) arm reaching
-# to the palm, which still hid part of a thumb held straight back (boxes 7-10 px, 5 of 60
-# thumbs down discarded); aside, both eyes see it whole (boxes 35 px and more)
-THUMB_ASIDE = -0.15
 FORM_TIME = (0.25, 0.45)  # s the hand takes to form a pose (drawn per sign)
 SIGN_STREAM = 29  # second seed word of the random stream of how signs are made
 

@@ -6,8 +6,8 @@ seven), where the hand is (a quarter each: above a leg or a table spot as when p
 back and raised there as the person holds a pointing up to be read, at the handover point where
 the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
 in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or,
-in the ``held_leg`` split, holding a leg above the palm as it does when the person shows
-"release" under it, the hand under the leg: ``arm``), its performance (pose jitter
+in the ``held_leg`` split, holding a leg above the palm after a handover, the hand where the
+person shows each sign then: :func:`held_leg_hand`; ``arm``), its performance (pose jitter
 scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
 intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
 heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws
@@ -83,9 +83,9 @@ SPLITS: dict[str, Ranges] = {
         jitter=(1.0, 1.0),
         lift=(0.0, 0.0),
     ),
-    # every sample under a leg Robin holds above the palm at the handover point (issue 41), in
-    # the training light: what bench/bench_held_leg.py and a model trained with such samples
-    # read; the shipped model's training split has none (a ninth of it cost thumb readings)
+    # every sample with Robin holding a leg above the palm at the handover point (issue 41), in
+    # the training light, each sign where the person shows it then (held_leg_hand); the shipped
+    # model's training split has none (the candidates trained with a ninth flipped more thumbs)
     "held_leg": Ranges(
         skin=WHOLE_SKIN, lighting=((0.55, 1.3),), light_tilt=((0.0, 0.5),), held_leg=1.0
     ),
@@ -110,8 +110,28 @@ AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 # state robin_sim.vision.arm_states reaches by acting, "human"); the hand under the leg varies
 # this much (m, sd across, and at most this much lower: never up into the leg)
 ARMS = ("home", "held_leg")
+THUMBS = ("thumb_up", "thumb_down")
 UNDER_LEG_SPREAD = 0.015
 UNDER_LEG_DROP = 0.03
+
+
+def held_leg_hand(sign: str, rng: np.random.Generator) -> np.ndarray:
+    """Where the person shows ``sign`` while Robin holds a leg above the palm (mocap position,
+    m), as :class:`~robin_sim.person.body.PhysicalBody` does: a thumb drawn back, raised and
+    aside into Robin's view, a pointing drawn back and raised, any other sign (release, give
+    me, grasp, the relaxed hand) with the palm under the leg (never raised into it)."""
+    if sign in THUMBS or sign == "pointing":
+        aside = robot_spec.THUMB_ASIDE if sign in THUMBS else 0.0
+        back = np.array(
+            [
+                robot_spec.PERSON_CLEAR_X,
+                HANDOVER_HAND[1] + aside,
+                HANDOVER_HAND[2] + robot_spec.POINT_RAISE,
+            ]
+        )
+        return back + rng.normal(0, 0.02, 3)
+    across = rng.normal(0, UNDER_LEG_SPREAD, 2)
+    return HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
 
 
 def _uniform(rng: np.random.Generator, intervals: tuple[tuple[float, float], ...]) -> float:
@@ -154,9 +174,8 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
     arm = "home"
     # drawn only where a split has held-leg samples: the others' streams stay as they were
     if ranges.held_leg > 0 and rng.random() < ranges.held_leg:
-        arm = "held_leg"  # under the leg Robin holds above the palm, never raised into it
-        across = rng.normal(0, UNDER_LEG_SPREAD, 2)
-        hand = HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
+        arm = "held_leg"
+        hand = held_leg_hand(CLASSES[index % len(CLASSES)], rng)
     elif where < 1 / 4:  # above a place, as while pointing
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
