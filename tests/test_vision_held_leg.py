@@ -19,7 +19,7 @@ from robin_sim.vision.arm_states import PALM_LEG
 from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import (
     HANDOVER_HAND,
-    THUMBS,
+    THUMB_SIGNS,
     UNDER_LEG_DROP,
     UNDER_LEG_SPREAD,
     sample_spec,
@@ -35,10 +35,10 @@ def test_the_held_leg_split_draws_every_sample_under_the_leg_and_the_others_none
     for spec in held:
         offset = spec.held_at - HANDOVER_HAND
         assert spec.lift == 0.0
-        if CLASSES[spec.label] in (*THUMBS, "pointing"):  # drawn back and raised, as shown
+        if CLASSES[spec.label] in (*THUMB_SIGNS, "pointing"):  # drawn back and raised, as shown
             assert abs(spec.held_at[0] - PERSON_CLEAR_X) < 0.1
             assert abs(offset[2] - POINT_RAISE) < 0.1
-            aside = THUMB_ASIDE if CLASSES[spec.label] in THUMBS else 0.0
+            aside = THUMB_ASIDE if CLASSES[spec.label] in THUMB_SIGNS else 0.0
             assert abs(offset[1] - aside) < 0.1
         else:  # under the leg: never raised into it, and near the palm's place
             assert -UNDER_LEG_DROP <= offset[2] <= 0.0
@@ -76,7 +76,7 @@ def test_a_held_leg_sample_shows_the_hand_under_the_leg_robin_holds() -> None:
         assert clearance >= 0.0  # the hand never reaches into the held leg
         grip = min(mujoco.mj_geomDistance(model, data, g, leg, 0.2, None) for g in robin_hand)
         assert grip < 0.01  # Robin's fingers are on the leg
-        if CLASSES[spec.label] not in (*THUMBS, "pointing"):  # the palm is under the leg
+        if CLASSES[spec.label] not in (*THUMB_SIGNS, "pointing"):  # the palm is under the leg
             assert data.site(names.HUMAN_PALM_SITE).xpos[2] < data.geom_xpos[leg][2]
     assert found >= 9  # both eyes find the hand in most (the leg and Robin's fingers hide some)
     home = sample_spec(0, "train", 0)

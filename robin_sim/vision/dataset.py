@@ -35,6 +35,7 @@ import numpy as np
 
 from pil.errors import RobinPilError
 from pil.regular_files import open_bounded
+from pil.types import SIGN_OF, Feedback
 from robin_sim.model import names, robot_spec
 from robin_sim.model.scene import DEFAULT_HANDOVER, DEFAULT_LEGS, DEFAULT_SPOTS
 from robin_sim.model.scene_file import site_offset
@@ -110,7 +111,7 @@ AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 # state robin_sim.vision.arm_states reaches by acting, "human"); the hand under the leg varies
 # this much (m, sd across, and at most this much lower: never up into the leg)
 ARMS = ("home", "held_leg")
-THUMBS = ("thumb_up", "thumb_down")
+THUMB_SIGNS = (SIGN_OF[Feedback.OK], SIGN_OF[Feedback.NOT_OK])  # the thumbs' pose names
 UNDER_LEG_SPREAD = 0.015
 UNDER_LEG_DROP = 0.03
 
@@ -120,8 +121,8 @@ def held_leg_hand(sign: str, rng: np.random.Generator) -> np.ndarray:
     m), as :class:`~robin_sim.person.body.PhysicalBody` does: a thumb drawn back, raised and
     aside into Robin's view, a pointing drawn back and raised, any other sign (release, give
     me, grasp, the relaxed hand) with the palm under the leg (never raised into it)."""
-    if sign in THUMBS or sign == "pointing":
-        aside = robot_spec.THUMB_ASIDE if sign in THUMBS else 0.0
+    if sign in THUMB_SIGNS or sign == "pointing":
+        aside = robot_spec.THUMB_ASIDE if sign in THUMB_SIGNS else 0.0
         back = np.array(
             [
                 robot_spec.PERSON_CLEAR_X,
