@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 import smoke  # bench/smoke.py: --smoke
+from scipy.stats import norm
 from statsmodels.stats.contingency_tables import mcnemar
 from statsmodels.stats.multitest import multipletests
 
@@ -39,7 +40,7 @@ from pil.types import Gesture  # noqa: E402
 from robin_sim.person.body import PhysicalBody  # noqa: E402
 from robin_sim.person.gestures import pose_for  # noqa: E402
 from robin_sim.robot.world import PhysicalWorld  # noqa: E402
-from robin_sim.vision.arm_states import arm_states  # noqa: E402
+from robin_sim.vision.arm_states import reach_held_leg  # noqa: E402
 from robin_sim.vision.classifier import NO_GESTURE, GestureModel, load_shipped  # noqa: E402
 from robin_sim.vision.detector import VisionDetector  # noqa: E402
 from robin_sim.vision.reader import EyeReading, fuse  # noqa: E402
@@ -47,7 +48,7 @@ from robin_sim.vision.train import GESTURE_CLASSES  # noqa: E402
 
 GESTURES = (Gesture.RELEASE, Gesture.GIVE_ME)  # what a person shows under the held leg
 FIELDS = ("seed", "try", "shown", "shipped", "other")
-Z95 = 1.959963984540054  # two-sided 95 % normal quantile (the difference's interval)
+Z95 = float(norm.ppf(0.975))  # two-sided 95 % normal quantile (the difference's interval)
 
 
 def in_context(model: GestureModel, reading: EyeReading) -> str:
@@ -66,10 +67,7 @@ def measure(seed: int, tries: int, other: GestureModel | None) -> list[dict[str,
     detector = VisionDetector(world.sim, display=body.display, seed=seed)
     rows: list[dict[str, object]] = []
     try:
-        for state in arm_states(world, body):
-            if state == "human":
-                break
-        body.perform(Gesture.RELEASE, None)  # the palm slides under the held leg
+        reach_held_leg(world, body)  # the palm slid under the held leg
         for k in range(tries):
             for gesture in GESTURES:
                 read = detector.detect(gesture)

@@ -82,3 +82,5 @@ def test_a_held_leg_sample_shows_the_hand_under_the_leg_robin_holds() -> None:
     home = sample_spec(0, "train", 0)
     renderer.render(home)
     assert data.geom_xpos[leg][2] < 0.80  # back lying on the table (top at 0.75 m)
+    with pytest.raises(ValueError, match="held_leg"):  # an unknown state names the choices
+        renderer.set_arm("elbow_up")

@@ -83,18 +83,22 @@ def on_table(world: PhysicalWorld, target: Target) -> bool:
     return world.held_leg() != target.index and world.legs.graspable(target.index)
 
 
-def held_leg_qpos(model: mujoco.MjModel) -> np.ndarray:
-    """``qpos`` for ``model`` (the default scene) with Robin holding a leg above the person's
-    palm: the ``human`` state reached by acting in a fresh world, after the person slid the
-    hand under the leg to show "release"; joints are matched by name."""
-    world = PhysicalWorld()
-    body = PhysicalBody(world)
+def reach_held_leg(world: PhysicalWorld, body: PhysicalBody) -> None:
+    """Bring ``world`` to the ``human`` state by acting and let the person slide the palm under
+    the held leg to show "release"; raises if Robin does not hold the leg there."""
     for state in arm_states(world, body):
         if state == "human":
-            body.perform(Gesture.RELEASE, None)
             break
+    body.perform(Gesture.RELEASE, None)
     if world.held_leg() != PALM_LEG:
         raise RobinPilError(f"held-leg state: Robin does not hold leg {PALM_LEG} over the palm")
+
+
+def held_leg_qpos(model: mujoco.MjModel) -> np.ndarray:
+    """``qpos`` for ``model`` (the default scene) with Robin holding a leg above the person's
+    palm (:func:`reach_held_leg` in a fresh world); joints are matched by name."""
+    world = PhysicalWorld()
+    reach_held_leg(world, PhysicalBody(world))
     qpos = np.empty(model.nq)
     for joint in range(model.njnt):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, joint)

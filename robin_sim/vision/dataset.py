@@ -28,7 +28,7 @@ from __future__ import annotations
 import os
 import zipfile
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -116,6 +116,13 @@ UNDER_LEG_SPREAD = 0.015
 UNDER_LEG_DROP = 0.03
 
 
+def drawn_back(at: np.ndarray, aside: float = 0.0) -> np.ndarray:
+    """Where the person holds a sign up to be read after making it at ``at``: drawn back to
+    ``PERSON_CLEAR_X``, raised ``POINT_RAISE`` and moved ``aside`` along y (as
+    ``HumanHand.withdraw``)."""
+    return np.array([robot_spec.PERSON_CLEAR_X, at[1] + aside, at[2] + robot_spec.POINT_RAISE])
+
+
 def held_leg_hand(sign: str, rng: np.random.Generator) -> np.ndarray:
     """Where the person shows ``sign`` while Robin holds a leg above the palm (mocap position,
     m), as :class:`~robin_sim.person.body.PhysicalBody` does: a thumb drawn back, raised and
@@ -123,14 +130,7 @@ def held_leg_hand(sign: str, rng: np.random.Generator) -> np.ndarray:
     me, grasp, the relaxed hand) with the palm under the leg (never raised into it)."""
     if sign in THUMB_SIGNS or sign == "pointing":
         aside = robot_spec.THUMB_ASIDE if sign in THUMB_SIGNS else 0.0
-        back = np.array(
-            [
-                robot_spec.PERSON_CLEAR_X,
-                HANDOVER_HAND[1] + aside,
-                HANDOVER_HAND[2] + robot_spec.POINT_RAISE,
-            ]
-        )
-        return back + rng.normal(0, 0.02, 3)
+        return drawn_back(HANDOVER_HAND, aside) + rng.normal(0, 0.02, 3)
     across = rng.normal(0, UNDER_LEG_SPREAD, 2)
     return HANDOVER_HAND + np.array([*across, -rng.uniform(0, UNDER_LEG_DROP)])
 
@@ -181,15 +181,12 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         hand = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET + rng.normal(0, 0.02, 3)
     elif where < 2 / 4:  # drawn back from a place and raised, where a pointing is read
         place = PLACES[rng.integers(len(PLACES))] + robot_spec.POINT_OFFSET
-        back = np.array(
-            [robot_spec.PERSON_CLEAR_X, place[1], place[2] + robot_spec.POINT_RAISE]
-        )  # drawn back, raised
-        hand = back + rng.normal(0, 0.02, 3)
+        hand = drawn_back(place) + rng.normal(0, 0.02, 3)
     elif where < 3 / 4:  # the palm held out at the handover point (give me, release, thumbs)
         hand = HANDOVER_HAND + rng.normal(0, 0.02, 3)
     else:
         hand = rng.uniform(*BOX)
-    spec = SampleSpec(
+    return SampleSpec(
         label=index % len(CLASSES),
         hand=hand,
         aim_error=rng.normal(0.0, AIM_ERROR, 3),
@@ -201,10 +198,10 @@ def sample_spec(seed: int, split: str, index: int) -> SampleSpec:
         blur=float(rng.uniform(*ranges.blur)),
         seed=int(rng.integers(2**31)),
         jitter=float(rng.uniform(*ranges.jitter)),
-        lift=float(rng.uniform(*ranges.lift)),
+        # the last draw; under a held leg the hand is never raised into it
+        lift=float(rng.uniform(*ranges.lift)) if arm == "home" else 0.0,
         arm=arm,
     )
-    return spec if arm == "home" else replace(spec, lift=0.0)
 
 
 def chunk_path(folder: Path, split: str, chunk: int) -> Path:

@@ -35,6 +35,7 @@ from robin_sim.vision.arm_states import held_leg_qpos  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
 from robin_sim.vision.crops import CROP_SIDE, HandCrops, hand_crops  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
+    ARMS,
     CHUNK,
     SampleSpec,
     chunk_path,
@@ -97,7 +98,9 @@ class SampleRenderer:
     def set_arm(self, arm: str) -> None:
         """Robin's joints and the legs as in state ``arm`` (:data:`~robin_sim.vision.dataset.
         ARMS`); every sample starts from it, so a sample never depends on the one before."""
-        if arm not in self.arm_qpos:
+        if arm not in ARMS:
+            raise ValueError(f"unknown arm state {arm!r}; the choices: {', '.join(ARMS)}")
+        if arm not in self.arm_qpos:  # "held_leg": reached by acting, once per process
             self.arm_qpos[arm] = held_leg_qpos(self.model)
         self.data.qpos[:] = self.arm_qpos[arm]
         mujoco.mj_kinematics(self.model, self.data)
