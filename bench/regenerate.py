@@ -183,7 +183,7 @@ RECIPES: tuple[Recipe, ...] = (
             "robin-pil",
             "train-gestures",
             "--samples",
-            "16128",
+            "18144",
             "--workers",
             "2",
             "--cache",
