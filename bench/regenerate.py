@@ -164,6 +164,18 @@ RECIPES: tuple[Recipe, ...] = (
         drop=("chunks",),  # rendered samples (none with --cache: they live in VISION_CACHE)
     ),
     Recipe(
+        # how much of the hand the eyes can see in vision_hands' samples (run after it: it
+        # reads that recipe's articulated.csv)
+        "hand_hidden",
+        (
+            "bench",
+            "bench_hand_hidden.py",
+            "--readings",
+            str(RESULTS / "vision_hands" / "articulated.csv"),
+        ),
+        False,
+    ),
+    Recipe(
         # the candidate trained with held-leg samples (issue 41, not shipped) is kept in the
         # folder as other_model.npz
         "held_leg",
