@@ -176,8 +176,8 @@ RECIPES: tuple[Recipe, ...] = (
         False,
     ),
     Recipe(
-        # the candidate trained with held-leg samples (issue 41, not shipped) is kept in the
-        # folder as other_model.npz
+        # the model before the held-leg samples (16 128 samples, 128 units, trained on views
+        # segmented without the table-top cut) is kept in the folder as other_model.npz
         "held_leg",
         (
             "bench",
@@ -185,7 +185,7 @@ RECIPES: tuple[Recipe, ...] = (
             "--other",
             str(RESULTS / "held_leg" / "other_model.npz"),
             "--other-name",
-            "held-leg candidate",
+            "model before",
         ),
         False,
     ),
