@@ -13,12 +13,14 @@ import pytest  # noqa: E402
 
 from pil.learner import Learner  # noqa: E402
 from pil.types import Action, Feedback, Gesture, State  # noqa: E402
+from robin_sim.model.names import TABLE_TOP_GEOM  # noqa: E402
+from robin_sim.model.robot_spec import POINT_OFFSET, TABLE_TOP_Z  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, GestureModel, load_shipped  # noqa: E402
-from robin_sim.vision.dataset import SampleSpec  # noqa: E402
+from robin_sim.vision.dataset import PLACES, SampleSpec  # noqa: E402
 from robin_sim.vision.eyes import ConditionError, EyeCondition  # noqa: E402
 from robin_sim.vision.reader import aim_and_see, read_views  # noqa: E402
 from robin_sim.vision.render_set import POSE_OF, SampleRenderer  # noqa: E402
-from robin_sim.vision.segment import SLAB, find_hand  # noqa: E402
+from robin_sim.vision.segment import SLAB, TABLE_CLEARANCE, find_hand  # noqa: E402
 
 # Clear views: the hand held out in front of Robin (handover place) and beside the table.
 CLEAR_PLACES = (np.array([0.75, 0.0, 1.0]), np.array([1.0, 0.1, 0.95]))
@@ -70,6 +72,26 @@ def test_segmentation_finds_no_hand_in_an_empty_view(renderer: SampleRenderer) -
     ]
     assert empty, "no empty slab behind the hand in this view"
     assert find_hand(left.rgb, left.depth, empty[0], left.focal) is None
+
+
+def test_pixel_heights_put_the_table_top_at_its_height(renderer: SampleRenderer) -> None:
+    """Each pixel's height (from the depth and the eye's pose) puts the table top at its height,
+    the hand above it; the segmentation then takes no table-top pixel for the hand, even with
+    the hand held low over a leg, where the table's skin-like top lies close behind it."""
+    leg = PLACES[2] + np.array(POINT_OFFSET) + np.array([0.0, 0.0, -0.06])
+    (left, _), depths = _views(renderer, _spec(CLASSES.index("give_me"), leg, seed=3))
+    assert left.height is not None
+    table = renderer.geom_mask([renderer.model.geom(TABLE_TOP_GEOM).id])
+    hand = renderer.truth_mask(POSE_OF["give_me"])
+    assert table.sum() > 500 and hand.sum() > 100, (table.sum(), hand.sum())
+    error = left.height[table] - TABLE_TOP_Z
+    # depth noise sd 3 mm: the table top's pixels lie at its height within 3 mm (median) and
+    # 1.5 cm (every pixel but edge ones: 99 %)
+    assert abs(np.median(error)) < 0.003 and np.quantile(np.abs(error), 0.99) < 0.015, error
+    assert np.all(left.height[hand] > TABLE_TOP_Z + TABLE_CLEARANCE)
+    region = find_hand(left.rgb, left.depth, depths[0], left.focal, left.height)
+    assert region is not None and not (region.mask & table).any()
+    assert (region.mask & hand).sum() / (region.mask | hand).sum() > 0.7
 
 
 def test_shipped_model_reads_the_seven_poses_on_renders(renderer: SampleRenderer) -> None:

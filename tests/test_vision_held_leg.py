@@ -12,6 +12,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 import pytest
+from scipy.stats import binom
 
 from robin_sim.model import names
 from robin_sim.model.robot_spec import PERSON_CLEAR_X, POINT_RAISE, THUMB_ASIDE
@@ -19,6 +20,7 @@ from robin_sim.vision.arm_states import PALM_LEG
 from robin_sim.vision.classifier import CLASSES
 from robin_sim.vision.dataset import (
     HANDOVER_HAND,
+    SPLITS,
     THUMB_SIGNS,
     UNDER_LEG_DROP,
     UNDER_LEG_SPREAD,
@@ -28,7 +30,7 @@ from robin_sim.vision.dataset import (
 SAMPLES = 1600
 
 
-def test_the_held_leg_split_draws_every_sample_under_the_leg_and_the_others_none() -> None:
+def test_the_held_leg_split_draws_every_sample_under_the_leg_the_training_split_a_ninth() -> None:
     held = [sample_spec(0, "held_leg", i) for i in range(SAMPLES)]
     assert all(s.arm == "held_leg" for s in held)
     assert {s.label for s in held} == set(range(7))  # every class is shown under the leg
@@ -44,8 +46,15 @@ def test_the_held_leg_split_draws_every_sample_under_the_leg_and_the_others_none
             assert -UNDER_LEG_DROP <= offset[2] <= 0.0
             assert np.all(np.abs(offset[:2]) < 5 * UNDER_LEG_SPREAD)
 
-    for split in ("train", "heldout"):
-        assert all(sample_spec(0, split, i).arm == "home" for i in range(SAMPLES))
+    # the training split draws a ninth of its samples under the leg (SPLITS), every class
+    # among them; the held-out and sweep splits keep the arm at home
+    train = [sample_spec(0, "train", i) for i in range(SAMPLES)]
+    under = [s for s in train if s.arm == "held_leg"]
+    share = SPLITS["train"].held_leg
+    low, high = binom.ppf([0.0005, 0.9995], SAMPLES, share)  # a 99.9 % range of the count
+    assert share == pytest.approx(1 / 9) and low <= len(under) <= high, len(under)
+    assert {s.label for s in under} == set(range(7))
+    assert all(sample_spec(0, "heldout", i).arm == "home" for i in range(SAMPLES))
     assert all(sample_spec(0, "sweep", i).arm == "home" for i in range(400))
 
 

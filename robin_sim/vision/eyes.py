@@ -56,11 +56,29 @@ class EyeCondition:
 
 @dataclass(frozen=True, slots=True)
 class EyeView:
-    """One eye's image: RGB (H, W, 3) uint8, depth (H, W) m, and its focal length in pixels."""
+    """One eye's image: RGB (H, W, 3) uint8, depth (H, W) m, its focal length in pixels, and
+    the height (H, W, world z in m) of each pixel's point, from the depth and the eye's pose
+    (Robin knows where its eyes are): what lies on the table top is told apart by it."""
 
     rgb: np.ndarray
     depth: np.ndarray
     focal: float
+    height: np.ndarray | None = None
+
+
+def pixel_heights(
+    depth: np.ndarray, focal: float, position: np.ndarray, frame: np.ndarray
+) -> np.ndarray:
+    """World z (m) of each pixel's point: ``depth`` (m along the optical axis) seen from a
+    camera at ``position`` with orientation ``frame`` (3x3, MuJoCo's: looking along -z, y up,
+    image rows downwards)."""
+    rows, cols = depth.shape
+    v, u = np.mgrid[0:rows, 0:cols]
+    right = (u + 0.5 - cols / 2) / focal
+    up = -(v + 0.5 - rows / 2) / focal
+    frame = np.asarray(frame).reshape(3, 3)
+    # z of position + frame @ (right * d, up * d, -d): only frame's last row matters
+    return position[2] + depth * (frame[2, 0] * right + frame[2, 1] * up - frame[2, 2])
 
 
 class EyeCameras(ClosesOnExit):
@@ -95,7 +113,9 @@ class EyeCameras(ClosesOnExit):
                 depth = renderer.render().astype(np.float64)
                 renderer.disable_depth_rendering()
                 depth += rng.normal(0.0, DEPTH_NOISE, depth.shape)
-                views.append(EyeView(self._degrade(rgb, condition, rng), depth, self.focal))
+                height = pixel_heights(depth, self.focal, data.cam_xpos[cam], data.cam_xmat[cam])
+                rgb = self._degrade(rgb, condition, rng)
+                views.append(EyeView(rgb, depth, self.focal, height))
         finally:
             self._restore(saved)
         return views[0], views[1]

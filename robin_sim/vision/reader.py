@@ -66,7 +66,9 @@ def looked_at_depth(model: mujoco.MjModel, data: mujoco.MjData, target: np.ndarr
 
 def regions(views: Sequence[EyeView], depths: Sequence[float]) -> list[HandRegion | None]:
     """The hand region found in each eye view."""
-    return [find_hand(v.rgb, v.depth, d, v.focal) for v, d in zip(views, depths, strict=True)]
+    return [
+        find_hand(v.rgb, v.depth, d, v.focal, v.height) for v, d in zip(views, depths, strict=True)
+    ]
 
 
 def eye_features(

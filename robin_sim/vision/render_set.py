@@ -12,7 +12,7 @@ the found region with the true hand pixels, for the report only.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -105,9 +105,14 @@ class SampleRenderer:
         self.data.qpos[:] = self.arm_qpos[arm]
         mujoco.mj_kinematics(self.model, self.data)
 
-    def truth_mask(self, pose: str) -> np.ndarray:
-        """True hand pixels of the left eye (segmentation render; labels and tests only)."""
-        model, camera = self.model, self.eyes.cameras[0]
+    def truth_mask(self, pose: str, eye: int = 0) -> np.ndarray:
+        """True hand pixels of eye ``eye`` (0 left, 1 right; segmentation render; labels,
+        benches and tests only)."""
+        return self.geom_mask(self.display.geoms(pose), eye)
+
+    def geom_mask(self, geoms: Iterable[int], eye: int = 0) -> np.ndarray:
+        """Pixels of eye ``eye`` that show one of ``geoms`` (ids; segmentation render)."""
+        model, camera = self.model, self.eyes.cameras[eye]
         saved = float(model.cam_fovy[camera])
         model.cam_fovy[camera] = self.eyes.fovy
         try:
@@ -117,8 +122,7 @@ class SampleRenderer:
             self._truth.disable_segmentation_rendering()
         finally:
             model.cam_fovy[camera] = saved
-        ids = list(self.display.geoms(pose))
-        return (seg[..., 1] == mujoco.mjtObj.mjOBJ_GEOM) & np.isin(seg[..., 0], ids)
+        return (seg[..., 1] == mujoco.mjtObj.mjOBJ_GEOM) & np.isin(seg[..., 0], list(geoms))
 
 
 _RENDERER: SampleRenderer | None = None

@@ -23,7 +23,7 @@ from robin_sim.vision.classifier import CLASSES, NO_GESTURE, GestureModel
 from robin_sim.vision.reader import EyeReading, fuse
 
 DEFAULT_THRESHOLD = 0.5
-HIDDEN = 128  # hidden units
+HIDDEN = 256  # hidden units
 PENALTY = 1e-2  # scikit-learn's alpha (L2)
 MAX_ITER = 80  # epochs (400 before issue 41; fewer, so that a retraining fits in a session)
 GESTURE_CLASSES = CLASSES[:4]
