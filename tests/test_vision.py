@@ -20,7 +20,7 @@ from robin_sim.vision.dataset import PLACES, SampleSpec  # noqa: E402
 from robin_sim.vision.eyes import ConditionError, EyeCondition  # noqa: E402
 from robin_sim.vision.reader import aim_and_see, read_views  # noqa: E402
 from robin_sim.vision.render_set import POSE_OF, SampleRenderer  # noqa: E402
-from robin_sim.vision.segment import SLAB, TABLE_CLEARANCE, find_hand  # noqa: E402
+from robin_sim.vision.segment import SLAB, TABLE_TOP_MARGIN, find_hand  # noqa: E402
 
 # Clear views: the hand held out in front of Robin (handover place) and beside the table.
 CLEAR_PLACES = (np.array([0.75, 0.0, 1.0]), np.array([1.0, 0.1, 0.95]))
@@ -88,7 +88,7 @@ def test_pixel_heights_put_the_table_top_at_its_height(renderer: SampleRenderer)
     # depth noise sd 3 mm: the table top's pixels lie at its height within 3 mm (median) and
     # 1.5 cm (every pixel but edge ones: 99 %)
     assert abs(np.median(error)) < 0.003 and np.quantile(np.abs(error), 0.99) < 0.015, error
-    assert np.all(left.height[hand] > TABLE_TOP_Z + TABLE_CLEARANCE)
+    assert np.all(left.height[hand] > TABLE_TOP_Z + TABLE_TOP_MARGIN)
     region = find_hand(left.rgb, left.depth, depths[0], left.focal, left.height)
     assert region is not None and not (region.mask & table).any()
     assert (region.mask & hand).sum() / (region.mask | hand).sum() > 0.7

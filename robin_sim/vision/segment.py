@@ -4,7 +4,7 @@ The head is aimed at the hand (the robot tracks where the hand is), so the hand 
 image centre and near the looked-at depth. A pixel is a hand candidate when its depth lies in a
 slab around that depth and its colour ratios fall in the range of human skin (green/red and
 blue/red, which do not change with the light's intensity). The table has a skin-like colour
-too, so a pixel whose point lies on the table top (less than ``TABLE_CLEARANCE`` above it, by
+too, so a pixel whose point lies on the table top (less than ``TABLE_TOP_MARGIN`` above it, by
 the depth and the eye's pose) is none, and the hand is what lies close to the candidates'
 median depth in a central window (the hand floats in front of the table; the robot's own arm
 can hide it from in front): the connected part with most pixels in that window and the parts
@@ -32,7 +32,7 @@ MAX_DEPTH = 2.5  # m
 # m above the table top below which a point is the table's (the depth's noise is 3 mm); the
 # held-out samples' hands at the handover point were found 7 more times of 227 with it, read
 # by the model trained without it (issue 41)
-TABLE_CLEARANCE = 0.02
+TABLE_TOP_MARGIN = 0.02
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +76,7 @@ def find_hand(
     """
     near = (depth > looked_at + SLAB[0]) & (depth < min(looked_at + SLAB[1], MAX_DEPTH))
     if height is not None:
-        near &= height >= TABLE_TOP_Z + TABLE_CLEARANCE
+        near &= height >= TABLE_TOP_Z + TABLE_TOP_MARGIN
     candidates: np.ndarray = (skin_mask(rgb) & near).astype(np.uint8)
     candidates = cv2.morphologyEx(candidates, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8))
     height, width = candidates.shape
