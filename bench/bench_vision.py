@@ -29,9 +29,8 @@ from robin_sim.vision.classifier import load_shipped  # noqa: E402
 from robin_sim.vision.dataset import SampleSpec  # noqa: E402
 from robin_sim.vision.eyes import EyeCameras, EyeCondition  # noqa: E402
 from robin_sim.vision.features import hand_features  # noqa: E402
-from robin_sim.vision.reader import looked_at_depth  # noqa: E402
+from robin_sim.vision.reader import looked_at_depth, regions  # noqa: E402
 from robin_sim.vision.render_set import SampleRenderer  # noqa: E402
-from robin_sim.vision.segment import find_hand  # noqa: E402
 
 PLACES = (np.array([0.75, 0.0, 1.0]), np.array([1.0, 0.1, 0.95]))
 
@@ -59,7 +58,7 @@ def main() -> None:
         views = eyes.render(scene.data, condition, rng)
         depths = looked_at_depth(scene.model, scene.data, target)
         t1 = time.perf_counter()
-        found = [find_hand(v.rgb, v.depth, d, v.focal) for v, d in zip(views, depths, strict=True)]
+        found = regions(views, depths)
         t2 = time.perf_counter()
         rows = [
             hand_features(v.rgb, v.depth, r, v.focal)

@@ -51,7 +51,7 @@ def test_segmentation_matches_the_renderers_ground_truth(renderer: SampleRendere
     for k, name in enumerate(CLASSES):
         for place in CLEAR_PLACES:
             (left, _), depths = _views(renderer, _spec(k, place, seed=k))
-            region = find_hand(left.rgb, left.depth, depths[0], left.focal)
+            region = find_hand(left.rgb, left.depth, depths[0], left.focal, left.height)
             truth = renderer.truth_mask(POSE_OF[name])
             assert region is not None, name
             ious.append((region.mask & truth).sum() / (region.mask | truth).sum())
@@ -71,7 +71,7 @@ def test_segmentation_finds_no_hand_in_an_empty_view(renderer: SampleRenderer) -
         if not np.any((left.depth > far + SLAB[0]) & (left.depth < far + SLAB[1]))
     ]
     assert empty, "no empty slab behind the hand in this view"
-    assert find_hand(left.rgb, left.depth, empty[0], left.focal) is None
+    assert find_hand(left.rgb, left.depth, empty[0], left.focal, left.height) is None
 
 
 def test_pixel_heights_put_the_table_top_at_its_height(renderer: SampleRenderer) -> None:
@@ -91,6 +91,9 @@ def test_pixel_heights_put_the_table_top_at_its_height(renderer: SampleRenderer)
     assert np.all(left.height[hand] > TABLE_TOP_Z + TABLE_TOP_MARGIN)
     region = find_hand(left.rgb, left.depth, depths[0], left.focal, left.height)
     assert region is not None and not (region.mask & table).any()
+    # every point taken as above the table: the table's top joins the hand (the cut matters)
+    uncut = find_hand(left.rgb, left.depth, depths[0], left.focal, np.full_like(left.depth, 9.0))
+    assert uncut is not None and (uncut.mask & table).sum() > 100
     assert (region.mask & hand).sum() / (region.mask | hand).sum() > 0.7
 
 

@@ -3,8 +3,8 @@
 In an episode the person shows "release" (and at times "give me") with the palm slid under a
 leg that Robin holds above it, and a thumb drawn back, raised and aside; the ``held_leg`` split
 draws every sample in that arm state (reached by real actions: ``arm_states.held_leg_qpos``),
-while the training and held-out splits keep Robin at home (their samples stay those the
-shipped model and the paired tables used).
+the training split a ninth of its samples, and the held-out and sweep splits none (the
+paired tables' samples stay the same).
 """
 
 from __future__ import annotations

@@ -5,9 +5,10 @@ never depends on which worker renders it or in which order): its class (cycling 
 seven), where the hand is (a quarter each: above a leg or a table spot as when pointing, drawn
 back and raised there as the person holds a pointing up to be read, at the handover point where
 the palm is held out for "give me" and the release and thumbs after it are shown, or anywhere
-in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or,
-in the ``held_leg`` split, holding a leg above the palm after a handover, the hand where the
-person shows each sign then: :func:`held_leg_hand`; ``arm``), its performance (pose jitter
+in the person's working box) and how much higher (``lift``), where Robin's arm is (at home, or
+holding a leg above the palm after a handover, the hand where the person shows each sign then:
+:func:`held_leg_hand`; every sample of the ``held_leg`` split, a ninth of the training split;
+``arm``), its performance (pose jitter
 scaled by ``jitter``, hand size, skin tone), the aim's error and the condition (light
 intensity and direction, sensor noise, blur). Both splits draw skin tones, pose jitter and hand
 heights across the whole range a person shows (:data:`SPLITS`); the *held-out* split draws

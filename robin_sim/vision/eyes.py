@@ -63,19 +63,26 @@ class EyeView:
     rgb: np.ndarray
     depth: np.ndarray
     focal: float
-    height: np.ndarray | None = None
+    height: np.ndarray
+
+
+def pixel_rays(size: int, focal: float) -> tuple[np.ndarray, np.ndarray]:
+    """Per pixel of a ``size`` x ``size`` image, its ray's right and up components per metre of
+    depth (``focal`` in pixels; image rows downwards): fixed for a camera, computed once."""
+    v, u = np.mgrid[0:size, 0:size]
+    return (u + 0.5 - size / 2) / focal, -(v + 0.5 - size / 2) / focal
 
 
 def pixel_heights(
-    depth: np.ndarray, focal: float, position: np.ndarray, frame: np.ndarray
+    depth: np.ndarray,
+    rays: tuple[np.ndarray, np.ndarray],
+    position: np.ndarray,
+    frame: np.ndarray,
 ) -> np.ndarray:
-    """World z (m) of each pixel's point: ``depth`` (m along the optical axis) seen from a
-    camera at ``position`` with orientation ``frame`` (3x3, MuJoCo's: looking along -z, y up,
-    image rows downwards)."""
-    rows, cols = depth.shape
-    v, u = np.mgrid[0:rows, 0:cols]
-    right = (u + 0.5 - cols / 2) / focal
-    up = -(v + 0.5 - rows / 2) / focal
+    """World z (m) of each pixel's point: ``depth`` (m along the optical axis) along ``rays``
+    (:func:`pixel_rays`) seen from a camera at ``position`` with orientation ``frame`` (3x3,
+    MuJoCo's: looking along -z, y up)."""
+    right, up = rays
     frame = np.asarray(frame).reshape(3, 3)
     # z of position + frame @ (right * d, up * d, -d): only frame's last row matters
     return position[2] + depth * (frame[2, 0] * right + frame[2, 1] * up - frame[2, 2])
@@ -88,6 +95,7 @@ class EyeCameras(ClosesOnExit):
         self.model, self.size, self.fovy = model, size, fovy
         self.cameras = tuple(model.camera(c).id for c in names.HEAD_CAMERAS)
         self.focal = size / (2 * np.tan(np.radians(fovy) / 2))
+        self._rays = pixel_rays(size, self.focal)
         self._renderer: mujoco.Renderer | None = open_renderer(model, size, size)
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = False
         self._option = mujoco.MjvOption()  # default groups: what a video frame shows
@@ -113,7 +121,7 @@ class EyeCameras(ClosesOnExit):
                 depth = renderer.render().astype(np.float64)
                 renderer.disable_depth_rendering()
                 depth += rng.normal(0.0, DEPTH_NOISE, depth.shape)
-                height = pixel_heights(depth, self.focal, data.cam_xpos[cam], data.cam_xmat[cam])
+                height = pixel_heights(depth, self._rays, data.cam_xpos[cam], data.cam_xmat[cam])
                 rgb = self._degrade(rgb, condition, rng)
                 views.append(EyeView(rgb, depth, self.focal, height))
         finally:

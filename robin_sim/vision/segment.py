@@ -65,18 +65,17 @@ def find_hand(
     depth: np.ndarray,
     looked_at: float,
     focal: float,
-    height: np.ndarray | None = None,
+    heights: np.ndarray,
 ) -> HandRegion | None:
     """The hand region of one view, or None when no candidate lies near the centre.
 
     ``looked_at``: depth (m along the optical axis) of the point the head is aimed at;
-    ``focal``: the focal length in pixels (to turn the hand's reach into pixels); ``height``:
-    each pixel's world z (m; :class:`~robin_sim.vision.eyes.EyeView`), where known: points on
-    the table top are no candidates.
+    ``focal``: the focal length in pixels (to turn the hand's reach into pixels); ``heights``:
+    each pixel's world z (m; :class:`~robin_sim.vision.eyes.EyeView`): points on the table top
+    are no candidates.
     """
     near = (depth > looked_at + SLAB[0]) & (depth < min(looked_at + SLAB[1], MAX_DEPTH))
-    if height is not None:
-        near &= height >= TABLE_TOP_Z + TABLE_TOP_MARGIN
+    near &= heights >= TABLE_TOP_Z + TABLE_TOP_MARGIN
     candidates: np.ndarray = (skin_mask(rgb) & near).astype(np.uint8)
     candidates = cv2.morphologyEx(candidates, cv2.MORPH_CLOSE, np.ones((3, 3), np.uint8))
     height, width = candidates.shape
