@@ -29,9 +29,7 @@ HAND_REACH = 0.12  # m: parts of the hand lie this close to its main part's cent
 MIN_PIXELS = 25  # a smaller region is no hand
 SEED_RADIUS = 0.25  # share of the image side: radius of the central window
 MAX_DEPTH = 2.5  # m
-# m above the table top below which a point is the table's (the depth's noise is 3 mm); the
-# held-out samples' hands at the handover point were found 7 more times of 227 with it, read
-# by the model trained without it (issue 41)
+# m above the table top below which a point is the table's (the depth's noise is 3 mm; issue 41)
 TABLE_TOP_MARGIN = 0.02
 
 
