@@ -2,9 +2,10 @@
 
 Each stored tracker reading of the real footage (``tests/data/hands/landmarks.npz``) is applied
 to the articulated person's hand by :class:`robin_sim.live.mirror.HandMirror` in a fresh scene
-(Robin at home, the hand at rest), then both eyes look at the palm and the shipped eye-camera
-model reads it (:class:`robin_sim.live.eye_watch.EyeWatch`, the session's own reader). Prints a
-table per footage sequence: readings, the share read as the sequence's gesture, and the classes
+(Robin at home, the hand at rest, the scripted body present as in a live session), then both
+eyes look at the palm and the shipped eye-camera model reads it
+(:class:`robin_sim.live.eye_watch.EyeWatch`, the session's own reader). Prints a table per
+footage sequence: readings, the share read as the sequence's gesture, and the classes
 read. ``python bench/bench_mirror_eyes.py [--every N]`` (every Nth reading; default 1;
 ``--smoke``: every 15th).
 """
@@ -25,6 +26,7 @@ from hand_data import footage
 from robin_sim.live.eye_watch import EyeWatch
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.live.mirror import HandMirror
+from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 # the gesture each footage sequence is labelled with (tests/data/hands/make_data.py: the thumb
@@ -43,6 +45,7 @@ def main() -> None:
     parser.add_argument("--every", type=int, default=1)
     args = smoke.parse_args(parser, every=15)
     world = PhysicalWorld()
+    PhysicalBody(world)  # a session's body: its hand fit runs before every render
     mirror = HandMirror(world.model, world.data)
     world.sim.add_controller(mirror.tick)
     eyes = EyeWatch(world.model, world.data, mirror)

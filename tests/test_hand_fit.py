@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from robin_sim.figure.hand_fit import HOLD_TURN
 from robin_sim.figure.hand_poses import Performance
 from robin_sim.model import names
+from robin_sim.model.person_joints import figure, pose
 from robin_sim.model.scene import build_model
 from robin_sim.person.clearance import Clearance
 from robin_sim.person.gestures import GestureDisplay
@@ -69,3 +70,27 @@ def test_with_nothing_near_the_pose_is_the_librarys(pose: str, seed: int) -> Non
     angles, turn = display.hand.target(pose, performance)
     np.testing.assert_array_equal(display.hand.angles(), angles)
     np.testing.assert_array_equal(display.hand.turn(), turn)
+
+
+def test_a_fit_leaves_a_hand_another_writer_turned() -> None:
+    """Fitting the display's own wanted hand (before each render) must not leave that hand's
+    turn in the model when it writes nothing: in a live session the mirror
+    (:mod:`robin_sim.live.mirror`) writes the hand, and Robin's eyes, which pose a copy of the
+    scene, saw it turned up to 107 degrees off the participant's hand. Here the hand is turned
+    half round about the mocap frame's x by another writer; after the fit a copy of the scene
+    must show that turn within 1e-6 (rotation matrix entries)."""
+    data = _scene(False)
+    display = GestureDisplay(MODEL, data)
+    assert display.hand is not None
+    display.show("neutral", Performance())
+    turn = figure().joint(names.HUMAN_HAND_TURN).adr
+    data.userdata[turn : turn + 4] = (0.0, 1.0, 0.0, 0.0)
+    pose(MODEL, data)
+    mujoco.mj_kinematics(MODEL, data)
+    hand = MODEL.body(names.person_hand_body("r")).id
+    written = data.xmat[hand].copy()
+    display.hand.prepare_view()
+    view = mujoco.MjData(MODEL)
+    mujoco.mj_copyData(view, MODEL, data)
+    mujoco.mj_kinematics(MODEL, view)
+    np.testing.assert_allclose(view.xmat[hand], written, atol=1e-6)

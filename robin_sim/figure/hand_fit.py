@@ -212,12 +212,14 @@ class HandFit:
         self._load()
         share = self.holding()
         turned = self.turn(turn, share)
-        self._set_turn(turned)
-        return self.fingers(angles), turned
-
-    def _set_turn(self, turn: np.ndarray) -> None:
-        """Turn the hand body in ``model`` (as :func:`person_joints.pose` would) so the
-        fingers are measured where the written hand will be."""
         body = self.hand_body
+        saved = self.model.body_quat[body].copy()
         base = figure().base_quat_of(names.person_hand_body("r"))
-        self.model.body_quat[body] = quat_products(base[None], np.asarray(turn)[None])[0]
+        # the hand body turned (as person_joints.pose would) while the fingers are measured,
+        # then put back: the scene's hand stays as written until the caller writes this fit
+        # (a mirrored hand in a live session is written by another writer, robin_sim.live.mirror)
+        self.model.body_quat[body] = quat_products(base[None], np.asarray(turned)[None])[0]
+        try:
+            return self.fingers(angles), turned
+        finally:
+            self.model.body_quat[body] = saved
