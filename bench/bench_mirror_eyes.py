@@ -2,7 +2,8 @@
 
 Each stored tracker reading of the real footage (``tests/data/hands/landmarks.npz``) is applied
 to the articulated person's hand by :class:`robin_sim.live.mirror.HandMirror` in a fresh scene
-(Robin at home, the hand at rest, the scripted body present as in a live session), then both
+(Robin at home, the scripted body present as in a live session, the hand raised from rest to
+where signs are read once the mirror drives it, :mod:`robin_sim.live.show_hand`), then both
 eyes look at the palm and the shipped eye-camera model reads it
 (:class:`robin_sim.live.eye_watch.EyeWatch`, the session's own reader). Prints a table per
 footage sequence: readings, the share read as the sequence's gesture, and the classes
@@ -26,7 +27,8 @@ from hand_data import footage
 from robin_sim.live.eye_watch import EyeWatch
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.live.mirror import HandMirror
-from robin_sim.person.body import PhysicalBody
+from robin_sim.live.show_hand import ShowHand
+from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 # the gesture each footage sequence is labelled with (tests/data/hands/make_data.py: the thumb
@@ -45,9 +47,11 @@ def main() -> None:
     parser.add_argument("--every", type=int, default=1)
     args = smoke.parse_args(parser, every=15)
     world = PhysicalWorld()
-    PhysicalBody(world)  # a session's body: its hand fit runs before every render
+    body = PhysicalBody(world, tempo=LIVE)  # a session's body: its hand fit runs before renders
     mirror = HandMirror(world.model, world.data)
     world.sim.add_controller(mirror.tick)
+    show = ShowHand(body.hand, mirror, body.tempo.hand_speed)  # as robin_sim.live.run wires it
+    world.sim.add_controller(show.tick)
     eyes = EyeWatch(world.model, world.data, mirror)
     reads = footage()
     print("| sequence | readings | read as meant | classes read |")
@@ -61,6 +65,8 @@ def main() -> None:
             hand = HandInput(points, str(reads["handedness"][i]), 0.95, float(reads["aspect"][i]))
             mirror.take(hand)
             world.run(0.04)
+            while body.hand.busy(world.time):  # the first reading: the hand is raised first
+                world.run(0.04)
             world.sim.prepare_view()
             labels.append(eyes.look(world.time).label)
         share = sum(label == meant for label in labels) / max(len(labels), 1)

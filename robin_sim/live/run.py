@@ -6,7 +6,8 @@ session's scenario, the simulated hand, the system's learner and the exact detec
 participant in the scripted person's place, the picker, the frame stream (MP4 included), the pacer
 and the step log; with ``--webcam`` the mirror that lets the
 participant's landmarks drive the person's hand (:mod:`.mirror`), and with ``--detector vision``
-Robin's eyes on that hand (:mod:`.eye_watch`).
+Robin's eyes on that hand (:mod:`.eye_watch`); the mirrored hand is held up where Robin reads
+signs (:mod:`.show_hand`).
 Build, use and close it in one thread: the renderers' OpenGL contexts belong to it.
 """
 
@@ -41,6 +42,7 @@ from robin_sim.live.pacing import Pacer
 from robin_sim.live.participant import LiveParticipant
 from robin_sim.live.picking import Picker
 from robin_sim.live.quality import StreamGovernor
+from robin_sim.live.show_hand import ShowHand
 from robin_sim.person.body import LIVE, PhysicalBody
 from robin_sim.render.state_log import STATES_NAME
 from robin_sim.robot.world import PhysicalWorld
@@ -104,9 +106,13 @@ class LiveRun(ClosesOnExit):
         self.body = self.participant.body
         # --webcam: the participant's landmarks drive the person's hand (robin_sim.live.mirror)
         self.mirror: HandMirror | None = None
+        self.show_hand: ShowHand | None = None
         if config.webcam and has_articulated_hand(self.world.model):
             self.mirror = HandMirror(self.world.model, self.world.data)
             self.world.sim.add_controller(self.mirror.tick)  # after the hand's own blends
+            # the mirrored hand held up where Robin reads signs, not hanging at rest
+            self.show_hand = ShowHand(self.body.hand, self.mirror, self.body.tempo.hand_speed)
+            self.world.sim.add_controller(self.show_hand.tick)
         # --detector vision: Robin's eyes read the mirrored hand (robin_sim.live.eye_watch)
         self.eyes: EyeWatch | None = None
         if config.detector == CAMERAS:
