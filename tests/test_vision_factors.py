@@ -22,14 +22,14 @@ from robin_sim.vision.factors import FACTORS, chunk_name
 from robin_sim.vision.train import evaluate
 
 # Seven-class accuracy (a discard or a missed hand counts as wrong) on each of these 48-sample
-# sets. The robustness target is 75 % at every hardest level; the capsule hand's model met it
-# (77.1 % doubled jitter, 89.6 % 12 cm higher, 83.3 % lightest skin). The articulated hand's
-# model (issue 29, 8 064 samples) meets it 12 cm higher only: measured 70.8 %, 79.2 %, 58.3 %
-# (docs/vision.md: an open item, not a pass). So the target is asserted where it is met, and
-# the two levels that miss it are held to what this model reads, less two samples of 48.
+# sets. The robustness target is 75 % at every hardest level. The shipped model (issue 41:
+# 18 144 samples, the table-top cut) reads 41, 42 and 35 of 48 (85.4 % doubled jitter, 87.5 %
+# 12 cm higher, 72.9 % lightest skin): the lightest skin still misses it (docs/vision.md: an
+# open item, not a pass), so that level is held to what this model reads, less two samples of
+# 48. The model of issue 29 (70.8 %, 79.2 %, 58.3 %) fails the jitter and skin bounds.
 FLOOR = 0.75
 HARDEST = {"pose jitter": 2.0, "hand height": 0.12, "skin tone": 0.0}
-MISSED = {"pose jitter": 32 / 48, "skin tone": 26 / 48}  # measured 34 and 28 of 48
+MISSED = {"skin tone": 33 / 48}  # measured 35 of 48
 
 
 @pytest.mark.slow
