@@ -7,8 +7,9 @@ where signs are read once the mirror drives it, :mod:`robin_sim.live.show_hand`)
 eyes look at the palm and the shipped eye-camera model reads it
 (:class:`robin_sim.live.eye_watch.EyeWatch`, the session's own reader). Prints a table per
 footage sequence: readings, the share read as the sequence's gesture, and the classes
-read. ``python bench/bench_mirror_eyes.py [--every N]`` (every Nth reading; default 1;
-``--smoke``: every 15th).
+read. ``python bench/bench_mirror_eyes.py [--every N] [--at-palm]`` (every Nth reading;
+default 1; ``--smoke``: every 15th; ``--at-palm``: the body first holds the palm out at the
+handover point, as after a give me, and the readings are applied there).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import smoke  # bench/smoke.py: --smoke
 from hand_data import footage
 
+from pil.types import Gesture
 from robin_sim.live.eye_watch import EyeWatch
 from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.live.mirror import HandMirror
@@ -45,6 +47,7 @@ MEANT = {
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--every", type=int, default=1)
+    parser.add_argument("--at-palm", action="store_true", help="the palm held out first")
     args = smoke.parse_args(parser, every=15)
     world = PhysicalWorld()
     body = PhysicalBody(world, tempo=LIVE)  # a session's body: its hand fit runs before renders
@@ -52,6 +55,8 @@ def main() -> None:
     world.sim.add_controller(mirror.tick)
     show = ShowHand(body.hand, mirror, body.tempo.hand_speed)  # as robin_sim.live.run wires it
     world.sim.add_controller(show.tick)
+    if args.at_palm:
+        body.perform(Gesture.GIVE_ME, None)  # the hand leaves rest: it is not raised
     eyes = EyeWatch(world.model, world.data, mirror)
     reads = footage()
     print("| sequence | readings | read as meant | classes read |")
