@@ -112,10 +112,11 @@ def test_robins_eyes_read_the_mirrored_hand(tmp_path: Path) -> None:
     landmarks' own give me is not acted on; what the eyes offer is the participant's gesture.
 
     The shipped eye-camera model (issue 41: held-leg samples, the table-top cut) reads the
-    mirrored palm at rest as give me in 31 of 32 readings (bench/bench_mirror_eyes.py; the
-    format-4 model before it 21, the rest as pointing, which is never offered; format 3 read 1
-    of 32): the eyes must offer give me for the palm themselves, and no other gesture (the
-    landmarks' own reading is never acted on)."""
+    mirrored palm, raised from rest, as give me in 31 of 32 readings
+    (bench/bench_mirror_eyes.py, tests/test_mirror_looks.py; at rest, before the raise, also
+    31; the format-4 model before it 21, the rest as pointing, which is never offered; format 3
+    read 1 of 32): the eyes must offer give me for the palm themselves, and no other gesture
+    (the landmarks' own reading is never acted on)."""
     config = webcam_config(tmp_path, "v1", speed=1.0, detector="vision", feedback_window=30.0)
     session = LiveSession(config)
     driver = Driver(session)
