@@ -14,11 +14,19 @@ learns from what Robin saw, not from the landmarks' decision.
 What stays with the landmarks: pointing (its target is the page's fingertip cursor, which
 Robin's eyes cannot give) and the thumbs that judge an action (the feedback channel; Robin's
 looks during an action are recorded, not acted on).
+
+A look is not offered while the landmarks' newest reading is a thumb (:func:`offer_from`;
+``Look.withheld``): the thumbs belong to the landmarks, and a thumb up held at the palm after
+a give me was read by the eyes as release in 18 of 27 looks of the footage
+(``bench/bench_mirror_eyes.py --at-palm``). This assumes the landmarks read a thumb only when
+a thumb is shown (they read the footage's fist, palm and thumbs right); a hand they misread as
+a thumb holds the eyes' offers back until they read it otherwise, and the count says how often.
 """
 
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -32,6 +40,7 @@ from robin_sim.live.mirror import HandMirror
 from robin_sim.live.participant import Gesturing, LiveParticipant
 from robin_sim.model import names
 from robin_sim.vision.classifier import load_shipped
+from robin_sim.vision.dataset import THUMB_SIGNS
 from robin_sim.vision.eyes import EyeCameras, EyeCondition
 from robin_sim.vision.reader import aim_and_see, read_views
 
@@ -39,6 +48,19 @@ LOOK_GAP_S = 0.2  # s (simulated) at least between two looks
 # what Robin's eyes may offer as the participant's gesture (pointing needs the cursor's target)
 EYE_GESTURES: dict[str, Gesture] = GESTURE_BY_KEY  # give me, grasp, release (by sign name)
 KEPT_LOOKS = 500
+
+
+def offer_from(
+    label: str, confidence: float, threshold: float, phase: str, landmarks: str | None
+) -> tuple[Gesture | None, bool]:
+    """What a look of ``label`` (of all seven) at ``confidence`` offers as the participant's
+    gesture in ``phase``, with the landmarks' newest label ``landmarks``, and whether an
+    offer was withheld because the landmarks read a thumb (module doc)."""
+    if phase != "waiting_for_gesture" or label not in EYE_GESTURES or confidence < threshold:
+        return None, False
+    if landmarks in THUMB_SIGNS:
+        return None, True
+    return EYE_GESTURES[label], False
 
 
 @dataclass(frozen=True)
@@ -50,6 +72,7 @@ class Look:
     confidence: float
     found: bool  # an eye found a hand
     offered: str | None  # the gesture offered to the participant (None: none)
+    withheld: bool = False  # an offer held back: the landmarks read a thumb
 
     def as_dict(self) -> dict[str, Any]:
         return {
@@ -58,6 +81,7 @@ class Look:
             "confidence": round(self.confidence, 4),
             "found": self.found,
             "offered": self.offered,
+            "withheld": self.withheld,
         }
 
 
@@ -69,6 +93,8 @@ class EyeWatch:
     ) -> None:
         self.model, self.data, self.mirror = model, data, mirror
         self.participant: LiveParticipant | None = None  # set once the participant exists
+        # the landmarks' newest label (the session's webcam channel); None: none known
+        self.landmarks: Callable[[], str | None] = lambda: None
         self.eyes = EyeCameras(model)
         self.gesture_model = load_shipped()
         self.view = mujoco.MjData(model)
@@ -78,6 +104,7 @@ class EyeWatch:
         self.looks: list[Look] = []
         self.counts: Counter[str] = Counter()
         self.offered = 0
+        self.withheld = 0  # offers held back: the landmarks read a thumb
         self.last_view: np.ndarray | None = None
 
     def tick(self, sim: Simulator) -> None:
@@ -97,20 +124,28 @@ class EyeWatch:
         views, depths = aim_and_see(self.eyes, view, target, EyeCondition(), self.rng)
         reading = read_views(self.gesture_model, views, depths)
         self.last_view = views[0].rgb
-        offered = None
+        offered, withheld = None, False
         participant = self.participant
-        if participant is not None and participant.phase == "waiting_for_gesture":
-            label, confidence = reading.label, reading.confidence  # of all seven classes
-            if label in EYE_GESTURES and confidence >= reading.threshold:
-                participant.offer(Gesturing(EYE_GESTURES[label]))
-                offered = label
+        if participant is not None:
+            gesture, withheld = offer_from(  # of all seven classes
+                reading.label,
+                reading.confidence,
+                reading.threshold,
+                participant.phase,
+                self.landmarks(),
+            )
+            if gesture is not None:
+                participant.offer(Gesturing(gesture))
+                offered = reading.label
                 self.offered += 1
+            self.withheld += withheld
         look = Look(
             now,
             reading.label,
             reading.confidence,
             any(b is not None for b in reading.boxes),
             offered,
+            withheld,
         )
         self.looks.append(look)
         del self.looks[:-KEPT_LOOKS]
@@ -123,6 +158,7 @@ class EyeWatch:
             "looks": sum(self.counts.values()),
             "read": dict(self.counts),
             "offered": self.offered,
+            "withheld": self.withheld,
         }
 
     def close(self) -> None:

@@ -141,6 +141,11 @@ class Webcam:
                 approved=feedback is not Feedback.NOT_OK,
             )
 
+    def last_label(self) -> str | None:
+        """The label of the newest reading (None: none yet, or no hand in it)."""
+        with self._lock:
+            return None if self.last is None else self.last.label
+
     def reply(self, reading: HandReading) -> dict[str, Any]:
         """What the page is told of a reading (its cursor, dwell ring and calibration)."""
         with self._lock:
