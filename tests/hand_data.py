@@ -12,12 +12,33 @@ from typing import Any
 
 import numpy as np
 
+from robin_sim.live.hands.landmarks import HandInput
+
 LANDMARKS = Path(__file__).resolve().parent / "data" / "hands" / "landmarks.npz"
 
 
 def footage() -> dict[str, np.ndarray]:
     with np.load(LANDMARKS) as data:
         return {key: data[key] for key in data.files}
+
+
+def usable(reads: dict[str, np.ndarray], sequence: str | None = None) -> list[int]:
+    """Rows of ``reads`` (:func:`footage`) with a hand and finite landmarks, of ``sequence``
+    only when given, in order."""
+    rows = (
+        range(len(reads["sequence"]))
+        if sequence is None
+        else (np.flatnonzero(reads["sequence"] == sequence))
+    )
+    return [
+        int(i) for i in rows if np.isfinite(reads["landmarks"][i]).all() and reads["handedness"][i]
+    ]
+
+
+def hand_input(reads: dict[str, np.ndarray], row: int) -> HandInput:
+    """Row ``row`` of ``reads`` as the session takes a reading (score 0.95)."""
+    points = reads["landmarks"][row].astype(float)
+    return HandInput(points, str(reads["handedness"][row]), 0.95, float(reads["aspect"][row]))
 
 
 def message(

@@ -15,11 +15,10 @@ from robin_sim.render.gl_backend import ensure_gl_backend
 ensure_gl_backend()  # before mujoco is imported
 
 import numpy as np  # noqa: E402
-from hand_data import footage  # noqa: E402
+from hand_data import footage, hand_input, usable  # noqa: E402
 
 from pil.types import Gesture  # noqa: E402
 from robin_sim.live.eye_watch import EyeWatch  # noqa: E402
-from robin_sim.live.hands.landmarks import HandInput  # noqa: E402
 from robin_sim.live.mirror import HandMirror  # noqa: E402
 from robin_sim.live.show_hand import ShowHand  # noqa: E402
 from robin_sim.person.body import LIVE, PhysicalBody  # noqa: E402
@@ -52,16 +51,15 @@ def mirror_looks(every: int = 1, at_palm: bool = False) -> dict[str, list[str]]:
         body.perform(Gesture.GIVE_ME, None)
     eyes = EyeWatch(world.model, world.data, mirror)
     reads = footage()
+    kept = set(usable(reads))
     looks: dict[str, list[str]] = {}
     try:
         for sequence in MEANT:
             labels = looks.setdefault(sequence, [])
             for i in np.flatnonzero(reads["sequence"] == sequence)[::every]:
-                points = reads["landmarks"][i].astype(float)
-                if not np.isfinite(points).all() or not reads["handedness"][i]:
+                if int(i) not in kept:  # no hand, or landmarks not finite
                     continue
-                aspect = float(reads["aspect"][i])
-                mirror.take(HandInput(points, str(reads["handedness"][i]), 0.95, aspect))
+                mirror.take(hand_input(reads, int(i)))
                 world.run(STEP)
                 while body.hand.busy(world.time):  # the first reading: the hand is raised
                     world.run(STEP)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hand_data import footage, message
+from hand_data import footage, message, usable
 from live_driver import Driver
 
 from pil.errors import RobinPilError
@@ -40,13 +40,11 @@ def read_lines(path: Path) -> list[dict]:
 def footage_messages(sequence: str) -> list[dict]:
     """The page's hand messages of the tracker's readings of one footage sequence."""
     reads = footage()
-    rows = np.flatnonzero(reads["sequence"] == sequence)
     return [
         message(
             reads["landmarks"][i], str(reads["handedness"][i]), aspect=float(reads["aspect"][i])
         )
-        for i in rows
-        if np.isfinite(reads["landmarks"][i]).all() and reads["handedness"][i]
+        for i in usable(reads, sequence)
     ]
 
 

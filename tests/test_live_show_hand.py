@@ -8,7 +8,7 @@ wires it. Positions are the mocap hand's, from the simulation.
 from __future__ import annotations
 
 import numpy as np
-from hand_data import footage
+from hand_data import footage, hand_input, usable
 
 from pil.types import Gesture
 from robin_sim.live.hands.landmarks import HandInput
@@ -24,11 +24,7 @@ STEP = 0.04  # s of physics between checks
 
 def _fist() -> HandInput:
     reads = footage()
-    for i in np.flatnonzero(reads["sequence"] == "fist"):
-        points = reads["landmarks"][i].astype(float)
-        if np.isfinite(points).all() and reads["handedness"][i]:
-            return HandInput(points, str(reads["handedness"][i]), 0.95, float(reads["aspect"][i]))
-    raise AssertionError("the footage holds no fist reading with a hand")
+    return hand_input(reads, usable(reads, "fist")[0])
 
 
 def _settle(world: PhysicalWorld, body: PhysicalBody) -> None:

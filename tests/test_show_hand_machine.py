@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hand_data import footage
+from hand_data import footage, hand_input, usable
 from hypothesis import HealthCheck, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
@@ -22,7 +22,6 @@ from pil.task.world import Target
 from pil.types import Gesture
 from robin_sim.control.human_hand import HumanHand
 from robin_sim.control.simulator import Simulator
-from robin_sim.live.hands.landmarks import HandInput
 from robin_sim.live.mirror import HandMirror
 from robin_sim.live.show_hand import AT_REST, ShowHand
 from robin_sim.person.body import LIVE, PhysicalBody
@@ -30,11 +29,7 @@ from robin_sim.robot.world import PhysicalWorld
 
 pytestmark = pytest.mark.slow
 READS = footage()
-USABLE = [
-    int(i)
-    for i in range(len(READS["sequence"]))
-    if np.isfinite(READS["landmarks"][i]).all() and READS["handedness"][i]
-]
+USABLE = usable(READS)
 STEP = 0.04  # s of physics per check while the hand moves
 MOTION_S = 10.0  # s: every move of the body or raise ends well within this
 
@@ -79,10 +74,7 @@ class ShowHandMachine(RuleBasedStateMachine):
 
     @rule(k=st.integers(0, len(USABLE) - 1))
     def a_reading(self, k: int) -> None:
-        i = USABLE[k]
-        points = READS["landmarks"][i].astype(float)
-        hand = HandInput(points, str(READS["handedness"][i]), 0.95, float(READS["aspect"][i]))
-        self.mirror.take(hand)
+        self.mirror.take(hand_input(READS, USABLE[k]))
         self._settle()
 
     @rule()

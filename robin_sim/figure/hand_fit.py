@@ -75,6 +75,7 @@ class HandFit:
             for f in names.PERSON_HAND_FINGERS
         ]
         self.hand_body = model.body(names.person_hand_body("r")).id
+        self.hand_base = fig.base_quat_of(names.person_hand_body("r"))  # the turn's base frame
         groups = category_geoms(model)
         self.legs = groups["legs"]
         self.obstacles = np.concatenate([groups["legs"], groups["robot"]])
@@ -214,11 +215,11 @@ class HandFit:
         turned = self.turn(turn, share)
         body = self.hand_body
         saved = self.model.body_quat[body].copy()
-        base = figure().base_quat_of(names.person_hand_body("r"))
         # the hand body turned (as person_joints.pose would) while the fingers are measured,
         # then put back: the scene's hand stays as written until the caller writes this fit
         # (a mirrored hand in a live session is written by another writer, robin_sim.live.mirror)
-        self.model.body_quat[body] = quat_products(base[None], np.asarray(turned)[None])[0]
+        turn_quat = quat_products(self.hand_base[None], np.asarray(turned)[None])[0]
+        self.model.body_quat[body] = turn_quat
         try:
             return self.fingers(angles), turned
         finally:
