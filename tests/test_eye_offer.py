@@ -1,7 +1,8 @@
 """What a look of Robin's eyes offers as a live participant's gesture (robin_sim.live.eye_watch).
 
 :func:`offer_from` decides it from the look's class and confidence, the participant's phase and
-the landmarks' newest label; adversarial inputs from every class, phase and landmark label.
+the landmarks' label of their newest reading with a hand; adversarial inputs from every class,
+phase and landmark label.
 """
 
 from __future__ import annotations

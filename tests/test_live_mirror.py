@@ -152,7 +152,7 @@ def test_robins_eyes_read_the_mirrored_hand(tmp_path: Path) -> None:
     assert len(read["thumb_up"]) >= 5, read
     assert summary["vision"]["eyes"]["looks"] >= sum(len(v) for v in read.values())
     assert acted is not None
-    assert landmarks_now == acted.label == "thumb_up", (landmarks_now, acted)
+    assert acted.found and landmarks_now == acted.label == "thumb_up", (landmarks_now, acted)
     assert "withheld" in summary["vision"]["eyes"]
     lines = [e for e in read_lines(session.out_dir / "inputs.jsonl") if e["raw"]["type"] == "hand"]
     assert not any(str(e["reading"]["acted"]).startswith("gesture give_me") for e in lines)

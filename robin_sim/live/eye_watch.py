@@ -15,12 +15,13 @@ What stays with the landmarks: pointing (its target is the page's fingertip curs
 Robin's eyes cannot give) and the thumbs that judge an action (the feedback channel; Robin's
 looks during an action are recorded, not acted on).
 
-A look is not offered while the landmarks' newest reading is a thumb (:func:`offer_from`;
-``Look.withheld``): the thumbs belong to the landmarks, and a thumb up held at the palm after
-a give me was read by the eyes as release in 18 of 27 looks of the footage
-(``bench/bench_mirror_eyes.py --at-palm``). This assumes the landmarks read a thumb only when
-a thumb is shown (they read the footage's fist, palm and thumbs right); a hand they misread as
-a thumb holds the eyes' offers back until they read it otherwise, and the count says how often.
+A look is not offered while the landmarks' newest reading with a hand is a thumb
+(:func:`offer_from`; ``Look.withheld``): the thumbs belong to the landmarks, and a thumb up
+held at the palm after a give me was read by the eyes as release in 18 of 27 looks of the
+footage (``bench/bench_mirror_eyes.py --at-palm``). This assumes the landmarks read a thumb
+only when a thumb is shown (they read the footage's fist, palm and thumbs right); a hand they
+misread as a thumb holds the eyes' offers back until they read it otherwise, and the count
+says how often.
 """
 
 from __future__ import annotations
@@ -54,8 +55,9 @@ def offer_from(
     label: str, confidence: float, threshold: float, phase: str, landmarks: str | None
 ) -> tuple[Gesture | None, bool]:
     """What a look of ``label`` (of all seven) at ``confidence`` offers as the participant's
-    gesture in ``phase``, with the landmarks' newest label ``landmarks``, and whether an
-    offer was withheld because the landmarks read a thumb (module doc)."""
+    gesture in ``phase``, ``landmarks`` being the landmarks' label of their newest reading with
+    a hand, and whether an offer was withheld because the landmarks read a thumb (module
+    doc)."""
     if phase != "waiting_for_gesture" or label not in EYE_GESTURES or confidence < threshold:
         return None, False
     if landmarks in THUMB_SIGNS:
@@ -93,7 +95,7 @@ class EyeWatch:
     ) -> None:
         self.model, self.data, self.mirror = model, data, mirror
         self.participant: LiveParticipant | None = None  # set once the participant exists
-        # the landmarks' newest label (the session's webcam channel); None: none known
+        # the landmarks' label of the newest reading with a hand (the session's webcam); None: none
         self.landmarks: Callable[[], str | None] = lambda: None
         self.eyes = EyeCameras(model)
         self.gesture_model = load_shipped()

@@ -346,7 +346,7 @@ class LiveSession:
                 if self.webcam is not None:
                     self.webcam.start()
                     if run.eyes is not None:  # no eye offer while the landmarks read a thumb
-                        run.eyes.landmarks = self.webcam.last_label
+                        run.eyes.landmarks = self.webcam.hand_label
                 self._on_tick(None)  # a stop during start-up
                 parts = run.parts
                 observer = Booking(

@@ -54,6 +54,7 @@ class Webcam:
         self._lock = threading.Lock()
         self._recent: deque[float] = deque()
         self.last: HandReading | None = None
+        self._hand_label: str | None = None  # the label of the newest reading with a hand
         self.problem = ""  # why the last decision could not be acted on ("" none)
 
     def start(self) -> None:
@@ -92,6 +93,8 @@ class Webcam:
                 self._act(reading, participant, pick, on_pick)
             reading.latency_ms = (time.perf_counter() - started) * 1000.0
             self.last = reading
+            if reading.found:  # as the mirror, which keeps the last hand's pose
+                self._hand_label = reading.label
         return reading
 
     def _act(
@@ -141,10 +144,11 @@ class Webcam:
                 approved=feedback is not Feedback.NOT_OK,
             )
 
-    def last_label(self) -> str | None:
-        """The label of the newest reading (None: none yet, or no hand in it)."""
+    def hand_label(self) -> str | None:
+        """The label of the newest reading that found a hand (None: none yet, or unsure of
+        its class): what the mirrored hand shows, which keeps the last hand's pose."""
         with self._lock:
-            return None if self.last is None else self.last.label
+            return self._hand_label
 
     def reply(self, reading: HandReading) -> dict[str, Any]:
         """What the page is told of a reading (its cursor, dwell ring and calibration)."""
