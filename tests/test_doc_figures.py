@@ -7,7 +7,12 @@ A quoted figure is followed by a marker naming its source, e.g.
 (``FILE: key=value, key=value; column; format``, keys apart by ", "): the CSV row whose
 cells equal every key=value (exactly one), its column, formatted with the Python format
 spec; the text right before the marker must end with it (a typographic minus counts as
-"-"). Every folder of bench/results is made by one recipe of ``bench/regenerate.py``.
+"-"). A quoted table follows a marker naming its file, e.g.
+
+    <!-- hand-hidden table: bench/results/hand_hidden/table.md -->
+
+and its rows (the lines starting with "|" right after it) must be the file's table rows.
+Every folder of bench/results is made by one recipe of ``bench/regenerate.py``.
 """
 
 from __future__ import annotations
@@ -34,6 +39,30 @@ def _markers() -> list[tuple[str, int, re.Match[str], str]]:
         for match in MARKER.finditer(text):
             line = text.count("\n", 0, match.start()) + 1
             found.append((doc.name, line, match, text[: match.start()]))
+    return found
+
+TABLE_MARKER = re.compile(r"<!-- [\w-]+ table: (?P<file>bench/results/\S+\.md) -->")
+
+
+def _table_rows(lines: list[str]) -> list[str]:
+    """The first run of table rows (lines starting with "|") in ``lines``."""
+    start = next((k for k, line in enumerate(lines) if line.startswith("|")), len(lines))
+    rows = []
+    for line in lines[start:]:
+        if not line.startswith("|"):
+            break
+        rows.append(line.rstrip())
+    return rows
+
+
+def _quoted_tables() -> list[tuple[str, int, str, list[str]]]:
+    found = []
+    for doc in [*sorted((ROOT / "docs").glob("*.md")), ROOT / "README.md"]:
+        lines = doc.read_text().splitlines()
+        for k, line in enumerate(lines):
+            match = TABLE_MARKER.search(line)
+            if match:
+                found.append((doc.name, k + 1, match["file"], _table_rows(lines[k + 1 :])))
     return found
 
 
@@ -76,6 +105,20 @@ def test_a_quoted_figure_equals_its_results_file(doc: str, line: int, match, bef
     assert got.endswith(want), (
         f"{doc}:{line}: the text quotes {got[-20:]!r}, the file says {want!r}"
     )
+
+
+def test_there_are_quoted_tables() -> None:
+    assert len(_quoted_tables()) >= 3
+
+
+@pytest.mark.parametrize(("doc", "line", "file", "rows"), _quoted_tables())
+def test_a_quoted_table_equals_its_results_file(
+    doc: str, line: int, file: str, rows: list[str]
+) -> None:
+    path = ROOT / file
+    assert path.is_file(), f"{doc}:{line}: {file} does not exist"
+    want = _table_rows(path.read_text().splitlines())
+    assert rows and rows == want, f"{doc}:{line}: the table differs from {file}"
 
 
 def test_every_results_folder_has_a_recipe() -> None:

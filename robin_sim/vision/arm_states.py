@@ -16,6 +16,10 @@ carried to the bin), and yields at each state the person may point in:
 
 Every step is a real action run by physics (:meth:`PhysicalWorld.execute`); nothing is placed
 by hand. A step that fails raises, so a check never measures a state that was not reached.
+
+:func:`away_qpos` is a what-if no episode reaches: the active arm swung back behind Robin, out
+of its eyes' view, set by ``qpos`` for a kinematic render only. ``bench/bench_hand_hidden.py``
+reads the data set's samples with it to measure what the arm at home hides.
 """
 
 from __future__ import annotations
@@ -28,11 +32,14 @@ import numpy as np
 from pil.errors import RobinPilError
 from pil.task.world import Target
 from pil.types import Action, Feedback, Gesture
+from robin_sim.model import names
 from robin_sim.person.body import PhysicalBody
 from robin_sim.robot.world import PhysicalWorld
 
 ARM_STATES = ("home", "object", "close", "human", "open", "location", "placed")
 PALM_LEG, SPOT_LEG, SPOT = 0, 3, 1  # the leg handed over, the leg put down, and on which spot
+# rad, the active arm's joints swung back behind Robin (the hand at about x -0.87 m, z 1.2 m)
+AWAY_ARM_Q = (0.0, -1.5, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def _act(
@@ -106,4 +113,13 @@ def held_leg_qpos(model: mujoco.MjModel) -> np.ndarray:
         size = len(source.qpos0)
         start = model.jnt_qposadr[joint]
         qpos[start : start + size] = world.data.qpos[source.qposadr[0] : source.qposadr[0] + size]
+    return qpos
+
+
+def away_qpos(model: mujoco.MjModel, home: np.ndarray) -> np.ndarray:
+    """``home`` (a ``qpos`` of ``model``) with the active arm at :data:`AWAY_ARM_Q`: out of
+    Robin's eyes' view (module doc; kinematics only, never simulated)."""
+    qpos = home.copy()
+    for joint, angle in zip(names.arm_joints(names.ACTIVE_SIDE), AWAY_ARM_Q, strict=True):
+        qpos[model.jnt_qposadr[model.joint(joint).id]] = angle
     return qpos

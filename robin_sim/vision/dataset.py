@@ -112,8 +112,9 @@ BOX = (np.array([0.62, -0.10, 0.86]), np.array([1.25, 0.45, 1.12]))  # m, x y z
 AIM_ERROR = 0.015  # m, sd of the aim point's error per axis
 # Robin's arm in a sample: at home, or holding a leg above the palm at the handover point (the
 # state robin_sim.vision.arm_states reaches by acting, "human"); the hand under the leg varies
-# this much (m, sd across, and at most this much lower: never up into the leg)
-ARMS = ("home", "held_leg")
+# this much (m, sd across, and at most this much lower: never up into the leg). "away" (the arm
+# out of the eyes' view, arm_states.away_qpos) is a what-if for benches: no split draws it.
+ARMS = ("home", "held_leg", "away")
 THUMB_SIGNS = (SIGN_OF[Feedback.OK], SIGN_OF[Feedback.NOT_OK])  # the thumbs' pose names
 UNDER_LEG_SPREAD = 0.015
 UNDER_LEG_DROP = 0.03

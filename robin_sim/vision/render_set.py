@@ -31,7 +31,7 @@ from robin_sim.model import names  # noqa: E402
 from robin_sim.model.scene import build_model  # noqa: E402
 from robin_sim.person.gestures import GestureDisplay  # noqa: E402
 from robin_sim.render.renderer import open_renderer  # noqa: E402
-from robin_sim.vision.arm_states import held_leg_qpos  # noqa: E402
+from robin_sim.vision.arm_states import away_qpos, held_leg_qpos  # noqa: E402
 from robin_sim.vision.classifier import CLASSES, NO_GESTURE  # noqa: E402
 from robin_sim.vision.crops import CROP_SIDE, HandCrops, hand_crops  # noqa: E402
 from robin_sim.vision.dataset import (  # noqa: E402
@@ -100,6 +100,8 @@ class SampleRenderer:
         ARMS`); every sample starts from it, so a sample never depends on the one before."""
         if arm not in ARMS:
             raise ValueError(f"unknown arm state {arm!r}; the choices: {', '.join(ARMS)}")
+        if arm == "away" and arm not in self.arm_qpos:  # a what-if, set by qpos
+            self.arm_qpos[arm] = away_qpos(self.model, self.arm_qpos["home"])
         if arm not in self.arm_qpos:  # "held_leg": reached by acting, once per process
             self.arm_qpos[arm] = held_leg_qpos(self.model)
         self.data.qpos[:] = self.arm_qpos[arm]
