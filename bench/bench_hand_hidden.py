@@ -39,8 +39,7 @@ from bench_vision_hands import PLACES, levels, place_kind
 from vision_hands_table import table as paired_table
 
 from robin_sim.vision.classifier import CLASSES, GestureModel, shipped_path
-from robin_sim.vision.dataset import sample_spec
-from robin_sim.vision.features import crop_features
+from robin_sim.vision.dataset import sample_spec, split_of_views
 from robin_sim.vision.render_set import POSE_OF, SampleRenderer
 from robin_sim.vision.segment import MIN_PIXELS
 from robin_sim.vision.train import readings
@@ -69,16 +68,7 @@ def read_away(
     crops, _ = renderer.render(spec)
     pose = POSE_OF[CLASSES[spec.label]]
     pixels = (int(renderer.truth_mask(pose, 0).sum()), int(renderer.truth_mask(pose, 1).sum()))
-    found = np.array([c is not None for c in crops])
-    rows = [crop_features(c) for c in crops if c is not None]
-    width = len(rows[0]) if rows else 1
-    features = np.stack([crop_features(c) if c is not None else np.zeros(width) for c in crops])
-    split = {
-        "sample": np.full(len(crops), sample),
-        "label": np.full(len(crops), spec.label),
-        "found": found,
-        "features": features,
-    }
+    split = split_of_views([(sample, spec.label, crops)])
     _, (reading,) = readings(model, split)
     condition = np.array([spec.skin, spec.lighting, spec.light_tilt, spec.camera_noise])
     condition = np.append(condition, [spec.jitter, spec.lift])

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import os
 import zipfile
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -275,11 +275,34 @@ def load_split(
     data = {key: np.concatenate(value) for key, value in parts.items()}
     keep = data["sample"] < samples
     data = {key: value[keep] for key, value in data.items()}
-    rows = [
-        features(HandCrops(*(data[key][k] for key in CROP_KEYS))) if data["found"][k] else None
+    crops = [
+        HandCrops(*(data[key][k] for key in CROP_KEYS)) if data["found"][k] else None
         for k in range(len(data["found"]))
     ]
+    data["features"] = feature_rows(crops, features)
+    return data
+
+
+def feature_rows(
+    crops: Sequence[HandCrops | None],
+    features: Callable[[HandCrops], np.ndarray] = crop_features,
+) -> np.ndarray:
+    """One row of ``features`` per eye row's crops (zeros where no hand was found)."""
+    rows = [None if c is None else features(c) for c in crops]
     width = next((len(r) for r in rows if r is not None), 1)
     blank = np.zeros(width, np.float32)
-    data["features"] = np.stack([blank if r is None else r for r in rows])
-    return data
+    return np.stack([blank if r is None else r for r in rows])
+
+
+def split_of_views(
+    views: Sequence[tuple[int, int, Sequence[HandCrops | None]]],
+) -> dict[str, np.ndarray]:
+    """A split as :func:`load_split` returns it (``sample``, ``label``, ``found``,
+    ``features``) of freshly rendered samples, each ``(sample, label, per-eye crops)``."""
+    rows = [(sample, label, c) for sample, label, crops in views for c in crops]
+    return {
+        "sample": np.array([r[0] for r in rows], np.int64),
+        "label": np.array([r[1] for r in rows], np.int64),
+        "found": np.array([r[2] is not None for r in rows], bool),
+        "features": feature_rows([r[2] for r in rows]),
+    }
