@@ -41,6 +41,7 @@ def _markers() -> list[tuple[str, int, re.Match[str], str]]:
             found.append((doc.name, line, match, text[: match.start()]))
     return found
 
+
 TABLE_MARKER = re.compile(r"<!-- [\w-]+ table: (?P<file>bench/results/\S+\.md) -->")
 
 
